@@ -1,0 +1,86 @@
+//! Extended Kalman filter (the Kalman baseline of papers 000 and 002).
+//!
+//! Time update (linear CW model, exact): `x- = Phi x + Gamma a`, `P- = Phi P Phi^T + Q`.
+//! Measurement update with the analytic Jacobian `H` of [`RadioSensor::geometry`]:
+//!
+//! ```text
+//! nu = z - h(x-)              (azimuth wrapped to (-pi, pi])
+//! S  = H P- H^T + R
+//! K  = P- H^T S^-1            (Cholesky solve, no explicit inverse)
+//! x+ = x- + K nu
+//! P+ = (I - K H) P- (I - K H)^T + K R K^T      (Joseph form: symmetric PSD by construction)
+//! ```
+
+use super::{finite, symmetrize, Estimator, FilterError, UpdateInfo};
+use crate::dynamics::DiscreteModel;
+use crate::sensors::RadioSensor;
+use crate::types::{Mat6, State, Vec3};
+
+/// Extended Kalman filter with a Joseph-form update.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Ekf {
+    x: State,
+    p: Mat6,
+}
+
+impl Ekf {
+    /// A filter starting from estimate `x0` with covariance `p0` (canonical frame).
+    pub fn new(x0: State, p0: Mat6) -> Self {
+        Self { x: x0, p: p0 }
+    }
+}
+
+impl Estimator for Ekf {
+    fn predict(&mut self, model: &DiscreteModel, accel: &Vec3) -> Result<(), FilterError> {
+        let x = model.apply(&self.x, accel);
+        let p = symmetrize(&(model.phi * self.p * model.phi.transpose() + model.q));
+        finite(&x, "predicted state")?;
+        finite(&p, "predicted covariance")?;
+        self.x = x;
+        self.p = p;
+        Ok(())
+    }
+
+    fn update(&mut self, sensor: &RadioSensor, z: &Vec3) -> Result<UpdateInfo, FilterError> {
+        let g = sensor.geometry(&self.x.fixed_rows::<3>(0).into_owned())?;
+        let mut nu = RadioSensor::residual(z, &g.z);
+        if !g.azimuth_usable {
+            nu.y = 0.0; // H row is zero too: the gain column vanishes (see sensors docs)
+        }
+        let r = sensor.r();
+        let h = g.h;
+        let ph = self.p * h.transpose();
+        let s = h * ph + r;
+        let chol = s
+            .cholesky()
+            .ok_or(FilterError::NotPositiveDefinite("innovation covariance S"))?;
+        // K = P H^T S^-1  <=>  K^T = S^-1 (H P)   (S, P symmetric)
+        let k = chol.solve(&ph.transpose()).transpose();
+        let x = self.x + k * nu;
+        let ikh = Mat6::identity() - k * h;
+        let p = symmetrize(&(ikh * self.p * ikh.transpose() + k * r * k.transpose()));
+        finite(&x, "updated state")?;
+        finite(&p, "updated covariance")?;
+        let nis = nu.dot(&chol.solve(&nu));
+        self.x = x;
+        self.p = p;
+        Ok(UpdateInfo {
+            innovation: nu,
+            nis,
+            azimuth_used: g.azimuth_usable,
+        })
+    }
+
+    fn state(&self) -> &State {
+        &self.x
+    }
+
+    fn covariance(&self) -> &Mat6 {
+        &self.p
+    }
+
+    fn set_estimate(&mut self, x: State, p: Mat6) {
+        self.x = x;
+        self.p = p;
+    }
+}

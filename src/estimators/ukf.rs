@@ -1,0 +1,217 @@
+//! Unscented Kalman filter with scaled sigma points (Julier 2002; Wan & van der Merwe 2000;
+//! the UKF of paper 001, sec. 1, and the proposal of paper 003).
+//!
+//! With `n = 6`, `lambda = alpha^2 (n + kappa) - n`, `L L^T = P` (Cholesky):
+//!
+//! ```text
+//! chi_0 = x,  chi_i = x + sqrt(n + lambda) L_i,  chi_{n+i} = x - sqrt(n + lambda) L_i
+//! Wm_0 = lambda / (n + lambda),  Wc_0 = Wm_0 + 1 - alpha^2 + beta,  W_i = 1 / (2 (n + lambda))
+//! ```
+//!
+//! Time update: every sigma point goes through the discrete model, `x- = sum Wm chi_i`,
+//! `P- = sum Wc (chi_i - x-)(chi_i - x-)^T + Q` (additive noise). For the linear CW model
+//! this equals the Kalman time update to rounding — the unscented transform is exact for
+//! linear maps — and the tests check exactly that.
+//!
+//! Measurement update: sigma points are redrawn from `(x-, P-)`, passed through `h`, and
+//! * the predicted range and elevation are weighted means; the predicted **azimuth is a
+//!   circular mean** `atan2(sum Wm sin a_i, sum Wm cos a_i)`, so sigma points on both sides
+//!   of the 0/2 pi cut average correctly;
+//! * every deviation `Z_i - z_hat` and the innovation have their azimuth wrapped to
+//!   `(-pi, pi]`;
+//! * `Pzz = sum Wc dZ dZ^T + R`, `Pxz = sum Wc dX dZ^T`, `K = Pxz Pzz^-1`,
+//!   `x+ = x- + K nu`, `P+ = P- - K Pzz K^T` (symmetrised).
+//!
+//! Defaults `alpha = 1, beta = 2, kappa = 0` put all twelve outer points at `sqrt(6)` sigma
+//! with positive weights (`Wm_0 = 0`), so `P-` is a positive combination of outer products
+//! plus `Q` and stays positive definite; small `alpha` (1e-3, common in textbooks) gives
+//! `Wc_0 ~ -1e6` and loses about twelve digits of the covariance for this problem.
+
+use super::{finite, symmetrize, Estimator, FilterError, UpdateInfo};
+use crate::dynamics::DiscreteModel;
+use crate::sensors::{wrap_2pi, RadioSensor};
+use crate::types::{Mat3, Mat6, Mat63, State, Vec3};
+use nalgebra::SMatrix;
+
+const N: usize = 6;
+const NS: usize = 2 * N + 1;
+
+/// Sigma-point parameters.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct UkfParams {
+    /// Spread of the sigma points (0 < alpha <= 1 typical).
+    pub alpha: f64,
+    /// Prior-distribution parameter (2 is optimal for Gaussians).
+    pub beta: f64,
+    /// Secondary scaling (0, or 3 - n as in paper 001).
+    pub kappa: f64,
+}
+
+impl Default for UkfParams {
+    fn default() -> Self {
+        Self {
+            alpha: 1.0,
+            beta: 2.0,
+            kappa: 0.0,
+        }
+    }
+}
+
+impl UkfParams {
+    /// `lambda = alpha^2 (n + kappa) - n`.
+    pub fn lambda(&self) -> f64 {
+        self.alpha * self.alpha * (N as f64 + self.kappa) - N as f64
+    }
+
+    /// Check that the parameters give a usable set of sigma points (`n + lambda > 0`).
+    pub fn validate(&self) -> Result<(), String> {
+        if !(self.alpha.is_finite() && self.beta.is_finite() && self.kappa.is_finite()) {
+            return Err("UKF parameters alpha, beta and kappa must be finite".into());
+        }
+        if !(self.alpha > 0.0) {
+            return Err(format!("ukf_alpha must be > 0 (got {})", self.alpha));
+        }
+        if !(N as f64 + self.lambda() > 0.0) {
+            return Err(format!(
+                "ukf_alpha^2 (6 + ukf_kappa) must be > 0 (got alpha {}, kappa {})",
+                self.alpha, self.kappa
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// Unscented Kalman filter for the 6-state CW problem.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Ukf {
+    x: State,
+    p: Mat6,
+    gamma: f64,
+    wm: [f64; NS],
+    wc: [f64; NS],
+}
+
+type Sigma = SMatrix<f64, N, NS>;
+
+impl Ukf {
+    /// A filter from `x0`, `p0` (canonical) with sigma-point parameters `params`
+    /// (validated by the caller with [`UkfParams::validate`]).
+    pub fn new(x0: State, p0: Mat6, params: UkfParams) -> Self {
+        let lambda = params.lambda();
+        let c = N as f64 + lambda;
+        let mut wm = [0.5 / c; NS];
+        let mut wc = [0.5 / c; NS];
+        wm[0] = lambda / c;
+        wc[0] = lambda / c + 1.0 - params.alpha * params.alpha + params.beta;
+        Self {
+            x: x0,
+            p: p0,
+            gamma: c.sqrt(),
+            wm,
+            wc,
+        }
+    }
+
+    fn sigma_points(&self, x: &State, p: &Mat6) -> Result<Sigma, FilterError> {
+        let l = p
+            .cholesky()
+            .ok_or(FilterError::NotPositiveDefinite("state covariance P"))?
+            .unpack();
+        let mut s = Sigma::zeros();
+        s.set_column(0, x);
+        for i in 0..N {
+            let d = l.column(i) * self.gamma;
+            s.set_column(1 + i, &(x + d));
+            s.set_column(1 + N + i, &(x - d));
+        }
+        Ok(s)
+    }
+}
+
+impl Estimator for Ukf {
+    fn predict(&mut self, model: &DiscreteModel, accel: &Vec3) -> Result<(), FilterError> {
+        let s = self.sigma_points(&self.x, &self.p)?;
+        let mut prop = Sigma::zeros();
+        let mut mean = State::zeros();
+        for i in 0..NS {
+            let c = model.apply(&s.column(i).into_owned(), accel);
+            mean += c * self.wm[i];
+            prop.set_column(i, &c);
+        }
+        let mut p = model.q;
+        for i in 0..NS {
+            let d = prop.column(i) - mean;
+            p += d * d.transpose() * self.wc[i];
+        }
+        let p = symmetrize(&p);
+        finite(&mean, "predicted state")?;
+        finite(&p, "predicted covariance")?;
+        self.x = mean;
+        self.p = p;
+        Ok(())
+    }
+
+    fn update(&mut self, sensor: &RadioSensor, z: &Vec3) -> Result<UpdateInfo, FilterError> {
+        let s = self.sigma_points(&self.x, &self.p)?;
+        let mut zs = SMatrix::<f64, 3, NS>::zeros();
+        let (mut rho, mut el, mut sn, mut cs) = (0.0, 0.0, 0.0, 0.0);
+        for i in 0..NS {
+            let zi = sensor
+                .h(&s.fixed_view::<3, 1>(0, i).into_owned())
+                .ok_or(FilterError::Geometry(crate::sensors::GeometryError::ZeroRange))?;
+            rho += self.wm[i] * zi.x;
+            el += self.wm[i] * zi.z;
+            let (si, ci) = zi.y.sin_cos();
+            sn += self.wm[i] * si;
+            cs += self.wm[i] * ci;
+            zs.set_column(i, &zi);
+        }
+        let z_hat = Vec3::new(rho, wrap_2pi(sn.atan2(cs)), el);
+        // near the poles the azimuth carries no information (see sensors docs)
+        let azimuth_used = sensor.geometry(&self.x.fixed_rows::<3>(0).into_owned())?.azimuth_usable;
+        let mut pzz: Mat3 = sensor.r();
+        let mut pxz = Mat63::zeros();
+        for i in 0..NS {
+            let mut dz = RadioSensor::residual(&zs.column(i).into_owned(), &z_hat);
+            if !azimuth_used {
+                dz.y = 0.0;
+            }
+            let dx = s.column(i) - self.x;
+            pzz += dz * dz.transpose() * self.wc[i];
+            pxz += dx * dz.transpose() * self.wc[i];
+        }
+        let chol = pzz
+            .cholesky()
+            .ok_or(FilterError::NotPositiveDefinite("innovation covariance Pzz"))?;
+        let k = chol.solve(&pxz.transpose()).transpose();
+        let mut nu = RadioSensor::residual(z, &z_hat);
+        if !azimuth_used {
+            nu.y = 0.0;
+        }
+        let x = self.x + k * nu;
+        let p = symmetrize(&(self.p - k * pzz * k.transpose()));
+        finite(&x, "updated state")?;
+        finite(&p, "updated covariance")?;
+        let nis = nu.dot(&chol.solve(&nu));
+        self.x = x;
+        self.p = p;
+        Ok(UpdateInfo {
+            innovation: nu,
+            nis,
+            azimuth_used,
+        })
+    }
+
+    fn state(&self) -> &State {
+        &self.x
+    }
+
+    fn covariance(&self) -> &Mat6 {
+        &self.p
+    }
+
+    fn set_estimate(&mut self, x: State, p: Mat6) {
+        self.x = x;
+        self.p = p;
+    }
+}

@@ -1,0 +1,23 @@
+//! relnav — spacecraft relative navigation near a target on a circular orbit.
+//!
+//! Data flows one way: [`dynamics`] (CW truth and discrete models) → [`sensors`]
+//! (range/azimuth/elevation) → [`estimators`] (EKF, UKF behind one trait) → [`nav`] (frames,
+//! units, step semantics) → [`ffi`] (the C ABI, `include/relnav.h`) → [`fmi`] (the FMI 2.0
+//! Co-Simulation layer). See `ARCHITECTURE.md` for the map and the invariants.
+#![deny(unsafe_code)]
+
+pub mod dynamics;
+pub mod estimators;
+pub mod frames;
+pub mod nav;
+pub mod sensors;
+pub mod types;
+
+#[allow(unsafe_code)]
+pub mod ffi;
+/// cbindgen:ignore
+#[allow(unsafe_code)]
+pub mod fmi;
+
+/// Library version (`CARGO_PKG_VERSION`).
+pub const VERSION: &str = env!("CARGO_PKG_VERSION");

@@ -1,0 +1,445 @@
+//! The navigator: one estimator plus everything around it that a user sets — I/O frame,
+//! chaser mass, process-noise model, discretisation, initial estimate — behind an API in
+//! the user's frame and SI units. The C ABI ([`crate::ffi`]) is a thin shell around it.
+//!
+//! **Step semantics** (also those of the C ABI and the FMU): [`Navigator::step`]`(thrust,
+//! measurement, h)` at time `t` first applies the measurement taken at `t` (if any), then
+//! predicts over `[t, t + h)` with the thrust held constant; afterwards the estimate is the
+//! prior at `t + h`.
+//!
+//! **Process noise** of a step of length `h` (canonical frame):
+//! `Q = Qd_VanLoan(accel_psd I3, h) + T6^T diag(q_pos h, q_vel h) T6`, where `accel_psd`
+//! [m^2/s^3] is a continuous white-acceleration spectral density (physical; exact
+//! discretisation) and `q_pos` [m^2/s], `q_vel` [m^2/s^3] are per-axis variance rates in
+//! the I/O frame that reproduce a paper's diagonal discrete `Q` (paper 000: its `Q` per 1 s
+//! step, so `q_pos = (0.3^2, 0.025^2, 0.05^2)`, `q_vel = 0.001^2` each).
+
+use crate::dynamics::{CwModel, DiscreteModel, Discretization};
+use crate::estimators::{Ekf, Estimator, FilterError, UkfParams, UpdateInfo, Ukf};
+use crate::frames::Frame;
+use crate::sensors::RadioSensor;
+use crate::types::{Mat3, Mat6, State, Vec3};
+
+/// Filter codes, shared by the C ABI and the FMU (`filter` parameter).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[repr(i32)]
+pub enum FilterKind {
+    /// Extended Kalman filter.
+    Ekf = 1,
+    /// Unscented Kalman filter.
+    Ukf = 2,
+    /// Sliding-window adaptive UKF (paper 001) — not yet implemented.
+    Aqukf = 3,
+    /// SIR particle filter (paper 000) — not yet implemented.
+    Pf = 4,
+    /// Regularised particle filter — not yet implemented.
+    Rpf = 5,
+    /// Unscented particle filter — not yet implemented.
+    Upf = 6,
+    /// Genetic-algorithm particle filter — not yet implemented.
+    Gapf = 7,
+    /// Cloud-genetic particle filter (paper 003) — not yet implemented.
+    Cgapf = 8,
+    /// Robust H-infinity filter (paper 002) — not yet implemented.
+    Hinf = 9,
+}
+
+impl FilterKind {
+    /// All codes, in order.
+    pub const ALL: [FilterKind; 9] = [
+        FilterKind::Ekf,
+        FilterKind::Ukf,
+        FilterKind::Aqukf,
+        FilterKind::Pf,
+        FilterKind::Rpf,
+        FilterKind::Upf,
+        FilterKind::Gapf,
+        FilterKind::Cgapf,
+        FilterKind::Hinf,
+    ];
+
+    /// From the stable code 1..=9.
+    pub fn from_code(code: i32) -> Option<Self> {
+        Self::ALL.into_iter().find(|k| *k as i32 == code)
+    }
+
+    /// Short name (`ekf`, `ukf`, ...).
+    pub fn name(self) -> &'static str {
+        match self {
+            FilterKind::Ekf => "ekf",
+            FilterKind::Ukf => "ukf",
+            FilterKind::Aqukf => "aqukf",
+            FilterKind::Pf => "pf",
+            FilterKind::Rpf => "rpf",
+            FilterKind::Upf => "upf",
+            FilterKind::Gapf => "gapf",
+            FilterKind::Cgapf => "cgapf",
+            FilterKind::Hinf => "hinf",
+        }
+    }
+
+    /// Whether this build implements the filter.
+    pub fn is_implemented(self) -> bool {
+        matches!(self, FilterKind::Ekf | FilterKind::Ukf)
+    }
+}
+
+/// Everything that defines a navigator. [`Default`] is paper 000's numerical example
+/// (digest, paper 000 "Example", with its covariance-name erratum applied).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NavConfig {
+    /// Which estimator.
+    pub filter: FilterKind,
+    /// I/O frame of state, thrust, covariance and measurement angles.
+    pub frame: Frame,
+    /// Target mean motion [rad/s], > 0.
+    pub mean_motion: f64,
+    /// Chaser mass [kg], > 0 (thrust / mass = acceleration).
+    pub chaser_mass: f64,
+    /// Range noise, 1 sigma [m], > 0.
+    pub sigma_range: f64,
+    /// Azimuth/elevation noise, 1 sigma [rad], > 0.
+    pub sigma_angle: f64,
+    /// Initial estimate `(x, y, z, vx, vy, vz)` in the I/O frame [m, m/s].
+    pub x0: [f64; 6],
+    /// Initial position 1 sigma per axis [m], > 0.
+    pub sigma_pos0: f64,
+    /// Initial velocity 1 sigma per axis [m/s], > 0.
+    pub sigma_vel0: f64,
+    /// Continuous white-acceleration spectral density per axis [m^2/s^3], >= 0.
+    pub accel_psd: f64,
+    /// Position variance rate per I/O axis [m^2/s], >= 0.
+    pub q_pos: [f64; 3],
+    /// Velocity variance rate per I/O axis [m^2/s^3], >= 0.
+    pub q_vel: [f64; 3],
+    /// Exact (default) or Euler discretisation.
+    pub discretization: Discretization,
+    /// UKF sigma-point parameters.
+    pub ukf: UkfParams,
+    /// Seed for filters that draw random numbers.
+    pub seed: u64,
+}
+
+impl Default for NavConfig {
+    fn default() -> Self {
+        let deg = std::f64::consts::PI / 180.0;
+        Self {
+            filter: FilterKind::Ekf,
+            frame: Frame::AlongRadialAntinormal,
+            mean_motion: 2.0 * std::f64::consts::PI / 7200.0,
+            chaser_mass: 1000.0,
+            sigma_range: 0.5,
+            sigma_angle: 0.01 * deg,
+            x0: [405.0, 505.0, 205.0, 0.1, 0.1, 0.1],
+            sigma_pos0: 50.0,
+            sigma_vel0: 1.0,
+            accel_psd: 0.0,
+            q_pos: [0.3 * 0.3, 0.025 * 0.025, 0.05 * 0.05],
+            q_vel: [1e-6; 3],
+            discretization: Discretization::Exact,
+            ukf: UkfParams::default(),
+            seed: 0,
+        }
+    }
+}
+
+/// An invalid argument, with a readable reason.
+#[derive(Debug, Clone, PartialEq)]
+pub struct NavError {
+    /// What went wrong.
+    pub kind: NavErrorKind,
+    /// Human-readable reason, naming the offending parameter or input.
+    pub message: String,
+}
+
+/// Category of a [`NavError`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum NavErrorKind {
+    /// A parameter or input is out of its domain.
+    InvalidArgument,
+    /// The requested filter is not implemented in this build.
+    NotImplemented,
+    /// The filter could not complete the step (geometry, loss of positive definiteness).
+    Numerical,
+}
+
+impl std::fmt::Display for NavError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.message)
+    }
+}
+
+impl NavError {
+    fn invalid(message: String) -> Self {
+        Self {
+            kind: NavErrorKind::InvalidArgument,
+            message,
+        }
+    }
+}
+
+impl From<FilterError> for NavError {
+    fn from(e: FilterError) -> Self {
+        Self {
+            kind: NavErrorKind::Numerical,
+            message: format!("filter step failed: {e}"),
+        }
+    }
+}
+
+fn positive(name: &str, v: f64) -> Result<(), NavError> {
+    if v.is_finite() && v > 0.0 {
+        Ok(())
+    } else {
+        Err(NavError::invalid(format!("{name} must be finite and > 0 (got {v})")))
+    }
+}
+
+fn non_negative(name: &str, v: f64) -> Result<(), NavError> {
+    if v.is_finite() && v >= 0.0 {
+        Ok(())
+    } else {
+        Err(NavError::invalid(format!("{name} must be finite and >= 0 (got {v})")))
+    }
+}
+
+fn finite3(name: &str, v: &[f64; 3]) -> Result<(), NavError> {
+    if v.iter().all(|x| x.is_finite()) {
+        Ok(())
+    } else {
+        Err(NavError::invalid(format!("{name} must be finite (got {v:?})")))
+    }
+}
+
+impl NavConfig {
+    /// Check every field; the error names the first offending one.
+    pub fn validate(&self) -> Result<(), NavError> {
+        if !self.filter.is_implemented() {
+            return Err(NavError {
+                kind: NavErrorKind::NotImplemented,
+                message: format!(
+                    "filter {} ({}) is not implemented in relnav {}; available: 1 ekf, 2 ukf",
+                    self.filter as i32,
+                    self.filter.name(),
+                    crate::VERSION
+                ),
+            });
+        }
+        positive("mean_motion", self.mean_motion)?;
+        positive("chaser_mass", self.chaser_mass)?;
+        positive("sigma_range", self.sigma_range)?;
+        positive("sigma_angle", self.sigma_angle)?;
+        positive("sigma_pos0", self.sigma_pos0)?;
+        positive("sigma_vel0", self.sigma_vel0)?;
+        non_negative("accel_psd", self.accel_psd)?;
+        for (i, n) in ["x0", "y0", "z0", "vx0", "vy0", "vz0"].iter().enumerate() {
+            if !self.x0[i].is_finite() {
+                return Err(NavError::invalid(format!(
+                    "{n} must be finite (got {})",
+                    self.x0[i]
+                )));
+            }
+        }
+        for (i, axis) in ["x", "y", "z"].iter().enumerate() {
+            non_negative(&format!("q_pos_{axis}"), self.q_pos[i])?;
+            non_negative(&format!("q_vel_{axis}"), self.q_vel[i])?;
+        }
+        if self.filter == FilterKind::Ukf {
+            self.ukf.validate().map_err(NavError::invalid)?;
+        }
+        Ok(())
+    }
+
+    /// Initial estimate in the canonical frame.
+    pub fn initial_state(&self) -> State {
+        self.frame.state_to_canonical(&State::from_row_slice(&self.x0))
+    }
+
+    /// Initial covariance `diag(sigma_pos0^2 I3, sigma_vel0^2 I3)` (frame-independent).
+    pub fn initial_covariance(&self) -> Mat6 {
+        let (p, v) = (self.sigma_pos0.powi(2), self.sigma_vel0.powi(2));
+        Mat6::from_diagonal(&State::from_row_slice(&[p, p, p, v, v, v]))
+    }
+}
+
+/// The estimators a navigator can run (enum dispatch: no boxing, no allocation per step).
+#[derive(Debug, Clone, PartialEq)]
+pub enum AnyFilter {
+    /// Extended Kalman filter.
+    Ekf(Ekf),
+    /// Unscented Kalman filter.
+    Ukf(Ukf),
+}
+
+impl Estimator for AnyFilter {
+    fn predict(&mut self, model: &DiscreteModel, accel: &Vec3) -> Result<(), FilterError> {
+        match self {
+            AnyFilter::Ekf(f) => f.predict(model, accel),
+            AnyFilter::Ukf(f) => f.predict(model, accel),
+        }
+    }
+    fn update(&mut self, sensor: &RadioSensor, z: &Vec3) -> Result<UpdateInfo, FilterError> {
+        match self {
+            AnyFilter::Ekf(f) => f.update(sensor, z),
+            AnyFilter::Ukf(f) => f.update(sensor, z),
+        }
+    }
+    fn state(&self) -> &State {
+        match self {
+            AnyFilter::Ekf(f) => f.state(),
+            AnyFilter::Ukf(f) => f.state(),
+        }
+    }
+    fn covariance(&self) -> &Mat6 {
+        match self {
+            AnyFilter::Ekf(f) => f.covariance(),
+            AnyFilter::Ukf(f) => f.covariance(),
+        }
+    }
+    fn set_estimate(&mut self, x: State, p: Mat6) {
+        match self {
+            AnyFilter::Ekf(f) => f.set_estimate(x, p),
+            AnyFilter::Ukf(f) => f.set_estimate(x, p),
+        }
+    }
+}
+
+/// A configured estimator working in the user's frame and units.
+#[derive(Debug, Clone)]
+pub struct Navigator {
+    cfg: NavConfig,
+    model: CwModel,
+    sensor: RadioSensor,
+    filter: AnyFilter,
+    step_cache: DiscreteModel,
+    last_update: Option<UpdateInfo>,
+}
+
+impl Navigator {
+    /// Build a navigator; fails with a message naming the bad parameter.
+    pub fn new(cfg: &NavConfig) -> Result<Self, NavError> {
+        cfg.validate()?;
+        let x0 = cfg.initial_state();
+        let p0 = cfg.initial_covariance();
+        let filter = match cfg.filter {
+            FilterKind::Ekf => AnyFilter::Ekf(Ekf::new(x0, p0)),
+            FilterKind::Ukf => AnyFilter::Ukf(Ukf::new(x0, p0, cfg.ukf)),
+            other => {
+                return Err(NavError {
+                    kind: NavErrorKind::NotImplemented,
+                    message: format!("filter {} is not implemented", other.name()),
+                })
+            }
+        };
+        let model = CwModel::new(cfg.mean_motion);
+        let mut nav = Self {
+            cfg: *cfg,
+            model,
+            sensor: RadioSensor::new(cfg.frame, cfg.sigma_range, cfg.sigma_angle),
+            filter,
+            step_cache: DiscreteModel {
+                dt: f64::NAN,
+                phi: Mat6::identity(),
+                gamma: Default::default(),
+                q: Mat6::zeros(),
+            },
+            last_update: None,
+        };
+        nav.discrete(1.0);
+        Ok(nav)
+    }
+
+    /// The configuration this navigator was built from.
+    pub fn config(&self) -> &NavConfig {
+        &self.cfg
+    }
+
+    /// The discrete model for step `dt` (cached: recomputed only when `dt` changes).
+    fn discrete(&mut self, dt: f64) -> DiscreteModel {
+        if self.step_cache.dt != dt {
+            let qc = Mat3::identity() * self.cfg.accel_psd;
+            let mut d = self.model.discretize(dt, &qc, self.cfg.discretization);
+            let qio = State::from_row_slice(&[
+                self.cfg.q_pos[0],
+                self.cfg.q_pos[1],
+                self.cfg.q_pos[2],
+                self.cfg.q_vel[0],
+                self.cfg.q_vel[1],
+                self.cfg.q_vel[2],
+            ]) * dt;
+            d.q += self.cfg.frame.cov_to_canonical(&Mat6::from_diagonal(&qio));
+            self.step_cache = d;
+        }
+        self.step_cache
+    }
+
+    fn check_dt(dt: f64) -> Result<(), NavError> {
+        positive("step size h", dt)
+    }
+
+    /// Time update over `dt` [s] with thrust `thrust` [N] (I/O frame) held constant.
+    pub fn predict(&mut self, thrust: &[f64; 3], dt: f64) -> Result<(), NavError> {
+        Self::check_dt(dt)?;
+        finite3("thrust", thrust)?;
+        let model = self.discrete(dt);
+        let accel = self.cfg.frame.vec_to_canonical(&Vec3::from_row_slice(thrust)) / self.cfg.chaser_mass;
+        self.filter.predict(&model, &accel)?;
+        Ok(())
+    }
+
+    /// Measurement update with `(range [m], azimuth [rad], elevation [rad])` in the I/O frame.
+    pub fn update(&mut self, z: &[f64; 3]) -> Result<UpdateInfo, NavError> {
+        finite3("measurement (range, azimuth, elevation)", z)?;
+        let info = self.filter.update(&self.sensor, &Vec3::from_row_slice(z))?;
+        self.last_update = Some(info);
+        Ok(info)
+    }
+
+    /// One step: update with `measurement` (taken at the step's start, if any), then predict
+    /// over `dt` with `thrust` held. All inputs are checked before anything changes.
+    pub fn step(
+        &mut self,
+        thrust: &[f64; 3],
+        measurement: Option<&[f64; 3]>,
+        dt: f64,
+    ) -> Result<(), NavError> {
+        Self::check_dt(dt)?;
+        finite3("thrust", thrust)?;
+        let saved = self.filter.clone();
+        if let Some(z) = measurement {
+            self.update(z)?;
+        }
+        if let Err(e) = self.predict(thrust, dt) {
+            self.filter = saved;
+            return Err(e);
+        }
+        Ok(())
+    }
+
+    /// Back to the initial estimate.
+    pub fn reset(&mut self) {
+        self.filter
+            .set_estimate(self.cfg.initial_state(), self.cfg.initial_covariance());
+        self.last_update = None;
+    }
+
+    /// State estimate in the I/O frame.
+    pub fn state(&self) -> State {
+        self.cfg.frame.state_from_canonical(self.filter.state())
+    }
+
+    /// Covariance in the I/O frame.
+    pub fn covariance(&self) -> Mat6 {
+        self.cfg.frame.cov_from_canonical(self.filter.covariance())
+    }
+
+    /// Diagnostics of the last measurement update, if any since construction or reset.
+    pub fn last_update(&self) -> Option<UpdateInfo> {
+        self.last_update
+    }
+
+    /// The estimator itself (canonical frame).
+    pub fn filter(&self) -> &AnyFilter {
+        &self.filter
+    }
+}

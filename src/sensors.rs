@@ -1,0 +1,299 @@
+//! Radio (or lidar) sensor: range, azimuth and elevation of the chaser relative to the
+//! target, expressed in a chosen [`Frame`] (paper 000, sec. 2 "measurement model"; the
+//! digest's erratum: use `atan2(y, x)`, not `arctan(y / x)`).
+//!
+//! With `p = T r` the relative position in the measurement frame (`T` from
+//! [`Frame::rotation`], `r` canonical):
+//!
+//! ```text
+//! rho   = |p|
+//! alpha = atan2(p_y, p_x)         in [0, 2 pi)     (azimuth, from +x toward +y)
+//! delta = asin(p_z / rho)         in [-pi/2, pi/2] (elevation)
+//! ```
+//!
+//! Noise is additive and Gaussian, `z = h(r) + v`, `v ~ N(0, diag(s_r^2, s_a^2, s_a^2))`.
+//!
+//! **Singular geometry** (documented behaviour, relied on by the filters):
+//! * *Zero range*: below [`MIN_RANGE`] the directions are undefined; [`RadioSensor::geometry`]
+//!   returns [`GeometryError::ZeroRange`] and the filters refuse the update (the C ABI and
+//!   the FMU report it as an error, the estimate is left unchanged).
+//! * *Poles* (`|elevation| -> pi/2`): the azimuth is undefined and its Jacobian row grows as
+//!   `1 / rho_xy`. When `rho_xy / rho < `[`POLE_COS`] (elevation within 1e-6 rad of ±90°)
+//!   the azimuth is treated as carrying no information: its Jacobian row and residual are
+//!   zeroed, which makes its Kalman gain column exactly zero. Range and elevation are still
+//!   used; the elevation Jacobian is evaluated with the azimuth `atan2` returns there.
+//! * Azimuth residuals are wrapped to `(-pi, pi]` ([`wrap_pi`]), so a measurement of 359.99°
+//!   against a prediction of 0.01° is a 0.02° residual, not 359.98°.
+
+use crate::frames::Frame;
+use crate::types::{Mat3, Mat36, Vec3};
+use rand::Rng;
+use rand_distr::StandardNormal;
+use std::f64::consts::{PI, TAU};
+
+/// Below this range [m] the measurement directions are undefined.
+pub const MIN_RANGE: f64 = 1e-6;
+/// Below this ratio `rho_xy / rho` (cosine of the elevation) the azimuth is ignored.
+pub const POLE_COS: f64 = 1e-6;
+
+/// Wrap an angle to `(-pi, pi]`.
+pub fn wrap_pi(a: f64) -> f64 {
+    let w = a.rem_euclid(TAU); // [0, 2 pi)
+    if w > PI {
+        w - TAU
+    } else {
+        w
+    }
+}
+
+/// Wrap an angle to `[0, 2 pi)`.
+pub fn wrap_2pi(a: f64) -> f64 {
+    let w = a.rem_euclid(TAU);
+    // rem_euclid can return TAU itself for tiny negative inputs after rounding
+    if w >= TAU {
+        0.0
+    } else {
+        w
+    }
+}
+
+/// Why a measurement cannot be predicted at a state.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum GeometryError {
+    /// The relative position is (numerically) zero: no direction exists.
+    ZeroRange,
+}
+
+impl std::fmt::Display for GeometryError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            GeometryError::ZeroRange => write!(
+                f,
+                "relative range below {MIN_RANGE} m: azimuth and elevation are undefined"
+            ),
+        }
+    }
+}
+
+/// Predicted measurement and its Jacobian at one position.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Geometry {
+    /// `(rho, alpha, delta)`.
+    pub z: Vec3,
+    /// `d(rho, alpha, delta) / d(state)` with respect to the canonical state (3x6; the
+    /// velocity columns are zero). The azimuth row is zero when `azimuth_usable` is false.
+    pub h: Mat36,
+    /// False near the poles (see the module docs).
+    pub azimuth_usable: bool,
+}
+
+/// Range/azimuth/elevation sensor in a chosen I/O frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RadioSensor {
+    /// Frame in which azimuth and elevation are defined.
+    pub frame: Frame,
+    /// Range noise, 1 sigma [m].
+    pub sigma_range: f64,
+    /// Azimuth and elevation noise, 1 sigma [rad].
+    pub sigma_angle: f64,
+}
+
+impl RadioSensor {
+    /// A sensor with the given frame and noise levels.
+    pub fn new(frame: Frame, sigma_range: f64, sigma_angle: f64) -> Self {
+        Self {
+            frame,
+            sigma_range,
+            sigma_angle,
+        }
+    }
+
+    /// Measurement covariance `R = diag(s_r^2, s_a^2, s_a^2)`.
+    pub fn r(&self) -> Mat3 {
+        let a2 = self.sigma_angle * self.sigma_angle;
+        Mat3::from_diagonal(&Vec3::new(self.sigma_range * self.sigma_range, a2, a2))
+    }
+
+    /// Noise-free measurement of the canonical relative position `r`; `None` at zero range.
+    pub fn h(&self, r: &Vec3) -> Option<Vec3> {
+        let p = self.frame.vec_from_canonical(r);
+        let rho = p.norm();
+        if !(rho >= MIN_RANGE) {
+            return None;
+        }
+        let az = wrap_2pi(p.y.atan2(p.x));
+        let el = (p.z / rho).clamp(-1.0, 1.0).asin();
+        Some(Vec3::new(rho, az, el))
+    }
+
+    /// Predicted measurement and analytic Jacobian at canonical position `r`:
+    ///
+    /// ```text
+    /// d rho   / dp = p^T / rho
+    /// d alpha / dp = (-p_y, p_x, 0) / rho_xy^2
+    /// d delta / dp = (-p_x p_z / rho_xy, -p_y p_z / rho_xy, rho_xy) / rho^2
+    /// ```
+    ///
+    /// then `H = [dz/dp T, 0]` (chain rule through `p = T r`).
+    pub fn geometry(&self, r: &Vec3) -> Result<Geometry, GeometryError> {
+        let t = self.frame.rotation();
+        let p = t * r;
+        let rho2 = p.norm_squared();
+        let rho = rho2.sqrt();
+        if !(rho >= MIN_RANGE) {
+            return Err(GeometryError::ZeroRange);
+        }
+        let rxy2 = p.x * p.x + p.y * p.y;
+        let rxy = rxy2.sqrt();
+        let az_raw = p.y.atan2(p.x);
+        let el = (p.z / rho).clamp(-1.0, 1.0).asin();
+        let azimuth_usable = rxy / rho >= POLE_COS;
+        let mut dp = Mat3::zeros();
+        dp[(0, 0)] = p.x / rho;
+        dp[(0, 1)] = p.y / rho;
+        dp[(0, 2)] = p.z / rho;
+        if azimuth_usable {
+            dp[(1, 0)] = -p.y / rxy2;
+            dp[(1, 1)] = p.x / rxy2;
+        }
+        // (p_x / rho_xy, p_y / rho_xy) = (cos alpha, sin alpha), well defined at the pole too
+        let (sa, ca) = az_raw.sin_cos();
+        dp[(2, 0)] = -ca * p.z / rho2;
+        dp[(2, 1)] = -sa * p.z / rho2;
+        dp[(2, 2)] = rxy / rho2;
+        let mut h = Mat36::zeros();
+        h.fixed_view_mut::<3, 3>(0, 0).copy_from(&(dp * t));
+        Ok(Geometry {
+            z: Vec3::new(rho, wrap_2pi(az_raw), el),
+            h,
+            azimuth_usable,
+        })
+    }
+
+    /// Residual `z - z_hat` with the azimuth difference wrapped to `(-pi, pi]`.
+    pub fn residual(z: &Vec3, z_hat: &Vec3) -> Vec3 {
+        Vec3::new(z.x - z_hat.x, wrap_pi(z.y - z_hat.y), z.z - z_hat.z)
+    }
+
+    /// A noisy measurement of the canonical position `r` drawn from `rng`; the azimuth is
+    /// wrapped to `[0, 2 pi)`. `None` at zero range.
+    pub fn measure<R: Rng + ?Sized>(&self, r: &Vec3, rng: &mut R) -> Option<Vec3> {
+        let z = self.h(r)?;
+        let n0: f64 = rng.sample(StandardNormal);
+        let n1: f64 = rng.sample(StandardNormal);
+        let n2: f64 = rng.sample(StandardNormal);
+        Some(Vec3::new(
+            z.x + self.sigma_range * n0,
+            wrap_2pi(z.y + self.sigma_angle * n1),
+            z.z + self.sigma_angle * n2,
+        ))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::SeedableRng;
+
+    #[test]
+    fn definitions_in_each_frame() {
+        // paper 000 frame: (400, 500, 200) m
+        let s = RadioSensor::new(Frame::AlongRadialAntinormal, 0.5, 1e-4);
+        let r = Frame::AlongRadialAntinormal.vec_to_canonical(&Vec3::new(400.0, 500.0, 200.0));
+        let z = s.h(&r).unwrap_or_default();
+        let rho = (400.0f64 * 400.0 + 500.0 * 500.0 + 200.0 * 200.0).sqrt();
+        assert!((z.x - rho).abs() < 1e-12);
+        assert!((z.y - (500.0f64).atan2(400.0)).abs() < 1e-15);
+        assert!((z.z - (200.0 / rho).asin()).abs() < 1e-15);
+        // azimuth in the third and fourth quadrant is in [pi, 2 pi)
+        let s1 = RadioSensor::new(Frame::RadialAlongNormal, 0.5, 1e-4);
+        let z = s1.h(&Vec3::new(1.0, -1.0, 0.0)).unwrap_or_default();
+        assert!((z.y - 1.75 * PI).abs() < 1e-15);
+        let z = s1.h(&Vec3::new(-1.0, -1.0, 0.0)).unwrap_or_default();
+        assert!((z.y - 1.25 * PI).abs() < 1e-15);
+    }
+
+    #[test]
+    fn jacobian_matches_finite_differences() {
+        let pts = [
+            Vec3::new(400.0, 500.0, 200.0),
+            Vec3::new(-30.0, 7.0, -900.0),
+            Vec3::new(1.0, -2.0, 0.5),
+            Vec3::new(-250.0, -0.3, 10.0), // near the azimuth wrap in some frames
+        ];
+        for f in Frame::ALL {
+            let s = RadioSensor::new(f, 1.0, 1.0);
+            for r in pts {
+                let g = s.geometry(&r).unwrap_or_else(|_| Geometry {
+                    z: Vec3::zeros(),
+                    h: Mat36::zeros(),
+                    azimuth_usable: false,
+                });
+                assert!(g.azimuth_usable);
+                for j in 0..3 {
+                    let eps = 1e-6 * r.norm();
+                    let mut rp = r;
+                    rp[j] += eps;
+                    let mut rm = r;
+                    rm[j] -= eps;
+                    let zp = s.h(&rp).unwrap_or_default();
+                    let zm = s.h(&rm).unwrap_or_default();
+                    let fd = RadioSensor::residual(&zp, &zm) / (2.0 * eps);
+                    for i in 0..3 {
+                        let an = g.h[(i, j)];
+                        assert!(
+                            (an - fd[i]).abs() < 1e-6 * (1.0 + an.abs()),
+                            "{f:?} r={r:?} ({i},{j}): {an} vs {}",
+                            fd[i]
+                        );
+                    }
+                    assert_eq!(g.h[(0, j + 3)], 0.0);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn wrapping() {
+        assert!((wrap_pi(TAU - 1e-3) + 1e-3).abs() < 1e-15);
+        assert!((wrap_pi(PI + 0.1) - (-PI + 0.1)).abs() < 1e-15);
+        assert_eq!(wrap_2pi(-0.0), 0.0);
+        assert!((wrap_2pi(-1e-3) - (TAU - 1e-3)).abs() < 1e-15);
+        let r = RadioSensor::residual(&Vec3::new(0.0, 1e-4, 0.0), &Vec3::new(0.0, TAU - 1e-4, 0.0));
+        assert!((r.y - 2e-4).abs() < 1e-15);
+    }
+
+    #[test]
+    fn singular_geometry() {
+        let s = RadioSensor::new(Frame::RadialAlongNormal, 1.0, 1.0);
+        assert_eq!(s.geometry(&Vec3::zeros()), Err(GeometryError::ZeroRange));
+        assert!(s.h(&Vec3::new(f64::NAN, 0.0, 0.0)).is_none());
+        let g = s.geometry(&Vec3::new(1e-9, 0.0, 100.0));
+        assert!(matches!(g, Ok(g) if !g.azimuth_usable && g.h.row(1).norm() == 0.0
+            && g.h.row(2).iter().all(|v| v.is_finite())));
+    }
+
+    #[test]
+    fn noise_is_seeded_and_has_the_stated_spread() {
+        let s = RadioSensor::new(Frame::AlongRadialAntinormal, 0.5, 1.745e-4);
+        let r = Vec3::new(500.0, 400.0, -200.0);
+        let z0 = s.h(&r).unwrap_or_default();
+        let mut a = rand_chacha::ChaCha8Rng::seed_from_u64(7);
+        let mut b = rand_chacha::ChaCha8Rng::seed_from_u64(7);
+        assert_eq!(s.measure(&r, &mut a), s.measure(&r, &mut b));
+        let k = 20_000;
+        let mut sum = Vec3::zeros();
+        let mut sq = Vec3::zeros();
+        for _ in 0..k {
+            let d = RadioSensor::residual(&s.measure(&r, &mut a).unwrap_or_default(), &z0);
+            sum += d;
+            sq += d.component_mul(&d);
+        }
+        let sd = (sq / k as f64).map(f64::sqrt);
+        // sample sd of a Gaussian: relative standard error 1/sqrt(2k) = 0.5 %; allow 4 sigma
+        assert!((sd.x / 0.5 - 1.0).abs() < 0.02);
+        assert!((sd.y / 1.745e-4 - 1.0).abs() < 0.02);
+        assert!((sd.z / 1.745e-4 - 1.0).abs() < 0.02);
+        assert!((sum.x / k as f64).abs() < 4.0 * 0.5 / (k as f64).sqrt());
+    }
+}
