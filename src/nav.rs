@@ -134,7 +134,8 @@ impl Default for NavConfig {
             sigma_pos0: 50.0,
             sigma_vel0: 1.0,
             accel_psd: 0.0,
-            q_pos: [0.3 * 0.3, 0.025 * 0.025, 0.05 * 0.05],
+            // paper 000 "Q" (its process covariance per 1 s step): 0.3^2, 0.025^2, 0.05^2
+            q_pos: [0.09, 0.000625, 0.0025],
             q_vel: [1e-6; 3],
             discretization: Discretization::Exact,
             ukf: UkfParams::default(),

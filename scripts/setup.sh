@@ -1,0 +1,85 @@
+#!/usr/bin/env bash
+# Idempotent machine set-up for relnav on Debian with the Rust toolchain already present.
+#
+#   * apt-get installs what is missing: cmake, g++, valgrind, binutils (readelf) and
+#     python3-venv (only if `python3 -m venv` does not work). `apt-get update` runs only
+#     when something has to be installed. sudo is used when not root.
+#   * creates .venv at the repository root and installs scripts/requirements.txt into it
+#     (skipped when the venv already matches the requirements file).
+#
+# Non-interactive (DEBIAN_FRONTEND=noninteractive, no stdin needed); exports nothing
+# beyond this process. Re-running it when everything is in place does nothing.
+set -euo pipefail
+
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+VENV="$ROOT/.venv"
+REQ="$ROOT/scripts/requirements.txt"
+PYTHON="${PYTHON:-python3}"
+
+log() { printf '[setup] %s\n' "$*"; }
+
+# ---------------------------------------------------------------- system packages
+SUDO=()
+if [ "$(id -u)" -ne 0 ]; then
+    if command -v sudo >/dev/null 2>&1; then
+        SUDO=(sudo -n)
+    else
+        log "not root and no sudo: cannot install system packages"
+    fi
+fi
+
+missing=()
+command -v cmake >/dev/null 2>&1 || missing+=(cmake)
+command -v ctest >/dev/null 2>&1 || missing+=(cmake)
+command -v g++ >/dev/null 2>&1 || missing+=(g++)
+command -v valgrind >/dev/null 2>&1 || missing+=(valgrind)
+command -v readelf >/dev/null 2>&1 || missing+=(binutils)
+
+venv_works() {
+    local probe
+    probe="$(mktemp -d)"
+    if "$PYTHON" -m venv "$probe/v" >/dev/null 2>&1 && [ -x "$probe/v/bin/python" ]; then
+        rm -rf "$probe"
+        return 0
+    fi
+    rm -rf "$probe"
+    return 1
+}
+if ! command -v "$PYTHON" >/dev/null 2>&1; then
+    missing+=(python3 python3-venv python3-pip)
+elif [ ! -x "$VENV/bin/python" ] && ! venv_works; then
+    missing+=(python3-venv)
+fi
+
+if [ "${#missing[@]}" -gt 0 ]; then
+    # de-duplicate, keep order
+    mapfile -t missing < <(printf '%s\n' "${missing[@]}" | awk '!seen[$0]++')
+    log "installing with apt-get: ${missing[*]}"
+    export DEBIAN_FRONTEND=noninteractive
+    "${SUDO[@]}" apt-get update -qq </dev/null
+    "${SUDO[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" </dev/null
+else
+    log "system packages present: cmake g++ valgrind readelf"
+fi
+
+# ---------------------------------------------------------------- Python venv
+if [ -x "$VENV/bin/python" ] && ! "$VENV/bin/python" -c 'import sys' >/dev/null 2>&1; then
+    log "existing .venv is broken: recreating"
+    rm -rf "$VENV"
+fi
+if [ ! -x "$VENV/bin/python" ]; then
+    log "creating $VENV"
+    "$PYTHON" -m venv "$VENV"
+fi
+
+STAMP="$VENV/.relnav-requirements.sha256"
+want="$(sha256sum "$REQ" | cut -d' ' -f1)"
+have="$(cat "$STAMP" 2>/dev/null || true)"
+if [ "$want" = "$have" ] && "$VENV/bin/python" -c 'import fmpy, numpy, pytest, filterpy' >/dev/null 2>&1; then
+    log "venv up to date ($(cd "$ROOT" && "$VENV/bin/python" -c 'import fmpy, numpy; print("fmpy", fmpy.__version__, "numpy", numpy.__version__)'))"
+else
+    log "installing Python packages from scripts/requirements.txt"
+    "$VENV/bin/python" -m pip install --disable-pip-version-check -q --no-input -r "$REQ" </dev/null
+    echo "$want" >"$STAMP"
+    log "venv ready ($("$VENV/bin/python" -c 'import fmpy, numpy; print("fmpy", fmpy.__version__, "numpy", numpy.__version__)'))"
+fi

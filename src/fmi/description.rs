@@ -1,0 +1,206 @@
+//! `modelDescription.xml`, generated from [`super::variables`], and the GUID derived from it.
+//!
+//! The GUID is a name-based UUID (version 5, SHA-1) of the XML text itself (with a
+//! placeholder where the GUID goes), as the FMI standard suggests: the binary computes the
+//! same value from the same table, so archive and binary cannot disagree.
+
+use super::variables::{Causality, VarType, Variability, ENUM_TYPES, UNITS, VARIABLES};
+use std::fmt::Write;
+use std::sync::OnceLock;
+
+/// The FMU's model identifier (and binary name).
+pub const MODEL_IDENTIFIER: &str = "relnav";
+
+/// Logging categories, in the order declared in the XML.
+pub const LOG_CATEGORIES: [(&str, &str); 4] = [
+    ("logStatusError", "Errors: rejected calls, invalid parameters or inputs, failed steps"),
+    ("logStatusWarning", "Warnings"),
+    ("logInfo", "Initialisation and configuration summary"),
+    ("logCalls", "Every FMI call with its arguments"),
+];
+
+const GUID_PLACEHOLDER: &str = "@GUID@";
+
+fn escape(s: &str) -> String {
+    let mut o = String::with_capacity(s.len());
+    for c in s.chars() {
+        match c {
+            '&' => o.push_str("&amp;"),
+            '<' => o.push_str("&lt;"),
+            '>' => o.push_str("&gt;"),
+            '"' => o.push_str("&quot;"),
+            '\'' => o.push_str("&apos;"),
+            c => o.push(c),
+        }
+    }
+    o
+}
+
+fn causality(c: Causality) -> &'static str {
+    match c {
+        Causality::Parameter => "parameter",
+        Causality::Input => "input",
+        Causality::Output => "output",
+    }
+}
+
+fn variability(v: Variability) -> &'static str {
+    match v {
+        Variability::Fixed => "fixed",
+        Variability::Discrete => "discrete",
+        Variability::Continuous => "continuous",
+    }
+}
+
+fn body() -> String {
+    let mut x = String::new();
+    // write! into a String cannot fail; the results are ignored deliberately.
+    let _ = writeln!(x, r#"<?xml version="1.0" encoding="UTF-8"?>"#);
+    let _ = writeln!(
+        x,
+        r#"<fmiModelDescription fmiVersion="2.0" modelName="relnav" guid="{GUID_PLACEHOLDER}" description="Spacecraft relative navigation: EKF/UKF estimate of the chaser's relative position and velocity near a target on a circular orbit (Clohessy-Wiltshire), from thrust and range/azimuth/elevation measurements" author="relnav developers" version="{}" generationTool="relnav {}" variableNamingConvention="flat">"#,
+        crate::VERSION,
+        crate::VERSION
+    );
+    let _ = writeln!(
+        x,
+        r#"  <CoSimulation modelIdentifier="{MODEL_IDENTIFIER}" needsExecutionTool="false" canHandleVariableCommunicationStepSize="true" canInterpolateInputs="false" maxOutputDerivativeOrder="0" canRunAsynchronuously="false" canBeInstantiatedOnlyOncePerProcess="false" canNotUseMemoryManagementFunctions="true" canGetAndSetFMUstate="false" canSerializeFMUstate="false" providesDirectionalDerivative="false"/>"#
+    );
+    let _ = writeln!(x, "  <UnitDefinitions>");
+    for (name, [kg, m, s, rad]) in UNITS {
+        let mut attrs = String::new();
+        for (n, e) in [("kg", kg), ("m", m), ("s", s), ("rad", rad)] {
+            if *e != 0 {
+                let _ = write!(attrs, r#" {n}="{e}""#);
+            }
+        }
+        let _ = writeln!(x, r#"    <Unit name="{}"><BaseUnit{attrs}/></Unit>"#, escape(name));
+    }
+    let _ = writeln!(x, "  </UnitDefinitions>");
+    let _ = writeln!(x, "  <TypeDefinitions>");
+    for t in ENUM_TYPES {
+        let _ = writeln!(x, r#"    <SimpleType name="{}">"#, t.name);
+        let _ = writeln!(x, "      <Enumeration>");
+        for (n, v, d) in t.items {
+            let _ = writeln!(
+                x,
+                r#"        <Item name="{n}" value="{v}" description="{}"/>"#,
+                escape(d)
+            );
+        }
+        let _ = writeln!(x, "      </Enumeration>");
+        let _ = writeln!(x, "    </SimpleType>");
+    }
+    let _ = writeln!(x, "  </TypeDefinitions>");
+    let _ = writeln!(x, "  <LogCategories>");
+    for (n, d) in LOG_CATEGORIES {
+        let _ = writeln!(x, r#"    <Category name="{n}" description="{}"/>"#, escape(d));
+    }
+    let _ = writeln!(x, "  </LogCategories>");
+    let _ = writeln!(
+        x,
+        r#"  <DefaultExperiment startTime="0" stopTime="600" stepSize="1"/>"#
+    );
+    let _ = writeln!(x, "  <ModelVariables>");
+    for v in VARIABLES {
+        let _ = writeln!(
+            x,
+            r#"    <!-- index {} --><ScalarVariable name="{}" valueReference="{}" description="{}" causality="{}" variability="{}">"#,
+            v.vr + 1,
+            v.name,
+            v.vr,
+            escape(v.description),
+            causality(v.causality),
+            variability(v.variability)
+        );
+        // parameters are initial="exact" and inputs need a start; outputs are calculated
+        let start = |s: String| {
+            if v.causality == Causality::Output {
+                String::new()
+            } else {
+                format!(r#" start="{s}""#)
+            }
+        };
+        let elem = match v.ty {
+            VarType::Real(u) => {
+                let unit = if u.is_empty() {
+                    String::new()
+                } else {
+                    format!(r#" unit="{}""#, escape(u))
+                };
+                format!(r#"<Real{unit}{}/>"#, start(format!("{}", v.start)))
+            }
+            VarType::Integer => format!("<Integer{}/>", start(format!("{}", v.start as i64))),
+            VarType::Boolean => format!(
+                "<Boolean{}/>",
+                start(if v.start != 0.0 { "true" } else { "false" }.to_string())
+            ),
+            VarType::Enumeration(t) => format!(
+                r#"<Enumeration declaredType="{}"{}/>"#,
+                t.name,
+                start(format!("{}", v.start as i64))
+            ),
+        };
+        let _ = writeln!(x, "      {elem}");
+        let _ = writeln!(x, "    </ScalarVariable>");
+    }
+    let _ = writeln!(x, "  </ModelVariables>");
+    let _ = writeln!(x, "  <ModelStructure>");
+    let outputs: Vec<_> = VARIABLES
+        .iter()
+        .filter(|v| v.causality == Causality::Output)
+        .collect();
+    let _ = writeln!(x, "    <Outputs>");
+    for v in &outputs {
+        // dependencies="": no direct feedthrough, outputs change only in fmi2DoStep
+        let _ = writeln!(x, r#"      <Unknown index="{}" dependencies=""/>"#, v.vr + 1);
+    }
+    let _ = writeln!(x, "    </Outputs>");
+    let _ = writeln!(x, "    <InitialUnknowns>");
+    for v in &outputs {
+        // initial values depend on the parameters (initial estimate and sigma)
+        let _ = writeln!(x, r#"      <Unknown index="{}"/>"#, v.vr + 1);
+    }
+    let _ = writeln!(x, "    </InitialUnknowns>");
+    let _ = writeln!(x, "  </ModelStructure>");
+    let _ = writeln!(x, "</fmiModelDescription>");
+    x
+}
+
+fn generated() -> &'static (String, String) {
+    static CELL: OnceLock<(String, String)> = OnceLock::new();
+    CELL.get_or_init(|| {
+        let b = body();
+        let id = uuid::Uuid::new_v5(&uuid::Uuid::NAMESPACE_URL, b.as_bytes());
+        let guid = format!("{{{id}}}");
+        let xml = b.replacen(GUID_PLACEHOLDER, &guid, 1);
+        (guid, xml)
+    })
+}
+
+/// The FMU's GUID, `{xxxxxxxx-...}`.
+pub fn guid() -> &'static str {
+    &generated().0
+}
+
+/// The full `modelDescription.xml` text.
+pub fn model_description() -> &'static str {
+    &generated().1
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn xml_contains_every_variable_and_the_guid() {
+        let xml = model_description();
+        assert!(xml.contains(&format!(r#"guid="{}""#, guid())));
+        assert!(!xml.contains(GUID_PLACEHOLDER));
+        for v in VARIABLES {
+            assert!(xml.contains(&format!(r#"name="{}" valueReference="{}""#, v.name, v.vr)));
+        }
+        assert!(xml.contains("canRunAsynchronuously"));
+        assert_eq!(guid().len(), 38);
+    }
+}

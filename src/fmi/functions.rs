@@ -1,0 +1,751 @@
+//! The exported `fmi2*` entry points (FMI 2.0 common and co-simulation functions, all of
+//! them, unprefixed). Generic plumbing only: pointer checks, the panic boundary, the
+//! allowed-states mask of each call, logging; the model lives in [`super::instance`].
+#![allow(non_snake_case)]
+
+use super::description::guid;
+use super::instance::{error, FmiFailure, Instance, Logger, ModelState, ANY_STATE};
+use super::types::*;
+use super::variables::VarType;
+use std::ffi::{c_char, c_int, CStr};
+use std::panic::{catch_unwind, AssertUnwindSafe};
+
+use ModelState::{Error as ErrorState, InitializationMode, Instantiated, StepComplete, Terminated};
+
+const M_INSTANTIATED: u32 = Instantiated as u32;
+const M_INIT: u32 = InitializationMode as u32;
+const M_STEP: u32 = StepComplete as u32;
+const M_GET: u32 = InitializationMode as u32 | StepComplete as u32 | Terminated as u32 | ErrorState as u32;
+const M_SET: u32 = Instantiated as u32 | InitializationMode as u32 | StepComplete as u32;
+
+fn panic_text(p: &(dyn std::any::Any + Send)) -> String {
+    p.downcast_ref::<&str>()
+        .map(|s| (*s).to_string())
+        .or_else(|| p.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "unknown panic".to_string())
+}
+
+/// Run `f` on the instance behind `c` if the call is allowed in its state; errors are
+/// logged and put the instance in the error state; panics never cross into C.
+///
+/// # Safety
+/// `c` is null or a pointer returned by [`fmi2Instantiate`] and not yet freed.
+unsafe fn guarded<F>(c: fmi2Component, func: &str, allowed: u32, f: F) -> fmi2Status
+where
+    F: FnOnce(&mut Instance) -> Result<(), FmiFailure>,
+{
+    // SAFETY: by the caller's contract `c` is null or a live `Instance`.
+    let Some(inst) = (unsafe { (c as *mut Instance).as_mut() }) else {
+        return fmi2Status::fmi2Error;
+    };
+    let outcome = catch_unwind(AssertUnwindSafe(|| {
+        if inst.logs_calls() {
+            inst.log(fmi2Status::fmi2OK, "logCalls", func);
+        }
+        inst.require(func, allowed)?;
+        f(inst)
+    }));
+    match outcome {
+        Ok(Ok(())) => fmi2Status::fmi2OK,
+        Ok(Err(e)) => {
+            let category = if e.status >= fmi2Status::fmi2Error {
+                "logStatusError"
+            } else {
+                "logStatusWarning"
+            };
+            inst.log(e.status, category, &e.message);
+            if e.status >= fmi2Status::fmi2Error {
+                inst.state = ErrorState;
+            }
+            e.status
+        }
+        Err(p) => {
+            let msg = format!("{func}: internal panic: {}", panic_text(p.as_ref()));
+            let _ = catch_unwind(AssertUnwindSafe(|| {
+                inst.log(fmi2Status::fmi2Fatal, "logStatusError", &msg)
+            }));
+            inst.state = ErrorState;
+            fmi2Status::fmi2Fatal
+        }
+    }
+}
+
+/// An unsupported function: `fmi2Error` plus a log line saying why.
+///
+/// # Safety
+/// As [`guarded`].
+unsafe fn unsupported(c: fmi2Component, func: &str, why: &str) -> fmi2Status {
+    // SAFETY: forwarded contract.
+    unsafe {
+        guarded(c, func, ANY_STATE, |_| {
+            Err(error(format!("{func} is not supported by this FMU ({why})")))
+        })
+    }
+}
+
+/// Borrow `n` elements of a C array (`n == 0` accepts null).
+///
+/// # Safety
+/// `p` is null or points to `n` readable elements.
+unsafe fn slice<'a, T>(p: *const T, n: usize, what: &str) -> Result<&'a [T], FmiFailure> {
+    if n == 0 {
+        return Ok(&[]);
+    }
+    if p.is_null() {
+        return Err(error(format!("{what} is null")));
+    }
+    // SAFETY: non-null, `n` elements by contract.
+    Ok(unsafe { std::slice::from_raw_parts(p, n) })
+}
+
+/// Mutable variant of [`slice`].
+///
+/// # Safety
+/// `p` is null or points to `n` writable elements.
+unsafe fn slice_mut<'a, T>(p: *mut T, n: usize, what: &str) -> Result<&'a mut [T], FmiFailure> {
+    if n == 0 {
+        return Ok(&mut []);
+    }
+    if p.is_null() {
+        return Err(error(format!("{what} is null")));
+    }
+    // SAFETY: non-null, `n` elements by contract.
+    Ok(unsafe { std::slice::from_raw_parts_mut(p, n) })
+}
+
+fn is_real(t: &VarType) -> bool {
+    matches!(t, VarType::Real(_))
+}
+fn is_integer(t: &VarType) -> bool {
+    matches!(t, VarType::Integer | VarType::Enumeration(_))
+}
+fn is_boolean(t: &VarType) -> bool {
+    matches!(t, VarType::Boolean)
+}
+
+// ---------------------------------------------------------------- inquiry
+
+/// `"default"`.
+#[no_mangle]
+pub extern "C" fn fmi2GetTypesPlatform() -> *const c_char {
+    c"default".as_ptr()
+}
+
+/// `"2.0"`.
+#[no_mangle]
+pub extern "C" fn fmi2GetVersion() -> *const c_char {
+    c"2.0".as_ptr()
+}
+
+// ---------------------------------------------------------------- life cycle
+
+/// Create an instance (co-simulation only). Returns null, with a logged reason when a
+/// logger is available, for a null/empty name, a model-exchange request or a wrong GUID.
+///
+/// # Safety
+/// String arguments are null or NUL-terminated; `functions` is null or valid for the call.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2Instantiate(
+    instanceName: fmi2String,
+    fmuType: c_int,
+    fmuGUID: fmi2String,
+    _fmuResourceLocation: fmi2String,
+    functions: *const fmi2CallbackFunctions,
+    _visible: fmi2Boolean,
+    loggingOn: fmi2Boolean,
+) -> fmi2Component {
+    let made = catch_unwind(AssertUnwindSafe(|| {
+        // SAFETY: null or valid for the duration of this call (FMI 2.0 sec. 2.1.5); copied.
+        let f = unsafe { functions.as_ref() }?;
+        let logger = Logger::new(f.logger, f.componentEnvironment);
+        let name = if instanceName.is_null() {
+            None
+        } else {
+            // SAFETY: non-null, NUL-terminated by contract.
+            Some(unsafe { CStr::from_ptr(instanceName) }.to_owned())
+        };
+        let reject = |msg: &str| {
+            logger.log(
+                name.as_deref().unwrap_or(c"relnav"),
+                fmi2Status::fmi2Error,
+                "logStatusError",
+                msg,
+            );
+            None
+        };
+        let name = match name.clone() {
+            Some(n) if !n.as_bytes().is_empty() => n,
+            _ => return reject("fmi2Instantiate: instanceName is null or empty"),
+        };
+        if fmuType != fmi2CoSimulation {
+            return reject("fmi2Instantiate: only Co-Simulation (fmuType = fmi2CoSimulation) is supported");
+        }
+        let given = if fmuGUID.is_null() {
+            String::new()
+        } else {
+            // SAFETY: non-null, NUL-terminated by contract.
+            unsafe { CStr::from_ptr(fmuGUID) }.to_string_lossy().into_owned()
+        };
+        if given != guid() {
+            return reject(&format!(
+                "fmi2Instantiate: GUID {given} does not match this binary's {}",
+                guid()
+            ));
+        }
+        Some(Box::into_raw(Box::new(Instance::new(name, logger, loggingOn != fmi2False))))
+    }));
+    match made {
+        Ok(Some(p)) => p.cast(),
+        _ => std::ptr::null_mut(),
+    }
+}
+
+/// Release an instance (null accepted).
+///
+/// # Safety
+/// `c` is null or from [`fmi2Instantiate`], freed once.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2FreeInstance(c: fmi2Component) {
+    let _ = catch_unwind(AssertUnwindSafe(|| {
+        if !c.is_null() {
+            // SAFETY: from Box::into_raw in fmi2Instantiate; freed exactly once.
+            drop(unsafe { Box::from_raw(c as *mut Instance) });
+        }
+    }));
+}
+
+/// Enable/disable logging, for all categories (`nCategories == 0`) or the named ones.
+///
+/// # Safety
+/// `c` live or null; `categories` holds `nCategories` C strings.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2SetDebugLogging(
+    c: fmi2Component,
+    loggingOn: fmi2Boolean,
+    nCategories: usize,
+    categories: *const fmi2String,
+) -> fmi2Status {
+    // SAFETY: contracts forwarded; pointers checked in `slice`.
+    unsafe {
+        guarded(c, "fmi2SetDebugLogging", ANY_STATE, |inst| {
+            let cats = slice(categories, nCategories, "categories")?;
+            let mut names = Vec::with_capacity(cats.len());
+            for p in cats {
+                if p.is_null() {
+                    return Err(error("fmi2SetDebugLogging: a category name is null".into()));
+                }
+                names.push(CStr::from_ptr(*p).to_string_lossy().into_owned());
+            }
+            let refs: Vec<&str> = names.iter().map(String::as_str).collect();
+            inst.set_debug_logging(loggingOn != fmi2False, &refs)
+        })
+    }
+}
+
+/// Start (and optional stop) time. The tolerance is ignored (no integrator inside).
+///
+/// # Safety
+/// `c` live or null.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2SetupExperiment(
+    c: fmi2Component,
+    _toleranceDefined: fmi2Boolean,
+    _tolerance: fmi2Real,
+    startTime: fmi2Real,
+    stopTimeDefined: fmi2Boolean,
+    stopTime: fmi2Real,
+) -> fmi2Status {
+    // SAFETY: contract forwarded.
+    unsafe {
+        guarded(c, "fmi2SetupExperiment", M_INSTANTIATED, |inst| {
+            inst.setup_experiment(startTime, (stopTimeDefined != fmi2False).then_some(stopTime))
+        })
+    }
+}
+
+/// Enter initialisation mode.
+///
+/// # Safety
+/// `c` live or null.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2EnterInitializationMode(c: fmi2Component) -> fmi2Status {
+    // SAFETY: contract forwarded.
+    unsafe {
+        guarded(c, "fmi2EnterInitializationMode", M_INSTANTIATED, |inst| {
+            inst.enter_initialization();
+            Ok(())
+        })
+    }
+}
+
+/// Exit initialisation mode: parameters are validated and the estimator is created.
+///
+/// # Safety
+/// `c` live or null.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2ExitInitializationMode(c: fmi2Component) -> fmi2Status {
+    // SAFETY: contract forwarded.
+    unsafe { guarded(c, "fmi2ExitInitializationMode", M_INIT, Instance::exit_initialization) }
+}
+
+/// Terminate the simulation.
+///
+/// # Safety
+/// `c` live or null.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2Terminate(c: fmi2Component) -> fmi2Status {
+    // SAFETY: contract forwarded.
+    unsafe {
+        guarded(c, "fmi2Terminate", M_STEP, |inst| {
+            inst.terminate();
+            Ok(())
+        })
+    }
+}
+
+/// Back to the just-instantiated state (start values, no estimator). Allowed in every
+/// state, including after an error (FMI 2.0.5).
+///
+/// # Safety
+/// `c` live or null.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2Reset(c: fmi2Component) -> fmi2Status {
+    // SAFETY: contract forwarded.
+    unsafe {
+        guarded(c, "fmi2Reset", ANY_STATE, |inst| {
+            inst.reset();
+            Ok(())
+        })
+    }
+}
+
+// ---------------------------------------------------------------- get / set
+
+/// # Safety
+/// `c` live or null; `vr` and `value` hold `nvr` elements.
+unsafe fn get_values<T>(
+    c: fmi2Component,
+    func: &str,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *mut T,
+    want: fn(&VarType) -> bool,
+    conv: fn(f64) -> T,
+) -> fmi2Status {
+    // SAFETY: contract forwarded; pointers checked.
+    unsafe {
+        guarded(c, func, M_GET, |inst| {
+            let refs = slice(vr, nvr, "vr")?;
+            let out = slice_mut(value, nvr, "value")?;
+            for (r, o) in refs.iter().zip(out.iter_mut()) {
+                *o = conv(inst.get(*r, func, want)?);
+            }
+            Ok(())
+        })
+    }
+}
+
+/// # Safety
+/// `c` live or null; `vr` and `value` hold `nvr` elements.
+unsafe fn set_values<T: Copy>(
+    c: fmi2Component,
+    func: &str,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *const T,
+    want: fn(&VarType) -> bool,
+    conv: fn(T) -> f64,
+) -> fmi2Status {
+    // SAFETY: contract forwarded; pointers checked.
+    unsafe {
+        guarded(c, func, M_SET, |inst| {
+            let refs = slice(vr, nvr, "vr")?;
+            let vals = slice(value, nvr, "value")?;
+            for (r, v) in refs.iter().zip(vals.iter()) {
+                inst.set(*r, conv(*v), func, want)?;
+            }
+            Ok(())
+        })
+    }
+}
+
+/// Read Real variables.
+///
+/// # Safety
+/// `c` live or null; `vr` and `value` hold `nvr` elements.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetReal(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *mut fmi2Real,
+) -> fmi2Status {
+    // SAFETY: contract forwarded.
+    unsafe { get_values(c, "fmi2GetReal", vr, nvr, value, is_real, |v| v) }
+}
+
+/// Read Integer and Enumeration variables.
+///
+/// # Safety
+/// `c` live or null; `vr` and `value` hold `nvr` elements.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetInteger(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *mut fmi2Integer,
+) -> fmi2Status {
+    // SAFETY: contract forwarded.
+    unsafe { get_values(c, "fmi2GetInteger", vr, nvr, value, is_integer, |v| v as fmi2Integer) }
+}
+
+/// Read Boolean variables.
+///
+/// # Safety
+/// `c` live or null; `vr` and `value` hold `nvr` elements.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetBoolean(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *mut fmi2Boolean,
+) -> fmi2Status {
+    // SAFETY: contract forwarded.
+    unsafe {
+        get_values(c, "fmi2GetBoolean", vr, nvr, value, is_boolean, |v| {
+            if v != 0.0 {
+                fmi2True
+            } else {
+                fmi2False
+            }
+        })
+    }
+}
+
+/// There are no String variables: any value reference is unknown.
+///
+/// # Safety
+/// `c` live or null; `vr` and `value` hold `nvr` elements.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetString(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    _value: *mut fmi2String,
+) -> fmi2Status {
+    // SAFETY: contract forwarded.
+    unsafe {
+        guarded(c, "fmi2GetString", M_GET, |_| {
+            let refs = slice(vr, nvr, "vr")?;
+            match refs.first() {
+                None => Ok(()),
+                Some(r) => Err(error(format!("fmi2GetString: no String variable has value reference {r}"))),
+            }
+        })
+    }
+}
+
+/// Write Real parameters (before initialisation ends) and inputs.
+///
+/// # Safety
+/// `c` live or null; `vr` and `value` hold `nvr` elements.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2SetReal(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *const fmi2Real,
+) -> fmi2Status {
+    // SAFETY: contract forwarded.
+    unsafe { set_values(c, "fmi2SetReal", vr, nvr, value, is_real, |v| v) }
+}
+
+/// Write Integer and Enumeration parameters.
+///
+/// # Safety
+/// `c` live or null; `vr` and `value` hold `nvr` elements.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2SetInteger(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *const fmi2Integer,
+) -> fmi2Status {
+    // SAFETY: contract forwarded.
+    unsafe { set_values(c, "fmi2SetInteger", vr, nvr, value, is_integer, f64::from) }
+}
+
+/// Write Boolean inputs.
+///
+/// # Safety
+/// `c` live or null; `vr` and `value` hold `nvr` elements.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2SetBoolean(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *const fmi2Boolean,
+) -> fmi2Status {
+    // SAFETY: contract forwarded.
+    unsafe {
+        set_values(c, "fmi2SetBoolean", vr, nvr, value, is_boolean, |v| {
+            if v != fmi2False {
+                1.0
+            } else {
+                0.0
+            }
+        })
+    }
+}
+
+/// There are no String variables: any value reference is unknown.
+///
+/// # Safety
+/// `c` live or null; `vr` and `value` hold `nvr` elements.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2SetString(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    _value: *const fmi2String,
+) -> fmi2Status {
+    // SAFETY: contract forwarded.
+    unsafe {
+        guarded(c, "fmi2SetString", M_SET, |_| {
+            let refs = slice(vr, nvr, "vr")?;
+            match refs.first() {
+                None => Ok(()),
+                Some(r) => Err(error(format!("fmi2SetString: no String variable has value reference {r}"))),
+            }
+        })
+    }
+}
+
+// ---------------------------------------------------------------- unsupported: state, derivatives
+
+const NO_STATE: &str = "canGetAndSetFMUstate=\"false\"";
+
+/// Unsupported (`canGetAndSetFMUstate="false"`).
+///
+/// # Safety
+/// `c` live or null.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetFMUstate(c: fmi2Component, _s: *mut fmi2FMUstate) -> fmi2Status {
+    // SAFETY: contract forwarded.
+    unsafe { unsupported(c, "fmi2GetFMUstate", NO_STATE) }
+}
+
+/// Unsupported (`canGetAndSetFMUstate="false"`).
+///
+/// # Safety
+/// `c` live or null.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2SetFMUstate(c: fmi2Component, _s: fmi2FMUstate) -> fmi2Status {
+    // SAFETY: contract forwarded.
+    unsafe { unsupported(c, "fmi2SetFMUstate", NO_STATE) }
+}
+
+/// Unsupported (`canGetAndSetFMUstate="false"`).
+///
+/// # Safety
+/// `c` live or null.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2FreeFMUstate(c: fmi2Component, _s: *mut fmi2FMUstate) -> fmi2Status {
+    // SAFETY: contract forwarded.
+    unsafe { unsupported(c, "fmi2FreeFMUstate", NO_STATE) }
+}
+
+/// Unsupported (`canSerializeFMUstate="false"`).
+///
+/// # Safety
+/// `c` live or null.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2SerializedFMUstateSize(
+    c: fmi2Component,
+    _s: fmi2FMUstate,
+    _size: *mut usize,
+) -> fmi2Status {
+    // SAFETY: contract forwarded.
+    unsafe { unsupported(c, "fmi2SerializedFMUstateSize", "canSerializeFMUstate=\"false\"") }
+}
+
+/// Unsupported (`canSerializeFMUstate="false"`).
+///
+/// # Safety
+/// `c` live or null.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2SerializeFMUstate(
+    c: fmi2Component,
+    _s: fmi2FMUstate,
+    _bytes: *mut fmi2Byte,
+    _size: usize,
+) -> fmi2Status {
+    // SAFETY: contract forwarded.
+    unsafe { unsupported(c, "fmi2SerializeFMUstate", "canSerializeFMUstate=\"false\"") }
+}
+
+/// Unsupported (`canSerializeFMUstate="false"`).
+///
+/// # Safety
+/// `c` live or null.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
+    c: fmi2Component,
+    _bytes: *const fmi2Byte,
+    _size: usize,
+    _s: *mut fmi2FMUstate,
+) -> fmi2Status {
+    // SAFETY: contract forwarded.
+    unsafe { unsupported(c, "fmi2DeSerializeFMUstate", "canSerializeFMUstate=\"false\"") }
+}
+
+/// Unsupported (`providesDirectionalDerivative="false"`).
+///
+/// # Safety
+/// `c` live or null.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetDirectionalDerivative(
+    c: fmi2Component,
+    _vu: *const fmi2ValueReference,
+    _nu: usize,
+    _vk: *const fmi2ValueReference,
+    _nk: usize,
+    _dvk: *const fmi2Real,
+    _dvu: *mut fmi2Real,
+) -> fmi2Status {
+    // SAFETY: contract forwarded.
+    unsafe { unsupported(c, "fmi2GetDirectionalDerivative", "providesDirectionalDerivative=\"false\"") }
+}
+
+/// Unsupported (`canInterpolateInputs="false"`).
+///
+/// # Safety
+/// `c` live or null.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2SetRealInputDerivatives(
+    c: fmi2Component,
+    _vr: *const fmi2ValueReference,
+    _nvr: usize,
+    _order: *const fmi2Integer,
+    _value: *const fmi2Real,
+) -> fmi2Status {
+    // SAFETY: contract forwarded.
+    unsafe { unsupported(c, "fmi2SetRealInputDerivatives", "canInterpolateInputs=\"false\"") }
+}
+
+/// Unsupported (`maxOutputDerivativeOrder="0"`).
+///
+/// # Safety
+/// `c` live or null.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetRealOutputDerivatives(
+    c: fmi2Component,
+    _vr: *const fmi2ValueReference,
+    _nvr: usize,
+    _order: *const fmi2Integer,
+    _value: *mut fmi2Real,
+) -> fmi2Status {
+    // SAFETY: contract forwarded.
+    unsafe { unsupported(c, "fmi2GetRealOutputDerivatives", "maxOutputDerivativeOrder=\"0\"") }
+}
+
+// ---------------------------------------------------------------- co-simulation
+
+/// One communication step from `currentCommunicationPoint` over
+/// `communicationStepSize`: apply the measurement taken at the step's start (if
+/// `measurement_valid`), predict with the thrust held, publish the estimate at the end.
+///
+/// # Safety
+/// `c` live or null.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2DoStep(
+    c: fmi2Component,
+    currentCommunicationPoint: fmi2Real,
+    communicationStepSize: fmi2Real,
+    _noSetFMUStatePriorToCurrentPoint: fmi2Boolean,
+) -> fmi2Status {
+    // SAFETY: contract forwarded.
+    unsafe {
+        guarded(c, "fmi2DoStep", M_STEP, |inst| {
+            inst.do_step(currentCommunicationPoint, communicationStepSize)
+        })
+    }
+}
+
+/// Unsupported: steps are synchronous (`canRunAsynchronuously="false"`).
+///
+/// # Safety
+/// `c` live or null.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2CancelStep(c: fmi2Component) -> fmi2Status {
+    // SAFETY: contract forwarded.
+    unsafe { unsupported(c, "fmi2CancelStep", "steps are synchronous") }
+}
+
+/// Unsupported: steps are synchronous, there is no pending status.
+///
+/// # Safety
+/// `c` live or null.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetStatus(c: fmi2Component, _s: c_int, _value: *mut c_int) -> fmi2Status {
+    // SAFETY: contract forwarded.
+    unsafe { unsupported(c, "fmi2GetStatus", "steps are synchronous") }
+}
+
+/// `fmi2LastSuccessfulTime`: the time of the last completed step.
+///
+/// # Safety
+/// `c` live or null; `value` writable or null.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetRealStatus(c: fmi2Component, s: c_int, value: *mut fmi2Real) -> fmi2Status {
+    // SAFETY: contract forwarded; pointer checked.
+    unsafe {
+        guarded(c, "fmi2GetRealStatus", M_GET, |inst| {
+            if s != status_kind::LAST_SUCCESSFUL_TIME {
+                return Err(error(format!("fmi2GetRealStatus: status kind {s} is not supported")));
+            }
+            let out = slice_mut(value, 1, "value")?;
+            out[0] = inst.time();
+            Ok(())
+        })
+    }
+}
+
+/// Unsupported: no Integer status exists in FMI 2.0 co-simulation.
+///
+/// # Safety
+/// `c` live or null.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetIntegerStatus(c: fmi2Component, _s: c_int, _value: *mut fmi2Integer) -> fmi2Status {
+    // SAFETY: contract forwarded.
+    unsafe { unsupported(c, "fmi2GetIntegerStatus", "no Integer status kinds are defined") }
+}
+
+/// `fmi2Terminated`: always false (the FMU never asks to end the simulation).
+///
+/// # Safety
+/// `c` live or null; `value` writable or null.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetBooleanStatus(c: fmi2Component, s: c_int, value: *mut fmi2Boolean) -> fmi2Status {
+    // SAFETY: contract forwarded; pointer checked.
+    unsafe {
+        guarded(c, "fmi2GetBooleanStatus", M_GET, |_| {
+            if s != status_kind::TERMINATED {
+                return Err(error(format!("fmi2GetBooleanStatus: status kind {s} is not supported")));
+            }
+            let out = slice_mut(value, 1, "value")?;
+            out[0] = fmi2False;
+            Ok(())
+        })
+    }
+}
+
+/// Unsupported: steps are synchronous, there is no pending status text.
+///
+/// # Safety
+/// `c` live or null.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetStringStatus(c: fmi2Component, _s: c_int, _value: *mut fmi2String) -> fmi2Status {
+    // SAFETY: contract forwarded.
+    unsafe { unsupported(c, "fmi2GetStringStatus", "steps are synchronous") }
+}

@@ -1,0 +1,265 @@
+//! The one table of FMU variables. It generates `modelDescription.xml`
+//! ([`super::description`]) and drives the get/set dispatch ([`super::instance`]): value
+//! reference = index in [`VARIABLES`] (checked by a test), start values come from here and
+//! nowhere else.
+
+use std::f64::consts::PI;
+
+/// FMI causality.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Causality {
+    /// Fixed before initialisation.
+    Parameter,
+    /// Set by the master before each step.
+    Input,
+    /// Computed by the FMU.
+    Output,
+}
+
+/// FMI variability.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Variability {
+    /// Constant after initialisation.
+    Fixed,
+    /// Changes only at communication points (held in between).
+    Discrete,
+    /// A continuous quantity sampled at communication points.
+    Continuous,
+}
+
+/// An FMI enumeration type.
+#[derive(Debug)]
+pub struct EnumType {
+    /// Type name used in `declaredType`.
+    pub name: &'static str,
+    /// Items: (name, value, description).
+    pub items: &'static [(&'static str, i32, &'static str)],
+}
+
+/// FMI base type of a variable.
+#[derive(Debug, Clone, Copy)]
+pub enum VarType {
+    /// Real with a unit (empty string: dimensionless, no unit attribute).
+    Real(&'static str),
+    /// Integer.
+    Integer,
+    /// Boolean.
+    Boolean,
+    /// Enumeration of the given type.
+    Enumeration(&'static EnumType),
+}
+
+/// One FMU variable.
+#[derive(Debug)]
+pub struct VarDef {
+    /// Value reference (= index in [`VARIABLES`]).
+    pub vr: u32,
+    /// Name.
+    pub name: &'static str,
+    /// Causality.
+    pub causality: Causality,
+    /// Variability.
+    pub variability: Variability,
+    /// Type.
+    pub ty: VarType,
+    /// Start value (Integer/Enumeration/Boolean stored exactly as f64); unused for outputs.
+    pub start: f64,
+    /// Description.
+    pub description: &'static str,
+}
+
+/// Units used by the table, as (name, exponents of kg, m, s, rad).
+pub const UNITS: &[(&str, [i32; 4])] = &[
+    ("N", [1, 1, -2, 0]),
+    ("kg", [1, 0, 0, 0]),
+    ("m", [0, 1, 0, 0]),
+    ("m/s", [0, 1, -1, 0]),
+    ("rad", [0, 0, 0, 1]),
+    ("rad/s", [0, 0, -1, 1]),
+    ("m2/s", [0, 2, -1, 0]),
+    ("m2/s3", [0, 2, -3, 0]),
+];
+
+/// `filter` parameter values (same codes as the C ABI's `relnav_filter`).
+pub static FILTER_TYPE: EnumType = EnumType {
+    name: "Filter",
+    items: &[
+        ("ekf", 1, "Extended Kalman filter (Joseph form)"),
+        ("ukf", 2, "Unscented Kalman filter (scaled sigma points)"),
+        ("aqukf", 3, "Sliding-window adaptive UKF (paper 001; not implemented yet)"),
+        ("pf", 4, "SIR particle filter (paper 000; not implemented yet)"),
+        ("rpf", 5, "Regularised particle filter (not implemented yet)"),
+        ("upf", 6, "Unscented particle filter (not implemented yet)"),
+        ("gapf", 7, "Genetic particle filter (not implemented yet)"),
+        ("cgapf", 8, "Cloud-genetic particle filter (paper 003; not implemented yet)"),
+        ("hinf", 9, "Robust H-infinity filter (paper 002; not implemented yet)"),
+    ],
+};
+
+/// `frame` parameter values.
+pub static FRAME_TYPE: EnumType = EnumType {
+    name: "Frame",
+    items: &[
+        ("radial_along_normal", 1, "x radial outward, y along-track, z orbit normal (canonical; paper 002)"),
+        ("along_radial_antinormal", 2, "x along-track, y radial outward, z minus orbit normal (paper 000)"),
+        ("along_antinormal_nadir", 3, "x along-track, y minus orbit normal, z nadir (paper 003)"),
+    ],
+};
+
+/// `discretization` parameter values.
+pub static DISCRETIZATION_TYPE: EnumType = EnumType {
+    name: "Discretization",
+    items: &[
+        ("exact", 1, "Exact CW transition, exact zero-order hold, Van Loan process noise"),
+        ("euler", 2, "First-order Euler I + T A (literal paper 000)"),
+    ],
+};
+
+/// All enumeration types, in declaration order.
+pub static ENUM_TYPES: [&EnumType; 3] = [&FILTER_TYPE, &FRAME_TYPE, &DISCRETIZATION_TYPE];
+
+macro_rules! variables {
+    ($( $id:ident = $vr:literal : $name:literal, $caus:ident, $var:ident, $ty:expr, $start:expr, $desc:literal; )*) => {
+        /// Value references by name (generated from the table).
+        pub mod vr {
+            $(
+                #[doc = $desc]
+                pub const $id: u32 = $vr;
+            )*
+        }
+        /// Every FMU variable; the value reference is the index.
+        pub static VARIABLES: &[VarDef] = &[
+            $( VarDef {
+                vr: $vr,
+                name: $name,
+                causality: Causality::$caus,
+                variability: Variability::$var,
+                ty: $ty,
+                start: $start,
+                description: $desc,
+            }, )*
+        ];
+    };
+}
+
+use VarType::{Boolean, Enumeration, Integer, Real};
+
+variables! {
+    FILTER = 0: "filter", Parameter, Fixed, Enumeration(&FILTER_TYPE), 1.0,
+        "Estimator (codes 1-9; 1 ekf and 2 ukf are implemented)";
+    FRAME = 1: "frame", Parameter, Fixed, Enumeration(&FRAME_TYPE), 2.0,
+        "Hill-frame convention of every input and output vector and angle";
+    DISCRETIZATION = 2: "discretization", Parameter, Fixed, Enumeration(&DISCRETIZATION_TYPE), 1.0,
+        "Discretisation of the CW model";
+    MEAN_MOTION = 3: "mean_motion", Parameter, Fixed, Real("rad/s"), 2.0 * PI / 7200.0,
+        "Mean motion of the target's circular orbit (> 0)";
+    CHASER_MASS = 4: "chaser_mass", Parameter, Fixed, Real("kg"), 1000.0,
+        "Chaser mass: thrust / mass = acceleration (> 0)";
+    SIGMA_RANGE = 5: "sigma_range", Parameter, Fixed, Real("m"), 0.5,
+        "Range measurement noise, 1 sigma (> 0)";
+    SIGMA_ANGLE = 6: "sigma_angle", Parameter, Fixed, Real("rad"), 0.01 * PI / 180.0,
+        "Azimuth and elevation measurement noise, 1 sigma (> 0)";
+    X0 = 7: "x0", Parameter, Fixed, Real("m"), 405.0, "Initial estimate of x";
+    Y0 = 8: "y0", Parameter, Fixed, Real("m"), 505.0, "Initial estimate of y";
+    Z0 = 9: "z0", Parameter, Fixed, Real("m"), 205.0, "Initial estimate of z";
+    VX0 = 10: "vx0", Parameter, Fixed, Real("m/s"), 0.1, "Initial estimate of vx";
+    VY0 = 11: "vy0", Parameter, Fixed, Real("m/s"), 0.1, "Initial estimate of vy";
+    VZ0 = 12: "vz0", Parameter, Fixed, Real("m/s"), 0.1, "Initial estimate of vz";
+    SIGMA_POS0 = 13: "sigma_pos0", Parameter, Fixed, Real("m"), 50.0,
+        "Initial position uncertainty per axis, 1 sigma (> 0)";
+    SIGMA_VEL0 = 14: "sigma_vel0", Parameter, Fixed, Real("m/s"), 1.0,
+        "Initial velocity uncertainty per axis, 1 sigma (> 0)";
+    ACCEL_PSD = 15: "accel_psd", Parameter, Fixed, Real("m2/s3"), 0.0,
+        "Process noise: spectral density of a continuous white acceleration per axis (Van Loan discretisation; >= 0)";
+    Q_POS_X = 16: "q_pos_x", Parameter, Fixed, Real("m2/s"), 0.09,
+        "Process noise: x position variance added per second (discrete Q = q h; >= 0)";
+    Q_POS_Y = 17: "q_pos_y", Parameter, Fixed, Real("m2/s"), 0.000625,
+        "Process noise: y position variance added per second (>= 0)";
+    Q_POS_Z = 18: "q_pos_z", Parameter, Fixed, Real("m2/s"), 0.0025,
+        "Process noise: z position variance added per second (>= 0)";
+    Q_VEL_X = 19: "q_vel_x", Parameter, Fixed, Real("m2/s3"), 1e-6,
+        "Process noise: vx variance added per second (>= 0)";
+    Q_VEL_Y = 20: "q_vel_y", Parameter, Fixed, Real("m2/s3"), 1e-6,
+        "Process noise: vy variance added per second (>= 0)";
+    Q_VEL_Z = 21: "q_vel_z", Parameter, Fixed, Real("m2/s3"), 1e-6,
+        "Process noise: vz variance added per second (>= 0)";
+    UKF_ALPHA = 22: "ukf_alpha", Parameter, Fixed, Real(""), 1.0, "UKF sigma-point spread alpha (> 0)";
+    UKF_BETA = 23: "ukf_beta", Parameter, Fixed, Real(""), 2.0, "UKF beta (2 for Gaussian priors)";
+    UKF_KAPPA = 24: "ukf_kappa", Parameter, Fixed, Real(""), 0.0, "UKF kappa";
+    SEED = 25: "seed", Parameter, Fixed, Integer, 0.0,
+        "Seed of the filters that draw random numbers (identical seeds give identical outputs)";
+    THRUST_X = 26: "thrust_x", Input, Discrete, Real("N"), 0.0, "Thrust on the chaser along x, held over the step";
+    THRUST_Y = 27: "thrust_y", Input, Discrete, Real("N"), 0.0, "Thrust on the chaser along y, held over the step";
+    THRUST_Z = 28: "thrust_z", Input, Discrete, Real("N"), 0.0, "Thrust on the chaser along z, held over the step";
+    RANGE = 29: "range", Input, Discrete, Real("m"), 0.0, "Measured range, taken at the step's start time";
+    AZIMUTH = 30: "azimuth", Input, Discrete, Real("rad"), 0.0,
+        "Measured azimuth atan2(y, x) in [0, 2 pi), taken at the step's start time";
+    ELEVATION = 31: "elevation", Input, Discrete, Real("rad"), 0.0,
+        "Measured elevation asin(z / range), taken at the step's start time";
+    MEASUREMENT_VALID = 32: "measurement_valid", Input, Discrete, Boolean, 0.0,
+        "True when range/azimuth/elevation hold a fresh measurement taken at the step's start time";
+    X = 33: "x", Output, Continuous, Real("m"), 0.0, "Estimated relative position x";
+    Y = 34: "y", Output, Continuous, Real("m"), 0.0, "Estimated relative position y";
+    Z = 35: "z", Output, Continuous, Real("m"), 0.0, "Estimated relative position z";
+    VX = 36: "vx", Output, Continuous, Real("m/s"), 0.0, "Estimated relative velocity vx";
+    VY = 37: "vy", Output, Continuous, Real("m/s"), 0.0, "Estimated relative velocity vy";
+    VZ = 38: "vz", Output, Continuous, Real("m/s"), 0.0, "Estimated relative velocity vz";
+    SIGMA_X = 39: "sigma_x", Output, Continuous, Real("m"), 0.0, "1-sigma uncertainty of x (from the covariance)";
+    SIGMA_Y = 40: "sigma_y", Output, Continuous, Real("m"), 0.0, "1-sigma uncertainty of y";
+    SIGMA_Z = 41: "sigma_z", Output, Continuous, Real("m"), 0.0, "1-sigma uncertainty of z";
+    SIGMA_VX = 42: "sigma_vx", Output, Continuous, Real("m/s"), 0.0, "1-sigma uncertainty of vx";
+    SIGMA_VY = 43: "sigma_vy", Output, Continuous, Real("m/s"), 0.0, "1-sigma uncertainty of vy";
+    SIGMA_VZ = 44: "sigma_vz", Output, Continuous, Real("m/s"), 0.0, "1-sigma uncertainty of vz";
+}
+
+/// Number of variables.
+pub const N_VARS: usize = 45;
+
+/// The definition for a value reference, if it exists.
+pub fn lookup(vr: u32) -> Option<&'static VarDef> {
+    VARIABLES.get(vr as usize)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::nav::NavConfig;
+
+    #[test]
+    fn table_is_dense_and_unique() {
+        assert_eq!(VARIABLES.len(), N_VARS);
+        for (i, v) in VARIABLES.iter().enumerate() {
+            assert_eq!(v.vr as usize, i, "{}", v.name);
+            assert!(VARIABLES.iter().filter(|w| w.name == v.name).count() == 1);
+            if let VarType::Real(u) = v.ty {
+                assert!(u.is_empty() || UNITS.iter().any(|(n, _)| *n == u), "unit {u}");
+            }
+            if let VarType::Enumeration(t) = v.ty {
+                assert!(t.items.iter().any(|it| it.1 as f64 == v.start));
+            }
+        }
+    }
+
+    /// The FMU's start values are the library's defaults (paper 000's example).
+    #[test]
+    fn start_values_match_library_defaults() {
+        let c = NavConfig::default();
+        let s = |vr: u32| VARIABLES[vr as usize].start;
+        assert_eq!(s(vr::FILTER), c.filter as i32 as f64);
+        assert_eq!(s(vr::FRAME), c.frame.code() as f64);
+        assert_eq!(s(vr::DISCRETIZATION), c.discretization as i32 as f64);
+        assert_eq!(s(vr::MEAN_MOTION), c.mean_motion);
+        assert_eq!(s(vr::CHASER_MASS), c.chaser_mass);
+        assert_eq!(s(vr::SIGMA_RANGE), c.sigma_range);
+        assert_eq!(s(vr::SIGMA_ANGLE), c.sigma_angle);
+        let x0 = [vr::X0, vr::Y0, vr::Z0, vr::VX0, vr::VY0, vr::VZ0].map(s);
+        assert_eq!(x0, c.x0);
+        assert_eq!(s(vr::SIGMA_POS0), c.sigma_pos0);
+        assert_eq!(s(vr::SIGMA_VEL0), c.sigma_vel0);
+        assert_eq!(s(vr::ACCEL_PSD), c.accel_psd);
+        assert_eq!([vr::Q_POS_X, vr::Q_POS_Y, vr::Q_POS_Z].map(s), c.q_pos);
+        assert_eq!([vr::Q_VEL_X, vr::Q_VEL_Y, vr::Q_VEL_Z].map(s), c.q_vel);
+        assert_eq!([vr::UKF_ALPHA, vr::UKF_BETA, vr::UKF_KAPPA].map(s), [c.ukf.alpha, c.ukf.beta, c.ukf.kappa]);
+        assert_eq!(s(vr::SEED), c.seed as f64);
+    }
+}
