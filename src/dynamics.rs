@@ -198,8 +198,10 @@ impl CwModel {
         let b = Self::continuous_b();
         let mut m = SMatrix::<f64, 12, 12>::zeros();
         m.fixed_view_mut::<6, 6>(0, 0).copy_from(&(-a * t));
-        m.fixed_view_mut::<6, 6>(0, 6).copy_from(&(b * qc * b.transpose() * t));
-        m.fixed_view_mut::<6, 6>(6, 6).copy_from(&(a.transpose() * t));
+        m.fixed_view_mut::<6, 6>(0, 6)
+            .copy_from(&(b * qc * b.transpose() * t));
+        m.fixed_view_mut::<6, 6>(6, 6)
+            .copy_from(&(a.transpose() * t));
         let e = m.exp();
         let f12: Mat6 = e.fixed_view::<6, 6>(0, 6).into_owned();
         let f22: Mat6 = e.fixed_view::<6, 6>(6, 6).into_owned();
@@ -310,7 +312,10 @@ mod tests {
         for t in [1.0, 60.0, 600.0] {
             let exact = m.propagate(&x0, &a, t);
             let reference = rk4(&m, &x0, &a, t, 20_000);
-            assert!((exact - reference).norm() < 1e-9 * (1.0 + reference.norm()), "t = {t}");
+            assert!(
+                (exact - reference).norm() < 1e-9 * (1.0 + reference.norm()),
+                "t = {t}"
+            );
         }
     }
 
@@ -339,7 +344,13 @@ mod tests {
         let h = t / k as f64;
         let mut q = Mat6::zeros();
         for i in 0..=k {
-            let w = if i == 0 || i == k { 1.0 } else if i % 2 == 1 { 4.0 } else { 2.0 };
+            let w = if i == 0 || i == k {
+                1.0
+            } else if i % 2 == 1 {
+                4.0
+            } else {
+                2.0
+            };
             let p = m.phi(i as f64 * h);
             q += p * b * qc * b.transpose() * p.transpose() * w;
         }

@@ -187,7 +187,10 @@ fn boundary<F: FnOnce() -> Result<(), Failure>>(func: &str, f: F) -> relnav_stat
             status
         }
         Err(p) => {
-            set_last_error(&format!("{func}: internal panic: {}", panic_message(p.as_ref())));
+            set_last_error(&format!(
+                "{func}: internal panic: {}",
+                panic_message(p.as_ref())
+            ));
             relnav_status::RELNAV_ERROR_PANIC
         }
     }
@@ -197,7 +200,11 @@ fn boundary<F: FnOnce() -> Result<(), Failure>>(func: &str, f: F) -> relnav_stat
 ///
 /// # Safety
 /// `ptr` is null or points to `N` readable, initialised doubles.
-unsafe fn read_array<const N: usize>(ptr: *const f64, arg: &str, func: &str) -> Result<[f64; N], Failure> {
+unsafe fn read_array<const N: usize>(
+    ptr: *const f64,
+    arg: &str,
+    func: &str,
+) -> Result<[f64; N], Failure> {
     if ptr.is_null() {
         return Err(null(arg, func));
     }
@@ -212,7 +219,12 @@ unsafe fn read_array<const N: usize>(ptr: *const f64, arg: &str, func: &str) -> 
 ///
 /// # Safety
 /// `ptr` is null or points to `N` writable doubles.
-unsafe fn write_array<const N: usize>(ptr: *mut f64, v: &[f64; N], arg: &str, func: &str) -> Result<(), Failure> {
+unsafe fn write_array<const N: usize>(
+    ptr: *mut f64,
+    v: &[f64; N],
+    arg: &str,
+    func: &str,
+) -> Result<(), Failure> {
     if ptr.is_null() {
         return Err(null(arg, func));
     }
@@ -224,16 +236,26 @@ unsafe fn write_array<const N: usize>(ptr: *mut f64, v: &[f64; N], arg: &str, fu
 
 /// # Safety
 /// `ptr` is null or a handle from `relnav_estimator_new` not yet freed.
-unsafe fn estimator_mut<'a>(ptr: *mut relnav_estimator, func: &str) -> Result<&'a mut Navigator, Failure> {
+unsafe fn estimator_mut<'a>(
+    ptr: *mut relnav_estimator,
+    func: &str,
+) -> Result<&'a mut Navigator, Failure> {
     // SAFETY: non-null handles come from Box::into_raw in relnav_estimator_new.
-    unsafe { ptr.as_mut() }.map(|e| &mut e.nav).ok_or_else(|| null("estimator", func))
+    unsafe { ptr.as_mut() }
+        .map(|e| &mut e.nav)
+        .ok_or_else(|| null("estimator", func))
 }
 
 /// # Safety
 /// As [`estimator_mut`].
-unsafe fn estimator_ref<'a>(ptr: *const relnav_estimator, func: &str) -> Result<&'a Navigator, Failure> {
+unsafe fn estimator_ref<'a>(
+    ptr: *const relnav_estimator,
+    func: &str,
+) -> Result<&'a Navigator, Failure> {
     // SAFETY: non-null handles come from Box::into_raw in relnav_estimator_new.
-    unsafe { ptr.as_ref() }.map(|e| &e.nav).ok_or_else(|| null("estimator", func))
+    unsafe { ptr.as_ref() }
+        .map(|e| &e.nav)
+        .ok_or_else(|| null("estimator", func))
 }
 
 impl From<&NavConfig> for relnav_config {
@@ -269,7 +291,11 @@ impl TryFrom<&relnav_config> for NavConfig {
         };
         let cfg = NavConfig {
             filter: FilterKind::from_code(c.filter).ok_or_else(|| {
-                bad("filter", c.filter, "1 ekf, 2 ukf, 3 aqukf, 4 pf, 5 rpf, 6 upf, 7 gapf, 8 cgapf, 9 hinf")
+                bad(
+                    "filter",
+                    c.filter,
+                    "1 ekf, 2 ukf, 3 aqukf, 4 pf, 5 rpf, 6 upf, 7 gapf, 8 cgapf, 9 hinf",
+                )
             })?,
             frame: Frame::from_code(c.frame).ok_or_else(|| {
                 bad(
@@ -302,10 +328,11 @@ impl TryFrom<&relnav_config> for NavConfig {
     }
 }
 
-static VERSION_C: &CStr = match CStr::from_bytes_with_nul(concat!(env!("CARGO_PKG_VERSION"), "\0").as_bytes()) {
-    Ok(s) => s,
-    Err(_) => c"unknown",
-};
+static VERSION_C: &CStr =
+    match CStr::from_bytes_with_nul(concat!(env!("CARGO_PKG_VERSION"), "\0").as_bytes()) {
+        Ok(s) => s,
+        Err(_) => c"unknown",
+    };
 
 /// Library version, e.g. `"0.1.0"` (static string, never null).
 #[no_mangle]
@@ -351,7 +378,8 @@ pub extern "C" fn relnav_config_default() -> relnav_config {
 pub unsafe extern "C" fn relnav_config_validate(config: *const relnav_config) -> relnav_status {
     boundary("relnav_config_validate", || {
         // SAFETY: caller guarantees a valid or null pointer.
-        let c = unsafe { config.as_ref() }.ok_or_else(|| null("config", "relnav_config_validate"))?;
+        let c =
+            unsafe { config.as_ref() }.ok_or_else(|| null("config", "relnav_config_validate"))?;
         NavConfig::try_from(c)?;
         Ok(())
     })

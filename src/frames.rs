@@ -71,13 +71,9 @@ impl Frame {
         match self {
             Frame::RadialAlongNormal => Mat3::identity(),
             // x_io = along = y_c, y_io = radial = x_c, z_io = -normal = -z_c
-            Frame::AlongRadialAntinormal => {
-                Mat3::new(0.0, 1.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, -1.0)
-            }
+            Frame::AlongRadialAntinormal => Mat3::new(0.0, 1.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, -1.0),
             // x_io = along = y_c, y_io = -normal = -z_c, z_io = nadir = -x_c
-            Frame::AlongAntinormalNadir => {
-                Mat3::new(0.0, 1.0, 0.0, 0.0, 0.0, -1.0, -1.0, 0.0, 0.0)
-            }
+            Frame::AlongAntinormalNadir => Mat3::new(0.0, 1.0, 0.0, 0.0, 0.0, -1.0, -1.0, 0.0, 0.0),
         }
     }
 
@@ -133,7 +129,10 @@ mod tests {
         for f in Frame::ALL {
             let t = f.rotation();
             assert!((t * t.transpose() - Mat3::identity()).norm() < 1e-15);
-            assert!((t.determinant() - 1.0).abs() < 1e-15, "{f:?} is not right-handed");
+            assert!(
+                (t.determinant() - 1.0).abs() < 1e-15,
+                "{f:?} is not right-handed"
+            );
             assert_eq!(Frame::from_code(f.code()), Some(f));
         }
         assert_eq!(Frame::from_code(0), None);

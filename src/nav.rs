@@ -15,7 +15,7 @@
 //! step, so `q_pos = (0.3^2, 0.025^2, 0.05^2)`, `q_vel = 0.001^2` each).
 
 use crate::dynamics::{CwModel, DiscreteModel, Discretization};
-use crate::estimators::{Ekf, Estimator, FilterError, UkfParams, UpdateInfo, Ukf};
+use crate::estimators::{Ekf, Estimator, FilterError, Ukf, UkfParams, UpdateInfo};
 use crate::frames::Frame;
 use crate::sensors::RadioSensor;
 use crate::types::{Mat3, Mat6, State, Vec3};
@@ -192,7 +192,9 @@ fn positive(name: &str, v: f64) -> Result<(), NavError> {
     if v.is_finite() && v > 0.0 {
         Ok(())
     } else {
-        Err(NavError::invalid(format!("{name} must be finite and > 0 (got {v})")))
+        Err(NavError::invalid(format!(
+            "{name} must be finite and > 0 (got {v})"
+        )))
     }
 }
 
@@ -200,7 +202,9 @@ fn non_negative(name: &str, v: f64) -> Result<(), NavError> {
     if v.is_finite() && v >= 0.0 {
         Ok(())
     } else {
-        Err(NavError::invalid(format!("{name} must be finite and >= 0 (got {v})")))
+        Err(NavError::invalid(format!(
+            "{name} must be finite and >= 0 (got {v})"
+        )))
     }
 }
 
@@ -208,7 +212,9 @@ fn finite3(name: &str, v: &[f64; 3]) -> Result<(), NavError> {
     if v.iter().all(|x| x.is_finite()) {
         Ok(())
     } else {
-        Err(NavError::invalid(format!("{name} must be finite (got {v:?})")))
+        Err(NavError::invalid(format!(
+            "{name} must be finite (got {v:?})"
+        )))
     }
 }
 
@@ -253,7 +259,8 @@ impl NavConfig {
 
     /// Initial estimate in the canonical frame.
     pub fn initial_state(&self) -> State {
-        self.frame.state_to_canonical(&State::from_row_slice(&self.x0))
+        self.frame
+            .state_to_canonical(&State::from_row_slice(&self.x0))
     }
 
     /// Initial covariance `diag(sigma_pos0^2 I3, sigma_vel0^2 I3)` (frame-independent).
@@ -383,7 +390,11 @@ impl Navigator {
         Self::check_dt(dt)?;
         finite3("thrust", thrust)?;
         let model = self.discrete(dt);
-        let accel = self.cfg.frame.vec_to_canonical(&Vec3::from_row_slice(thrust)) / self.cfg.chaser_mass;
+        let accel = self
+            .cfg
+            .frame
+            .vec_to_canonical(&Vec3::from_row_slice(thrust))
+            / self.cfg.chaser_mass;
         self.filter.predict(&model, &accel)?;
         Ok(())
     }

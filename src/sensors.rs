@@ -269,8 +269,10 @@ mod tests {
         assert_eq!(s.geometry(&Vec3::zeros()), Err(GeometryError::ZeroRange));
         assert!(s.h(&Vec3::new(f64::NAN, 0.0, 0.0)).is_none());
         let g = s.geometry(&Vec3::new(1e-9, 0.0, 100.0));
-        assert!(matches!(g, Ok(g) if !g.azimuth_usable && g.h.row(1).norm() == 0.0
-            && g.h.row(2).iter().all(|v| v.is_finite())));
+        assert!(
+            matches!(g, Ok(g) if !g.azimuth_usable && g.h.row(1).norm() == 0.0
+            && g.h.row(2).iter().all(|v| v.is_finite()))
+        );
     }
 
     #[test]

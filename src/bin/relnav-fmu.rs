@@ -52,7 +52,8 @@ fn run() -> Result<PathBuf, String> {
     let zerr = |e: zip::result::ZipError| format!("zip: {e}");
     zip.start_file("modelDescription.xml", opts).map_err(zerr)?;
     zip.write_all(xml.as_bytes()).map_err(|e| e.to_string())?;
-    zip.start_file(bin_path.as_str(), opts.unix_permissions(0o755)).map_err(zerr)?;
+    zip.start_file(bin_path.as_str(), opts.unix_permissions(0o755))
+        .map_err(zerr)?;
     zip.write_all(&binary).map_err(|e| e.to_string())?;
     zip.finish().map_err(zerr)?;
     Ok(fmu)

@@ -156,9 +156,12 @@ impl Estimator for Ukf {
         let mut zs = SMatrix::<f64, 3, NS>::zeros();
         let (mut rho, mut el, mut sn, mut cs) = (0.0, 0.0, 0.0, 0.0);
         for i in 0..NS {
-            let zi = sensor
-                .h(&s.fixed_view::<3, 1>(0, i).into_owned())
-                .ok_or(FilterError::Geometry(crate::sensors::GeometryError::ZeroRange))?;
+            let zi =
+                sensor
+                    .h(&s.fixed_view::<3, 1>(0, i).into_owned())
+                    .ok_or(FilterError::Geometry(
+                        crate::sensors::GeometryError::ZeroRange,
+                    ))?;
             rho += self.wm[i] * zi.x;
             el += self.wm[i] * zi.z;
             let (si, ci) = zi.y.sin_cos();
@@ -168,7 +171,9 @@ impl Estimator for Ukf {
         }
         let z_hat = Vec3::new(rho, wrap_2pi(sn.atan2(cs)), el);
         // near the poles the azimuth carries no information (see sensors docs)
-        let azimuth_used = sensor.geometry(&self.x.fixed_rows::<3>(0).into_owned())?.azimuth_usable;
+        let azimuth_used = sensor
+            .geometry(&self.x.fixed_rows::<3>(0).into_owned())?
+            .azimuth_usable;
         let mut pzz: Mat3 = sensor.r();
         let mut pxz = Mat63::zeros();
         for i in 0..NS {
@@ -180,9 +185,9 @@ impl Estimator for Ukf {
             pzz += dz * dz.transpose() * self.wc[i];
             pxz += dx * dz.transpose() * self.wc[i];
         }
-        let chol = pzz
-            .cholesky()
-            .ok_or(FilterError::NotPositiveDefinite("innovation covariance Pzz"))?;
+        let chol = pzz.cholesky().ok_or(FilterError::NotPositiveDefinite(
+            "innovation covariance Pzz",
+        ))?;
         let k = chol.solve(&pxz.transpose()).transpose();
         let mut nu = RadioSensor::residual(z, &z_hat);
         if !azimuth_used {

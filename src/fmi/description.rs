@@ -13,7 +13,10 @@ pub const MODEL_IDENTIFIER: &str = "relnav";
 
 /// Logging categories, in the order declared in the XML.
 pub const LOG_CATEGORIES: [(&str, &str); 4] = [
-    ("logStatusError", "Errors: rejected calls, invalid parameters or inputs, failed steps"),
+    (
+        "logStatusError",
+        "Errors: rejected calls, invalid parameters or inputs, failed steps",
+    ),
     ("logStatusWarning", "Warnings"),
     ("logInfo", "Initialisation and configuration summary"),
     ("logCalls", "Every FMI call with its arguments"),
@@ -74,7 +77,11 @@ fn body() -> String {
                 let _ = write!(attrs, r#" {n}="{e}""#);
             }
         }
-        let _ = writeln!(x, r#"    <Unit name="{}"><BaseUnit{attrs}/></Unit>"#, escape(name));
+        let _ = writeln!(
+            x,
+            r#"    <Unit name="{}"><BaseUnit{attrs}/></Unit>"#,
+            escape(name)
+        );
     }
     let _ = writeln!(x, "  </UnitDefinitions>");
     let _ = writeln!(x, "  <TypeDefinitions>");
@@ -94,7 +101,11 @@ fn body() -> String {
     let _ = writeln!(x, "  </TypeDefinitions>");
     let _ = writeln!(x, "  <LogCategories>");
     for (n, d) in LOG_CATEGORIES {
-        let _ = writeln!(x, r#"    <Category name="{n}" description="{}"/>"#, escape(d));
+        let _ = writeln!(
+            x,
+            r#"    <Category name="{n}" description="{}"/>"#,
+            escape(d)
+        );
     }
     let _ = writeln!(x, "  </LogCategories>");
     let _ = writeln!(
@@ -153,7 +164,11 @@ fn body() -> String {
     let _ = writeln!(x, "    <Outputs>");
     for v in &outputs {
         // dependencies="": no direct feedthrough, outputs change only in fmi2DoStep
-        let _ = writeln!(x, r#"      <Unknown index="{}" dependencies=""/>"#, v.vr + 1);
+        let _ = writeln!(
+            x,
+            r#"      <Unknown index="{}" dependencies=""/>"#,
+            v.vr + 1
+        );
     }
     let _ = writeln!(x, "    </Outputs>");
     let _ = writeln!(x, "    <InitialUnknowns>");

@@ -15,7 +15,8 @@ use ModelState::{Error as ErrorState, InitializationMode, Instantiated, StepComp
 const M_INSTANTIATED: u32 = Instantiated as u32;
 const M_INIT: u32 = InitializationMode as u32;
 const M_STEP: u32 = StepComplete as u32;
-const M_GET: u32 = InitializationMode as u32 | StepComplete as u32 | Terminated as u32 | ErrorState as u32;
+const M_GET: u32 =
+    InitializationMode as u32 | StepComplete as u32 | Terminated as u32 | ErrorState as u32;
 const M_SET: u32 = Instantiated as u32 | InitializationMode as u32 | StepComplete as u32;
 
 fn panic_text(p: &(dyn std::any::Any + Send)) -> String {
@@ -78,7 +79,9 @@ unsafe fn unsupported(c: fmi2Component, func: &str, why: &str) -> fmi2Status {
     // SAFETY: forwarded contract.
     unsafe {
         guarded(c, func, ANY_STATE, |_| {
-            Err(error(format!("{func} is not supported by this FMU ({why})")))
+            Err(error(format!(
+                "{func} is not supported by this FMU ({why})"
+            )))
         })
     }
 }
@@ -178,13 +181,17 @@ pub unsafe extern "C" fn fmi2Instantiate(
             _ => return reject("fmi2Instantiate: instanceName is null or empty"),
         };
         if fmuType != fmi2CoSimulation {
-            return reject("fmi2Instantiate: only Co-Simulation (fmuType = fmi2CoSimulation) is supported");
+            return reject(
+                "fmi2Instantiate: only Co-Simulation (fmuType = fmi2CoSimulation) is supported",
+            );
         }
         let given = if fmuGUID.is_null() {
             String::new()
         } else {
             // SAFETY: non-null, NUL-terminated by contract.
-            unsafe { CStr::from_ptr(fmuGUID) }.to_string_lossy().into_owned()
+            unsafe { CStr::from_ptr(fmuGUID) }
+                .to_string_lossy()
+                .into_owned()
         };
         if given != guid() {
             return reject(&format!(
@@ -192,7 +199,11 @@ pub unsafe extern "C" fn fmi2Instantiate(
                 guid()
             ));
         }
-        Some(Box::into_raw(Box::new(Instance::new(name, logger, loggingOn != fmi2False))))
+        Some(Box::into_raw(Box::new(Instance::new(
+            name,
+            logger,
+            loggingOn != fmi2False,
+        ))))
     }));
     match made {
         Ok(Some(p)) => p.cast(),
@@ -258,7 +269,10 @@ pub unsafe extern "C" fn fmi2SetupExperiment(
     // SAFETY: contract forwarded.
     unsafe {
         guarded(c, "fmi2SetupExperiment", M_INSTANTIATED, |inst| {
-            inst.setup_experiment(startTime, (stopTimeDefined != fmi2False).then_some(stopTime))
+            inst.setup_experiment(
+                startTime,
+                (stopTimeDefined != fmi2False).then_some(stopTime),
+            )
         })
     }
 }
@@ -285,7 +299,14 @@ pub unsafe extern "C" fn fmi2EnterInitializationMode(c: fmi2Component) -> fmi2St
 #[no_mangle]
 pub unsafe extern "C" fn fmi2ExitInitializationMode(c: fmi2Component) -> fmi2Status {
     // SAFETY: contract forwarded.
-    unsafe { guarded(c, "fmi2ExitInitializationMode", M_INIT, Instance::exit_initialization) }
+    unsafe {
+        guarded(
+            c,
+            "fmi2ExitInitializationMode",
+            M_INIT,
+            Instance::exit_initialization,
+        )
+    }
 }
 
 /// Terminate the simulation.
@@ -396,7 +417,11 @@ pub unsafe extern "C" fn fmi2GetInteger(
     value: *mut fmi2Integer,
 ) -> fmi2Status {
     // SAFETY: contract forwarded.
-    unsafe { get_values(c, "fmi2GetInteger", vr, nvr, value, is_integer, |v| v as fmi2Integer) }
+    unsafe {
+        get_values(c, "fmi2GetInteger", vr, nvr, value, is_integer, |v| {
+            v as fmi2Integer
+        })
+    }
 }
 
 /// Read Boolean variables.
@@ -439,7 +464,9 @@ pub unsafe extern "C" fn fmi2GetString(
             let refs = slice(vr, nvr, "vr")?;
             match refs.first() {
                 None => Ok(()),
-                Some(r) => Err(error(format!("fmi2GetString: no String variable has value reference {r}"))),
+                Some(r) => Err(error(format!(
+                    "fmi2GetString: no String variable has value reference {r}"
+                ))),
             }
         })
     }
@@ -515,7 +542,9 @@ pub unsafe extern "C" fn fmi2SetString(
             let refs = slice(vr, nvr, "vr")?;
             match refs.first() {
                 None => Ok(()),
-                Some(r) => Err(error(format!("fmi2SetString: no String variable has value reference {r}"))),
+                Some(r) => Err(error(format!(
+                    "fmi2SetString: no String variable has value reference {r}"
+                ))),
             }
         })
     }
@@ -566,7 +595,13 @@ pub unsafe extern "C" fn fmi2SerializedFMUstateSize(
     _size: *mut usize,
 ) -> fmi2Status {
     // SAFETY: contract forwarded.
-    unsafe { unsupported(c, "fmi2SerializedFMUstateSize", "canSerializeFMUstate=\"false\"") }
+    unsafe {
+        unsupported(
+            c,
+            "fmi2SerializedFMUstateSize",
+            "canSerializeFMUstate=\"false\"",
+        )
+    }
 }
 
 /// Unsupported (`canSerializeFMUstate="false"`).
@@ -596,7 +631,13 @@ pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
     _s: *mut fmi2FMUstate,
 ) -> fmi2Status {
     // SAFETY: contract forwarded.
-    unsafe { unsupported(c, "fmi2DeSerializeFMUstate", "canSerializeFMUstate=\"false\"") }
+    unsafe {
+        unsupported(
+            c,
+            "fmi2DeSerializeFMUstate",
+            "canSerializeFMUstate=\"false\"",
+        )
+    }
 }
 
 /// Unsupported (`providesDirectionalDerivative="false"`).
@@ -614,7 +655,13 @@ pub unsafe extern "C" fn fmi2GetDirectionalDerivative(
     _dvu: *mut fmi2Real,
 ) -> fmi2Status {
     // SAFETY: contract forwarded.
-    unsafe { unsupported(c, "fmi2GetDirectionalDerivative", "providesDirectionalDerivative=\"false\"") }
+    unsafe {
+        unsupported(
+            c,
+            "fmi2GetDirectionalDerivative",
+            "providesDirectionalDerivative=\"false\"",
+        )
+    }
 }
 
 /// Unsupported (`canInterpolateInputs="false"`).
@@ -630,7 +677,13 @@ pub unsafe extern "C" fn fmi2SetRealInputDerivatives(
     _value: *const fmi2Real,
 ) -> fmi2Status {
     // SAFETY: contract forwarded.
-    unsafe { unsupported(c, "fmi2SetRealInputDerivatives", "canInterpolateInputs=\"false\"") }
+    unsafe {
+        unsupported(
+            c,
+            "fmi2SetRealInputDerivatives",
+            "canInterpolateInputs=\"false\"",
+        )
+    }
 }
 
 /// Unsupported (`maxOutputDerivativeOrder="0"`).
@@ -646,7 +699,13 @@ pub unsafe extern "C" fn fmi2GetRealOutputDerivatives(
     _value: *mut fmi2Real,
 ) -> fmi2Status {
     // SAFETY: contract forwarded.
-    unsafe { unsupported(c, "fmi2GetRealOutputDerivatives", "maxOutputDerivativeOrder=\"0\"") }
+    unsafe {
+        unsupported(
+            c,
+            "fmi2GetRealOutputDerivatives",
+            "maxOutputDerivativeOrder=\"0\"",
+        )
+    }
 }
 
 // ---------------------------------------------------------------- co-simulation
@@ -687,7 +746,11 @@ pub unsafe extern "C" fn fmi2CancelStep(c: fmi2Component) -> fmi2Status {
 /// # Safety
 /// `c` live or null.
 #[no_mangle]
-pub unsafe extern "C" fn fmi2GetStatus(c: fmi2Component, _s: c_int, _value: *mut c_int) -> fmi2Status {
+pub unsafe extern "C" fn fmi2GetStatus(
+    c: fmi2Component,
+    _s: c_int,
+    _value: *mut c_int,
+) -> fmi2Status {
     // SAFETY: contract forwarded.
     unsafe { unsupported(c, "fmi2GetStatus", "steps are synchronous") }
 }
@@ -697,12 +760,18 @@ pub unsafe extern "C" fn fmi2GetStatus(c: fmi2Component, _s: c_int, _value: *mut
 /// # Safety
 /// `c` live or null; `value` writable or null.
 #[no_mangle]
-pub unsafe extern "C" fn fmi2GetRealStatus(c: fmi2Component, s: c_int, value: *mut fmi2Real) -> fmi2Status {
+pub unsafe extern "C" fn fmi2GetRealStatus(
+    c: fmi2Component,
+    s: c_int,
+    value: *mut fmi2Real,
+) -> fmi2Status {
     // SAFETY: contract forwarded; pointer checked.
     unsafe {
         guarded(c, "fmi2GetRealStatus", M_GET, |inst| {
             if s != status_kind::LAST_SUCCESSFUL_TIME {
-                return Err(error(format!("fmi2GetRealStatus: status kind {s} is not supported")));
+                return Err(error(format!(
+                    "fmi2GetRealStatus: status kind {s} is not supported"
+                )));
             }
             let out = slice_mut(value, 1, "value")?;
             out[0] = inst.time();
@@ -716,9 +785,19 @@ pub unsafe extern "C" fn fmi2GetRealStatus(c: fmi2Component, s: c_int, value: *m
 /// # Safety
 /// `c` live or null.
 #[no_mangle]
-pub unsafe extern "C" fn fmi2GetIntegerStatus(c: fmi2Component, _s: c_int, _value: *mut fmi2Integer) -> fmi2Status {
+pub unsafe extern "C" fn fmi2GetIntegerStatus(
+    c: fmi2Component,
+    _s: c_int,
+    _value: *mut fmi2Integer,
+) -> fmi2Status {
     // SAFETY: contract forwarded.
-    unsafe { unsupported(c, "fmi2GetIntegerStatus", "no Integer status kinds are defined") }
+    unsafe {
+        unsupported(
+            c,
+            "fmi2GetIntegerStatus",
+            "no Integer status kinds are defined",
+        )
+    }
 }
 
 /// `fmi2Terminated`: always false (the FMU never asks to end the simulation).
@@ -726,12 +805,18 @@ pub unsafe extern "C" fn fmi2GetIntegerStatus(c: fmi2Component, _s: c_int, _valu
 /// # Safety
 /// `c` live or null; `value` writable or null.
 #[no_mangle]
-pub unsafe extern "C" fn fmi2GetBooleanStatus(c: fmi2Component, s: c_int, value: *mut fmi2Boolean) -> fmi2Status {
+pub unsafe extern "C" fn fmi2GetBooleanStatus(
+    c: fmi2Component,
+    s: c_int,
+    value: *mut fmi2Boolean,
+) -> fmi2Status {
     // SAFETY: contract forwarded; pointer checked.
     unsafe {
         guarded(c, "fmi2GetBooleanStatus", M_GET, |_| {
             if s != status_kind::TERMINATED {
-                return Err(error(format!("fmi2GetBooleanStatus: status kind {s} is not supported")));
+                return Err(error(format!(
+                    "fmi2GetBooleanStatus: status kind {s} is not supported"
+                )));
             }
             let out = slice_mut(value, 1, "value")?;
             out[0] = fmi2False;
@@ -745,7 +830,11 @@ pub unsafe extern "C" fn fmi2GetBooleanStatus(c: fmi2Component, s: c_int, value:
 /// # Safety
 /// `c` live or null.
 #[no_mangle]
-pub unsafe extern "C" fn fmi2GetStringStatus(c: fmi2Component, _s: c_int, _value: *mut fmi2String) -> fmi2Status {
+pub unsafe extern "C" fn fmi2GetStringStatus(
+    c: fmi2Component,
+    _s: c_int,
+    _value: *mut fmi2String,
+) -> fmi2Status {
     // SAFETY: contract forwarded.
     unsafe { unsupported(c, "fmi2GetStringStatus", "steps are synchronous") }
 }

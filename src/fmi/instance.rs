@@ -62,7 +62,12 @@ impl Logger {
     /// `#` is FMI's escape character and is doubled.
     pub fn log(&self, instance: &CStr, status: fmi2Status, category: &str, msg: &str) {
         let Some(cb) = self.callback else { return };
-        let escaped: String = msg.replace('#', "##").chars().filter(|c| *c != '\0').take(1500).collect();
+        let escaped: String = msg
+            .replace('#', "##")
+            .chars()
+            .filter(|c| *c != '\0')
+            .take(1500)
+            .collect();
         let (Ok(text), Ok(cat)) = (CString::new(escaped), CString::new(category)) else {
             return;
         };
@@ -192,7 +197,9 @@ impl Instance {
             let i = LOG_CATEGORIES
                 .iter()
                 .position(|(c, _)| c == n)
-                .ok_or_else(|| error(format!("fmi2SetDebugLogging: unknown log category \"{n}\"")))?;
+                .ok_or_else(|| {
+                    error(format!("fmi2SetDebugLogging: unknown log category \"{n}\""))
+                })?;
             self.categories[i] = on;
         }
         if on {
@@ -216,7 +223,9 @@ impl Instance {
     /// `fmi2SetupExperiment`.
     pub fn setup_experiment(&mut self, start: f64, stop: Option<f64>) -> Result<(), FmiFailure> {
         if !start.is_finite() {
-            return Err(error(format!("fmi2SetupExperiment: startTime {start} is not finite")));
+            return Err(error(format!(
+                "fmi2SetupExperiment: startTime {start} is not finite"
+            )));
         }
         if let Some(s) = stop {
             if !(s >= start) {
@@ -272,7 +281,14 @@ impl Instance {
 
     fn write_outputs(&mut self, x: &[f64; 6], sigma: &[f64; 6]) {
         let outs = [vr::X, vr::Y, vr::Z, vr::VX, vr::VY, vr::VZ];
-        let sigs = [vr::SIGMA_X, vr::SIGMA_Y, vr::SIGMA_Z, vr::SIGMA_VX, vr::SIGMA_VY, vr::SIGMA_VZ];
+        let sigs = [
+            vr::SIGMA_X,
+            vr::SIGMA_Y,
+            vr::SIGMA_Z,
+            vr::SIGMA_VX,
+            vr::SIGMA_VY,
+            vr::SIGMA_VZ,
+        ];
         for i in 0..6 {
             self.values[outs[i] as usize] = x[i];
             self.values[sigs[i] as usize] = sigma[i];
@@ -379,7 +395,10 @@ impl Instance {
     ) -> Result<f64, FmiFailure> {
         let d = self.def(r, func)?;
         if !want(&d.ty) {
-            return Err(error(format!("{func}: variable {} (vr {r}) has another type", d.name)));
+            return Err(error(format!(
+                "{func}: variable {} (vr {r}) has another type",
+                d.name
+            )));
         }
         Ok(self.values[r as usize])
     }
@@ -394,7 +413,10 @@ impl Instance {
     ) -> Result<(), FmiFailure> {
         let d = self.def(r, func)?;
         if !want(&d.ty) {
-            return Err(error(format!("{func}: variable {} (vr {r}) has another type", d.name)));
+            return Err(error(format!(
+                "{func}: variable {} (vr {r}) has another type",
+                d.name
+            )));
         }
         if !settable(d, self.state) {
             return Err(error(format!(
@@ -404,7 +426,11 @@ impl Instance {
         }
         if let VarType::Enumeration(t) = d.ty {
             if !t.items.iter().any(|it| f64::from(it.1) == value) {
-                let allowed: Vec<String> = t.items.iter().map(|it| format!("{} {}", it.1, it.0)).collect();
+                let allowed: Vec<String> = t
+                    .items
+                    .iter()
+                    .map(|it| format!("{} {}", it.1, it.0))
+                    .collect();
                 return Err(error(format!(
                     "{func}: {} = {value} is not a valid {} (allowed: {})",
                     d.name,
@@ -414,7 +440,10 @@ impl Instance {
             }
         }
         self.values[r as usize] = value;
-        if matches!(self.state, ModelState::Instantiated | ModelState::InitializationMode) {
+        if matches!(
+            self.state,
+            ModelState::Instantiated | ModelState::InitializationMode
+        ) {
             self.publish_initial_outputs();
         }
         Ok(())

@@ -62,14 +62,7 @@ pub mod status_kind {
 
 /// The master's logger: `printf`-style and variadic.
 pub type fmi2CallbackLogger = Option<
-    unsafe extern "C" fn(
-        fmi2ComponentEnvironment,
-        fmi2String,
-        c_int,
-        fmi2String,
-        fmi2String,
-        ...
-    ),
+    unsafe extern "C" fn(fmi2ComponentEnvironment, fmi2String, c_int, fmi2String, fmi2String, ...),
 >;
 /// Memory allocation callback (not used: `canNotUseMemoryManagementFunctions="true"`).
 pub type fmi2CallbackAllocateMemory = Option<unsafe extern "C" fn(usize, usize) -> *mut c_void>;

@@ -86,13 +86,33 @@ pub static FILTER_TYPE: EnumType = EnumType {
     items: &[
         ("ekf", 1, "Extended Kalman filter (Joseph form)"),
         ("ukf", 2, "Unscented Kalman filter (scaled sigma points)"),
-        ("aqukf", 3, "Sliding-window adaptive UKF (paper 001; not implemented yet)"),
-        ("pf", 4, "SIR particle filter (paper 000; not implemented yet)"),
-        ("rpf", 5, "Regularised particle filter (not implemented yet)"),
+        (
+            "aqukf",
+            3,
+            "Sliding-window adaptive UKF (paper 001; not implemented yet)",
+        ),
+        (
+            "pf",
+            4,
+            "SIR particle filter (paper 000; not implemented yet)",
+        ),
+        (
+            "rpf",
+            5,
+            "Regularised particle filter (not implemented yet)",
+        ),
         ("upf", 6, "Unscented particle filter (not implemented yet)"),
         ("gapf", 7, "Genetic particle filter (not implemented yet)"),
-        ("cgapf", 8, "Cloud-genetic particle filter (paper 003; not implemented yet)"),
-        ("hinf", 9, "Robust H-infinity filter (paper 002; not implemented yet)"),
+        (
+            "cgapf",
+            8,
+            "Cloud-genetic particle filter (paper 003; not implemented yet)",
+        ),
+        (
+            "hinf",
+            9,
+            "Robust H-infinity filter (paper 002; not implemented yet)",
+        ),
     ],
 };
 
@@ -100,9 +120,21 @@ pub static FILTER_TYPE: EnumType = EnumType {
 pub static FRAME_TYPE: EnumType = EnumType {
     name: "Frame",
     items: &[
-        ("radial_along_normal", 1, "x radial outward, y along-track, z orbit normal (canonical; paper 002)"),
-        ("along_radial_antinormal", 2, "x along-track, y radial outward, z minus orbit normal (paper 000)"),
-        ("along_antinormal_nadir", 3, "x along-track, y minus orbit normal, z nadir (paper 003)"),
+        (
+            "radial_along_normal",
+            1,
+            "x radial outward, y along-track, z orbit normal (canonical; paper 002)",
+        ),
+        (
+            "along_radial_antinormal",
+            2,
+            "x along-track, y radial outward, z minus orbit normal (paper 000)",
+        ),
+        (
+            "along_antinormal_nadir",
+            3,
+            "x along-track, y minus orbit normal, z nadir (paper 003)",
+        ),
     ],
 };
 
@@ -110,7 +142,11 @@ pub static FRAME_TYPE: EnumType = EnumType {
 pub static DISCRETIZATION_TYPE: EnumType = EnumType {
     name: "Discretization",
     items: &[
-        ("exact", 1, "Exact CW transition, exact zero-order hold, Van Loan process noise"),
+        (
+            "exact",
+            1,
+            "Exact CW transition, exact zero-order hold, Van Loan process noise",
+        ),
         ("euler", 2, "First-order Euler I + T A (literal paper 000)"),
     ],
 };
@@ -232,7 +268,10 @@ mod tests {
             assert_eq!(v.vr as usize, i, "{}", v.name);
             assert!(VARIABLES.iter().filter(|w| w.name == v.name).count() == 1);
             if let VarType::Real(u) = v.ty {
-                assert!(u.is_empty() || UNITS.iter().any(|(n, _)| *n == u), "unit {u}");
+                assert!(
+                    u.is_empty() || UNITS.iter().any(|(n, _)| *n == u),
+                    "unit {u}"
+                );
             }
             if let VarType::Enumeration(t) = v.ty {
                 assert!(t.items.iter().any(|it| it.1 as f64 == v.start));
@@ -259,7 +298,10 @@ mod tests {
         assert_eq!(s(vr::ACCEL_PSD), c.accel_psd);
         assert_eq!([vr::Q_POS_X, vr::Q_POS_Y, vr::Q_POS_Z].map(s), c.q_pos);
         assert_eq!([vr::Q_VEL_X, vr::Q_VEL_Y, vr::Q_VEL_Z].map(s), c.q_vel);
-        assert_eq!([vr::UKF_ALPHA, vr::UKF_BETA, vr::UKF_KAPPA].map(s), [c.ukf.alpha, c.ukf.beta, c.ukf.kappa]);
+        assert_eq!(
+            [vr::UKF_ALPHA, vr::UKF_BETA, vr::UKF_KAPPA].map(s),
+            [c.ukf.alpha, c.ukf.beta, c.ukf.kappa]
+        );
         assert_eq!(s(vr::SEED), c.seed as f64);
     }
 }

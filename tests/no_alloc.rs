@@ -1,0 +1,179 @@
+//! No heap allocation per step after construction: a counting global allocator (per
+//! thread, so parallel tests do not interfere) around EKF/UKF steps through the library,
+//! the C ABI and the FMU's `fmi2DoStep` / `fmi2SetReal` / `fmi2GetReal`.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)] // test code
+
+use relnav::ffi;
+use relnav::fmi::description::guid;
+use relnav::fmi::functions::*;
+use relnav::fmi::types::*;
+use relnav::fmi::variables::vr;
+use relnav::nav::{FilterKind, NavConfig, Navigator};
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
+
+struct Counting;
+
+thread_local! {
+    static ALLOCS: Cell<u64> = const { Cell::new(0) };
+}
+
+// SAFETY: forwards to the system allocator; only counts.
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, l: Layout) -> *mut u8 {
+        let _ = ALLOCS.try_with(|c| c.set(c.get() + 1));
+        // SAFETY: same contract as the caller's.
+        unsafe { System.alloc(l) }
+    }
+    unsafe fn dealloc(&self, p: *mut u8, l: Layout) {
+        // SAFETY: same contract as the caller's.
+        unsafe { System.dealloc(p, l) }
+    }
+    unsafe fn realloc(&self, p: *mut u8, l: Layout, n: usize) -> *mut u8 {
+        let _ = ALLOCS.try_with(|c| c.set(c.get() + 1));
+        // SAFETY: same contract as the caller's.
+        unsafe { System.realloc(p, l, n) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+fn allocations<F: FnMut()>(mut f: F) -> u64 {
+    let before = ALLOCS.with(|c| c.get());
+    f();
+    ALLOCS.with(|c| c.get()) - before
+}
+
+fn measurement(k: usize) -> [f64; 3] {
+    let t = k as f64;
+    [670.0 + 0.01 * t, 0.896 + 1e-5 * t, 0.30 - 1e-5 * t]
+}
+
+#[test]
+fn library_and_c_abi_steps_do_not_allocate() {
+    // the counter does count
+    assert_eq!(
+        allocations(|| drop(std::hint::black_box(Box::new(1u64)))),
+        1
+    );
+    for filter in [FilterKind::Ekf, FilterKind::Ukf] {
+        let cfg = NavConfig {
+            filter,
+            accel_psd: 1e-9,
+            ..Default::default()
+        };
+        let mut nav = Navigator::new(&cfg).unwrap();
+        nav.step(&[0.0; 3], Some(&measurement(0)), 1.0).unwrap(); // warm the step cache
+        let n = allocations(|| {
+            for k in 1..200 {
+                nav.step(&[0.1, 0.0, -0.1], Some(&measurement(k)), 1.0)
+                    .unwrap();
+            }
+            // a new step size re-discretises (Van Loan on the stack): still no heap
+            nav.step(&[0.0; 3], None, 0.5).unwrap();
+            nav.predict(&[0.0; 3], 2.0).unwrap();
+        });
+        assert_eq!(n, 0, "{filter:?}: {n} allocations in library steps");
+
+        let mut c = ffi::relnav_config_default();
+        c.filter = filter as i32;
+        let mut est = std::ptr::null_mut();
+        // SAFETY: valid pointers.
+        unsafe { ffi::relnav_estimator_new(&c, &mut est) };
+        assert!(!est.is_null());
+        let thrust = [0.0; 3];
+        let mut x = [0.0; 6];
+        let n = allocations(|| {
+            for k in 0..200 {
+                let z = measurement(k);
+                // SAFETY: live handle, arrays of the documented lengths.
+                unsafe {
+                    assert_eq!(
+                        ffi::relnav_estimator_step(est, thrust.as_ptr(), z.as_ptr(), 1.0),
+                        ffi::relnav_status::RELNAV_OK
+                    );
+                    ffi::relnav_estimator_get_state(est, x.as_mut_ptr());
+                }
+            }
+        });
+        // SAFETY: live handle, freed once.
+        unsafe { ffi::relnav_estimator_free(est) };
+        assert_eq!(n, 0, "{filter:?}: {n} allocations in C-ABI steps");
+    }
+}
+
+#[test]
+fn fmu_do_step_does_not_allocate() {
+    let g = std::ffi::CString::new(guid()).unwrap();
+    let cb = fmi2CallbackFunctions {
+        logger: None,
+        allocateMemory: None,
+        freeMemory: None,
+        stepFinished: None,
+        componentEnvironment: std::ptr::null_mut(),
+    };
+    // SAFETY: valid strings and callbacks for the call.
+    let c = unsafe {
+        fmi2Instantiate(
+            c"alloc".as_ptr(),
+            fmi2CoSimulation,
+            g.as_ptr(),
+            std::ptr::null(),
+            &cb,
+            0,
+            0,
+        )
+    };
+    assert!(!c.is_null());
+    // SAFETY: live instance, arrays of matching lengths.
+    unsafe {
+        assert_eq!(
+            fmi2SetupExperiment(c, 0, 0.0, 0.0, 0, 0.0),
+            fmi2Status::fmi2OK
+        );
+        assert_eq!(fmi2EnterInitializationMode(c), fmi2Status::fmi2OK);
+        assert_eq!(fmi2ExitInitializationMode(c), fmi2Status::fmi2OK);
+    }
+    let ins = [vr::RANGE, vr::AZIMUTH, vr::ELEVATION];
+    let outs = [
+        vr::X,
+        vr::Y,
+        vr::Z,
+        vr::VX,
+        vr::VY,
+        vr::VZ,
+        vr::SIGMA_X,
+        vr::SIGMA_Y,
+        vr::SIGMA_Z,
+        vr::SIGMA_VX,
+        vr::SIGMA_VY,
+        vr::SIGMA_VZ,
+    ];
+    let valid = [vr::MEASUREMENT_VALID];
+    let mut y = [0.0; 12];
+    let n = allocations(|| {
+        for k in 0..200 {
+            let z = measurement(k);
+            // SAFETY: as above.
+            unsafe {
+                assert_eq!(
+                    fmi2SetReal(c, ins.as_ptr(), 3, z.as_ptr()),
+                    fmi2Status::fmi2OK
+                );
+                assert_eq!(
+                    fmi2SetBoolean(c, valid.as_ptr(), 1, [1].as_ptr()),
+                    fmi2Status::fmi2OK
+                );
+                assert_eq!(fmi2DoStep(c, k as f64, 1.0, 1), fmi2Status::fmi2OK);
+                assert_eq!(
+                    fmi2GetReal(c, outs.as_ptr(), 12, y.as_mut_ptr()),
+                    fmi2Status::fmi2OK
+                );
+            }
+        }
+    });
+    // SAFETY: live instance, freed once.
+    unsafe { fmi2FreeInstance(c) };
+    assert_eq!(n, 0, "{n} allocations in 200 fmi2DoStep cycles");
+}
