@@ -559,7 +559,15 @@ pub unsafe extern "C" fn relnav_estimator_get_sigma(
         // SAFETY: pointer contracts are the caller's, checked for null.
         let nav = unsafe { estimator_ref(estimator, F) }?;
         let p = nav.covariance();
-        let s: [f64; 6] = std::array::from_fn(|i| p[(i, i)].max(0.0).sqrt());
+        // a NaN or negative variance (a failed filter) reports NaN, never a reassuring 0
+        let s: [f64; 6] = std::array::from_fn(|i| {
+            let v = p[(i, i)];
+            if v >= 0.0 {
+                v.sqrt()
+            } else {
+                f64::NAN
+            }
+        });
         // SAFETY: as above.
         unsafe { write_array(out, &s, "out", F) }
     })
@@ -615,14 +623,17 @@ pub unsafe extern "C" fn relnav_estimator_get_innovation(
     boundary(F, || {
         // SAFETY: pointer contracts are the caller's, checked for null.
         let nav = unsafe { estimator_ref(estimator, F) }?;
+        if innovation.is_null() {
+            return Err(null("innovation", F));
+        }
+        // SAFETY: as above; checked before anything is written.
+        let n = unsafe { nis.as_mut() }.ok_or_else(|| null("nis", F))?;
         let (nu, v) = match nav.last_update() {
             Some(u) => (u.innovation.into(), u.nis),
             None => ([f64::NAN; 3], f64::NAN),
         };
         // SAFETY: as above.
         unsafe { write_array(innovation, &nu, "innovation", F) }?;
-        // SAFETY: as above.
-        let n = unsafe { nis.as_mut() }.ok_or_else(|| null("nis", F))?;
         *n = v;
         Ok(())
     })

@@ -20,6 +20,10 @@ use crate::frames::Frame;
 use crate::sensors::RadioSensor;
 use crate::types::{Mat3, Mat6, State, Vec3};
 
+/// Accepted mean motions [rad/s]: from a 200-year orbit to a 1-minute one. Outside, the
+/// CW model has no physical meaning and `1 / n^2` terms of the discretisation overflow.
+pub const MEAN_MOTION_RANGE: (f64, f64) = (1e-9, 0.1);
+
 /// Filter codes, shared by the C ABI and the FMU (`filter` parameter).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[repr(i32)]
@@ -188,12 +192,23 @@ impl From<FilterError> for NavError {
     }
 }
 
+/// A number for an error message: plain when readable, scientific when tiny or huge.
+pub(crate) fn num(v: f64) -> String {
+    let a = v.abs();
+    if v == 0.0 || !v.is_finite() || (1e-4..1e7).contains(&a) {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
+    }
+}
+
 fn positive(name: &str, v: f64) -> Result<(), NavError> {
     if v.is_finite() && v > 0.0 {
         Ok(())
     } else {
         Err(NavError::invalid(format!(
-            "{name} must be finite and > 0 (got {v})"
+            "{name} must be finite and > 0 (got {})",
+            num(v)
         )))
     }
 }
@@ -203,7 +218,8 @@ fn non_negative(name: &str, v: f64) -> Result<(), NavError> {
         Ok(())
     } else {
         Err(NavError::invalid(format!(
-            "{name} must be finite and >= 0 (got {v})"
+            "{name} must be finite and >= 0 (got {})",
+            num(v)
         )))
     }
 }
@@ -233,11 +249,42 @@ impl NavConfig {
             });
         }
         positive("mean_motion", self.mean_motion)?;
+        if !(MEAN_MOTION_RANGE.0..=MEAN_MOTION_RANGE.1).contains(&self.mean_motion) {
+            return Err(NavError::invalid(format!(
+                "mean_motion must lie in [{:e}, {}] rad/s (got {}): a circular orbit's rate \
+                 (low Earth orbit ~1.1e-3, geostationary ~7.3e-5)",
+                MEAN_MOTION_RANGE.0,
+                MEAN_MOTION_RANGE.1,
+                num(self.mean_motion)
+            )));
+        }
         positive("chaser_mass", self.chaser_mass)?;
         positive("sigma_range", self.sigma_range)?;
         positive("sigma_angle", self.sigma_angle)?;
         positive("sigma_pos0", self.sigma_pos0)?;
         positive("sigma_vel0", self.sigma_vel0)?;
+        for (name, v) in [
+            ("sigma_pos0", self.sigma_pos0),
+            ("sigma_vel0", self.sigma_vel0),
+        ] {
+            if !(v * v).is_finite() || v * v == 0.0 {
+                return Err(NavError::invalid(format!(
+                    "{name} = {} has no finite, non-zero variance",
+                    num(v)
+                )));
+            }
+        }
+        for (name, v) in [
+            ("sigma_range", self.sigma_range),
+            ("sigma_angle", self.sigma_angle),
+        ] {
+            if !(v * v).is_finite() || v * v == 0.0 {
+                return Err(NavError::invalid(format!(
+                    "{name} = {} has no finite, non-zero variance",
+                    num(v)
+                )));
+            }
+        }
         non_negative("accel_psd", self.accel_psd)?;
         for (i, n) in ["x0", "y0", "z0", "vx0", "vy0", "vz0"].iter().enumerate() {
             if !self.x0[i].is_finite() {
@@ -251,9 +298,8 @@ impl NavConfig {
             non_negative(&format!("q_pos_{axis}"), self.q_pos[i])?;
             non_negative(&format!("q_vel_{axis}"), self.q_vel[i])?;
         }
-        if self.filter == FilterKind::Ukf {
-            self.ukf.validate().map_err(NavError::invalid)?;
-        }
+        // checked whatever the filter, so a bad value never hides until the filter changes
+        self.ukf.validate().map_err(NavError::invalid)?;
         Ok(())
     }
 
@@ -402,6 +448,18 @@ impl Navigator {
     /// Measurement update with `(range [m], azimuth [rad], elevation [rad])` in the I/O frame.
     pub fn update(&mut self, z: &[f64; 3]) -> Result<UpdateInfo, NavError> {
         finite3("measurement (range, azimuth, elevation)", z)?;
+        if z[0] < 0.0 {
+            return Err(NavError::invalid(format!(
+                "measured range must be >= 0 (got {})",
+                num(z[0])
+            )));
+        }
+        if z[2].abs() > std::f64::consts::FRAC_PI_2 {
+            return Err(NavError::invalid(format!(
+                "measured elevation must lie in [-pi/2, pi/2] (got {})",
+                num(z[2])
+            )));
+        }
         let info = self.filter.update(&self.sensor, &Vec3::from_row_slice(z))?;
         self.last_update = Some(info);
         Ok(info)

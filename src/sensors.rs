@@ -29,7 +29,7 @@ use crate::frames::Frame;
 use crate::types::{Mat3, Mat36, Vec3};
 use rand::Rng;
 use rand_distr::StandardNormal;
-use std::f64::consts::{PI, TAU};
+use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 /// Below this range [m] the measurement directions are undefined.
 pub const MIN_RANGE: f64 = 1e-6;
@@ -176,16 +176,19 @@ impl RadioSensor {
     }
 
     /// A noisy measurement of the canonical position `r` drawn from `rng`; the azimuth is
-    /// wrapped to `[0, 2 pi)`. `None` at zero range.
+    /// wrapped to `[0, 2 pi)`, the elevation clamped to `[-pi/2, pi/2]` and the range to
+    /// `>= 0` (a sensor never reports outside these domains, and the filters reject such
+    /// values; the clamps act only within a few sigma of the poles or of zero range).
+    /// `None` at zero range.
     pub fn measure<R: Rng + ?Sized>(&self, r: &Vec3, rng: &mut R) -> Option<Vec3> {
         let z = self.h(r)?;
         let n0: f64 = rng.sample(StandardNormal);
         let n1: f64 = rng.sample(StandardNormal);
         let n2: f64 = rng.sample(StandardNormal);
         Some(Vec3::new(
-            z.x + self.sigma_range * n0,
+            (z.x + self.sigma_range * n0).max(0.0),
             wrap_2pi(z.y + self.sigma_angle * n1),
-            z.z + self.sigma_angle * n2,
+            (z.z + self.sigma_angle * n2).clamp(-FRAC_PI_2, FRAC_PI_2),
         ))
     }
 }

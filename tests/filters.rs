@@ -303,4 +303,52 @@ fn invalid_configurations_name_the_parameter() {
         .message
         .contains("thrust"));
     assert!(nav.update(&[1.0, f64::NAN, 0.0]).is_err());
+    assert!(nav
+        .update(&[-1.0, 0.0, 0.0])
+        .unwrap_err()
+        .message
+        .contains("range"));
+    assert!(nav
+        .update(&[1.0, 0.0, 1.6])
+        .unwrap_err()
+        .message
+        .contains("elevation"));
+    // huge initial sigma whose variance overflows; NaN UKF parameter with the EKF selected;
+    // a mean motion outside any orbit; tiny numbers are printed readably
+    let e = Navigator::new(&NavConfig {
+        sigma_pos0: 1e200,
+        ..Default::default()
+    })
+    .unwrap_err();
+    assert!(
+        e.message.contains("sigma_pos0") && e.message.contains("1e200"),
+        "{}",
+        e.message
+    );
+    let e = Navigator::new(&NavConfig {
+        ukf: UkfParams {
+            alpha: f64::NAN,
+            beta: 2.0,
+            kappa: 0.0,
+        },
+        ..Default::default()
+    })
+    .unwrap_err();
+    assert!(e.message.contains("UKF"), "{}", e.message);
+    let e = Navigator::new(&NavConfig {
+        mean_motion: 1e-300,
+        ..Default::default()
+    })
+    .unwrap_err();
+    assert!(
+        e.message.contains("mean_motion") && e.message.len() < 200,
+        "{}",
+        e.message
+    );
+    let e = Navigator::new(&NavConfig {
+        chaser_mass: -1e-300,
+        ..Default::default()
+    })
+    .unwrap_err();
+    assert!(e.message.contains("-1e-300"), "{}", e.message);
 }

@@ -83,6 +83,91 @@ void check_truth() {
     CHECK(std::fabs(wrap_2pi(-0.25) - (kTwoPi - 0.25)) < 1e-15);
 }
 
+// Frame conversions for all three I/O frames (frame 2 in scenario.hpp); our own, from the
+// frame definitions: 1 = canonical; 3 = (along-track, minus normal, nadir).
+Vec6 to_canonical(int frame, const Vec6& s) {
+    if (frame == 1) return s;
+    if (frame == 2) return state_frame2_to_canonical(s);
+    return {-s[2], s[0], -s[1], -s[5], s[3], -s[4]};  // x_c = -z3, y_c = x3, z_c = -y3
+}
+Vec6 from_canonical(int frame, const Vec6& c) {
+    if (frame == 1) return c;
+    if (frame == 2) return state_canonical_to_frame2(c);
+    return {c[1], -c[2], -c[0], c[4], -c[5], -c[3]};
+}
+Vec3 vec_to_canonical(int frame, const Vec3& v) {
+    const Vec6 s = to_canonical(frame, {v[0], v[1], v[2], 0.0, 0.0, 0.0});
+    return {s[0], s[1], s[2]};
+}
+
+// relnav's time update (mean) and measurement model against our own, in every frame.
+void check_models() {
+    double worst_exact = 0.0, worst_euler = 0.0, worst_innov = 0.0;
+    const Vec6 xio = {405.0, -505.0, 205.0, 0.3, -0.2, 0.1};
+    const Vec3 thrust = {2.0, -1.0, 0.5};
+    for (int frame = 1; frame <= 3; ++frame)
+        for (int filter : {RELNAV_FILTER_EKF, RELNAV_FILTER_UKF})
+            for (double n : {kTwoPi / 7200.0, 1.1e-3, 7.29e-5})
+                for (double dt : {0.01, 1.0, 60.0, 600.0})
+                    for (int disc : {RELNAV_DISCRETIZATION_EXACT, RELNAV_DISCRETIZATION_EULER}) {
+                        relnav_config c = relnav_config_default();
+                        c.filter = filter;
+                        c.frame = frame;
+                        c.mean_motion = n;
+                        c.discretization = disc;
+                        for (int i = 0; i < 6; ++i) c.x0[i] = xio[static_cast<size_t>(i)];
+                        relnav_estimator* e = nullptr;
+                        CHECK(relnav_estimator_new(&c, &e) == RELNAV_OK);
+                        if (!e) continue;
+                        CHECK(relnav_estimator_predict(e, thrust.data(), dt) == RELNAV_OK);
+                        Vec6 got{};
+                        CHECK(relnav_estimator_get_state(e, got.data()) == RELNAV_OK);
+                        const Vec3 f = thrust;
+                        const Vec3 a = vec_to_canonical(frame, {f[0] / c.chaser_mass, f[1] / c.chaser_mass,
+                                                                f[2] / c.chaser_mass});
+                        const Vec6 xc = to_canonical(frame, xio);
+                        Vec6 want;
+                        if (disc == RELNAV_DISCRETIZATION_EXACT) {
+                            want = from_canonical(frame, cw_propagate(xc, n, dt, a));
+                        } else {  // Euler: x + T (A x + B a)
+                            const Vec6 d = cw_rhs(xc, n, a);
+                            Vec6 xe;
+                            for (int i = 0; i < 6; ++i) xe[static_cast<size_t>(i)] = xc[static_cast<size_t>(i)] + dt * d[static_cast<size_t>(i)];
+                            want = from_canonical(frame, xe);
+                        }
+                        double rel = 0.0;
+                        for (size_t i = 0; i < 6; ++i)
+                            rel = std::max(rel, std::fabs(got[i] - want[i]) / (1.0 + std::fabs(want[i])));
+                        double& worst = disc == RELNAV_DISCRETIZATION_EXACT ? worst_exact : worst_euler;
+                        worst = std::max(worst, rel);
+                        CHECK_MSG(rel < 1e-9, "predict differs from the closed form: frame " + std::to_string(frame) +
+                                                  " filter " + std::to_string(filter) + " n " + std::to_string(n) +
+                                                  " dt " + std::to_string(dt) + " disc " + std::to_string(disc) +
+                                                  ": " + std::to_string(rel));
+                        relnav_estimator_free(e);
+
+                        // Measurement model: innovation = z - h(prior), azimuth wrapped to (-pi, pi].
+                        if (disc != RELNAV_DISCRETIZATION_EXACT || dt != 1.0 || filter != RELNAV_FILTER_EKF) continue;
+                        CHECK(relnav_estimator_new(&c, &e) == RELNAV_OK);
+                        if (!e) continue;
+                        const Vec3 h = radio_measurement(xio);
+                        const Vec3 z = {h[0] + 0.7, wrap_2pi(h[1] + 3.1), h[2] - 0.002};
+                        CHECK(relnav_estimator_update(e, z.data()) == RELNAV_OK);
+                        Vec3 innov{};
+                        double nis = -1.0;
+                        CHECK(relnav_estimator_get_innovation(e, innov.data(), &nis) == RELNAV_OK);
+                        const Vec3 expect = {0.7, 3.1, -0.002};
+                        for (size_t i = 0; i < 3; ++i) worst_innov = std::max(worst_innov, std::fabs(innov[i] - expect[i]));
+                        CHECK_MSG(std::fabs(innov[0] - 0.7) < 1e-9 && std::fabs(innov[1] - 3.1) < 1e-9 &&
+                                      std::fabs(innov[2] + 0.002) < 1e-9,
+                                  "innovation differs from z - h(x) in frame " + std::to_string(frame));
+                        CHECK(std::isfinite(nis) && nis > 0.0);
+                        relnav_estimator_free(e);
+                    }
+    std::printf("model check: predict vs own CW (frames 1-3, EKF/UKF, 3 n, 4 dt): max rel diff exact %.3g, "
+                "Euler %.3g; innovation vs own h(x): %.3g\n", worst_exact, worst_euler, worst_innov);
+}
+
 void run_case(const std::string& name, const Paper000& p, int filter, int runs) {
     const auto truth = truth_trajectory(p);
     std::vector<Run> est;
@@ -124,6 +209,7 @@ int main(int argc, char** argv) {
     const Paper000 burn = paper000_with_burn();
     check_defaults(plain);
     check_truth();
+    check_models();
 
     std::printf("\nerror = estimate at t+1 after the step at t minus truth at t+1; times 80..600 s\n");
     print_table_header();

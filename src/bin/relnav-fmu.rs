@@ -1,4 +1,5 @@
-//! Packs the FMU: `cargo run --release --bin relnav-fmu [-- OUT_DIR]`.
+//! Packs the FMU: `cargo run --release --bin relnav-fmu [-- OUT_DIR]`
+//! (`-- --variables-markdown` prints the variable table for the README instead).
 //!
 //! Writes `OUT_DIR/relnav.fmu` (default `target/fmu/relnav.fmu`) and the same tree unpacked
 //! in `OUT_DIR/relnav/`: `modelDescription.xml` (generated from the variable table) and
@@ -41,6 +42,13 @@ fn run() -> Result<PathBuf, String> {
     };
     write(&tree.join("modelDescription.xml"), xml.as_bytes())?;
     write(&tree.join(&bin_path), &binary)?;
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        let p = tree.join(&bin_path);
+        std::fs::set_permissions(&p, std::fs::Permissions::from_mode(0o755))
+            .map_err(|e| format!("chmod {}: {e}", p.display()))?;
+    }
 
     // the archive
     let fmu = out_dir.join(format!("{MODEL_IDENTIFIER}.fmu"));
@@ -60,6 +68,10 @@ fn run() -> Result<PathBuf, String> {
 }
 
 fn main() -> ExitCode {
+    if std::env::args().nth(1).as_deref() == Some("--variables-markdown") {
+        print!("{}", relnav::fmi::description::variables_markdown());
+        return ExitCode::SUCCESS;
+    }
     match run() {
         Ok(p) => {
             let size = std::fs::metadata(&p).map(|m| m.len()).unwrap_or(0);

@@ -69,7 +69,10 @@ impl UkfParams {
             return Err("UKF parameters alpha, beta and kappa must be finite".into());
         }
         if !(self.alpha > 0.0) {
-            return Err(format!("ukf_alpha must be > 0 (got {})", self.alpha));
+            return Err(format!(
+                "ukf_alpha must be > 0 (got {})",
+                crate::nav::num(self.alpha)
+            ));
         }
         if !(N as f64 + self.lambda() > 0.0) {
             return Err(format!(

@@ -219,3 +219,52 @@ mod tests {
         assert_eq!(guid().len(), 38);
     }
 }
+
+/// The variable table as Markdown (for the README; a test keeps the README in sync).
+pub fn variables_markdown() -> String {
+    let mut x = String::new();
+    let _ = writeln!(
+        x,
+        "| name | vr | causality | variability | type | unit | start | description |"
+    );
+    let _ = writeln!(x, "|---|---:|---|---|---|---|---|---|");
+    for v in VARIABLES {
+        let (ty, unit, start) = match v.ty {
+            VarType::Real(u) => ("Real", u.to_string(), format!("{}", v.start)),
+            VarType::Integer => ("Integer", String::new(), format!("{}", v.start as i64)),
+            VarType::Boolean => (
+                "Boolean",
+                String::new(),
+                if v.start != 0.0 { "true" } else { "false" }.to_string(),
+            ),
+            VarType::Enumeration(t) => {
+                let item = t
+                    .items
+                    .iter()
+                    .find(|it| f64::from(it.1) == v.start)
+                    .map(|it| it.0)
+                    .unwrap_or("");
+                (
+                    t.name,
+                    String::new(),
+                    format!("{} ({item})", v.start as i64),
+                )
+            }
+        };
+        let start = if v.causality == Causality::Output {
+            "—".to_string()
+        } else {
+            start
+        };
+        let _ = writeln!(
+            x,
+            "| `{}` | {} | {} | {} | {ty} | {unit} | {start} | {} |",
+            v.name,
+            v.vr,
+            causality(v.causality),
+            variability(v.variability),
+            v.description
+        );
+    }
+    x
+}
