@@ -54,6 +54,10 @@ fi
 if [ "${#missing[@]}" -gt 0 ]; then
     # de-duplicate, keep order
     mapfile -t missing < <(printf '%s\n' "${missing[@]}" | awk '!seen[$0]++')
+    if [ "$(id -u)" -ne 0 ] && [ "${#SUDO[@]}" -eq 0 ]; then
+        log "error: missing ${missing[*]} and cannot install them (not root, no sudo)"
+        exit 1
+    fi
     log "installing with apt-get: ${missing[*]}"
     export DEBIAN_FRONTEND=noninteractive
     "${SUDO[@]}" apt-get update -qq </dev/null

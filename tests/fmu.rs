@@ -321,3 +321,24 @@ fn variable_steps_and_status_queries() {
     assert_eq!(last, 5.0);
     assert_eq!(term, 0);
 }
+
+/// The README's variable table is the generated one (regenerate with
+/// `cargo run --bin relnav-fmu -- --variables-markdown`).
+#[test]
+fn readme_variable_table_is_current() {
+    let readme =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/README.md")).unwrap();
+    let begin = "<!-- variables:begin (generated: cargo run --bin relnav-fmu -- --variables-markdown) -->\n";
+    let start = readme
+        .find(begin)
+        .expect("README lacks the variables:begin marker")
+        + begin.len();
+    let end = readme
+        .find("<!-- variables:end -->")
+        .expect("README lacks the variables:end marker");
+    assert_eq!(
+        readme.get(start..end).unwrap_or_default(),
+        relnav::fmi::description::variables_markdown(),
+        "README variable table is stale"
+    );
+}

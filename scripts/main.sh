@@ -1,0 +1,18 @@
+#!/usr/bin/env bash
+# relnav's main job: set up, build the FMU, and print paper 000's accuracy table
+# (EKF and UKF through the FMU with fmpy, 20 seeded runs) as Markdown.
+# Extra arguments go to tools/paper000_fmu.py (e.g. --driver slave, --frame 3).
+set -euo pipefail
+
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "$ROOT"
+if ! command -v cargo >/dev/null 2>&1 && [ -x "$HOME/.cargo/bin/cargo" ]; then
+    PATH="$HOME/.cargo/bin:$PATH"
+fi
+
+echo "== setup"
+bash scripts/setup.sh </dev/null
+echo "== build the FMU (target/fmu/relnav.fmu)"
+cargo run --release --bin relnav-fmu </dev/null
+echo "== paper 000 through the FMU"
+exec "$ROOT/.venv/bin/python" tools/paper000_fmu.py "$@"

@@ -1,0 +1,99 @@
+#!/usr/bin/env bash
+# relnav's single test command (CI runs it through .ci/run):
+#
+#   setup (scripts/setup.sh) -> cargo fmt --check -> cargo clippy -D warnings -> cargo test
+#   -> cargo build --release -> FMU (cargo run --release --bin relnav-fmu)
+#   -> pytest tests/python (in .venv) -> C++ harness (cmake, build, ctest)
+#
+# Every stage is run and reported; a stage that later ones need (setup, release build,
+# FMU) stops the run when it fails. Exits non-zero if any stage failed; the last line is
+# the summary ("stages: N passed, N failed"). Non-interactive: works with CI=true and no
+# stdin.
+set -euo pipefail
+
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "$ROOT"
+
+if ! command -v cargo >/dev/null 2>&1 && [ -x "$HOME/.cargo/bin/cargo" ]; then
+    PATH="$HOME/.cargo/bin:$PATH"
+fi
+export CARGO_TERM_COLOR="${CARGO_TERM_COLOR:-never}"
+JOBS="${RELNAV_JOBS:-2}"
+
+declare -a STAGE_NAMES=() STAGE_RESULTS=()
+T_START=$SECONDS
+
+banner() {
+    printf '\n'
+    printf '==============================================================================\n'
+    printf '== %s\n' "$*"
+    printf '==============================================================================\n'
+}
+
+summary() {
+    local passed=0 failed=0 i line=""
+    for i in "${!STAGE_NAMES[@]}"; do
+        line+="${STAGE_NAMES[$i]}: ${STAGE_RESULTS[$i]}; "
+        case "${STAGE_RESULTS[$i]}" in
+            ok*) passed=$((passed + 1)) ;;
+            FAILED*) failed=$((failed + 1)) ;;
+        esac
+    done
+    banner "summary ($((SECONDS - T_START)) s)"
+    printf '%s\n' "${line%; }"
+    printf 'stages: %d passed, %d failed\n' "$passed" "$failed"
+}
+
+# stage NAME required|optional CMD...: run CMD, record the result; a failed required
+# stage ends the run (after the summary).
+stage() {
+    local name="$1" kind="$2" t0=$SECONDS rc=0
+    shift 2
+    banner "$name"
+    printf '$ %s\n' "$*"
+    if "$@" </dev/null; then
+        STAGE_NAMES+=("$name")
+        STAGE_RESULTS+=("ok ($((SECONDS - t0)) s)")
+    else
+        rc=$?
+        STAGE_NAMES+=("$name")
+        STAGE_RESULTS+=("FAILED (exit $rc)")
+        printf '\n!! stage "%s" failed with exit code %d\n' "$name" "$rc"
+        if [ "$kind" = required ]; then
+            printf '!! later stages need it: stopping\n'
+            summary
+            exit 1
+        fi
+    fi
+}
+
+run_pytest() {
+    local rc=0
+    "$ROOT/.venv/bin/python" -m pytest -q -p no:cacheprovider --durations=5 tests/python || rc=$?
+    if [ "$rc" -eq 5 ]; then
+        echo "pytest collected no tests (exit 5): counted as a failure"
+    fi
+    return "$rc"
+}
+
+run_cpp_harness() {
+    cmake -S cpp-harness -B cpp-harness/build -DCMAKE_BUILD_TYPE=Debug &&
+        cmake --build cpp-harness/build -j"$JOBS" &&
+        ctest --test-dir cpp-harness/build --output-on-failure
+}
+
+stage "setup" required bash scripts/setup.sh
+stage "cargo fmt --check" optional cargo fmt --all -- --check
+stage "cargo clippy" optional cargo clippy --all-targets -j"$JOBS" -- -D warnings
+stage "cargo test" optional cargo test --all-targets -j"$JOBS"
+stage "cargo test --doc" optional cargo test --doc -j"$JOBS"
+stage "cargo build --release" required cargo build --release -j"$JOBS"
+stage "build FMU" required cargo run --release -j"$JOBS" --bin relnav-fmu
+stage "pytest tests/python" optional run_pytest
+stage "C++ harness" optional run_cpp_harness
+
+summary
+for r in "${STAGE_RESULTS[@]}"; do
+    case "$r" in FAILED*) exit 1 ;; esac
+done
+exit 0

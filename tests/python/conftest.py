@@ -1,0 +1,88 @@
+"""Shared fixtures for relnav's FMU test suite.
+
+The FMU is found at ``target/fmu/relnav.fmu`` relative to the repository root (or at
+$RELNAV_FMU). Build it first with ``cargo run --release --bin relnav-fmu`` (scripts/test.sh
+does). The truth model and the FMU drivers live in ``tools/`` and are shared with
+``tools/paper000_fmu.py``.
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+REPO_ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(REPO_ROOT / "tools"))
+
+import cwtruth as cw  # noqa: E402
+import relnav_fmu as rf  # noqa: E402
+
+RUNS = cw.PAPER000_RUNS
+SEEDS = list(range(RUNS))
+
+
+def pytest_report_header(config):
+    path = rf.locate_fmu()
+    if path.is_file():
+        import time
+
+        stamp = time.strftime("%Y-%m-%d %H:%M:%S", time.localtime(path.stat().st_mtime))
+        return f"relnav FMU: {path} (built {stamp})"
+    return f"relnav FMU: {path} MISSING - build it with `cargo run --release --bin relnav-fmu`"
+
+
+@pytest.fixture(scope="session")
+def fmu_path() -> Path:
+    path = rf.locate_fmu()
+    if not path.is_file():
+        pytest.fail(
+            f"relnav FMU not found at {path}.\n"
+            "Build it first: `cargo run --release --bin relnav-fmu` from the repository root "
+            "(scripts/test.sh does this), or point $RELNAV_FMU at an .fmu file.",
+            pytrace=False,
+        )
+    return path
+
+
+@pytest.fixture(scope="session")
+def unzipdir(fmu_path, tmp_path_factory) -> Path:
+    """The FMU extracted once for the whole session."""
+    return rf.unpack(fmu_path, tmp_path_factory.mktemp("fmu") / "relnav")
+
+
+@pytest.fixture(scope="session")
+def runner(unzipdir):
+    """One loaded FMU2Slave; every run is a fresh instance of it."""
+    r = rf.SlaveRunner(unzipdir)
+    yield r
+    r.close()
+
+
+@pytest.fixture(scope="session")
+def runs(runner, unzipdir):
+    """Run a scenario for all seeds through one driver, cached for the session.
+
+    ``runs(key, scenario, filter_code, driver="slave")`` -> (RUNS, N+1, 12).
+    """
+    cache: dict = {}
+
+    def _runs(key: str, sc: cw.Scenario, filter_code: int, driver: str = "slave", seeds=SEEDS) -> np.ndarray:
+        k = (key, filter_code, driver, tuple(seeds))
+        if k not in cache:
+            params = {**sc.params, "filter": filter_code}
+            outs = []
+            for seed in seeds:
+                z = sc.measurements(seed)
+                if driver == "slave":
+                    outs.append(runner.run(params, sc.times, sc.thrust, z, sc.valid))
+                elif driver == "simulate_fmu":
+                    outs.append(rf.run_simulate_fmu(unzipdir, params, sc.times, sc.thrust, z, sc.valid))
+                else:  # pragma: no cover
+                    raise ValueError(driver)
+            cache[k] = np.array(outs)
+        return cache[k]
+
+    return _runs

@@ -1,0 +1,119 @@
+"""Invalid parameters are rejected with fmi2Error (when set, or at
+fmi2ExitInitializationMode) and the logged reason names the parameter."""
+
+import math
+
+import numpy as np
+import pytest
+from fmpy import simulate_fmu
+from fmpy.fmi1 import FMICallException
+from fmpy.fmi2 import fmi2Error
+
+BAD = [
+    ("chaser_mass", 0.0),
+    ("sigma_range", -1.0),
+    ("mean_motion", math.nan),
+    ("filter", 7),
+    ("frame", 5),
+    # more of the same kind
+    ("chaser_mass", -5.0),
+    ("sigma_angle", 0.0),
+    ("sigma_pos0", -1.0),
+    ("sigma_vel0", math.inf),
+    ("mean_motion", 0.0),
+    ("q_pos_x", -1e-3),
+    ("q_vel_z", math.nan),
+    ("accel_psd", -1.0),
+    ("x0", math.inf),
+    ("filter", 0),
+    ("filter", 9),
+    ("frame", 0),
+    ("discretization", 3),
+]
+
+
+def attempt(runner, params):
+    """Instantiate with debug logging, set ``params``, initialise. Returns (exception or
+    None, stage reached, log text)."""
+    runner.log.records.clear()
+    runner.instantiate(logging_on=True)
+    stage = "set"
+    try:
+        runner.fmu.setupExperiment(startTime=0.0)
+        runner.set_params(params)
+        stage = "enter"
+        runner.fmu.enterInitializationMode()
+        stage = "exit"
+        runner.fmu.exitInitializationMode()
+        stage = "done"
+        return None, stage, runner.log.text()
+    except FMICallException as e:
+        return e, stage, runner.log.text()
+    finally:
+        runner.free_instance()
+
+
+@pytest.mark.parametrize("name,value", BAD, ids=[f"{n}={v}" for n, v in BAD])
+def test_bad_parameter_rejected_with_reason(runner, name, value):
+    exc, stage, log = attempt(runner, {name: value})
+    assert exc is not None, f"{name}={value} was accepted (log: {log!r})"
+    assert exc.status == fmi2Error, f"{name}={value}: status {exc.status} at {stage}"
+    assert stage in ("set", "exit"), f"{name}={value}: failed at {stage}"
+    assert name in log, f"{name}={value}: log does not name the parameter:\n{log}"
+    # the same library still serves a good instance afterwards
+    exc, stage, log = attempt(runner, {})
+    assert exc is None, log
+
+
+def test_unimplemented_filter_is_rejected_at_exit_initialization(runner):
+    exc, stage, log = attempt(runner, {"filter": 7})
+    assert exc is not None and stage == "exit", (stage, log)
+    assert "filter" in log and ("gapf" in log.lower() or "implemented" in log.lower()), log
+
+
+def test_valid_edge_values_accepted(runner):
+    ok = {"q_pos_x": 0.0, "q_vel_y": 0.0, "accel_psd": 1e-9, "filter": 2, "frame": 3, "discretization": 2, "seed": -7}
+    exc, stage, log = attempt(runner, ok)
+    assert exc is None, log
+
+
+# fmpy's logger proxy is process-wide (see relnav_fmu.LogCapture) and simulate_fmu leaves
+# the failed instance (with its ctypes logger) to the garbage collector: keep them alive.
+_KEEP_ALIVE = []
+
+
+def test_simulate_fmu_raises_and_logger_receives_reason(unzipdir):
+    messages = []
+
+    def logger(env, instance, status, category, message):  # noqa: ARG001
+        messages.append((status, message.decode("utf-8", "replace") if isinstance(message, bytes) else str(message)))
+
+    _KEEP_ALIVE.append(logger)
+    with pytest.raises(Exception) as info:
+        simulate_fmu(
+            str(unzipdir),
+            stop_time=10.0,
+            output_interval=1.0,
+            start_values={"chaser_mass": 0.0},
+            debug_logging=True,
+            logger=logger,
+        )
+    _KEEP_ALIVE.append(info)
+    assert "fmi2" in str(info.value)
+    assert any("chaser_mass" in m for _, m in messages), messages
+    assert any(s == fmi2Error for s, m in messages if "chaser_mass" in m), messages
+
+
+def test_bad_step_size_is_an_error(runner):
+    """A non-positive communication step is refused with fmi2Error; a fresh instance works."""
+    runner.log.records.clear()
+    runner.instantiate(logging_on=True)
+    try:
+        runner.initialize({})
+        before = runner.outputs()
+        with pytest.raises(FMICallException) as info:
+            runner.fmu.doStep(currentCommunicationPoint=0.0, communicationStepSize=0.0)
+        assert info.value.status >= fmi2Error
+    finally:
+        runner.free_instance()
+    assert np.all(np.isfinite(before))

@@ -1,0 +1,210 @@
+"""The FMU's package and modelDescription.xml: fmpy validation and the declared interface."""
+
+import ctypes
+import re
+import xml.etree.ElementTree as ET
+import zipfile
+
+import numpy as np
+import pytest
+from fmpy import read_model_description
+from fmpy.validation import validate_fmu
+
+import cwtruth as cw
+import relnav_fmu as rf
+
+# name -> (causality, variability, type, unit or None)
+EXPECTED = {
+    "filter": ("parameter", "fixed", "Enumeration", None),
+    "frame": ("parameter", "fixed", "Enumeration", None),
+    "discretization": ("parameter", "fixed", "Enumeration", None),
+    "mean_motion": ("parameter", "fixed", "Real", "rad/s"),
+    "chaser_mass": ("parameter", "fixed", "Real", "kg"),
+    "sigma_range": ("parameter", "fixed", "Real", "m"),
+    "sigma_angle": ("parameter", "fixed", "Real", "rad"),
+    **{n: ("parameter", "fixed", "Real", "m") for n in ["x0", "y0", "z0", "sigma_pos0"]},
+    **{n: ("parameter", "fixed", "Real", "m/s") for n in ["vx0", "vy0", "vz0", "sigma_vel0"]},
+    "accel_psd": ("parameter", "fixed", "Real", "m2/s3"),
+    **{f"q_pos_{a}": ("parameter", "fixed", "Real", "m2/s") for a in "xyz"},
+    **{f"q_vel_{a}": ("parameter", "fixed", "Real", "m2/s3") for a in "xyz"},
+    **{n: ("parameter", "fixed", "Real", None) for n in ["ukf_alpha", "ukf_beta", "ukf_kappa"]},
+    "seed": ("parameter", "fixed", "Integer", None),
+    **{f"thrust_{a}": ("input", "discrete", "Real", "N") for a in "xyz"},
+    "range": ("input", "discrete", "Real", "m"),
+    "azimuth": ("input", "discrete", "Real", "rad"),
+    "elevation": ("input", "discrete", "Real", "rad"),
+    "measurement_valid": ("input", "discrete", "Boolean", None),
+    **{n: ("output", None, "Real", "m") for n in ["x", "y", "z", "sigma_x", "sigma_y", "sigma_z"]},
+    **{n: ("output", None, "Real", "m/s") for n in ["vx", "vy", "vz", "sigma_vx", "sigma_vy", "sigma_vz"]},
+}
+
+DEFAULTS = {
+    "filter": 1,
+    "frame": 2,
+    "discretization": 1,
+    "mean_motion": 2 * np.pi / 7200,
+    "chaser_mass": 1000.0,
+    "sigma_range": 0.5,
+    "sigma_angle": np.deg2rad(0.01),
+    "x0": 405.0,
+    "y0": 505.0,
+    "z0": 205.0,
+    "vx0": 0.1,
+    "vy0": 0.1,
+    "vz0": 0.1,
+    "sigma_pos0": 50.0,
+    "sigma_vel0": 1.0,
+    "accel_psd": 0.0,
+    "q_pos_x": 0.09,
+    "q_pos_y": 0.000625,
+    "q_pos_z": 0.0025,
+    "q_vel_x": 1e-6,
+    "q_vel_y": 1e-6,
+    "q_vel_z": 1e-6,
+    "thrust_x": 0.0,
+    "thrust_y": 0.0,
+    "thrust_z": 0.0,
+    "measurement_valid": False,
+}
+
+FMI2_CS_FUNCTIONS = [
+    "fmi2GetTypesPlatform", "fmi2GetVersion", "fmi2SetDebugLogging", "fmi2Instantiate", "fmi2FreeInstance",
+    "fmi2SetupExperiment", "fmi2EnterInitializationMode", "fmi2ExitInitializationMode", "fmi2Terminate",
+    "fmi2Reset", "fmi2GetReal", "fmi2GetInteger", "fmi2GetBoolean", "fmi2GetString", "fmi2SetReal",
+    "fmi2SetInteger", "fmi2SetBoolean", "fmi2SetString", "fmi2GetFMUstate", "fmi2SetFMUstate",
+    "fmi2FreeFMUstate", "fmi2SerializedFMUstateSize", "fmi2SerializeFMUstate", "fmi2DeSerializeFMUstate",
+    "fmi2GetDirectionalDerivative", "fmi2SetRealInputDerivatives", "fmi2GetRealOutputDerivatives",
+    "fmi2DoStep", "fmi2CancelStep", "fmi2GetStatus", "fmi2GetRealStatus", "fmi2GetIntegerStatus",
+    "fmi2GetBooleanStatus", "fmi2GetStringStatus",
+]
+
+
+@pytest.fixture(scope="module")
+def xml_root(fmu_path):
+    with zipfile.ZipFile(fmu_path) as zf:
+        return ET.fromstring(zf.read("modelDescription.xml"))
+
+
+@pytest.fixture(scope="module")
+def md(fmu_path):
+    return read_model_description(str(fmu_path), validate=True)
+
+
+def test_validate_fmu_reports_no_problems(fmu_path):
+    assert validate_fmu(str(fmu_path)) == []
+
+
+def test_package_layout(fmu_path):
+    with zipfile.ZipFile(fmu_path) as zf:
+        names = zf.namelist()
+    assert "modelDescription.xml" in names
+    assert "binaries/linux64/relnav.so" in names
+    assert not any("\\" in n for n in names)
+
+
+def test_header_attributes(xml_root, md):
+    assert xml_root.get("fmiVersion") == "2.0"
+    assert xml_root.get("modelName")
+    guid = xml_root.get("guid")
+    assert re.fullmatch(r"\{[0-9a-fA-F]{8}-[0-9a-fA-F]{4}-[0-9a-fA-F]{4}-[0-9a-fA-F]{4}-[0-9a-fA-F]{12}\}", guid), guid
+    cs = xml_root.find("CoSimulation")
+    assert cs is not None
+    assert cs.get("modelIdentifier") == "relnav"
+    assert cs.get("canHandleVariableCommunicationStepSize") == "true"
+    assert md.coSimulation.modelIdentifier == "relnav"
+
+
+def test_variables_declared_as_specified(md):
+    got = {v.name: v for v in md.modelVariables}
+    assert set(got) == set(EXPECTED), f"unexpected: {set(got) - set(EXPECTED)}; missing: {set(EXPECTED) - set(got)}"
+    units = {u.name for u in md.unitDefinitions}
+    for name, (causality, variability, typ, unit) in EXPECTED.items():
+        v = got[name]
+        assert v.causality == causality, name
+        if variability is not None:
+            assert v.variability == variability, name
+        assert v.type == typ, name
+        if unit is not None:
+            assert v.unit == unit, f"{name}: unit {v.unit!r}, expected {unit!r}"
+            assert unit in units, f"{name}: unit {unit} not in UnitDefinitions"
+        elif v.unit is not None:
+            assert v.unit in units, f"{name}: unit {v.unit} not in UnitDefinitions"
+    vrs = [v.valueReference for v in md.modelVariables]
+    assert len(vrs) == len(set(vrs)), "value references are not unique"
+
+
+def test_every_declared_unit_is_defined(md):
+    units = {u.name for u in md.unitDefinitions}
+    for v in md.modelVariables:
+        if v.unit is not None:
+            assert v.unit in units, f"{v.name}: {v.unit}"
+
+
+def test_inputs_are_discrete_with_start_values(md):
+    inputs = [v for v in md.modelVariables if v.causality == "input"]
+    assert {v.name for v in inputs} == set(rf.INPUTS)
+    for v in inputs:
+        assert v.variability == "discrete", v.name
+        assert v.start is not None, f"{v.name} has no start value"
+
+
+def test_start_values_are_paper000_defaults(md):
+    got = {v.name: v for v in md.modelVariables}
+    for name, value in DEFAULTS.items():
+        start = got[name].start
+        assert start is not None, name
+        if isinstance(value, bool):
+            assert str(start).lower() in (("true", "1") if value else ("false", "0")), name
+        else:
+            assert float(start) == pytest.approx(value, rel=1e-12), name
+
+
+def test_enumerations(md):
+    types = {t.name: t for t in md.typeDefinitions}
+    got = {v.name: v for v in md.modelVariables}
+    items = lambda var: {int(i.value): i.name for i in types[got[var].declaredType.name].items}  # noqa: E731
+    assert items("filter") == {1: "ekf", 2: "ukf", 3: "aqukf", 4: "pf", 5: "rpf", 6: "upf", 7: "gapf", 8: "cgapf", 9: "hinf"}
+    assert items("frame") == {1: "radial_along_normal", 2: "along_radial_antinormal", 3: "along_antinormal_nadir"}
+    assert items("discretization") == {1: "exact", 2: "euler"}
+
+
+def test_outputs_have_no_direct_feedthrough_in_model_structure(xml_root, md):
+    variables = xml_root.find("ModelVariables").findall("ScalarVariable")
+    outputs = xml_root.find("ModelStructure").find("Outputs").findall("Unknown")
+    output_indices = {i + 1 for i, v in enumerate(variables) if v.get("causality") == "output"}
+    listed = set()
+    for u in outputs:
+        idx = int(u.get("index"))
+        listed.add(idx)
+        assert variables[idx - 1].get("causality") == "output"
+        assert u.get("dependencies") == "", f"output {variables[idx - 1].get('name')}: dependencies={u.get('dependencies')!r}"
+    assert listed == output_indices
+    assert len(md.outputs) == 12
+
+
+def test_binary_exports_fmi2_cosimulation_api(unzipdir):
+    lib = ctypes.CDLL(str(unzipdir / "binaries" / "linux64" / "relnav.so"))
+    missing = [f for f in FMI2_CS_FUNCTIONS if not hasattr(lib, f)]
+    assert not missing, f"missing exports: {missing}"
+    lib.fmi2GetVersion.restype = ctypes.c_char_p
+    lib.fmi2GetTypesPlatform.restype = ctypes.c_char_p
+    assert lib.fmi2GetVersion() == b"2.0"
+    assert lib.fmi2GetTypesPlatform() == b"default"
+
+
+def test_outputs_change_only_in_do_step(runner):
+    """No direct feedthrough: setting inputs does not move the outputs before fmi2DoStep."""
+    runner.instantiate()
+    try:
+        runner.initialize({})
+        before = runner.outputs()
+        assert np.allclose(before[:6], cw.PAPER000_EST0)
+        assert np.allclose(before[6:], [50, 50, 50, 1, 1, 1])
+        runner.fmu.setReal([runner.vr[n] for n in rf.REAL_INPUTS], [5.0, -3.0, 1.0, 670.0, 0.9, 0.3])
+        runner.fmu.setBoolean([runner.vr["measurement_valid"]], [True])
+        assert np.array_equal(runner.outputs(), before)
+        runner.fmu.doStep(currentCommunicationPoint=0.0, communicationStepSize=1.0)
+        assert not np.array_equal(runner.outputs(), before)
+        runner.fmu.terminate()
+    finally:
+        runner.free_instance()
