@@ -203,23 +203,6 @@ pub fn model_description() -> &'static str {
     &generated().1
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn xml_contains_every_variable_and_the_guid() {
-        let xml = model_description();
-        assert!(xml.contains(&format!(r#"guid="{}""#, guid())));
-        assert!(!xml.contains(GUID_PLACEHOLDER));
-        for v in VARIABLES {
-            assert!(xml.contains(&format!(r#"name="{}" valueReference="{}""#, v.name, v.vr)));
-        }
-        assert!(xml.contains("canRunAsynchronuously"));
-        assert_eq!(guid().len(), 38);
-    }
-}
-
 /// The variable table as Markdown (for the README; a test keeps the README in sync).
 pub fn variables_markdown() -> String {
     let mut x = String::new();
@@ -267,4 +250,21 @@ pub fn variables_markdown() -> String {
         );
     }
     x
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn xml_contains_every_variable_and_the_guid() {
+        let xml = model_description();
+        assert!(xml.contains(&format!(r#"guid="{}""#, guid())));
+        assert!(!xml.contains(GUID_PLACEHOLDER));
+        for v in VARIABLES {
+            assert!(xml.contains(&format!(r#"name="{}" valueReference="{}""#, v.name, v.vr)));
+        }
+        assert!(xml.contains("canRunAsynchronuously"));
+        assert_eq!(guid().len(), 38);
+    }
 }
