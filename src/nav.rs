@@ -17,7 +17,7 @@
 use crate::dynamics::{CwModel, DiscreteModel, Discretization};
 use crate::estimators::{Ekf, Estimator, FilterError, Ukf, UkfParams, UpdateInfo};
 use crate::frames::Frame;
-use crate::sensors::RadioSensor;
+use crate::sensors::{MeasurementModel, RadioSensor};
 use crate::types::{Mat3, Mat6, State, Vec3};
 
 /// Accepted mean motions [rad/s]: from a 200-year orbit to a 1-minute one. Outside, the
@@ -332,7 +332,11 @@ impl Estimator for AnyFilter {
             AnyFilter::Ukf(f) => f.predict(model, accel),
         }
     }
-    fn update(&mut self, sensor: &RadioSensor, z: &Vec3) -> Result<UpdateInfo, FilterError> {
+    fn update<M: MeasurementModel>(
+        &mut self,
+        sensor: &M,
+        z: &Vec3,
+    ) -> Result<UpdateInfo, FilterError> {
         match self {
             AnyFilter::Ekf(f) => f.update(sensor, z),
             AnyFilter::Ukf(f) => f.update(sensor, z),

@@ -78,13 +78,96 @@ impl std::fmt::Display for GeometryError {
 /// Predicted measurement and its Jacobian at one position.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Geometry {
-    /// `(rho, alpha, delta)`.
+    /// Predicted measurement (radio: `(rho, alpha, delta)`).
     pub z: Vec3,
-    /// `d(rho, alpha, delta) / d(state)` with respect to the canonical state (3x6; the
-    /// velocity columns are zero). The azimuth row is zero when `azimuth_usable` is false.
+    /// `dz / d(state)` with respect to the canonical state (3x6; the velocity columns are
+    /// zero). The row of a component that is not informative is zero.
     pub h: Mat36,
-    /// False near the poles (see the module docs).
+    /// False near the poles (see the module docs); always true for other sensors.
     pub azimuth_usable: bool,
+}
+
+/// What a filter needs of a sensor: the measurement function, its linearisation, the
+/// residual and mean that respect angles, and the noise covariance. Component 1 is the
+/// one that [`Geometry::azimuth_usable`] may switch off.
+pub trait MeasurementModel {
+    /// Noise-free measurement of the canonical relative position `r` (`None` where it is
+    /// undefined).
+    fn predict(&self, r: &Vec3) -> Option<Vec3>;
+    /// Predicted measurement and Jacobian at `r`.
+    fn linearize(&self, r: &Vec3) -> Result<Geometry, GeometryError>;
+    /// `z - z_hat`, angle components wrapped.
+    fn diff(&self, z: &Vec3, z_hat: &Vec3) -> Vec3;
+    /// Weighted mean of predicted measurements `zs` (circular for angle components).
+    fn weighted_mean(&self, w: &[f64], zs: &[Vec3]) -> Vec3;
+    /// Measurement noise covariance the filters assume.
+    fn noise_cov(&self) -> Mat3;
+}
+
+impl MeasurementModel for RadioSensor {
+    fn predict(&self, r: &Vec3) -> Option<Vec3> {
+        self.h(r)
+    }
+    fn linearize(&self, r: &Vec3) -> Result<Geometry, GeometryError> {
+        self.geometry(r)
+    }
+    fn diff(&self, z: &Vec3, z_hat: &Vec3) -> Vec3 {
+        Self::residual(z, z_hat)
+    }
+    /// Range and elevation: arithmetic means. Azimuth: circular mean
+    /// `atan2(sum w sin a, sum w cos a)` in `[0, 2 pi)`.
+    fn weighted_mean(&self, w: &[f64], zs: &[Vec3]) -> Vec3 {
+        let (mut rho, mut el, mut sn, mut cs) = (0.0, 0.0, 0.0, 0.0);
+        for (wi, zi) in w.iter().zip(zs) {
+            rho += wi * zi.x;
+            el += wi * zi.z;
+            let (s, c) = zi.y.sin_cos();
+            sn += wi * s;
+            cs += wi * c;
+        }
+        Vec3::new(rho, wrap_2pi(sn.atan2(cs)), el)
+    }
+    fn noise_cov(&self) -> Mat3 {
+        self.r()
+    }
+}
+
+/// Indirect Cartesian position measurement (paper 002, sec. 1: the position computed from
+/// range and two line-of-sight angles), `z = T r + v`, `v ~ N(0, sigma^2 I3)`, in the
+/// chosen frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CartesianSensor {
+    /// Frame of the measured position.
+    pub frame: Frame,
+    /// Noise per axis, 1 sigma [m].
+    pub sigma: f64,
+}
+
+impl MeasurementModel for CartesianSensor {
+    fn predict(&self, r: &Vec3) -> Option<Vec3> {
+        Some(self.frame.vec_from_canonical(r))
+    }
+    fn linearize(&self, r: &Vec3) -> Result<Geometry, GeometryError> {
+        let mut h = Mat36::zeros();
+        h.fixed_view_mut::<3, 3>(0, 0)
+            .copy_from(&self.frame.rotation());
+        Ok(Geometry {
+            z: self.frame.vec_from_canonical(r),
+            h,
+            azimuth_usable: true,
+        })
+    }
+    fn diff(&self, z: &Vec3, z_hat: &Vec3) -> Vec3 {
+        z - z_hat
+    }
+    fn weighted_mean(&self, w: &[f64], zs: &[Vec3]) -> Vec3 {
+        w.iter()
+            .zip(zs)
+            .fold(Vec3::zeros(), |acc, (wi, zi)| acc + zi * *wi)
+    }
+    fn noise_cov(&self) -> Mat3 {
+        Mat3::identity() * (self.sigma * self.sigma)
+    }
 }
 
 /// Range/azimuth/elevation sensor in a chosen I/O frame.

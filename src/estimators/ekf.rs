@@ -1,7 +1,8 @@
 //! Extended Kalman filter (the Kalman baseline of papers 000 and 002).
 //!
 //! Time update (linear CW model, exact): `x- = Phi x + Gamma a`, `P- = Phi P Phi^T + Q`.
-//! Measurement update with the analytic Jacobian `H` of [`RadioSensor::geometry`]:
+//! Measurement update with the sensor's analytic Jacobian `H` (for the radio,
+//! [`crate::sensors::RadioSensor::geometry`]):
 //!
 //! ```text
 //! nu = z - h(x-)              (azimuth wrapped to (-pi, pi])
@@ -13,7 +14,7 @@
 
 use super::{finite, symmetrize, Estimator, FilterError, UpdateInfo};
 use crate::dynamics::DiscreteModel;
-use crate::sensors::RadioSensor;
+use crate::sensors::MeasurementModel;
 use crate::types::{Mat6, State, Vec3};
 
 /// Extended Kalman filter with a Joseph-form update.
@@ -41,13 +42,17 @@ impl Estimator for Ekf {
         Ok(())
     }
 
-    fn update(&mut self, sensor: &RadioSensor, z: &Vec3) -> Result<UpdateInfo, FilterError> {
-        let g = sensor.geometry(&self.x.fixed_rows::<3>(0).into_owned())?;
-        let mut nu = RadioSensor::residual(z, &g.z);
+    fn update<M: MeasurementModel>(
+        &mut self,
+        sensor: &M,
+        z: &Vec3,
+    ) -> Result<UpdateInfo, FilterError> {
+        let g = sensor.linearize(&self.x.fixed_rows::<3>(0).into_owned())?;
+        let mut nu = sensor.diff(z, &g.z);
         if !g.azimuth_usable {
             nu.y = 0.0; // H row is zero too: the gain column vanishes (see sensors docs)
         }
-        let r = sensor.r();
+        let r = sensor.noise_cov();
         let h = g.h;
         let ph = self.p * h.transpose();
         let s = h * ph + r;

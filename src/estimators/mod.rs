@@ -2,13 +2,13 @@
 //!
 //! Every filter works on the canonical-frame state `(r, v)` (see [`crate::frames`]), takes
 //! its dynamics as a [`DiscreteModel`] for the current step and its measurement model as a
-//! [`RadioSensor`]. Frames, units of thrust and the choice of step are the caller's
+//! [`MeasurementModel`] (radio range/azimuth/elevation or Cartesian position). Frames, units of thrust and the choice of step are the caller's
 //! ([`crate::nav::Navigator`]). All types are fixed-size nalgebra matrices: a step performs
 //! no heap allocation (checked by `tests/no_alloc.rs`). A step that fails leaves the
 //! estimate unchanged.
 
 use crate::dynamics::DiscreteModel;
-use crate::sensors::{GeometryError, RadioSensor};
+use crate::sensors::{GeometryError, MeasurementModel};
 use crate::types::{Mat6, State, Vec3};
 
 pub mod ekf;
@@ -64,8 +64,12 @@ pub trait Estimator {
     /// plus the step's process noise `model.q`. `accel` is the known thrust acceleration
     /// [m/s^2], canonical frame, held over the step.
     fn predict(&mut self, model: &DiscreteModel, accel: &Vec3) -> Result<(), FilterError>;
-    /// Measurement update with `z = (range, azimuth, elevation)` from `sensor`.
-    fn update(&mut self, sensor: &RadioSensor, z: &Vec3) -> Result<UpdateInfo, FilterError>;
+    /// Measurement update with `z` from `sensor` (radio: `(range, azimuth, elevation)`).
+    fn update<M: MeasurementModel>(
+        &mut self,
+        sensor: &M,
+        z: &Vec3,
+    ) -> Result<UpdateInfo, FilterError>;
     /// Current state estimate (canonical frame).
     fn state(&self) -> &State;
     /// Current error covariance (canonical frame).

@@ -29,7 +29,7 @@
 
 use super::{finite, symmetrize, Estimator, FilterError, UpdateInfo};
 use crate::dynamics::DiscreteModel;
-use crate::sensors::{wrap_2pi, RadioSensor};
+use crate::sensors::{GeometryError, MeasurementModel};
 use crate::types::{Mat3, Mat6, Mat63, State, Vec3};
 use nalgebra::SMatrix;
 
@@ -154,33 +154,27 @@ impl Estimator for Ukf {
         Ok(())
     }
 
-    fn update(&mut self, sensor: &RadioSensor, z: &Vec3) -> Result<UpdateInfo, FilterError> {
+    fn update<M: MeasurementModel>(
+        &mut self,
+        sensor: &M,
+        z: &Vec3,
+    ) -> Result<UpdateInfo, FilterError> {
         let s = self.sigma_points(&self.x, &self.p)?;
-        let mut zs = SMatrix::<f64, 3, NS>::zeros();
-        let (mut rho, mut el, mut sn, mut cs) = (0.0, 0.0, 0.0, 0.0);
-        for i in 0..NS {
-            let zi =
-                sensor
-                    .h(&s.fixed_view::<3, 1>(0, i).into_owned())
-                    .ok_or(FilterError::Geometry(
-                        crate::sensors::GeometryError::ZeroRange,
-                    ))?;
-            rho += self.wm[i] * zi.x;
-            el += self.wm[i] * zi.z;
-            let (si, ci) = zi.y.sin_cos();
-            sn += self.wm[i] * si;
-            cs += self.wm[i] * ci;
-            zs.set_column(i, &zi);
+        let mut zs = [Vec3::zeros(); NS];
+        for (i, zi) in zs.iter_mut().enumerate() {
+            *zi = sensor
+                .predict(&s.fixed_view::<3, 1>(0, i).into_owned())
+                .ok_or(FilterError::Geometry(GeometryError::ZeroRange))?;
         }
-        let z_hat = Vec3::new(rho, wrap_2pi(sn.atan2(cs)), el);
+        let z_hat = sensor.weighted_mean(&self.wm, &zs);
         // near the poles the azimuth carries no information (see sensors docs)
         let azimuth_used = sensor
-            .geometry(&self.x.fixed_rows::<3>(0).into_owned())?
+            .linearize(&self.x.fixed_rows::<3>(0).into_owned())?
             .azimuth_usable;
-        let mut pzz: Mat3 = sensor.r();
+        let mut pzz: Mat3 = sensor.noise_cov();
         let mut pxz = Mat63::zeros();
-        for i in 0..NS {
-            let mut dz = RadioSensor::residual(&zs.column(i).into_owned(), &z_hat);
+        for (i, zi) in zs.iter().enumerate() {
+            let mut dz = sensor.diff(zi, &z_hat);
             if !azimuth_used {
                 dz.y = 0.0;
             }
@@ -192,7 +186,7 @@ impl Estimator for Ukf {
             "innovation covariance Pzz",
         ))?;
         let k = chol.solve(&pxz.transpose()).transpose();
-        let mut nu = RadioSensor::residual(z, &z_hat);
+        let mut nu = sensor.diff(z, &z_hat);
         if !azimuth_used {
             nu.y = 0.0;
         }
