@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
-# relnav's main job: set up, build the FMU, and print paper 000's accuracy table
-# (EKF and UKF through the FMU with fmpy, 20 seeded runs) as Markdown.
+# relnav's main job: set up, build the FMU, print paper 000's accuracy table through the
+# FMU (EKF and UKF with fmpy, 20 seeded runs), then reproduce every paper's numerical
+# example with the evaluation engine (`relnav reproduce --paper all`: Markdown tables,
+# CSV time series and PNG plots under results/).
 # Extra arguments go to tools/paper000_fmu.py (e.g. --driver slave, --frame 3).
 set -euo pipefail
 
@@ -15,4 +17,6 @@ bash scripts/setup.sh </dev/null
 echo "== build the FMU (target/fmu/relnav.fmu)"
 cargo run --release --bin relnav-fmu </dev/null
 echo "== paper 000 through the FMU"
-exec "$ROOT/.venv/bin/python" tools/paper000_fmu.py "$@"
+"$ROOT/.venv/bin/python" tools/paper000_fmu.py "$@"
+echo "== relnav reproduce --paper all (evaluation engine; plots and CSV in results/)"
+cargo run --release --bin relnav -- reproduce --paper all --runs 500 --out results </dev/null

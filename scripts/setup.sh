@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Idempotent machine set-up for relnav on Debian with the Rust toolchain already present.
 #
-#   * apt-get installs what is missing: cmake, g++, valgrind, binutils (readelf) and
+#   * apt-get installs what is missing: cmake, g++, valgrind, binutils (readelf),
+#     fonts-dejavu-core (text in the plots) and
 #     python3-venv (only if `python3 -m venv` does not work). `apt-get update` runs only
 #     when something has to be installed. sudo is used when not root.
 #   * creates .venv at the repository root and installs scripts/requirements.txt into it
@@ -34,6 +35,8 @@ command -v ctest >/dev/null 2>&1 || missing+=(cmake)
 command -v g++ >/dev/null 2>&1 || missing+=(g++)
 command -v valgrind >/dev/null 2>&1 || missing+=(valgrind)
 command -v readelf >/dev/null 2>&1 || missing+=(binutils)
+# the font the evaluation engine's PNG plots use for their text
+[ -f /usr/share/fonts/truetype/dejavu/DejaVuSans.ttf ] || missing+=(fonts-dejavu-core)
 
 venv_works() {
     local probe
@@ -63,7 +66,7 @@ if [ "${#missing[@]}" -gt 0 ]; then
     "${SUDO[@]}" apt-get update -qq </dev/null
     "${SUDO[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" </dev/null
 else
-    log "system packages present: cmake g++ valgrind readelf"
+    log "system packages present: cmake g++ valgrind readelf fonts-dejavu-core"
 fi
 
 # ---------------------------------------------------------------- Python venv

@@ -3,13 +3,18 @@
 //! Data flows one way: [`dynamics`] (CW truth and discrete models) → [`sensors`]
 //! (range/azimuth/elevation) → [`estimators`] (EKF, UKF behind one trait) → [`nav`] (frames,
 //! units, step semantics) → [`ffi`] (the C ABI, `include/relnav.h`) → [`fmi`] (the FMI 2.0
-//! Co-Simulation layer). See `ARCHITECTURE.md` for the map and the invariants.
+//! Co-Simulation layer). Beside it, [`eval`] runs Monte Carlo campaigns of scenario files
+//! against the posterior Cramér–Rao bound (the `relnav` CLI), with the measurement-noise
+//! densities of [`noise`]. See `ARCHITECTURE.md` for the map and the invariants.
 #![deny(unsafe_code)]
 
 pub mod dynamics;
 pub mod estimators;
+/// cbindgen:ignore
+pub mod eval;
 pub mod frames;
 pub mod nav;
+pub mod noise;
 pub mod sensors;
 pub mod types;
 

@@ -1,0 +1,58 @@
+//! What a Monte Carlo campaign produces: per-time statistics of every filter, accumulated
+//! over the runs in a fixed order (so results do not depend on the thread count).
+
+/// Per-time statistics of one filter over all runs. Index `k` is time `t[k]` of
+/// [`McResult::t`]; the estimate scored at `t[k]` is the filtered (a posteriori) one when a
+/// measurement was taken at `t[k]`, else the prediction.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FilterStats {
+    /// Label from the scenario (e.g. "EKF").
+    pub label: String,
+    /// Filter kind name (`ekf`, `ukf`, ...).
+    pub kind: String,
+    /// Mean over runs of the squared error per axis (x, y, z, vx, vy, vz), I/O frame.
+    pub mse: Vec<[f64; 6]>,
+    /// Mean over runs of the NEES `e^T P^-1 e` (6 dof when consistent).
+    pub nees: Vec<f64>,
+    /// Mean over runs of the NIS at measurement times (3 dof when consistent); NaN where
+    /// no measurement was processed.
+    pub nis: Vec<f64>,
+    /// Number of runs that contributed a NIS value at each time.
+    pub nis_count: Vec<u32>,
+    /// Largest position-error norm over runs at each time [m].
+    pub max_pos_err: Vec<f64>,
+    /// Largest velocity-error norm over runs at each time [m/s].
+    pub max_vel_err: Vec<f64>,
+    /// Runs in which the filter failed (numerical error) or diverged; they are excluded
+    /// from the statistics above.
+    pub failed_runs: u32,
+    /// Mean wall-clock time of one step (update + predict) [microseconds] (informative,
+    /// machine dependent, not part of the deterministic results).
+    pub us_per_step: f64,
+}
+
+/// The whole campaign.
+#[derive(Debug, Clone, PartialEq)]
+pub struct McResult {
+    /// Scenario name (file stem, e.g. `paper000`).
+    pub scenario: String,
+    /// Human title.
+    pub title: String,
+    /// Times [s], starting at 0.
+    pub t: Vec<f64>,
+    /// Number of completed runs.
+    pub runs: u32,
+    /// True when the campaign was interrupted before all requested runs finished.
+    pub interrupted: bool,
+    /// One entry per filter, in scenario order.
+    pub filters: Vec<FilterStats>,
+    /// Posterior Cramér–Rao lower bound: diagonal of `J^-1` per time (variances, I/O
+    /// frame), or `None` where it is not defined for the scenario (with the reason).
+    pub pcrlb: Result<Vec<[f64; 6]>, String>,
+    /// Time after which errors are averaged [s].
+    pub convergence_time: f64,
+    /// Per-axis thresholds (position [m], velocity [m/s]) for the convergence time.
+    pub convergence_threshold: (f64, f64),
+    /// The paper's published figures, per filter label (free text), for the table.
+    pub published: Vec<(String, String)>,
+}

@@ -1,0 +1,392 @@
+//! One Monte Carlo run: truth, measurements and every filter of a scenario, scored at
+//! each time step. Everything derived from the scenario once lives in [`Prepared`].
+//!
+//! Timeline of a run with step `h` and `K = duration / h` steps, `t_k = k h`:
+//! * truth: `x_(k+1) = Phi_true x_k + Gamma_true a_k + w_k`, `w_k ~ N(0, Q_true)` with
+//!   `a_k` the thrust acceleration held over `[t_k, t_(k+1))` (burns, or the feedback
+//!   `K x_k / m` on the true state — a sampled-data controller);
+//! * a measurement is taken at `t_k` when `t_k` is a multiple of `sensor.period` and not
+//!   in a dropout window, drawn from the scenario's noise model;
+//! * each filter, at `t_k`, applies the measurement (if any), is **scored** there (the a
+//!   posteriori estimate; the prediction when there was no measurement), then predicts to
+//!   `t_(k+1)` with the thrust it is told about.
+
+use super::scenario::{Scenario, SensorKind, Thrust};
+use crate::dynamics::{CwModel, DiscreteModel, Discretization};
+use crate::estimators::{Ekf, Estimator, Ukf, UkfParams};
+use crate::nav::AnyFilter;
+use crate::noise::NoiseModel;
+use crate::sensors::{wrap_2pi, CartesianSensor, Geometry, MeasurementModel, RadioSensor};
+use crate::types::{Mat3, Mat6, State, Vec3};
+use nalgebra::SMatrix;
+use rand::Rng;
+use rand_chacha::ChaCha8Rng;
+use rand_distr::StandardNormal;
+
+/// A sensor of either kind.
+#[derive(Debug, Clone, Copy)]
+pub enum AnySensor {
+    /// Range/azimuth/elevation.
+    Radio(RadioSensor),
+    /// Cartesian position.
+    Cartesian(CartesianSensor),
+}
+
+impl MeasurementModel for AnySensor {
+    fn predict(&self, r: &Vec3) -> Option<Vec3> {
+        match self {
+            AnySensor::Radio(s) => s.h(r),
+            AnySensor::Cartesian(s) => s.predict(r),
+        }
+    }
+    fn linearize(&self, r: &Vec3) -> Result<Geometry, crate::sensors::GeometryError> {
+        match self {
+            AnySensor::Radio(s) => s.geometry(r),
+            AnySensor::Cartesian(s) => s.linearize(r),
+        }
+    }
+    fn diff(&self, z: &Vec3, z_hat: &Vec3) -> Vec3 {
+        match self {
+            AnySensor::Radio(_) => RadioSensor::residual(z, z_hat),
+            AnySensor::Cartesian(s) => s.diff(z, z_hat),
+        }
+    }
+    fn weighted_mean(&self, w: &[f64], zs: &[Vec3]) -> Vec3 {
+        match self {
+            AnySensor::Radio(s) => s.weighted_mean(w, zs),
+            AnySensor::Cartesian(s) => s.weighted_mean(w, zs),
+        }
+    }
+    fn noise_cov(&self) -> Mat3 {
+        match self {
+            AnySensor::Radio(s) => s.noise_cov(),
+            AnySensor::Cartesian(s) => s.noise_cov(),
+        }
+    }
+}
+
+/// A filter ready to be instantiated for each run.
+#[derive(Debug, Clone)]
+pub struct PreparedFilter {
+    /// Label.
+    pub label: String,
+    /// Kind name.
+    pub kind: String,
+    /// Initial estimate (canonical).
+    pub x0: State,
+    /// Initial covariance.
+    pub p0: Mat6,
+    /// The filter's discrete model (closed loop when it knows the controller).
+    pub model: DiscreteModel,
+    /// Whether it is told the burns' thrust.
+    pub told_thrust: bool,
+    /// Its measurement model (variance-matched Gaussian).
+    pub sensor: AnySensor,
+    ukf: UkfParams,
+}
+
+impl PreparedFilter {
+    /// A fresh estimator at the initial estimate.
+    pub fn instantiate(&self) -> AnyFilter {
+        match self.kind.as_str() {
+            "ukf" => AnyFilter::Ukf(Ukf::new(self.x0, self.p0, self.ukf)),
+            _ => AnyFilter::Ekf(Ekf::new(self.x0, self.p0)),
+        }
+    }
+}
+
+/// Everything a run needs, derived once from a scenario.
+#[derive(Debug, Clone)]
+pub struct Prepared {
+    /// The scenario.
+    pub scenario: Scenario,
+    /// Nominal mean motion [rad/s].
+    pub n0: f64,
+    /// Step [s].
+    pub dt: f64,
+    /// Number of steps (times are `0..=steps`).
+    pub steps: usize,
+    /// Whether a measurement is taken at each time.
+    pub measured: Vec<bool>,
+    /// Burn acceleration (canonical) held over `[t_k, t_(k+1))`.
+    pub burn_accel: Vec<Vec3>,
+    /// Feedback acceleration gain (canonical), if any.
+    pub feedback: Option<SMatrix<f64, 3, 6>>,
+    /// Square root of the truth's process-noise covariance (canonical) for the nominal
+    /// rate (recomputed per run when the rate is random).
+    pub truth_q_sqrt: Mat6,
+    /// Truth's process noise covariance for the nominal rate.
+    pub truth_q: Mat6,
+    /// The truth's measurement noise model.
+    pub noise: NoiseModel,
+    /// Noise scales per measurement component.
+    pub noise_sigma: [f64; 3],
+    /// The noise-free sensor geometry of the truth.
+    pub truth_sensor: AnySensor,
+    /// Filters.
+    pub filters: Vec<PreparedFilter>,
+}
+
+/// Symmetric square root of a PSD matrix (eigen-decomposition; negative rounding
+/// eigenvalues clipped to 0).
+pub fn psd_sqrt(q: &Mat6) -> Mat6 {
+    let e = nalgebra::SymmetricEigen::new((q + q.transpose()) * 0.5);
+    let d = e.eigenvalues.map(|v| v.max(0.0).sqrt());
+    e.eigenvectors * Mat6::from_diagonal(&d) * e.eigenvectors.transpose()
+}
+
+impl Prepared {
+    /// Derive everything from a (validated) scenario.
+    pub fn new(scenario: &Scenario) -> Result<Prepared, String> {
+        scenario.validate()?;
+        let s = scenario;
+        let frame = s.io_frame();
+        let n0 = s.orbit.mean_motion()?;
+        let dt = s.simulation.step;
+        let steps = (s.simulation.duration / dt).round() as usize;
+        let every = (s.sensor.period / dt).round() as usize;
+        let times: Vec<f64> = (0..=steps).map(|k| k as f64 * dt).collect();
+        let measured = times
+            .iter()
+            .enumerate()
+            .map(|(k, t)| {
+                k % every.max(1) == 0
+                    && !s
+                        .sensor
+                        .dropouts
+                        .iter()
+                        .any(|w| *t >= w.start && *t < w.stop)
+            })
+            .collect();
+        let burn_accel = times
+            .iter()
+            .map(|t| match &s.thrust {
+                Thrust::Burns { burns, .. } => {
+                    let mut f = Vec3::zeros();
+                    for b in burns {
+                        if *t >= b.start - 1e-9 && *t < b.stop - 1e-9 {
+                            f += Vec3::from_row_slice(&b.force);
+                        }
+                    }
+                    frame.vec_to_canonical(&f) / s.truth.chaser_mass
+                }
+                _ => Vec3::zeros(),
+            })
+            .collect();
+        let feedback = s.feedback_accel_gain();
+        let qc = Mat3::identity() * s.truth.accel_psd;
+        let truth_q = s.truth_q(
+            CwModel::new(n0)
+                .discretize(dt, &qc, Discretization::Exact)
+                .q,
+        );
+        let noise = NoiseModel::from(s.sensor.noise);
+        let (noise_sigma, truth_sensor, filter_sensor) = match s.sensor.kind {
+            SensorKind::Radio | SensorKind::Lidar => {
+                let r = s.filter_r_diag();
+                (
+                    [s.sensor.sigma_range, s.sigma_angle(), s.sigma_angle()],
+                    AnySensor::Radio(RadioSensor::new(
+                        frame,
+                        s.sensor.sigma_range,
+                        s.sigma_angle(),
+                    )),
+                    AnySensor::Radio(RadioSensor::new(frame, r[0].sqrt(), r[1].sqrt())),
+                )
+            }
+            SensorKind::Cartesian => {
+                let r = s.filter_r_diag();
+                (
+                    [s.sensor.sigma_position; 3],
+                    AnySensor::Cartesian(CartesianSensor {
+                        frame,
+                        sigma: s.sensor.sigma_position,
+                    }),
+                    AnySensor::Cartesian(CartesianSensor {
+                        frame,
+                        sigma: r[0].sqrt(),
+                    }),
+                )
+            }
+        };
+        let told_thrust = match &s.thrust {
+            Thrust::Burns { reported, .. } => *reported,
+            _ => false,
+        };
+        let mut filters = Vec::new();
+        for f in &s.filters {
+            let nf = n0 * (1.0 + f.orbit_rate_error);
+            let mut model = CwModel::new(nf).discretize(
+                dt,
+                &(Mat3::identity() * f.accel_psd),
+                f.discretization.into(),
+            );
+            model.q += frame.cov_to_canonical(&Mat6::from_diagonal(&State::from_row_slice(
+                &f.process_noise,
+            )));
+            if let (Some(k), true) = (&feedback, f.knows_control) {
+                model.phi += model.gamma * k;
+            }
+            let (p, v) = (f.sigma_pos0.powi(2), f.sigma_vel0.powi(2));
+            filters.push(PreparedFilter {
+                label: f.label.clone(),
+                kind: f.kind.clone(),
+                x0: frame.state_to_canonical(&State::from_row_slice(&f.initial_state)),
+                p0: Mat6::from_diagonal(&State::from_row_slice(&[p, p, p, v, v, v])),
+                model,
+                told_thrust,
+                sensor: filter_sensor,
+                ukf: UkfParams {
+                    alpha: f.ukf_alpha,
+                    beta: f.ukf_beta,
+                    kappa: f.ukf_kappa,
+                },
+            });
+        }
+        Ok(Prepared {
+            scenario: s.clone(),
+            n0,
+            dt,
+            steps,
+            measured,
+            burn_accel,
+            feedback,
+            truth_q_sqrt: psd_sqrt(&truth_q),
+            truth_q,
+            noise,
+            noise_sigma,
+            truth_sensor,
+            filters,
+        })
+    }
+
+    /// Times `t_k`.
+    pub fn times(&self) -> Vec<f64> {
+        (0..=self.steps).map(|k| k as f64 * self.dt).collect()
+    }
+
+    /// The true orbit rate error of a run.
+    fn delta<R: Rng>(&self, rng: &mut R) -> f64 {
+        use super::scenario::OrbitRateError;
+        match self.scenario.truth.orbit_rate_error {
+            OrbitRateError::None => 0.0,
+            OrbitRateError::Fixed { delta } => delta,
+            OrbitRateError::Uniform { bound } => bound * (2.0 * rng.random::<f64>() - 1.0),
+        }
+    }
+
+    /// Truth states (canonical) and measurements of one run.
+    pub fn simulate_truth(&self, rng: &mut ChaCha8Rng) -> (Vec<State>, Vec<Option<Vec3>>) {
+        let s = &self.scenario;
+        let frame = s.io_frame();
+        let delta = self.delta(rng);
+        let model = CwModel::new(self.n0 * (1.0 + delta));
+        let (phi, gamma) = (model.phi(self.dt), model.gamma(self.dt));
+        let mut x0 = State::from_row_slice(&s.truth.initial_state);
+        for i in 0..6 {
+            x0[i] += s.truth.initial_sigma[i] * rng.sample::<f64, _>(StandardNormal);
+        }
+        let mut x = frame.state_to_canonical(&x0);
+        let mut states = Vec::with_capacity(self.steps + 1);
+        let mut meas = Vec::with_capacity(self.steps + 1);
+        let mut ar = [0.0; 3];
+        for (i, a) in ar.iter_mut().enumerate() {
+            *a = self.noise.initial_state(self.noise_sigma[i], rng);
+        }
+        for k in 0..=self.steps {
+            states.push(x);
+            if self.measured[k] {
+                let z = self
+                    .truth_sensor
+                    .predict(&x.fixed_rows::<3>(0).into_owned())
+                    .map(|z0| {
+                        let mut z = z0;
+                        for i in 0..3 {
+                            z[i] += self.noise.sample(self.noise_sigma[i], &mut ar[i], rng);
+                        }
+                        if let AnySensor::Radio(_) = self.truth_sensor {
+                            z.x = z.x.max(0.0);
+                            z.y = wrap_2pi(z.y);
+                            z.z = z
+                                .z
+                                .clamp(-std::f64::consts::FRAC_PI_2, std::f64::consts::FRAC_PI_2);
+                        }
+                        z
+                    });
+                meas.push(z);
+            } else {
+                // (coloured noise advances at the measurement rate only)
+                meas.push(None);
+            }
+            if k < self.steps {
+                let mut a = self.burn_accel[k];
+                if let Some(kg) = &self.feedback {
+                    a += kg * x;
+                }
+                let w: State =
+                    self.truth_q_sqrt * State::from_fn(|_, _| rng.sample::<f64, _>(StandardNormal));
+                x = phi * x + gamma * a + w;
+            }
+        }
+        (states, meas)
+    }
+}
+
+/// Per-time score of one filter in one run: squared errors (I/O frame), NEES, NIS (NaN
+/// without a measurement), position and velocity error norms.
+pub type Score = [f64; 10];
+
+/// Run one filter over a run's truth and measurements. `Err` when the filter fails
+/// numerically (the run is then excluded from its statistics and counted).
+pub fn run_filter(
+    prep: &Prepared,
+    f: &PreparedFilter,
+    truth: &[State],
+    meas: &[Option<Vec3>],
+    out: &mut Vec<Score>,
+) -> Result<(), String> {
+    let frame = prep.scenario.io_frame();
+    let t6 = frame.rotation6();
+    let mut est = f.instantiate();
+    out.clear();
+    for k in 0..=prep.steps {
+        let mut nis = f64::NAN;
+        if let Some(z) = &meas[k] {
+            let info = est
+                .update(&f.sensor, z)
+                .map_err(|e| format!("t = {}: {e}", k as f64 * prep.dt))?;
+            nis = info.nis;
+        }
+        let e = est.state() - truth[k];
+        let p = est.covariance();
+        let nees = p.cholesky().map(|c| e.dot(&c.solve(&e))).ok_or_else(|| {
+            format!(
+                "t = {}: covariance not positive definite",
+                k as f64 * prep.dt
+            )
+        })?;
+        let eio = t6 * e;
+        out.push([
+            eio[0] * eio[0],
+            eio[1] * eio[1],
+            eio[2] * eio[2],
+            eio[3] * eio[3],
+            eio[4] * eio[4],
+            eio[5] * eio[5],
+            nees,
+            nis,
+            eio.fixed_rows::<3>(0).norm(),
+            eio.fixed_rows::<3>(3).norm(),
+        ]);
+        if k < prep.steps {
+            let a = if f.told_thrust {
+                prep.burn_accel[k]
+            } else {
+                Vec3::zeros()
+            };
+            est.predict(&f.model, &a)
+                .map_err(|e| format!("t = {}: {e}", k as f64 * prep.dt))?;
+        }
+    }
+    Ok(())
+}
