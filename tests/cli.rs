@@ -1,0 +1,52 @@
+//! The `relnav` CLI end to end: a small campaign writes its table, CSV and plots; a bad
+//! scenario file gives an error naming the key.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)] // test code
+
+use std::process::Command;
+
+fn tmp(name: &str) -> std::path::PathBuf {
+    let d = std::env::temp_dir().join(format!("relnav-cli-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+#[test]
+fn reproduce_writes_table_csv_and_plots() {
+    let out = tmp("reproduce");
+    let o = Command::new(env!("CARGO_BIN_EXE_relnav"))
+        .args(["reproduce", "--paper", "000", "--runs", "3", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let table = String::from_utf8_lossy(&o.stdout);
+    assert!(table.contains("| EKF |") && table.contains("PCRLB"), "{table}");
+    let dir = out.join("paper000");
+    for f in ["timeseries.csv", "summary.csv"] {
+        assert!(dir.join(f).is_file(), "{f}");
+    }
+    // plots need the DejaVu font (scripts/setup.sh installs fonts-dejavu-core)
+    if std::path::Path::new(relnav::eval::report::FONT_PATH).exists() {
+        let png = std::fs::read(dir.join("position_rmse.png")).unwrap();
+        assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
+    }
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+#[test]
+fn bad_scenario_names_the_key() {
+    let dir = tmp("bad");
+    let (_, text) = relnav::eval::builtin::for_paper("000")[0];
+    let path = dir.join("bad.toml");
+    std::fs::write(&path, text.replace("sigma_angle_deg", "sigma_angel_deg")).unwrap();
+    let o = Command::new(env!("CARGO_BIN_EXE_relnav"))
+        .arg("simulate")
+        .arg(&path)
+        .output()
+        .unwrap();
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("sigma_angel_deg") && err.contains("bad.toml"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
