@@ -21,7 +21,10 @@ fn reproduce_writes_table_csv_and_plots() {
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let table = String::from_utf8_lossy(&o.stdout);
-    assert!(table.contains("| EKF |") && table.contains("PCRLB"), "{table}");
+    assert!(
+        table.contains("| EKF |") && table.contains("PCRLB"),
+        "{table}"
+    );
     let dir = out.join("paper000");
     for f in ["timeseries.csv", "summary.csv"] {
         assert!(dir.join(f).is_file(), "{f}");
@@ -47,6 +50,9 @@ fn bad_scenario_names_the_key() {
         .unwrap();
     assert!(!o.status.success());
     let err = String::from_utf8_lossy(&o.stderr);
-    assert!(err.contains("sigma_angel_deg") && err.contains("bad.toml"), "{err}");
+    assert!(
+        err.contains("sigma_angel_deg") && err.contains("bad.toml"),
+        "{err}"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
