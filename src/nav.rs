@@ -15,6 +15,7 @@
 //! step, so `q_pos = (0.3^2, 0.025^2, 0.05^2)`, `q_vel = 0.001^2` each).
 
 use crate::dynamics::{CwModel, DiscreteModel, Discretization};
+use crate::estimators::pf::ParticleFilter;
 use crate::estimators::{Ekf, Estimator, FilterError, Ukf, UkfParams, UpdateInfo};
 use crate::frames::Frame;
 use crate::sensors::{MeasurementModel, RadioSensor};
@@ -317,12 +318,14 @@ impl NavConfig {
 }
 
 /// The estimators a navigator can run (enum dispatch: no boxing, no allocation per step).
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone)]
 pub enum AnyFilter {
     /// Extended Kalman filter.
     Ekf(Ekf),
     /// Unscented Kalman filter.
     Ukf(Ukf),
+    /// Particle filter (SIR or regularised); evaluation engine only for now.
+    Pf(ParticleFilter),
 }
 
 impl Estimator for AnyFilter {
@@ -330,6 +333,7 @@ impl Estimator for AnyFilter {
         match self {
             AnyFilter::Ekf(f) => f.predict(model, accel),
             AnyFilter::Ukf(f) => f.predict(model, accel),
+            AnyFilter::Pf(f) => f.predict(model, accel),
         }
     }
     fn update<M: MeasurementModel>(
@@ -340,24 +344,28 @@ impl Estimator for AnyFilter {
         match self {
             AnyFilter::Ekf(f) => f.update(sensor, z),
             AnyFilter::Ukf(f) => f.update(sensor, z),
+            AnyFilter::Pf(f) => f.update(sensor, z),
         }
     }
     fn state(&self) -> &State {
         match self {
             AnyFilter::Ekf(f) => f.state(),
             AnyFilter::Ukf(f) => f.state(),
+            AnyFilter::Pf(f) => f.state(),
         }
     }
     fn covariance(&self) -> &Mat6 {
         match self {
             AnyFilter::Ekf(f) => f.covariance(),
             AnyFilter::Ukf(f) => f.covariance(),
+            AnyFilter::Pf(f) => f.covariance(),
         }
     }
     fn set_estimate(&mut self, x: State, p: Mat6) {
         match self {
             AnyFilter::Ekf(f) => f.set_estimate(x, p),
             AnyFilter::Ukf(f) => f.set_estimate(x, p),
+            AnyFilter::Pf(f) => f.set_estimate(x, p),
         }
     }
 }

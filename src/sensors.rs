@@ -102,6 +102,23 @@ pub trait MeasurementModel {
     fn weighted_mean(&self, w: &[f64], zs: &[Vec3]) -> Vec3;
     /// Measurement noise covariance the filters assume.
     fn noise_cov(&self) -> Mat3;
+    /// The canonical position whose noise-free measurement is `z` (`None` if `z` is not
+    /// a possible measurement).
+    fn invert(&self, z: &Vec3) -> Option<Vec3>;
+    /// Log-likelihood of `z` at canonical position `r`, up to a constant, as a particle
+    /// filter weighs it. Default: the Gaussian of [`MeasurementModel::noise_cov`]'s
+    /// diagonal, `-0.5 sum_i d_i^2 / R_ii` with `d = diff(z, predict(r))`; `-inf` where
+    /// the measurement is undefined.
+    fn log_likelihood(&self, z: &Vec3, r: &Vec3) -> f64 {
+        match self.predict(r) {
+            Some(zh) => {
+                let d = self.diff(z, &zh);
+                let rr = self.noise_cov();
+                -0.5 * (d.x * d.x / rr[(0, 0)] + d.y * d.y / rr[(1, 1)] + d.z * d.z / rr[(2, 2)])
+            }
+            None => f64::NEG_INFINITY,
+        }
+    }
 }
 
 impl MeasurementModel for RadioSensor {
@@ -129,6 +146,16 @@ impl MeasurementModel for RadioSensor {
     }
     fn noise_cov(&self) -> Mat3 {
         self.r()
+    }
+    /// `p = rho (cos d cos a, cos d sin a, sin d)` in the sensor frame, then `T^T p`.
+    fn invert(&self, z: &Vec3) -> Option<Vec3> {
+        if !(z.x >= 0.0 && z.iter().all(|v| v.is_finite())) {
+            return None;
+        }
+        let (sa, ca) = z.y.sin_cos();
+        let (se, ce) = z.z.sin_cos();
+        let p = Vec3::new(z.x * ce * ca, z.x * ce * sa, z.x * se);
+        Some(self.frame.vec_to_canonical(&p))
     }
 }
 
@@ -167,6 +194,9 @@ impl MeasurementModel for CartesianSensor {
     }
     fn noise_cov(&self) -> Mat3 {
         Mat3::identity() * (self.sigma * self.sigma)
+    }
+    fn invert(&self, z: &Vec3) -> Option<Vec3> {
+        Some(self.frame.vec_to_canonical(z))
     }
 }
 

@@ -62,7 +62,7 @@ fn pcrlb_equals_the_kalman_covariance_on_a_linear_gaussian_scenario() {
     // the KF's own covariance, from the same prepared model (deterministic for a linear KF)
     let prep = Prepared::new(&s).unwrap();
     let f = &prep.filters[0];
-    let mut kf = f.instantiate();
+    let mut kf = f.instantiate(0);
     let frame = s.io_frame();
     let mut z_dummy = relnav::types::Vec3::new(1.0, 2.0, 3.0);
     assert_eq!(bound.len(), prep.steps + 1);

@@ -12,6 +12,8 @@ use crate::sensors::{GeometryError, MeasurementModel};
 use crate::types::{Mat6, State, Vec3};
 
 pub mod ekf;
+/// cbindgen:ignore
+pub mod pf;
 pub mod ukf;
 
 pub use ekf::Ekf;

@@ -148,7 +148,8 @@ fn run_chunk(
         }
         for (fi, f) in prep.filters.iter().enumerate() {
             let t0 = Instant::now();
-            let r = run_filter(prep, f, &truth, &meas, &mut scores);
+            let filter_seed = run_seed(base ^ 0x5046_5F53_4545_4453, i * 64 + fi as u64);
+            let r = run_filter(prep, f, &truth, &meas, filter_seed, &mut scores);
             c.filters[fi].nanos += t0.elapsed().as_nanos();
             match r {
                 Ok(()) => c.filters[fi].add_run(&scores),

@@ -323,6 +323,92 @@ pub struct FilterSpec {
     /// UKF `kappa`.
     #[serde(default)]
     pub ukf_kappa: f64,
+    /// Particle filters: number of particles.
+    #[serde(default = "default_particles")]
+    pub particles: usize,
+    /// Particle filters: `multinomial`, `systematic` (default), `stratified`, `residual`.
+    #[serde(default)]
+    pub resampler: ResamplerName,
+    /// Particle filters: resample when `N_eff < threshold N` (default 2/3, paper 000).
+    #[serde(default = "default_threshold")]
+    pub threshold: f64,
+    /// Particle filters: `first_measurement` (default) or `prior` (paper 000 literally).
+    #[serde(default)]
+    pub init: InitName,
+    /// Regularised PF: `gaussian` or `epanechnikov` (default for `rpf`).
+    #[serde(default)]
+    pub kernel: Option<KernelName>,
+}
+
+fn default_particles() -> usize {
+    1500
+}
+fn default_threshold() -> f64 {
+    2.0 / 3.0
+}
+
+/// Resampler names in scenario files.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum ResamplerName {
+    /// Multinomial (paper 000).
+    Multinomial,
+    /// Systematic.
+    #[default]
+    Systematic,
+    /// Stratified.
+    Stratified,
+    /// Residual.
+    Residual,
+}
+
+/// Particle initialisation names.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum InitName {
+    /// From the first measurement.
+    #[default]
+    FirstMeasurement,
+    /// From the prior.
+    Prior,
+}
+
+/// Kernel names.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum KernelName {
+    /// Gaussian.
+    Gaussian,
+    /// Epanechnikov.
+    Epanechnikov,
+}
+
+impl FilterSpec {
+    /// Particle-filter settings of this spec (for kinds `pf` and `rpf`), seeded with `seed`.
+    pub fn pf_params(&self, seed: u64) -> crate::estimators::pf::PfParams {
+        use crate::estimators::pf::{resample::Resampler, Kernel, PfInit, PfParams};
+        let kernel = match (self.kind.as_str(), self.kernel) {
+            (_, Some(KernelName::Gaussian)) => Some(Kernel::Gaussian),
+            (_, Some(KernelName::Epanechnikov)) | ("rpf", None) => Some(Kernel::Epanechnikov),
+            _ => None,
+        };
+        PfParams {
+            particles: self.particles,
+            resampler: match self.resampler {
+                ResamplerName::Multinomial => Resampler::Multinomial,
+                ResamplerName::Systematic => Resampler::Systematic,
+                ResamplerName::Stratified => Resampler::Stratified,
+                ResamplerName::Residual => Resampler::Residual,
+            },
+            threshold: self.threshold,
+            kernel,
+            init: match self.init {
+                InitName::FirstMeasurement => PfInit::FirstMeasurement,
+                InitName::Prior => PfInit::Prior,
+            },
+            seed,
+        }
+    }
 }
 
 fn one() -> f64 {
@@ -422,12 +508,17 @@ impl Scenario {
             return Err("at least one [[filter]] is required".into());
         }
         for f in &self.filters {
-            if !matches!(f.kind.as_str(), "ekf" | "ukf") {
+            if !matches!(f.kind.as_str(), "ekf" | "ukf" | "pf" | "rpf") {
                 return Err(format!(
-                    "filter \"{}\": kind \"{}\" is not available (implemented: ekf, ukf; \
-                     pf/rpf/upf/gapf/cgapf land with issue 4, hinf with issue 5, aqukf with issue 6)",
+                    "filter \"{}\": kind \"{}\" is not available (implemented: ekf, ukf, pf, rpf; \
+                     upf/gapf/cgapf land with issue 4, hinf with issue 5, aqukf with issue 6)",
                     f.label, f.kind
                 ));
+            }
+            if matches!(f.kind.as_str(), "pf" | "rpf") {
+                f.pf_params(0)
+                    .validate()
+                    .map_err(|e| format!("filter \"{}\": {e}", f.label))?;
             }
             pos(&format!("filter \"{}\".sigma_pos0", f.label), f.sigma_pos0)?;
             pos(&format!("filter \"{}\".sigma_vel0", f.label), f.sigma_vel0)?;
@@ -538,7 +629,11 @@ sigma_vel0 = 0.1
         assert!(Scenario::from_toml(&bad)
             .unwrap_err()
             .contains("exactly one"));
-        let bad = MINIMAL.replace("kind = \"ekf\"", "kind = \"pf\"");
-        assert!(Scenario::from_toml(&bad).unwrap_err().contains("issue 4"));
+        let bad = MINIMAL.replace("kind = \"ekf\"", "kind = \"kalman\"");
+        let e = Scenario::from_toml(&bad).unwrap_err();
+        assert!(e.contains("kalman") && e.contains("ekf, ukf"), "{e}");
+        let bad = MINIMAL.replace("kind = \"ekf\"", "kind = \"pf\"\nparticles = 0");
+        let e = Scenario::from_toml(&bad).unwrap_err();
+        assert!(e.contains("particles"), "{e}");
     }
 }

@@ -13,6 +13,7 @@
 
 use super::scenario::{Scenario, SensorKind, Thrust};
 use crate::dynamics::{CwModel, DiscreteModel, Discretization};
+use crate::estimators::pf::ParticleFilter;
 use crate::estimators::{Ekf, Estimator, Ukf, UkfParams};
 use crate::nav::AnyFilter;
 use crate::noise::NoiseModel;
@@ -63,6 +64,12 @@ impl MeasurementModel for AnySensor {
             AnySensor::Cartesian(s) => s.noise_cov(),
         }
     }
+    fn invert(&self, z: &Vec3) -> Option<Vec3> {
+        match self {
+            AnySensor::Radio(s) => s.invert(z),
+            AnySensor::Cartesian(s) => s.invert(z),
+        }
+    }
 }
 
 /// A filter ready to be instantiated for each run.
@@ -83,13 +90,19 @@ pub struct PreparedFilter {
     /// Its measurement model (variance-matched Gaussian).
     pub sensor: AnySensor,
     ukf: UkfParams,
+    spec: super::scenario::FilterSpec,
 }
 
 impl PreparedFilter {
-    /// A fresh estimator at the initial estimate.
-    pub fn instantiate(&self) -> AnyFilter {
+    /// A fresh estimator at the initial estimate; `seed` seeds a particle filter.
+    pub fn instantiate(&self, seed: u64) -> AnyFilter {
         match self.kind.as_str() {
             "ukf" => AnyFilter::Ukf(Ukf::new(self.x0, self.p0, self.ukf)),
+            "pf" | "rpf" => AnyFilter::Pf(ParticleFilter::new(
+                self.x0,
+                self.p0,
+                self.spec.pf_params(seed),
+            )),
             _ => AnyFilter::Ekf(Ekf::new(self.x0, self.p0)),
         }
     }
@@ -241,6 +254,7 @@ impl Prepared {
                     beta: f.ukf_beta,
                     kappa: f.ukf_kappa,
                 },
+                spec: f.clone(),
             });
         }
         Ok(Prepared {
@@ -343,18 +357,24 @@ pub fn run_filter(
     f: &PreparedFilter,
     truth: &[State],
     meas: &[Option<Vec3>],
+    seed: u64,
     out: &mut Vec<Score>,
 ) -> Result<(), String> {
     let frame = prep.scenario.io_frame();
     let t6 = frame.rotation6();
-    let mut est = f.instantiate();
+    let mut est = f.instantiate(seed);
     out.clear();
     for k in 0..=prep.steps {
         let mut nis = f64::NAN;
         if let Some(z) = &meas[k] {
-            let info = est
-                .update(&f.sensor, z)
-                .map_err(|e| format!("t = {}: {e}", k as f64 * prep.dt))?;
+            let info = match &mut est {
+                // particle filters weigh with the true noise density (heavy tails included)
+                AnyFilter::Pf(pf) => {
+                    pf.update_with(&prep.truth_sensor, z, &prep.noise, &prep.noise_sigma)
+                }
+                other => other.update(&f.sensor, z),
+            }
+            .map_err(|e| format!("t = {}: {e}", k as f64 * prep.dt))?;
             nis = info.nis;
         }
         let e = est.state() - truth[k];
