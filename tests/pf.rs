@@ -8,7 +8,7 @@ use rand_chacha::ChaCha8Rng;
 use rand_distr::StandardNormal;
 use relnav::dynamics::{CwModel, Discretization};
 use relnav::estimators::pf::resample::Resampler;
-use relnav::estimators::pf::{Kernel, ParticleFilter, PfInit, PfParams};
+use relnav::estimators::pf::{Kernel, ParticleFilter, PfInit, PfKind, PfParams};
 use relnav::estimators::{Ekf, Estimator};
 use relnav::frames::Frame;
 use relnav::nav::NavConfig;
@@ -92,9 +92,13 @@ fn paper000_pf(init: PfInit, kernel: Option<Kernel>) -> (f64, f64) {
         particles: 2000,
         resampler: Resampler::Multinomial,
         init,
-        kernel,
+        kernel: kernel.unwrap_or_default(),
         seed: 5,
-        ..Default::default()
+        ..PfParams::new(if kernel.is_some() {
+            PfKind::Rpf
+        } else {
+            PfKind::Sir
+        })
     };
     let mut pf = ParticleFilter::new(cfg.initial_state(), cfg.initial_covariance(), params);
     let mut rng = ChaCha8Rng::seed_from_u64(17);

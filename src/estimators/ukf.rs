@@ -115,6 +115,65 @@ impl Ukf {
         }
     }
 
+    /// The unscented measurement update of `(x, p)` with measurement `z` and noise
+    /// covariance `r` (in place of the sensor's own `noise_cov()`): returns `(x+, P+)` and
+    /// the diagnostics without touching the filter. The unscented particle filters move
+    /// every particle with it (their proposal, paper 003).
+    pub fn measurement_update<M: MeasurementModel>(
+        &self,
+        x: &State,
+        p: &Mat6,
+        sensor: &M,
+        r: &Mat3,
+        z: &Vec3,
+    ) -> Result<(State, Mat6, UpdateInfo), FilterError> {
+        let s = self.sigma_points(x, p)?;
+        let mut zs = [Vec3::zeros(); NS];
+        for (i, zi) in zs.iter_mut().enumerate() {
+            *zi = sensor
+                .predict(&s.fixed_view::<3, 1>(0, i).into_owned())
+                .ok_or(FilterError::Geometry(GeometryError::ZeroRange))?;
+        }
+        let z_hat = sensor.weighted_mean(&self.wm, &zs);
+        // near the poles the azimuth carries no information (see sensors docs)
+        let azimuth_used = sensor
+            .linearize(&x.fixed_rows::<3>(0).into_owned())?
+            .azimuth_usable;
+        let mut pzz: Mat3 = *r;
+        let mut pxz = Mat63::zeros();
+        for (i, zi) in zs.iter().enumerate() {
+            let mut dz = sensor.diff(zi, &z_hat);
+            if !azimuth_used {
+                dz.y = 0.0;
+            }
+            let dx = s.column(i) - x;
+            pzz += dz * dz.transpose() * self.wc[i];
+            pxz += dx * dz.transpose() * self.wc[i];
+        }
+        let chol = pzz.cholesky().ok_or(FilterError::NotPositiveDefinite(
+            "innovation covariance Pzz",
+        ))?;
+        let k = chol.solve(&pxz.transpose()).transpose();
+        let mut nu = sensor.diff(z, &z_hat);
+        if !azimuth_used {
+            nu.y = 0.0;
+        }
+        let xn = x + k * nu;
+        let pn = symmetrize(&(p - k * pzz * k.transpose()));
+        finite(&xn, "updated state")?;
+        finite(&pn, "updated covariance")?;
+        let nis = nu.dot(&chol.solve(&nu));
+        Ok((
+            xn,
+            pn,
+            UpdateInfo {
+                innovation: nu,
+                nis,
+                azimuth_used,
+            },
+        ))
+    }
+
     fn sigma_points(&self, x: &State, p: &Mat6) -> Result<Sigma, FilterError> {
         let l = p
             .cholesky()
@@ -159,49 +218,11 @@ impl Estimator for Ukf {
         sensor: &M,
         z: &Vec3,
     ) -> Result<UpdateInfo, FilterError> {
-        let s = self.sigma_points(&self.x, &self.p)?;
-        let mut zs = [Vec3::zeros(); NS];
-        for (i, zi) in zs.iter_mut().enumerate() {
-            *zi = sensor
-                .predict(&s.fixed_view::<3, 1>(0, i).into_owned())
-                .ok_or(FilterError::Geometry(GeometryError::ZeroRange))?;
-        }
-        let z_hat = sensor.weighted_mean(&self.wm, &zs);
-        // near the poles the azimuth carries no information (see sensors docs)
-        let azimuth_used = sensor
-            .linearize(&self.x.fixed_rows::<3>(0).into_owned())?
-            .azimuth_usable;
-        let mut pzz: Mat3 = sensor.noise_cov();
-        let mut pxz = Mat63::zeros();
-        for (i, zi) in zs.iter().enumerate() {
-            let mut dz = sensor.diff(zi, &z_hat);
-            if !azimuth_used {
-                dz.y = 0.0;
-            }
-            let dx = s.column(i) - self.x;
-            pzz += dz * dz.transpose() * self.wc[i];
-            pxz += dx * dz.transpose() * self.wc[i];
-        }
-        let chol = pzz.cholesky().ok_or(FilterError::NotPositiveDefinite(
-            "innovation covariance Pzz",
-        ))?;
-        let k = chol.solve(&pxz.transpose()).transpose();
-        let mut nu = sensor.diff(z, &z_hat);
-        if !azimuth_used {
-            nu.y = 0.0;
-        }
-        let x = self.x + k * nu;
-        let p = symmetrize(&(self.p - k * pzz * k.transpose()));
-        finite(&x, "updated state")?;
-        finite(&p, "updated covariance")?;
-        let nis = nu.dot(&chol.solve(&nu));
+        let (x, p, info) =
+            self.measurement_update(&self.x, &self.p, sensor, &sensor.noise_cov(), z)?;
         self.x = x;
         self.p = p;
-        Ok(UpdateInfo {
-            innovation: nu,
-            nis,
-            azimuth_used,
-        })
+        Ok(info)
     }
 
     fn state(&self) -> &State {

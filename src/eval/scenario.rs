@@ -332,10 +332,11 @@ pub struct FilterSpec {
     /// Particle filters: resample when `N_eff < threshold N` (default 2/3, paper 000).
     #[serde(default = "default_threshold")]
     pub threshold: f64,
-    /// Particle filters: `first_measurement` (default) or `prior` (paper 000 literally).
+    /// Particle filters: `first_measurement` or `prior` (paper 000 literally); default
+    /// `first_measurement` for pf/rpf/gapf, `prior` for the unscented upf/cgapf.
     #[serde(default)]
-    pub init: InitName,
-    /// Regularised PF: `gaussian` or `epanechnikov` (default for `rpf`).
+    pub init: Option<InitName>,
+    /// Regularised PF: `gaussian` (default) or `epanechnikov`.
     #[serde(default)]
     pub kernel: Option<KernelName>,
 }
@@ -363,11 +364,10 @@ pub enum ResamplerName {
 }
 
 /// Particle initialisation names.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum InitName {
     /// From the first measurement.
-    #[default]
     FirstMeasurement,
     /// From the prior.
     Prior,
@@ -384,14 +384,10 @@ pub enum KernelName {
 }
 
 impl FilterSpec {
-    /// Particle-filter settings of this spec (for kinds `pf` and `rpf`), seeded with `seed`.
+    /// Particle-filter settings of this spec (for the particle kinds), seeded with `seed`.
     pub fn pf_params(&self, seed: u64) -> crate::estimators::pf::PfParams {
-        use crate::estimators::pf::{resample::Resampler, Kernel, PfInit, PfParams};
-        let kernel = match (self.kind.as_str(), self.kernel) {
-            (_, Some(KernelName::Gaussian)) => Some(Kernel::Gaussian),
-            (_, Some(KernelName::Epanechnikov)) | ("rpf", None) => Some(Kernel::Epanechnikov),
-            _ => None,
-        };
+        use crate::estimators::pf::{resample::Resampler, Kernel, PfInit, PfKind, PfParams};
+        let kind = PfKind::from_name(&self.kind).unwrap_or_default();
         PfParams {
             particles: self.particles,
             resampler: match self.resampler {
@@ -401,12 +397,17 @@ impl FilterSpec {
                 ResamplerName::Residual => Resampler::Residual,
             },
             threshold: self.threshold,
-            kernel,
+            kernel: match self.kernel {
+                Some(KernelName::Epanechnikov) => Kernel::Epanechnikov,
+                _ => Kernel::Gaussian,
+            },
             init: match self.init {
-                InitName::FirstMeasurement => PfInit::FirstMeasurement,
-                InitName::Prior => PfInit::Prior,
+                Some(InitName::FirstMeasurement) => PfInit::FirstMeasurement,
+                Some(InitName::Prior) => PfInit::Prior,
+                None => kind.default_init(),
             },
             seed,
+            ..PfParams::new(kind)
         }
     }
 }
@@ -508,14 +509,15 @@ impl Scenario {
             return Err("at least one [[filter]] is required".into());
         }
         for f in &self.filters {
-            if !matches!(f.kind.as_str(), "ekf" | "ukf" | "pf" | "rpf") {
+            let is_pf = crate::estimators::pf::PfKind::from_name(&f.kind).is_some();
+            if !(is_pf || matches!(f.kind.as_str(), "ekf" | "ukf")) {
                 return Err(format!(
-                    "filter \"{}\": kind \"{}\" is not available (implemented: ekf, ukf, pf, rpf; \
-                     upf/gapf/cgapf land with issue 4, hinf with issue 5, aqukf with issue 6)",
+                    "filter \"{}\": kind \"{}\" is not available (implemented: ekf, ukf, pf, \
+                     rpf, upf, gapf, cgapf; hinf lands with issue 5, aqukf with issue 6)",
                     f.label, f.kind
                 ));
             }
-            if matches!(f.kind.as_str(), "pf" | "rpf") {
+            if is_pf {
                 f.pf_params(0)
                     .validate()
                     .map_err(|e| format!("filter \"{}\": {e}", f.label))?;

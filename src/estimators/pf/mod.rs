@@ -1,12 +1,22 @@
-//! Particle filters (paper 000's SIR filter and its regularised variant; the unscented,
-//! genetic and cloud-genetic variants of paper 003 build on the same particle set).
+//! Particle filters of papers 000 and 003: SIR, regularised (RPF), unscented (UPF),
+//! genetic (GA-PF) and cloud-genetic (CGA-PF), on one particle set.
 //!
-//! **SIR** (paper 000, sec. 3; Gordon, Salmond & Smith 1993): the transition density is
-//! the proposal, `x_i <- Phi x_i + Gamma a + w_i`, `w_i ~ N(0, Q)`; the weights are
-//! multiplied by the measurement likelihood, kept as log-weights, normalised with the
-//! max-subtraction trick; `N_eff = 1 / sum w_i^2`; when `N_eff < threshold N` (paper 000:
-//! 2/3) the particles are resampled ([`resample`]) and the weights reset to `1/N`. The
-//! outputs are the weighted mean and covariance.
+//! | kind | proposal | after resampling |
+//! |---|---|---|
+//! | [`PfKind::Sir`] (paper 000, sec. 3) | transition density | nothing |
+//! | [`PfKind::Rpf`] | transition density | kernel jitter |
+//! | [`PfKind::Upf`] | per-particle UKF step with the current measurement | nothing |
+//! | [`PfKind::Gapf`] | transition density | crossover + mutation, MH-accepted ([`genetic`]) |
+//! | [`PfKind::Cgapf`] (paper 003) | per-particle UKF step | cloud crossover + cloud mutation, MH-accepted |
+//!
+//! **SIR** (Gordon, Salmond & Smith 1993): `x_i <- Phi x_i + Gamma a + w_i`,
+//! `w_i ~ N(0, Q)`; the log-weights grow by the measurement log-likelihood and are
+//! normalised with the max-subtraction trick; `N_eff = 1 / sum w_i^2`; when
+//! `N_eff < threshold N` (paper 000: 2/3) the particles are resampled ([`resample`]) and
+//! the weights reset to `1/N`. The outputs are the weighted mean and covariance. The
+//! likelihood is the sensor's true noise density (Gaussian, contaminated Gaussian,
+//! Student-t, ... see [`crate::noise`]): the particle filters are where heavy tails are
+//! modelled (paper 003), the Kalman filters keep the Gaussian of the same variance.
 //!
 //! **Regularised PF** (Musso, Oudjane & Le Gland 2001): after each resampling every
 //! particle is moved by `h D eps`, `D D^T` the weighted empirical covariance before
@@ -17,17 +27,46 @@
 //!   `h = A N^(-1/(n+4))`, `A = (8 (n + 4) (2 sqrt(pi))^n / c_n)^(1/(n+4))`, `c_n` the unit
 //!   ball's volume; `eps = r u` with `u` uniform on the sphere and `r^2 ~ Beta(n/2, 2)`.
 //!
+//! **Unscented PF** (van der Merwe, Doucet, de Freitas & Wan 2000; paper 003's proposal):
+//! every particle carries a mean and a covariance `(x_i, P_i)`. The time update is
+//! `xbar_i = Phi x_i + Gamma a`, `P_i <- Phi P_i Phi^T + Q` (the unscented transform of
+//! the linear CW map is exact, so it is done in closed form; paper 003's augmented
+//! sigma-point dimension `n_x + n_v + n_u` reduces to this for additive noise). The
+//! measurement update runs the UKF of [`crate::estimators::ukf`] on `(xbar_i, P_i)` with
+//! the current `z` and the Gaussian of the noise model's variance, giving `N(m_i, P_i+)`;
+//! the new particle is drawn from it and weighted by
+//! `p(z | x) N(x; xbar_i, Q) / N(x; m_i, P_i+)`. A particle whose UKF step fails (zero
+//! range) falls back to the transition proposal.
+//! What `P_i` is after the draw is the one choice: van der Merwe keep `P_i <- P_i+` (a
+//! bank of UKFs; [`PfParams::carry_covariance`]); by default we restart it at zero, so
+//! the next step's proposal is the UKF update of `N(xbar_i, Q)` — the unscented
+//! approximation of the optimal proposal `p(x_k | x_(k-1)^i, z_k)`. The particle already
+//! *is* a draw from `P_i+`: carrying `P_i+` counts that uncertainty twice, the proposal
+//! becomes much wider than the transition density in the velocity directions
+//! (accumulated UKF variance against `Q`'s 0.1 (m/s)^2 on paper 003, 1e-6 on paper 000)
+//! and the weights degenerate (paper 003, 10 runs: NEES 558 and 3 failed runs of 10 before
+//! this choice was made explicit).
+//!
+//! **Prior of the first update.** Until the first weighting update the prior is the
+//! Gaussian `N(x0, P0)` propagated exactly (`xbar_0`, `P_prior`). With
+//! [`PfInit::Prior`] the first update's target is `p(z | x) N(x; xbar_0, P_prior)`: the
+//! SIR samples the prior (the literal filter of paper 000); the UPF draws every particle
+//! from the one UKF posterior of `(xbar_0, P_prior)` and weighs with
+//! `p(z | x) N(x; xbar_0, P_prior) / q(x)` — exact importance sampling of the first
+//! posterior, which is why the unscented filters need no special initialisation.
+//!
 //! **The collapse of the literal SIR on paper 000** (issue 4's "known trap"): its prior is
 //! 50 m / 1 m/s wide while one measurement pins the position to a 0.5 m x 0.12 m x 0.12 m
 //! box, about 1e-7 of the prior's volume: with thousands of particles none lands in the
 //! likelihood's support, one particle takes all the weight and the filter ends hundreds of
 //! metres off. [`PfInit::Prior`] keeps that literal behaviour. [`PfInit::FirstMeasurement`]
-//! is the first half of the fix and the default: the positions are drawn from the first
-//! measurement's likelihood (the noisy measurement inverted to a position, noise drawn
-//! from the sensor's noise model) and the velocities from the prior. This is the posterior
-//! after the first measurement up to the prior's density over a box of a few decimetres,
-//! which a 50 m prior makes flat to 1e-4; the first measurement is consumed by it.
-//! The second half is **regularisation** (the RPF, [`Kernel`]): the velocities are then
+//! is the first half of the fix and the default of the transition-proposal filters: the
+//! positions are drawn from the first measurement's likelihood (the noisy measurement
+//! inverted to a position, noise drawn from the sensor's noise model) and the velocities
+//! from the prior. This is the posterior after the first measurement up to the prior's
+//! density over a box of a few decimetres, which a 50 m prior makes flat to 1e-4; the
+//! first measurement is consumed by it.
+//! The second half is **regularisation or move steps** (RPF, GA-PF): the velocities are
 //! the prior's N draws, and with 2000 of them over a 1 m/s-wide prior none lies closer
 //! than ~0.1 m/s to the truth; paper 000's velocity process noise (1e-3 m/s per step)
 //! cannot refine them, so a plain SIR keeps the best draw and drifts metres off within
@@ -36,24 +75,82 @@
 //! decimetres, as the EKF. The unscented proposals (UPF, CGA-PF) do the same by moving
 //! every particle with a UKF step.
 //!
-//! No heap allocation happens in a step: every buffer is sized at construction.
+//! No heap allocation happens in a step: every buffer is sized at construction
+//! (`tests/no_alloc.rs`).
 
+pub mod genetic;
 pub mod resample;
 
+use super::ukf::{Ukf, UkfParams};
 use super::{symmetrize, Estimator, FilterError, UpdateInfo};
 use crate::dynamics::DiscreteModel;
 use crate::noise::NoiseModel;
 use crate::sensors::MeasurementModel;
-use crate::types::{Mat6, State, Vec3};
+use crate::types::{Mat3, Mat6, State, Vec3};
+use genetic::{CloudParams, GeneticParams};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Beta, Distribution, StandardNormal};
 use resample::{effective_sample_size, normalize_log_weights, resample, Resampler};
 
+/// The particle-filter variants (FMU / C ABI filter codes 4-8).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum PfKind {
+    /// Sampling-importance-resampling (bootstrap) filter of paper 000.
+    #[default]
+    Sir,
+    /// Regularised PF: kernel jitter after resampling.
+    Rpf,
+    /// Unscented PF: per-particle UKF proposal.
+    Upf,
+    /// Genetic-algorithm PF: crossover and mutation after resampling.
+    Gapf,
+    /// Cloud-genetic PF of paper 003: UKF proposal, cloud-model genetic resampling.
+    Cgapf,
+}
+
+impl PfKind {
+    /// Lower-case name as in scenario files (`pf`, `rpf`, `upf`, `gapf`, `cgapf`).
+    pub fn name(self) -> &'static str {
+        match self {
+            PfKind::Sir => "pf",
+            PfKind::Rpf => "rpf",
+            PfKind::Upf => "upf",
+            PfKind::Gapf => "gapf",
+            PfKind::Cgapf => "cgapf",
+        }
+    }
+
+    /// The kind of a scenario-file name.
+    pub fn from_name(s: &str) -> Option<Self> {
+        [
+            PfKind::Sir,
+            PfKind::Rpf,
+            PfKind::Upf,
+            PfKind::Gapf,
+            PfKind::Cgapf,
+        ]
+        .into_iter()
+        .find(|k| k.name() == s)
+    }
+
+    /// Whether the proposal is the per-particle UKF step.
+    pub fn unscented(self) -> bool {
+        matches!(self, PfKind::Upf | PfKind::Cgapf)
+    }
+
+    /// The default initialisation ([`PfInit::FirstMeasurement`] for every kind: even the
+    /// UKF proposal of the Gaussian prior is metres off the first posterior on paper
+    /// 000's example, where the posterior is decimetres wide).
+    pub fn default_init(self) -> PfInit {
+        PfInit::FirstMeasurement
+    }
+}
+
 /// How the particles start.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum PfInit {
-    /// From the prior `N(x0, P0)` (paper 000 literally; collapses on its example).
+    /// From the prior `N(x0, P0)` (paper 000 literally; the SIR collapses on its example).
     Prior,
     /// Positions from the first measurement's likelihood, velocities from the prior.
     #[default]
@@ -61,9 +158,10 @@ pub enum PfInit {
 }
 
 /// Regularisation kernel of the RPF.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Kernel {
     /// Gaussian.
+    #[default]
     Gaussian,
     /// Epanechnikov (optimal in mean integrated squared error).
     Epanechnikov,
@@ -72,38 +170,67 @@ pub enum Kernel {
 /// Particle-filter settings.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PfParams {
+    /// The variant.
+    pub kind: PfKind,
     /// Number of particles (>= 1).
     pub particles: usize,
     /// Resampling scheme.
     pub resampler: Resampler,
     /// Resample when `N_eff < threshold N`; in (0, 1] (paper 000: 2/3).
     pub threshold: f64,
-    /// Regularisation after resampling (`None`: plain SIR).
-    pub kernel: Option<Kernel>,
+    /// Regularisation kernel (RPF only).
+    pub kernel: Kernel,
     /// Initialisation.
     pub init: PfInit,
     /// Seed of the filter's own random numbers.
     pub seed: u64,
+    /// Sigma-point parameters of the unscented proposal (UPF, CGA-PF).
+    pub ukf: UkfParams,
+    /// Unscented proposal: carry each particle's UKF covariance from step to step (van der
+    /// Merwe et al. 2000 literally) instead of restarting it from `Q` at every step (the
+    /// default; see the module documentation for why).
+    pub carry_covariance: bool,
+    /// Genetic operators (GA-PF).
+    pub genetic: GeneticParams,
+    /// Cloud-genetic operators (CGA-PF).
+    pub cloud: CloudParams,
 }
 
 impl Default for PfParams {
     fn default() -> Self {
-        Self {
-            particles: 1500,
-            resampler: Resampler::Systematic,
-            threshold: 2.0 / 3.0,
-            kernel: None,
-            init: PfInit::FirstMeasurement,
-            seed: 0,
-        }
+        Self::new(PfKind::Sir)
     }
 }
 
 impl PfParams {
+    /// Defaults for `kind`: 1500 particles (paper 003), systematic resampling, threshold
+    /// 2/3 (paper 000), Gaussian kernel, the kind's [`PfKind::default_init`], seed 0.
+    pub fn new(kind: PfKind) -> Self {
+        Self {
+            kind,
+            particles: 1500,
+            resampler: Resampler::Systematic,
+            threshold: 2.0 / 3.0,
+            kernel: Kernel::Gaussian,
+            init: kind.default_init(),
+            seed: 0,
+            ukf: UkfParams::default(),
+            carry_covariance: false,
+            genetic: GeneticParams::default(),
+            cloud: CloudParams::default(),
+        }
+    }
+
     /// Check the settings; the message names the bad one.
     pub fn validate(&self) -> Result<(), String> {
         if self.particles == 0 {
             return Err("particles must be >= 1 (got 0)".into());
+        }
+        if self.particles > MAX_PARTICLES {
+            return Err(format!(
+                "particles must be <= {MAX_PARTICLES} (got {})",
+                self.particles
+            ));
         }
         if !(self.threshold > 0.0 && self.threshold <= 1.0) {
             return Err(format!(
@@ -111,9 +238,14 @@ impl PfParams {
                 self.threshold
             ));
         }
-        Ok(())
+        self.ukf.validate()?;
+        self.genetic.validate()?;
+        self.cloud.validate()
     }
 }
+
+/// Largest particle count accepted (about 1 GB of particle state for the unscented kinds).
+pub const MAX_PARTICLES: usize = 2_000_000;
 
 const N: usize = 6;
 
@@ -134,26 +266,95 @@ pub fn bandwidth(kernel: Kernel, particles: usize) -> f64 {
     }
 }
 
-/// A particle filter over the canonical 6-state.
+/// The measurement likelihood a particle filter weighs with.
+struct Likelihood<'a, M> {
+    sensor: &'a M,
+    z: Vec3,
+    noise: &'a NoiseModel,
+    scales: [f64; 3],
+    gaussian: bool,
+}
+
+impl<M: MeasurementModel> Likelihood<'_, M> {
+    fn log(&self, x: &State) -> f64 {
+        let r = x.fixed_rows::<3>(0).into_owned();
+        if self.gaussian {
+            return self.sensor.log_likelihood(&self.z, &r);
+        }
+        match self.sensor.predict(&r) {
+            Some(zh) => {
+                let d = self.sensor.diff(&self.z, &zh);
+                (0..3)
+                    .map(|k| self.noise.log_density(d[k], self.scales[k]))
+                    .sum()
+            }
+            None => f64::NEG_INFINITY,
+        }
+    }
+}
+
+/// `ln N(x; m, L L^T)` up to the constant `-3 ln 2 pi`, `L` lower triangular.
+fn log_gauss(x: &State, m: &State, l: &Mat6) -> f64 {
+    let d = x - m;
+    let half_logdet: f64 = (0..N).map(|i| l[(i, i)].ln()).sum();
+    match l.solve_lower_triangular(&d) {
+        Some(u) => -0.5 * u.norm_squared() - half_logdet,
+        None => f64::NEG_INFINITY,
+    }
+}
+
+/// Lower Cholesky factor, `None` unless positive definite.
+fn chol(p: &Mat6) -> Option<Mat6> {
+    symmetrize(p).cholesky().map(|c| c.unpack())
+}
+
+/// A particle filter over the canonical 6-state (see the module documentation).
 #[derive(Debug, Clone)]
 pub struct ParticleFilter {
     params: PfParams,
     x0: State,
     p0: Mat6,
+    /// particles
     x: Vec<State>,
+    /// each particle's transition mean `Phi x_prev + Gamma a`
+    xbar: Vec<State>,
+    /// each particle's covariance (unscented kinds; empty otherwise)
+    pc: Vec<Mat6>,
     x_tmp: Vec<State>,
+    xbar_tmp: Vec<State>,
+    pc_tmp: Vec<Mat6>,
     logw: Vec<f64>,
     w: Vec<f64>,
+    /// log-likelihood of each particle at the last update (fitness of the genetic kinds)
+    loglik: Vec<f64>,
+    loglik_tmp: Vec<f64>,
+    /// log target density `ln p(z|x) + ln p(x|ancestor)` during the move steps
+    logpi: Vec<f64>,
     idx: Vec<usize>,
+    perm: Vec<usize>,
     scratch: Vec<f64>,
     mean: State,
     cov: Mat6,
     ess: f64,
-    initialised: bool,
+    /// the first-measurement initialisation is still to come
+    awaiting_first: bool,
+    /// no weighting update yet: the prior is the Gaussian (prior_mean, prior_cov)
+    prior_mode: bool,
+    prior_mean: State,
+    prior_cov: Mat6,
+    prior_l: Mat6,
+    /// Cholesky factor of the predicted particles' covariance (target of the move steps)
+    pred_mean: State,
+    pred_l: Mat6,
     rng: ChaCha8Rng,
     q_key: Mat6,
+    /// square root of Q used to sample (Cholesky factor when Q is positive definite)
     q_sqrt: Mat6,
+    q_pd: bool,
+    ukf: Ukf,
     resamples: u64,
+    moves_tried: u64,
+    moves_accepted: u64,
 }
 
 fn gauss6<R: Rng + ?Sized>(rng: &mut R) -> State {
@@ -168,27 +369,48 @@ fn psd_sqrt(q: &Mat6) -> Mat6 {
 }
 
 impl ParticleFilter {
-    /// A filter with prior `N(x0, p0)` (canonical frame); `params` validated by the caller.
+    /// A filter with prior `N(x0, p0)` (canonical frame); `params` validated by the caller
+    /// with [`PfParams::validate`] (an invalid count is clamped to `1..=MAX_PARTICLES`).
     pub fn new(x0: State, p0: Mat6, params: PfParams) -> Self {
-        let n = params.particles.max(1);
+        let n = params.particles.clamp(1, MAX_PARTICLES);
+        let unscented = params.kind.unscented();
+        let m = if unscented { n } else { 0 };
         let mut f = Self {
             params,
             x0,
             p0,
             x: vec![State::zeros(); n],
+            xbar: vec![State::zeros(); n],
+            pc: vec![Mat6::zeros(); m],
             x_tmp: vec![State::zeros(); n],
+            xbar_tmp: vec![State::zeros(); n],
+            pc_tmp: vec![Mat6::zeros(); m],
             logw: vec![0.0; n],
             w: vec![1.0 / n as f64; n],
+            loglik: vec![0.0; n],
+            loglik_tmp: vec![0.0; n],
+            logpi: vec![0.0; n],
             idx: vec![0; n],
+            perm: (0..n).collect(),
             scratch: vec![0.0; n],
             mean: x0,
             cov: p0,
             ess: n as f64,
-            initialised: false,
+            awaiting_first: false,
+            prior_mode: true,
+            prior_mean: x0,
+            prior_cov: p0,
+            prior_l: Mat6::identity(),
+            pred_mean: x0,
+            pred_l: Mat6::identity(),
             rng: ChaCha8Rng::seed_from_u64(params.seed),
             q_key: Mat6::from_element(f64::NAN),
             q_sqrt: Mat6::zeros(),
+            q_pd: false,
+            ukf: Ukf::new(x0, p0, params.ukf),
             resamples: 0,
+            moves_tried: 0,
+            moves_accepted: 0,
         };
         f.draw_prior();
         f
@@ -196,18 +418,23 @@ impl ParticleFilter {
 
     fn draw_prior(&mut self) {
         let l = psd_sqrt(&self.p0);
-        for xi in self.x.iter_mut() {
+        for (xi, xb) in self.x.iter_mut().zip(self.xbar.iter_mut()) {
             *xi = self.x0 + l * gauss6(&mut self.rng);
+            *xb = self.x0;
         }
+        self.pc.iter_mut().for_each(|p| *p = self.p0);
         let n = self.x.len() as f64;
         self.logw.iter_mut().for_each(|v| *v = 0.0);
         self.w.iter_mut().for_each(|v| *v = 1.0 / n);
-        self.initialised = self.params.init == PfInit::Prior;
+        self.awaiting_first = self.params.init == PfInit::FirstMeasurement;
+        self.prior_mode = true;
+        self.prior_mean = self.x0;
+        self.prior_cov = self.p0;
         self.ess = n;
         self.summarise();
     }
 
-    /// Effective sample size after the last update.
+    /// Effective sample size `1 / sum w_i^2` after the last update (before resampling).
     pub fn ess(&self) -> f64 {
         self.ess
     }
@@ -217,9 +444,20 @@ impl ParticleFilter {
         self.resamples
     }
 
+    /// Fraction of the genetic moves (crossover, mutation) accepted by the
+    /// Metropolis–Hastings test so far (NaN before the first move).
+    pub fn move_acceptance(&self) -> f64 {
+        self.moves_accepted as f64 / self.moves_tried as f64
+    }
+
     /// The settings.
     pub fn params(&self) -> &PfParams {
         &self.params
+    }
+
+    /// The particles (canonical frame) and their normalised weights.
+    pub fn particles(&self) -> (&[State], &[f64]) {
+        (&self.x, &self.w)
     }
 
     fn summarise(&mut self) {
@@ -227,13 +465,24 @@ impl ParticleFilter {
         for (xi, wi) in self.x.iter().zip(&self.w) {
             m += xi * *wi;
         }
+        // upper triangle of sum w d d^T, mirrored
         let mut c = Mat6::zeros();
         for (xi, wi) in self.x.iter().zip(&self.w) {
             let d = xi - m;
-            c += d * d.transpose() * *wi;
+            let wd = d * *wi;
+            for j in 0..N {
+                for i in 0..=j {
+                    c[(i, j)] += wd[i] * d[j];
+                }
+            }
+        }
+        for j in 0..N {
+            for i in 0..j {
+                c[(j, i)] = c[(i, j)];
+            }
         }
         self.mean = m;
-        self.cov = symmetrize(&c);
+        self.cov = c;
     }
 
     /// Positions from the measurement's likelihood, velocities from the prior.
@@ -244,8 +493,8 @@ impl ParticleFilter {
         noise: &NoiseModel,
         scales: &[f64; 3],
     ) -> Result<(), FilterError> {
-        // the velocity rows of a square root of P0 draw from the prior's velocity marginal
-        let l = psd_sqrt(&self.p0);
+        // the velocity rows of a square root of the prior draw from its velocity marginal
+        let l = psd_sqrt(&self.prior_cov);
         for i in 0..self.x.len() {
             let mut zi = *z;
             let mut st = 0.0;
@@ -255,10 +504,11 @@ impl ParticleFilter {
             let r = sensor
                 .invert(&zi)
                 .ok_or(FilterError::NonFinite("measurement inversion"))?;
-            let v = self.x0.fixed_rows::<3>(3) + (l * gauss6(&mut self.rng)).fixed_rows::<3>(3);
-            self.x[i] = State::from_row_slice(&[r.x, r.y, r.z, v.x, v.y, v.z]);
+            let v =
+                self.prior_mean.fixed_rows::<3>(3) + (l * gauss6(&mut self.rng)).fixed_rows::<3>(3);
+            self.x[i] = State::new(r.x, r.y, r.z, v.x, v.y, v.z);
+            self.xbar[i] = self.x[i];
         }
-        self.initialised = true;
         Ok(())
     }
 
@@ -283,12 +533,61 @@ impl ParticleFilter {
             *xi += d * eps;
         }
     }
-}
 
-impl ParticleFilter {
+    /// `ln N(x; m-, P-)`, the Gaussian of the predicted particles: the predictive density
+    /// in the target of the move steps.
+    fn log_predictive(&self, x: &State) -> f64 {
+        log_gauss(x, &self.pred_mean, &self.pred_l)
+    }
+
+    /// Reorder every per-particle array by `self.idx` (after resampling).
+    fn apply_resampling(&mut self) {
+        for (k, &i) in self.idx.iter().enumerate() {
+            self.x_tmp[k] = self.x[i];
+            self.xbar_tmp[k] = self.xbar[i];
+            self.loglik_tmp[k] = self.loglik[i];
+        }
+        std::mem::swap(&mut self.x, &mut self.x_tmp);
+        std::mem::swap(&mut self.xbar, &mut self.xbar_tmp);
+        std::mem::swap(&mut self.loglik, &mut self.loglik_tmp);
+        if !self.pc.is_empty() {
+            for (k, &i) in self.idx.iter().enumerate() {
+                self.pc_tmp[k] = self.pc[i];
+            }
+            std::mem::swap(&mut self.pc, &mut self.pc_tmp);
+        }
+    }
+
+    /// Draw particle `i` from its UKF proposal and return `ln p(x|anc) - ln q(x)`.
+    /// `None` when the UKF step fails (the caller keeps the transition draw).
+    fn unscented_move<M: MeasurementModel>(
+        &mut self,
+        i: usize,
+        sensor: &M,
+        r: &Mat3,
+        z: &Vec3,
+    ) -> Option<f64> {
+        let (m, p, _) = self
+            .ukf
+            .measurement_update(&self.xbar[i], &self.pc[i], sensor, r, z)
+            .ok()?;
+        let l = chol(&p)?;
+        let eps = gauss6(&mut self.rng);
+        let x = m + l * eps;
+        let half_logdet: f64 = (0..N).map(|k| l[(k, k)].ln()).sum();
+        let log_q = -0.5 * eps.norm_squared() - half_logdet;
+        self.x[i] = x;
+        self.pc[i] = if self.params.carry_covariance {
+            p
+        } else {
+            Mat6::zeros()
+        };
+        Some(log_gauss(&x, &self.xbar[i], &self.q_sqrt) - log_q)
+    }
+
     /// Measurement update with the sensor's likelihood under `noise` (per-component
     /// scales `scales`): the particle filters weigh with the true noise density, heavy
-    /// tails included.
+    /// tails included; the unscented proposal uses the Gaussian of the same variance.
     pub fn update_with<M: MeasurementModel>(
         &mut self,
         sensor: &M,
@@ -296,12 +595,30 @@ impl ParticleFilter {
         noise: &NoiseModel,
         scales: &[f64; 3],
     ) -> Result<UpdateInfo, FilterError> {
-        if !self.initialised {
+        let n = self.x.len();
+        if self.awaiting_first {
             self.init_from_measurement(sensor, z, noise, scales)?;
-            let n = self.x.len() as f64;
-            self.w.iter_mut().for_each(|v| *v = 1.0 / n);
+            self.w.iter_mut().for_each(|v| *v = 1.0 / n as f64);
             self.logw.iter_mut().for_each(|v| *v = 0.0);
-            self.ess = n;
+            self.awaiting_first = false;
+            self.prior_mode = false;
+            if !self.pc.is_empty() {
+                // the particle's own uncertainty: the spread of the drawn positions and the
+                // prior's velocity block (or nothing: restarted from Q at the next step)
+                let p = if self.params.carry_covariance {
+                    self.summarise();
+                    let mut p = self.prior_cov;
+                    p.fixed_view_mut::<3, 3>(0, 0)
+                        .copy_from(&self.cov.fixed_view::<3, 3>(0, 0));
+                    p.fixed_view_mut::<3, 3>(0, 3).fill(0.0);
+                    p.fixed_view_mut::<3, 3>(3, 0).fill(0.0);
+                    p
+                } else {
+                    Mat6::zeros()
+                };
+                self.pc.iter_mut().for_each(|c| *c = p);
+            }
+            self.ess = n as f64;
             self.summarise();
             return Ok(UpdateInfo {
                 innovation: Vec3::zeros(),
@@ -309,20 +626,81 @@ impl ParticleFilter {
                 azimuth_used: true,
             });
         }
-        let gaussian = matches!(noise, NoiseModel::Gaussian);
-        for (xi, lw) in self.x.iter().zip(self.logw.iter_mut()) {
-            let r = xi.fixed_rows::<3>(0).into_owned();
-            *lw += if gaussian {
-                sensor.log_likelihood(z, &r)
-            } else {
-                match sensor.predict(&r) {
-                    Some(zh) => {
-                        let d = sensor.diff(z, &zh);
-                        (0..3).map(|k| noise.log_density(d[k], scales[k])).sum()
-                    }
-                    None => f64::NEG_INFINITY,
+        let lik = Likelihood {
+            sensor,
+            z: *z,
+            noise,
+            scales: *scales,
+            gaussian: matches!(noise, NoiseModel::Gaussian),
+        };
+        if self.params.kind.unscented() {
+            if self.prior_mode {
+                self.prior_l = chol(&self.prior_cov)
+                    .ok_or(FilterError::NotPositiveDefinite("prior covariance"))?;
+            } else if !self.q_pd {
+                return Err(FilterError::NotPositiveDefinite(
+                    "process noise Q (the UPF and CGA-PF need a transition density)",
+                ));
+            }
+        }
+        if matches!(self.params.kind, PfKind::Gapf | PfKind::Cgapf) {
+            // the predicted particles (the state after predict) as a Gaussian
+            self.pred_mean = self.mean;
+            self.pred_l = chol(&self.cov)
+                .or_else(|| {
+                    let eps = 1e-12 * self.cov.trace().max(f64::MIN_POSITIVE);
+                    chol(&(self.cov + Mat6::identity() * eps))
+                })
+                .ok_or(FilterError::NotPositiveDefinite(
+                    "predicted particle covariance",
+                ))?;
+        }
+        if self.params.kind.unscented() {
+            let vf = noise.variance_factor();
+            let r = Mat3::from_diagonal(&Vec3::from_fn(|k, _| scales[k] * scales[k] * vf));
+            if self.prior_mode {
+                // one UKF posterior of the Gaussian prior, every particle drawn from it
+                let (m, p, _) = self.ukf.measurement_update(
+                    &self.prior_mean,
+                    &self.prior_cov,
+                    sensor,
+                    &r,
+                    z,
+                )?;
+                let l = chol(&p).ok_or(FilterError::NotPositiveDefinite("UKF proposal"))?;
+                let half_logdet: f64 = (0..N).map(|k| l[(k, k)].ln()).sum();
+                for i in 0..n {
+                    let eps = gauss6(&mut self.rng);
+                    let x = m + l * eps;
+                    let log_q = -0.5 * eps.norm_squared() - half_logdet;
+                    let ll = lik.log(&x);
+                    self.logw[i] += ll + log_gauss(&x, &self.prior_mean, &self.prior_l) - log_q;
+                    self.loglik[i] = ll;
+                    self.x[i] = x;
+                    self.pc[i] = if self.params.carry_covariance {
+                        p
+                    } else {
+                        Mat6::zeros()
+                    };
                 }
-            };
+            } else {
+                for i in 0..n {
+                    let corr = self.unscented_move(i, sensor, &r, z).unwrap_or(0.0);
+                    let ll = lik.log(&self.x[i]);
+                    self.logw[i] += ll + corr;
+                    self.loglik[i] = ll;
+                }
+            }
+        } else {
+            for ((xi, lw), ll) in self
+                .x
+                .iter()
+                .zip(self.logw.iter_mut())
+                .zip(self.loglik.iter_mut())
+            {
+                *ll = lik.log(xi);
+                *lw += *ll;
+            }
         }
         normalize_log_weights(&self.logw, &mut self.w).ok_or(FilterError::NonFinite(
             "particle weights (every likelihood is zero)",
@@ -337,7 +715,6 @@ impl ParticleFilter {
             .predict(&self.mean.fixed_rows::<3>(0).into_owned())
             .map(|zh| sensor.diff(z, &zh))
             .unwrap_or_default();
-        let n = self.x.len();
         if self.ess < self.params.threshold * n as f64 {
             let cov_before = self.cov;
             resample(
@@ -347,18 +724,19 @@ impl ParticleFilter {
                 &mut self.scratch,
                 &mut self.rng,
             );
-            for (t, &i) in self.x_tmp.iter_mut().zip(&self.idx) {
-                *t = self.x[i];
-            }
-            std::mem::swap(&mut self.x, &mut self.x_tmp);
+            self.apply_resampling();
             self.w.iter_mut().for_each(|v| *v = 1.0 / n as f64);
             self.logw.iter_mut().for_each(|v| *v = 0.0);
             self.resamples += 1;
-            if let Some(k) = self.params.kernel {
-                self.regularise(k, &cov_before);
+            match self.params.kind {
+                PfKind::Rpf => self.regularise(self.params.kernel, &cov_before),
+                PfKind::Gapf => self.genetic_moves(&lik, &cov_before),
+                PfKind::Cgapf => self.cloud_moves(&lik),
+                PfKind::Sir | PfKind::Upf => {}
             }
             self.summarise();
         }
+        self.prior_mode = false;
         Ok(UpdateInfo {
             innovation,
             nis: f64::NAN,
@@ -370,12 +748,30 @@ impl ParticleFilter {
 impl Estimator for ParticleFilter {
     fn predict(&mut self, model: &DiscreteModel, accel: &Vec3) -> Result<(), FilterError> {
         if model.q != self.q_key {
-            self.q_sqrt = psd_sqrt(&model.q);
+            match chol(&model.q) {
+                Some(l) => {
+                    self.q_sqrt = l;
+                    self.q_pd = true;
+                }
+                None => {
+                    self.q_sqrt = psd_sqrt(&model.q);
+                    self.q_pd = false;
+                }
+            }
             self.q_key = model.q;
         }
         let u = model.gamma * accel;
-        for xi in self.x.iter_mut() {
-            *xi = model.phi * *xi + u + self.q_sqrt * gauss6(&mut self.rng);
+        for (xi, xb) in self.x.iter_mut().zip(self.xbar.iter_mut()) {
+            *xb = model.phi * *xi + u;
+            *xi = *xb + self.q_sqrt * gauss6(&mut self.rng);
+        }
+        let phi = model.phi;
+        for p in self.pc.iter_mut() {
+            *p = symmetrize(&(phi * *p * phi.transpose() + model.q));
+        }
+        if self.prior_mode {
+            self.prior_mean = phi * self.prior_mean + u;
+            self.prior_cov = symmetrize(&(phi * self.prior_cov * phi.transpose() + model.q));
         }
         self.summarise();
         if !self.mean.iter().all(|v| v.is_finite()) {
@@ -409,6 +805,8 @@ impl Estimator for ParticleFilter {
         self.p0 = p;
         self.rng = ChaCha8Rng::seed_from_u64(self.params.seed);
         self.resamples = 0;
+        self.moves_tried = 0;
+        self.moves_accepted = 0;
         self.draw_prior();
     }
 }
