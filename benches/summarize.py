@@ -1,5 +1,6 @@
-"""Print the criterion medians of benches/filters.rs beside the filterpy anchor measured in
-the same run, with the ratios the issue asks for (Markdown)."""
+"""Print the criterion medians of benches/filters.rs and benches/pf.rs beside the filterpy
+and numpy-SIR anchors measured in the same run, with the ratios the issues ask for
+(Markdown). Usage: summarize.py FILTERPY_JSON [NUMPY_SIR_JSON]"""
 import json
 import pathlib
 import sys
@@ -29,3 +30,21 @@ if anchor:
     print(f"| filterpy UnscentedKalmanFilter predict+update (same model, same run) | {anchor:.0f} ns | anchor |")
     print(f"| ratio filterpy / relnav UKF step | {anchor / m['ukf_step']:.0f}x | |")
     print(f"| ratio filterpy / relnav FMU UKF cycle | {anchor / m['fmu_cycle_ukf']:.0f}x | |")
+
+numpy_sir = json.loads(sys.argv[2])["numpy_sir_step_ns"] if len(sys.argv) > 2 else None
+pf_rows = [("sir_step_n1500", 1500, "<= 100 us"), ("rpf_step_n1500", 1500, ""),
+           ("gapf_step_n1500", 1500, ""), ("upf_step_n1500", 1500, ""),
+           ("cgapf_step_n1500", 1500, ""), ("sir_step_n100000", 100000, "")]
+print()
+print("| particle filter step (update + resampling when due + predict) | median | ns / particle | target |")
+print("|---|---:|---:|---|")
+pm = {}
+for r, n, t in pf_rows:
+    try:
+        pm[r] = median_ns(r)
+    except FileNotFoundError:
+        continue
+    print(f"| {r} | {pm[r] / 1000:.1f} us | {pm[r] / n:.1f} | {t} |")
+if numpy_sir and "sir_step_n1500" in pm:
+    print(f"| vectorised numpy SIR step, N = 1500 (same run) | {numpy_sir / 1000:.1f} us | {numpy_sir / 1500:.1f} | anchor |")
+    print(f"| ratio numpy / relnav SIR step | {numpy_sir / pm['sir_step_n1500']:.1f}x | | |")

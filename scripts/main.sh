@@ -19,4 +19,4 @@ cargo run --release --bin relnav-fmu </dev/null
 echo "== paper 000 through the FMU"
 "$ROOT/.venv/bin/python" tools/paper000_fmu.py "$@"
 echo "== relnav reproduce --paper all (evaluation engine; plots and CSV in results/)"
-cargo run --release --bin relnav -- reproduce --paper all --runs 500 --out results </dev/null
+cargo run --release --bin relnav -- reproduce --paper all --runs 10 --out results </dev/null

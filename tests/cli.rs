@@ -15,7 +15,7 @@ fn tmp(name: &str) -> std::path::PathBuf {
 fn reproduce_writes_table_csv_and_plots() {
     let out = tmp("reproduce");
     let o = Command::new(env!("CARGO_BIN_EXE_relnav"))
-        .args(["reproduce", "--paper", "000", "--runs", "3", "--out"])
+        .args(["reproduce", "--paper", "003", "--runs", "2", "--out"])
         .arg(&out)
         .output()
         .unwrap();
@@ -25,7 +25,7 @@ fn reproduce_writes_table_csv_and_plots() {
         table.contains("| EKF |") && table.contains("PCRLB"),
         "{table}"
     );
-    let dir = out.join("paper000");
+    let dir = out.join("paper003");
     for f in ["timeseries.csv", "summary.csv"] {
         assert!(dir.join(f).is_file(), "{f}");
     }

@@ -100,7 +100,8 @@ fn pcrlb_equals_the_kalman_covariance_on_a_linear_gaussian_scenario() {
 #[test]
 fn ekf_is_consistent_on_paper000() {
     let (_, text) = builtin::for_paper("000")[0];
-    let s = Scenario::from_toml(text).unwrap();
+    let mut s = Scenario::from_toml(text).unwrap();
+    s.filters.retain(|f| f.label == "EKF");
     let r = run(&s, &Options::default()).unwrap();
     let sm = summarize(&r);
     let ekf = sm.iter().find(|x| x.label == "EKF").unwrap();
@@ -136,7 +137,14 @@ fn ekf_is_consistent_on_paper000() {
 #[test]
 fn results_do_not_depend_on_the_thread_count() {
     let (_, text) = builtin::for_paper("000")[0];
-    let s = Scenario::from_toml(text).unwrap();
+    let mut s = Scenario::from_toml(text).unwrap();
+    // the Kalman filters and two particle filters (their seeds are per run and filter)
+    s.filters
+        .retain(|f| ["EKF", "UKF", "RPF", "CGA-PF"].contains(&f.label.as_str()));
+    for f in &mut s.filters {
+        f.particles = f.particles.min(300);
+    }
+    s.simulation.duration = 120.0;
     let one = run(
         &s,
         &Options {
@@ -161,13 +169,16 @@ fn results_do_not_depend_on_the_thread_count() {
         }
         r
     };
-    assert_eq!(strip(one), strip(two));
+    // compared as text: a particle filter's NIS is NaN, and NaN != NaN
+    assert_eq!(format!("{:?}", strip(one)), format!("{:?}", strip(two)));
 }
 
 #[test]
 fn every_builtin_scenario_runs() {
     for (name, text) in builtin::for_paper("all") {
-        let s = Scenario::from_toml(text).unwrap();
+        let mut s = Scenario::from_toml(text).unwrap();
+        // every filter of every file runs; short runs keep the particle filters cheap
+        s.simulation.duration = s.simulation.duration.min(40.0);
         let r = run(
             &s,
             &Options {

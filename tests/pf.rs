@@ -162,3 +162,102 @@ fn bad_parameters_are_rejected() {
     }
     assert!(PfParams::default().validate().is_ok());
 }
+
+/// Run a built-in scenario with only the `keep` filters, `runs` runs, `duration` seconds.
+fn reproduce(
+    name: &str,
+    keep: &[&str],
+    runs: u32,
+    duration: f64,
+) -> Vec<relnav::eval::metrics::Summary> {
+    use relnav::eval::{builtin::BUILTIN, metrics::summarize, runner, scenario::Scenario};
+    let (_, _, text) = BUILTIN.iter().find(|(_, n, _)| *n == name).unwrap();
+    let mut s = Scenario::from_toml(text).unwrap();
+    s.filters.retain(|f| keep.contains(&f.label.as_str()));
+    assert_eq!(s.filters.len(), keep.len(), "{keep:?}");
+    s.simulation.duration = duration;
+    let r = runner::run(
+        &s,
+        &runner::Options {
+            runs: Some(runs),
+            threads: 2,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    summarize(&r)
+}
+
+fn row<'a>(
+    sm: &'a [relnav::eval::metrics::Summary],
+    label: &str,
+) -> &'a relnav::eval::metrics::Summary {
+    sm.iter().find(|s| s.label == label).unwrap()
+}
+
+/// Paper 000 (radio, 0.5 m / 0.01 deg), 3 runs over its 600 s, errors averaged after 80 s.
+/// Bars: the paper's 0.4 m for position; velocity and position against the PCRLB at the
+/// efficiencies the 20-run reproduction measured (docs/evaluation.md: CGA-PF 0.99 / 1.29,
+/// RPF 1.30 / 4.3 — the RPF's velocities stay impoverished) with room for 3-run scatter:
+/// a particle filter's velocity error differs much between runs (impoverishment strikes
+/// some runs harder), and 3-run velocity efficiencies of the CGA-PF of 2.2 were measured.
+/// The literal SIR and the SIR without regularisation fail, as documented.
+#[test]
+fn paper000_particle_filters_meet_their_reproduced_bars() {
+    let sm = reproduce(
+        "paper000",
+        &["SIR PF (literal)", "SIR PF", "RPF", "CGA-PF"],
+        3,
+        600.0,
+    );
+    let cga = row(&sm, "CGA-PF");
+    assert!(cga.rmse_pos < 0.4, "CGA-PF position RMSE {}", cga.rmse_pos);
+    assert!(
+        cga.efficiency_pos.unwrap() < 1.3 && cga.efficiency_vel.unwrap() < 3.0,
+        "CGA-PF efficiency {:?} / {:?}",
+        cga.efficiency_pos,
+        cga.efficiency_vel
+    );
+    let rpf = row(&sm, "RPF");
+    assert!(rpf.rmse_pos < 0.4, "RPF position RMSE {}", rpf.rmse_pos);
+    assert!(
+        rpf.efficiency_vel.unwrap() < 8.0,
+        "RPF velocity efficiency {:?}",
+        rpf.efficiency_vel
+    );
+    // the failures the module documentation explains
+    assert!(row(&sm, "SIR PF (literal)").rmse_pos > 50.0);
+    assert!(row(&sm, "SIR PF").rmse_pos > 2.0);
+}
+
+/// Paper 003 (lidar, contaminated Gaussian zeta = 0.2): every particle filter beats the
+/// Gaussian EKF by at least 15 % in position (the 100-run reproduction: 27-29 %), and the
+/// unscented ones come within 15 % of a 10 000-particle SIR on the same runs (100 runs:
+/// 2.5 %; 16 runs of heavy-tailed errors scatter by several per cent).
+#[test]
+fn paper003_particle_filters_beat_the_gaussian_filters() {
+    let labels = [
+        "EKF",
+        "PF",
+        "RPF",
+        "UPF",
+        "GA-PF",
+        "CGA-PF",
+        "PF N=10000 (reference)",
+    ];
+    let sm = reproduce("paper003", &labels, 16, 100.0);
+    for s in &sm {
+        eprintln!("{}: {:.2} m", s.label, s.rmse_pos);
+    }
+    let ekf = row(&sm, "EKF").rmse_pos;
+    let reference = row(&sm, "PF N=10000 (reference)").rmse_pos;
+    for l in ["PF", "RPF", "UPF", "GA-PF", "CGA-PF"] {
+        let s = row(&sm, l);
+        assert_eq!(s.failed_runs, 0, "{l}");
+        assert!(s.rmse_pos < 0.85 * ekf, "{l}: {} vs EKF {ekf}", s.rmse_pos);
+    }
+    for l in ["UPF", "CGA-PF"] {
+        let r = row(&sm, l).rmse_pos;
+        assert!(r < 1.15 * reference, "{l}: {r} vs reference {reference}");
+    }
+}

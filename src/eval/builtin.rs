@@ -9,6 +9,11 @@ pub const BUILTIN: &[(&str, &str, &str)] = &[
         include_str!("../../scenarios/paper000.toml"),
     ),
     (
+        "000",
+        "paper000_particles",
+        include_str!("../../scenarios/paper000_particles.toml"),
+    ),
+    (
         "002",
         "paper002_no_manoeuvre",
         include_str!("../../scenarios/paper002_no_manoeuvre.toml"),

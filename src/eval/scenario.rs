@@ -339,6 +339,10 @@ pub struct FilterSpec {
     /// Regularised PF: `gaussian` (default) or `epanechnikov`.
     #[serde(default)]
     pub kernel: Option<KernelName>,
+    /// Unscented PF / CGA-PF: carry each particle's UKF covariance (van der Merwe
+    /// literally) instead of restarting it from `Q` each step (default false).
+    #[serde(default)]
+    pub carry_covariance: bool,
 }
 
 fn default_particles() -> usize {
@@ -407,6 +411,7 @@ impl FilterSpec {
                 None => kind.default_init(),
             },
             seed,
+            carry_covariance: self.carry_covariance,
             ..PfParams::new(kind)
         }
     }

@@ -702,12 +702,17 @@ impl ParticleFilter {
                 *lw += *ll;
             }
         }
-        normalize_log_weights(&self.logw, &mut self.w).ok_or(FilterError::NonFinite(
-            "particle weights (every likelihood is zero)",
-        ))?;
-        // keep log-weights bounded: store the normalised ones
-        for (lw, w) in self.logw.iter_mut().zip(&self.w) {
-            *lw = w.ln();
+        let log_mean = normalize_log_weights(&self.logw, &mut self.w).ok_or(
+            FilterError::NonFinite("particle weights (every likelihood is zero)"),
+        )?;
+        // keep log-weights bounded: store the normalised ones, ln w_i = l_i - ln sum_j e^l_j
+        let log_sum = log_mean + (n as f64).ln();
+        if log_sum.is_finite() {
+            self.logw.iter_mut().for_each(|lw| *lw -= log_sum);
+        } else {
+            for (lw, w) in self.logw.iter_mut().zip(&self.w) {
+                *lw = w.ln();
+            }
         }
         self.ess = effective_sample_size(&self.w);
         self.summarise();
@@ -728,13 +733,17 @@ impl ParticleFilter {
             self.w.iter_mut().for_each(|v| *v = 1.0 / n as f64);
             self.logw.iter_mut().for_each(|v| *v = 0.0);
             self.resamples += 1;
+            // the weighted mean and covariance before a plain resampling are kept (lower
+            // variance than the resampled set's); moved particles are summarised again
             match self.params.kind {
                 PfKind::Rpf => self.regularise(self.params.kernel, &cov_before),
                 PfKind::Gapf => self.genetic_moves(&lik, &cov_before),
                 PfKind::Cgapf => self.cloud_moves(&lik),
                 PfKind::Sir | PfKind::Upf => {}
             }
-            self.summarise();
+            if !matches!(self.params.kind, PfKind::Sir | PfKind::Upf) {
+                self.summarise();
+            }
         }
         self.prior_mode = false;
         Ok(UpdateInfo {
@@ -761,11 +770,51 @@ impl Estimator for ParticleFilter {
             self.q_key = model.q;
         }
         let u = model.gamma * accel;
-        for (xi, xb) in self.x.iter_mut().zip(self.xbar.iter_mut()) {
-            *xb = model.phi * *xi + u;
-            *xi = *xb + self.q_sqrt * gauss6(&mut self.rng);
-        }
         let phi = model.phi;
+        let l = self.q_sqrt;
+        let lower = self.q_pd;
+        // moments about a reference point near the mean (no cancellation)
+        let reference = phi * self.mean + u;
+        let mut s1 = State::zeros();
+        let mut s2 = Mat6::zeros();
+        for ((xi, xb), wi) in self.x.iter_mut().zip(self.xbar.iter_mut()).zip(&self.w) {
+            *xb = phi * *xi + u;
+            let e = gauss6(&mut self.rng);
+            let noise = if lower {
+                // lower-triangular Cholesky factor: 21 products instead of 36
+                let mut v = State::zeros();
+                for r in 0..N {
+                    let mut acc = 0.0;
+                    for c in 0..=r {
+                        acc += l[(r, c)] * e[c];
+                    }
+                    v[r] = acc;
+                }
+                v
+            } else {
+                l * e
+            };
+            *xi = *xb + noise;
+            let d = *xi - reference;
+            s1 += d * *wi;
+            for c in 0..N {
+                let wdc = *wi * d[c];
+                for r in 0..=c {
+                    s2[(r, c)] += d[r] * wdc;
+                }
+            }
+        }
+        let wsum: f64 = self.w.iter().sum();
+        let md = s1 / wsum;
+        for c in 0..N {
+            for r in 0..=c {
+                let v = s2[(r, c)] / wsum - md[r] * md[c];
+                s2[(r, c)] = v;
+                s2[(c, r)] = v;
+            }
+        }
+        self.mean = reference + md;
+        self.cov = s2;
         for p in self.pc.iter_mut() {
             *p = symmetrize(&(phi * *p * phi.transpose() + model.q));
         }
@@ -773,7 +822,6 @@ impl Estimator for ParticleFilter {
             self.prior_mean = phi * self.prior_mean + u;
             self.prior_cov = symmetrize(&(phi * self.prior_cov * phi.transpose() + model.q));
         }
-        self.summarise();
         if !self.mean.iter().all(|v| v.is_finite()) {
             return Err(FilterError::NonFinite("particle mean"));
         }

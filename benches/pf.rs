@@ -1,0 +1,92 @@
+//! Criterion benchmarks of the particle filters: one step (update with the measurement,
+//! resampling when due, predict) on paper 000's model, in steady state. SIR at N = 1500
+//! and N = 100 000 (issue 4: ns per particle; target <= 100 us per step at N = 1500,
+//! single-threaded), RPF, UPF, GA-PF and CGA-PF at N = 1500. `scripts/bench.sh` runs these
+//! with the vectorised numpy SIR anchor (`benches/anchor_numpy_sir.py`) and prints medians
+//! and ratios.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, missing_docs)] // bench code
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use rand::SeedableRng;
+use relnav::dynamics::{CwModel, DiscreteModel, Discretization};
+use relnav::estimators::pf::{ParticleFilter, PfKind, PfParams};
+use relnav::estimators::Estimator;
+use relnav::nav::NavConfig;
+use relnav::sensors::RadioSensor;
+use relnav::types::{Mat3, Mat6, State, Vec3};
+use std::hint::black_box;
+
+/// Paper 000's model, sensor and a long run of noisy measurements (frame 2).
+fn setup(steps: usize) -> (DiscreteModel, RadioSensor, Vec<Vec3>) {
+    let cfg = NavConfig::default();
+    let f = cfg.frame;
+    let model = CwModel::new(cfg.mean_motion);
+    let mut d = model.discretize(1.0, &Mat3::zeros(), Discretization::Exact);
+    d.q += f.cov_to_canonical(&Mat6::from_diagonal(&State::from_row_slice(&[
+        cfg.q_pos[0],
+        cfg.q_pos[1],
+        cfg.q_pos[2],
+        cfg.q_vel[0],
+        cfg.q_vel[1],
+        cfg.q_vel[2],
+    ])));
+    let sensor = RadioSensor::new(f, cfg.sigma_range, cfg.sigma_angle);
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(1);
+    let x0 = f.state_to_canonical(&State::from_row_slice(&[
+        400.0, 500.0, 200.0, 0.0, 0.0, 0.0,
+    ]));
+    let zs = (0..steps)
+        .map(|k| {
+            let x = model.phi(k as f64) * x0;
+            sensor
+                .measure(&x.fixed_rows::<3>(0).into_owned(), &mut rng)
+                .unwrap()
+        })
+        .collect();
+    (d, sensor, zs)
+}
+
+fn bench_pf(c: &mut Criterion, name: &str, kind: PfKind, particles: usize) {
+    let cfg = NavConfig::default();
+    let (d, sensor, zs) = setup(20_000);
+    let params = PfParams {
+        particles,
+        seed: 7,
+        ..PfParams::new(kind)
+    };
+    let make = || {
+        let mut f = ParticleFilter::new(cfg.initial_state(), cfg.initial_covariance(), params);
+        // past the first-measurement initialisation into steady state
+        for z in zs.iter().take(20) {
+            f.update(&sensor, z).unwrap();
+            f.predict(&d, &Vec3::zeros()).unwrap();
+        }
+        f
+    };
+    let mut f = make();
+    let mut k = 20;
+    c.bench_function(name, |b| {
+        b.iter(|| {
+            if k == zs.len() {
+                f = make();
+                k = 20;
+            }
+            f.update(&sensor, black_box(&zs[k])).unwrap();
+            f.predict(&d, black_box(&Vec3::zeros())).unwrap();
+            k += 1;
+        })
+    });
+    black_box(f.state());
+}
+
+fn benches(c: &mut Criterion) {
+    bench_pf(c, "sir_step_n1500", PfKind::Sir, 1500);
+    bench_pf(c, "rpf_step_n1500", PfKind::Rpf, 1500);
+    bench_pf(c, "gapf_step_n1500", PfKind::Gapf, 1500);
+    bench_pf(c, "upf_step_n1500", PfKind::Upf, 1500);
+    bench_pf(c, "cgapf_step_n1500", PfKind::Cgapf, 1500);
+    bench_pf(c, "sir_step_n100000", PfKind::Sir, 100_000);
+}
+
+criterion_group!(pf, benches);
+criterion_main!(pf);
