@@ -16,22 +16,9 @@ NP = 1500
 SIG = np.array([0.5, 0.01 * math.pi / 180, 0.01 * math.pi / 180])
 
 
-def cw_phi(n, t):
-    """Closed-form CW transition (canonical frame: x radial, y along-track, z normal)."""
-    th = n * t
-    s, c = math.sin(th), math.cos(th)
-    return np.array([
-        [4 - 3 * c, 0, 0, s / n, 2 * (1 - c) / n, 0],
-        [6 * (s - th), 1, 0, -2 * (1 - c) / n, (4 * s - 3 * th) / n, 0],
-        [0, 0, c, 0, 0, s / n],
-        [3 * n * s, 0, 0, c, 2 * s, 0],
-        [-6 * n * (1 - c), 0, 0, -2 * s, 4 * c - 3, 0],
-        [0, 0, -n * s, 0, 0, c],
-    ])
+# the same closed-form CW transition and frame-2 rotation as the filterpy anchor
+from anchor_filterpy import T6, cw_phi  # noqa: E402
 
-
-T2 = np.array([[0, 1, 0], [1, 0, 0], [0, 0, -1]], dtype=float)
-T6 = np.block([[T2, np.zeros((3, 3))], [np.zeros((3, 3)), T2]])
 PHI = T6 @ cw_phi(N_MOTION, 1.0) @ T6.T  # frame 2 throughout
 QL = np.linalg.cholesky(np.diag([0.09, 0.000625, 0.0025, 1e-6, 1e-6, 1e-6]))
 
