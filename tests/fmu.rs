@@ -250,7 +250,7 @@ fn call_sequence_and_parameter_errors() {
             assert_eq!(fmi2ExitInitializationMode(c), ERR, "vr {r} = {v}");
             assert_eq!(fmi2Reset(c), OK);
         }
-        for f in 3..=9 {
+        for f in [3, 9] {
             assert_eq!(set_int(c, vr::FILTER, f), OK);
             assert_eq!(fmi2EnterInitializationMode(c), OK);
             assert_eq!(fmi2ExitInitializationMode(c), ERR, "filter {f}");
