@@ -30,15 +30,16 @@ typedef enum relnav_filter {
   RELNAV_FILTER_UKF = 2,
   // Sliding-window adaptive UKF (paper 001); not implemented yet.
   RELNAV_FILTER_AQUKF = 3,
-  // SIR particle filter; not implemented yet.
+  // SIR (bootstrap) particle filter (paper 000). Its velocities stay impoverished on
+  // paper 000's example (metres off after 100 s): prefer RPF or CGA-PF.
   RELNAV_FILTER_PF = 4,
-  // Regularised particle filter; not implemented yet.
+  // Regularised particle filter (kernel jitter after resampling).
   RELNAV_FILTER_RPF = 5,
-  // Unscented particle filter; not implemented yet.
+  // Unscented particle filter (per-particle UKF proposal).
   RELNAV_FILTER_UPF = 6,
-  // Genetic particle filter; not implemented yet.
+  // Genetic-algorithm particle filter (crossover and mutation after resampling).
   RELNAV_FILTER_GAPF = 7,
-  // Cloud-genetic particle filter (paper 003); not implemented yet.
+  // Cloud-genetic particle filter (paper 003): UKF proposal, cloud-model genetic moves.
   RELNAV_FILTER_CGAPF = 8,
   // Robust H-infinity filter (paper 002); not implemented yet.
   RELNAV_FILTER_HINF = 9,
@@ -62,6 +63,30 @@ typedef enum relnav_discretization {
   RELNAV_DISCRETIZATION_EULER = 2,
 } relnav_discretization;
 
+// Resampling schemes for `relnav_config.resampler` (particle filters only).
+typedef enum relnav_resampler {
+  // `N` independent draws from the weights (paper 000's SIR).
+  RELNAV_RESAMPLER_MULTINOMIAL = 1,
+  // One uniform, `N` evenly spaced points (Kitagawa 1996); the default.
+  RELNAV_RESAMPLER_SYSTEMATIC = 2,
+  // One uniform per stratum (Kitagawa 1996).
+  RELNAV_RESAMPLER_STRATIFIED = 3,
+  // `floor(N w_i)` deterministic copies, the rest multinomial (Liu & Chen 1998).
+  RELNAV_RESAMPLER_RESIDUAL = 4,
+} relnav_resampler;
+
+// Measurement-noise densities for `relnav_config.noise_model`, each scaled by
+// `sigma_range` / `sigma_angle`.
+typedef enum relnav_noise_model {
+  // Gaussian `N(0, sigma^2)`.
+  RELNAV_NOISE_GAUSSIAN = 1,
+  // Contaminated Gaussian `(1 - zeta) N(0, sigma^2) + zeta N(0, (scale sigma)^2)`
+  // (`noise_zeta`, `noise_scale`; paper 003).
+  RELNAV_NOISE_MIXTURE = 2,
+  // Student-t `sigma t_dof` (`noise_dof`).
+  RELNAV_NOISE_STUDENT_T = 3,
+} relnav_noise_model;
+
 // Opaque estimator handle.
 typedef struct relnav_estimator relnav_estimator;
 
@@ -69,7 +94,7 @@ typedef struct relnav_estimator relnav_estimator;
 // [`relnav_config_default`], then change what you need. Enum fields are plain integers so
 // that an unknown value is reported, not undefined behaviour.
 typedef struct relnav_config {
-  // A `relnav_filter` code (1 EKF, 2 UKF, ...).
+  // A `relnav_filter` code (1 EKF, 2 UKF, 4-8 particle filters; 3 and 9 are reserved).
   int32_t filter;
   // A `relnav_frame` code: the frame of every vector and angle passed in and out.
   int32_t frame;
@@ -79,9 +104,10 @@ typedef struct relnav_config {
   double mean_motion;
   // Chaser mass [kg], > 0.
   double chaser_mass;
-  // Range noise 1 sigma [m], > 0.
+  // Range noise scale [m], > 0: the 1 sigma of a Gaussian `noise_model`, the nominal
+  // sigma of the others.
   double sigma_range;
-  // Azimuth and elevation noise 1 sigma [rad], > 0.
+  // Azimuth and elevation noise scale [rad], > 0 (as `sigma_range`).
   double sigma_angle;
   // Initial estimate (x, y, z [m], vx, vy, vz [m/s]).
   double x0[6];
@@ -95,15 +121,36 @@ typedef struct relnav_config {
   double q_pos[3];
   // Velocity variance rate per axis [m^2/s^3], >= 0 (discrete Q = q_vel * h).
   double q_vel[3];
-  // UKF sigma-point spread alpha (> 0).
+  // UKF sigma-point spread alpha (> 0); also the unscented proposal of UPF and CGA-PF.
   double ukf_alpha;
   // UKF beta (2 for Gaussian priors).
   double ukf_beta;
   // UKF kappa.
   double ukf_kappa;
-  // Seed for filters that draw random numbers (identical seeds give identical outputs).
+  // Seed for filters that draw random numbers (the particle filters): identical seeds
+  // give bit-identical outputs, also after `relnav_estimator_reset`.
   uint64_t seed;
+  // Number of particles of the particle filters (codes 4-8), 1..=2000000 (default 1500).
+  int32_t particles;
+  // A `relnav_resampler` code (default 2, systematic).
+  int32_t resampler;
+  // Resample when the effective sample size drops below `resample_threshold * particles`;
+  // in (0, 1] (default 2/3, paper 000).
+  double resample_threshold;
+  // A `relnav_noise_model` code (default 1, Gaussian). The particle filters weigh with
+  // this density; the Kalman filters assume the Gaussian of its variance (`sigma^2` times
+  // `1 - zeta + zeta scale^2` for the mixture, `dof / (dof - 2)` for the Student-t), so
+  // every filter sees the same noise statistics.
+  int32_t noise_model;
+  // Mixture: weight of the wide component, in [0, 1) (default 0.2).
+  double noise_zeta;
+  // Mixture: the wide component's sigma over the nominal one, >= 1 (default 10).
+  double noise_scale;
+  // Student-t: degrees of freedom, > 2 (default 4).
+  double noise_dof;
 } relnav_config;
+
+
 
 
 
@@ -124,8 +171,9 @@ const char *relnav_status_string(int status);
 const char *relnav_last_error(void);
 
 // The default configuration: paper 000's numerical example (frame 2, 7200 s orbit, EKF,
-// 0.5 m / 0.01 deg noise, initial estimate (405, 505, 205, 0.1, 0.1, 0.1), 50 m / 1 m/s
-// initial sigma, the paper's diagonal process noise per 1 s step).
+// 0.5 m / 0.01 deg Gaussian noise, initial estimate (405, 505, 205, 0.1, 0.1, 0.1),
+// 50 m / 1 m/s initial sigma, the paper's diagonal process noise per 1 s step; for the
+// particle filters 1500 particles, systematic resampling below N_eff = 2/3 N, seed 0).
 struct relnav_config relnav_config_default(void);
 
 // Check a configuration without creating an estimator.
@@ -211,7 +259,9 @@ enum relnav_status relnav_estimator_get_config(const struct relnav_estimator *es
                                                struct relnav_config *out);
 
 // Diagnostics of the last measurement update: innovation (3 doubles, azimuth wrapped) and
-// its normalised squared value NIS. Both are NaN before the first update.
+// its normalised squared value NIS. Both are NaN before the first update. The particle
+// filters give the innovation of their weighted mean (zero at the first update, which
+// initialises the particles from the measurement) and no NIS (NaN).
 //
 // # Safety
 // `estimator` is a live handle or null; `innovation` is null or 3 writable doubles;
@@ -219,6 +269,15 @@ enum relnav_status relnav_estimator_get_config(const struct relnav_estimator *es
 enum relnav_status relnav_estimator_get_innovation(const struct relnav_estimator *estimator,
                                                    double *innovation,
                                                    double *nis);
+
+// The effective sample size `1 / sum w_i^2` of a particle filter (codes 4-8) after its
+// last measurement update, before resampling (the particle count before the first
+// update); it lies in [1, particles]. The Kalman filters (codes 1, 2) carry no particles:
+// `*out` is NaN for them (and the status `RELNAV_OK`).
+//
+// # Safety
+// `estimator` is a live handle or null; `out` is null or writable.
+enum relnav_status relnav_estimator_get_ess(const struct relnav_estimator *estimator, double *out);
 
 #ifdef __cplusplus
 }  // extern "C"

@@ -18,9 +18,10 @@
 #![allow(non_camel_case_types)]
 
 use crate::dynamics::Discretization;
+use crate::estimators::pf::resample::Resampler;
 use crate::estimators::UkfParams;
 use crate::frames::Frame;
-use crate::nav::{FilterKind, NavConfig, NavError, NavErrorKind, Navigator};
+use crate::nav::{FilterKind, NavConfig, NavError, NavErrorKind, Navigator, NoiseKind};
 use std::cell::RefCell;
 use std::ffi::{c_char, c_int, CStr, CString};
 use std::panic::{catch_unwind, AssertUnwindSafe};
@@ -53,15 +54,16 @@ pub enum relnav_filter {
     RELNAV_FILTER_UKF = 2,
     /// Sliding-window adaptive UKF (paper 001); not implemented yet.
     RELNAV_FILTER_AQUKF = 3,
-    /// SIR particle filter; not implemented yet.
+    /// SIR (bootstrap) particle filter (paper 000). Its velocities stay impoverished on
+    /// paper 000's example (metres off after 100 s): prefer RPF or CGA-PF.
     RELNAV_FILTER_PF = 4,
-    /// Regularised particle filter; not implemented yet.
+    /// Regularised particle filter (kernel jitter after resampling).
     RELNAV_FILTER_RPF = 5,
-    /// Unscented particle filter; not implemented yet.
+    /// Unscented particle filter (per-particle UKF proposal).
     RELNAV_FILTER_UPF = 6,
-    /// Genetic particle filter; not implemented yet.
+    /// Genetic-algorithm particle filter (crossover and mutation after resampling).
     RELNAV_FILTER_GAPF = 7,
-    /// Cloud-genetic particle filter (paper 003); not implemented yet.
+    /// Cloud-genetic particle filter (paper 003): UKF proposal, cloud-model genetic moves.
     RELNAV_FILTER_CGAPF = 8,
     /// Robust H-infinity filter (paper 002); not implemented yet.
     RELNAV_FILTER_HINF = 9,
@@ -89,13 +91,41 @@ pub enum relnav_discretization {
     RELNAV_DISCRETIZATION_EULER = 2,
 }
 
+/// Resampling schemes for `relnav_config.resampler` (particle filters only).
+#[repr(C)]
+#[derive(Debug, Clone, Copy)]
+pub enum relnav_resampler {
+    /// `N` independent draws from the weights (paper 000's SIR).
+    RELNAV_RESAMPLER_MULTINOMIAL = 1,
+    /// One uniform, `N` evenly spaced points (Kitagawa 1996); the default.
+    RELNAV_RESAMPLER_SYSTEMATIC = 2,
+    /// One uniform per stratum (Kitagawa 1996).
+    RELNAV_RESAMPLER_STRATIFIED = 3,
+    /// `floor(N w_i)` deterministic copies, the rest multinomial (Liu & Chen 1998).
+    RELNAV_RESAMPLER_RESIDUAL = 4,
+}
+
+/// Measurement-noise densities for `relnav_config.noise_model`, each scaled by
+/// `sigma_range` / `sigma_angle`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy)]
+pub enum relnav_noise_model {
+    /// Gaussian `N(0, sigma^2)`.
+    RELNAV_NOISE_GAUSSIAN = 1,
+    /// Contaminated Gaussian `(1 - zeta) N(0, sigma^2) + zeta N(0, (scale sigma)^2)`
+    /// (`noise_zeta`, `noise_scale`; paper 003).
+    RELNAV_NOISE_MIXTURE = 2,
+    /// Student-t `sigma t_dof` (`noise_dof`).
+    RELNAV_NOISE_STUDENT_T = 3,
+}
+
 /// Estimator configuration. Get the defaults (paper 000's example) from
 /// [`relnav_config_default`], then change what you need. Enum fields are plain integers so
 /// that an unknown value is reported, not undefined behaviour.
 #[repr(C)]
 #[derive(Debug, Clone, Copy)]
 pub struct relnav_config {
-    /// A `relnav_filter` code (1 EKF, 2 UKF, ...).
+    /// A `relnav_filter` code (1 EKF, 2 UKF, 4-8 particle filters; 3 and 9 are reserved).
     pub filter: i32,
     /// A `relnav_frame` code: the frame of every vector and angle passed in and out.
     pub frame: i32,
@@ -105,9 +135,10 @@ pub struct relnav_config {
     pub mean_motion: f64,
     /// Chaser mass [kg], > 0.
     pub chaser_mass: f64,
-    /// Range noise 1 sigma [m], > 0.
+    /// Range noise scale [m], > 0: the 1 sigma of a Gaussian `noise_model`, the nominal
+    /// sigma of the others.
     pub sigma_range: f64,
-    /// Azimuth and elevation noise 1 sigma [rad], > 0.
+    /// Azimuth and elevation noise scale [rad], > 0 (as `sigma_range`).
     pub sigma_angle: f64,
     /// Initial estimate (x, y, z [m], vx, vy, vz [m/s]).
     pub x0: [f64; 6],
@@ -121,14 +152,33 @@ pub struct relnav_config {
     pub q_pos: [f64; 3],
     /// Velocity variance rate per axis [m^2/s^3], >= 0 (discrete Q = q_vel * h).
     pub q_vel: [f64; 3],
-    /// UKF sigma-point spread alpha (> 0).
+    /// UKF sigma-point spread alpha (> 0); also the unscented proposal of UPF and CGA-PF.
     pub ukf_alpha: f64,
     /// UKF beta (2 for Gaussian priors).
     pub ukf_beta: f64,
     /// UKF kappa.
     pub ukf_kappa: f64,
-    /// Seed for filters that draw random numbers (identical seeds give identical outputs).
+    /// Seed for filters that draw random numbers (the particle filters): identical seeds
+    /// give bit-identical outputs, also after `relnav_estimator_reset`.
     pub seed: u64,
+    /// Number of particles of the particle filters (codes 4-8), 1..=2000000 (default 1500).
+    pub particles: i32,
+    /// A `relnav_resampler` code (default 2, systematic).
+    pub resampler: i32,
+    /// Resample when the effective sample size drops below `resample_threshold * particles`;
+    /// in (0, 1] (default 2/3, paper 000).
+    pub resample_threshold: f64,
+    /// A `relnav_noise_model` code (default 1, Gaussian). The particle filters weigh with
+    /// this density; the Kalman filters assume the Gaussian of its variance (`sigma^2` times
+    /// `1 - zeta + zeta scale^2` for the mixture, `dof / (dof - 2)` for the Student-t), so
+    /// every filter sees the same noise statistics.
+    pub noise_model: i32,
+    /// Mixture: weight of the wide component, in [0, 1) (default 0.2).
+    pub noise_zeta: f64,
+    /// Mixture: the wide component's sigma over the nominal one, >= 1 (default 10).
+    pub noise_scale: f64,
+    /// Student-t: degrees of freedom, > 2 (default 4).
+    pub noise_dof: f64,
 }
 
 /// Opaque estimator handle.
@@ -278,6 +328,13 @@ impl From<&NavConfig> for relnav_config {
             ukf_beta: c.ukf.beta,
             ukf_kappa: c.ukf.kappa,
             seed: c.seed,
+            particles: i32::try_from(c.particles).unwrap_or(i32::MAX),
+            resampler: c.resampler as i32,
+            resample_threshold: c.resample_threshold,
+            noise_model: c.noise_model as i32,
+            noise_zeta: c.noise_zeta,
+            noise_scale: c.noise_scale,
+            noise_dof: c.noise_dof,
         }
     }
 }
@@ -289,6 +346,14 @@ impl TryFrom<&relnav_config> for NavConfig {
             kind: NavErrorKind::InvalidArgument,
             message: format!("unknown {what} code {v} (allowed: {allowed})"),
         };
+        let particles = usize::try_from(c.particles).map_err(|_| NavError {
+            kind: NavErrorKind::InvalidArgument,
+            message: format!(
+                "particles must lie in 1..={} (got {})",
+                crate::estimators::pf::MAX_PARTICLES,
+                c.particles
+            ),
+        })?;
         let cfg = NavConfig {
             filter: FilterKind::from_code(c.filter).ok_or_else(|| {
                 bad(
@@ -322,6 +387,25 @@ impl TryFrom<&relnav_config> for NavConfig {
                 kappa: c.ukf_kappa,
             },
             seed: c.seed,
+            particles,
+            resampler: Resampler::from_code(c.resampler).ok_or_else(|| {
+                bad(
+                    "resampler",
+                    c.resampler,
+                    "1 multinomial, 2 systematic, 3 stratified, 4 residual",
+                )
+            })?,
+            resample_threshold: c.resample_threshold,
+            noise_model: NoiseKind::from_code(c.noise_model).ok_or_else(|| {
+                bad(
+                    "noise_model",
+                    c.noise_model,
+                    "1 gaussian, 2 mixture, 3 student_t",
+                )
+            })?,
+            noise_zeta: c.noise_zeta,
+            noise_scale: c.noise_scale,
+            noise_dof: c.noise_dof,
         };
         cfg.validate()?;
         Ok(cfg)
@@ -363,8 +447,9 @@ pub extern "C" fn relnav_last_error() -> *const c_char {
 }
 
 /// The default configuration: paper 000's numerical example (frame 2, 7200 s orbit, EKF,
-/// 0.5 m / 0.01 deg noise, initial estimate (405, 505, 205, 0.1, 0.1, 0.1), 50 m / 1 m/s
-/// initial sigma, the paper's diagonal process noise per 1 s step).
+/// 0.5 m / 0.01 deg Gaussian noise, initial estimate (405, 505, 205, 0.1, 0.1, 0.1),
+/// 50 m / 1 m/s initial sigma, the paper's diagonal process noise per 1 s step; for the
+/// particle filters 1500 particles, systematic resampling below N_eff = 2/3 N, seed 0).
 #[no_mangle]
 pub extern "C" fn relnav_config_default() -> relnav_config {
     relnav_config::from(&NavConfig::default())
@@ -608,7 +693,9 @@ pub unsafe extern "C" fn relnav_estimator_get_config(
 }
 
 /// Diagnostics of the last measurement update: innovation (3 doubles, azimuth wrapped) and
-/// its normalised squared value NIS. Both are NaN before the first update.
+/// its normalised squared value NIS. Both are NaN before the first update. The particle
+/// filters give the innovation of their weighted mean (zero at the first update, which
+/// initialises the particles from the measurement) and no NIS (NaN).
 ///
 /// # Safety
 /// `estimator` is a live handle or null; `innovation` is null or 3 writable doubles;
@@ -635,6 +722,29 @@ pub unsafe extern "C" fn relnav_estimator_get_innovation(
         // SAFETY: as above.
         unsafe { write_array(innovation, &nu, "innovation", F) }?;
         *n = v;
+        Ok(())
+    })
+}
+
+/// The effective sample size `1 / sum w_i^2` of a particle filter (codes 4-8) after its
+/// last measurement update, before resampling (the particle count before the first
+/// update); it lies in [1, particles]. The Kalman filters (codes 1, 2) carry no particles:
+/// `*out` is NaN for them (and the status `RELNAV_OK`).
+///
+/// # Safety
+/// `estimator` is a live handle or null; `out` is null or writable.
+#[no_mangle]
+pub unsafe extern "C" fn relnav_estimator_get_ess(
+    estimator: *const relnav_estimator,
+    out: *mut f64,
+) -> relnav_status {
+    const F: &str = "relnav_estimator_get_ess";
+    boundary(F, || {
+        // SAFETY: pointer contracts are the caller's, checked for null.
+        let nav = unsafe { estimator_ref(estimator, F) }?;
+        // SAFETY: as above.
+        let o = unsafe { out.as_mut() }.ok_or_else(|| null("out", F))?;
+        *o = nav.ess().unwrap_or(f64::NAN);
         Ok(())
     })
 }

@@ -13,11 +13,21 @@
 //! discretisation) and `q_pos` [m^2/s], `q_vel` [m^2/s^3] are per-axis variance rates in
 //! the I/O frame that reproduce a paper's diagonal discrete `Q` (paper 000: its `Q` per 1 s
 //! step, so `q_pos = (0.3^2, 0.025^2, 0.05^2)`, `q_vel = 0.001^2` each).
+//!
+//! **Measurement noise.** `sigma_range` and `sigma_angle` are the scales of the noise
+//! density [`NavConfig::noise_model`] (Gaussian by default; a contaminated Gaussian or a
+//! Student-t for heavy tails, see [`crate::noise`]). The particle filters (codes 4-8) weigh
+//! with that density itself; the Kalman filters (codes 1, 2) assume the Gaussian of the
+//! same variance, i.e. `sigma^2 * variance_factor` (`1 - zeta + zeta scale^2` for the
+//! mixture, `dof / (dof - 2)` for the Student-t), so every filter sees the same noise
+//! statistics.
 
 use crate::dynamics::{CwModel, DiscreteModel, Discretization};
-use crate::estimators::pf::ParticleFilter;
+use crate::estimators::pf::resample::Resampler;
+use crate::estimators::pf::{ParticleFilter, PfKind, PfParams, MAX_PARTICLES};
 use crate::estimators::{Ekf, Estimator, FilterError, Ukf, UkfParams, UpdateInfo};
 use crate::frames::Frame;
+use crate::noise::NoiseModel;
 use crate::sensors::{MeasurementModel, RadioSensor};
 use crate::types::{Mat3, Mat6, State, Vec3};
 
@@ -35,15 +45,15 @@ pub enum FilterKind {
     Ukf = 2,
     /// Sliding-window adaptive UKF (paper 001) — not yet implemented.
     Aqukf = 3,
-    /// SIR particle filter (paper 000) — not yet implemented.
+    /// SIR (bootstrap) particle filter (paper 000).
     Pf = 4,
-    /// Regularised particle filter — not yet implemented.
+    /// Regularised particle filter (kernel jitter after resampling).
     Rpf = 5,
-    /// Unscented particle filter — not yet implemented.
+    /// Unscented particle filter (per-particle UKF proposal).
     Upf = 6,
-    /// Genetic-algorithm particle filter — not yet implemented.
+    /// Genetic-algorithm particle filter (crossover and mutation after resampling).
     Gapf = 7,
-    /// Cloud-genetic particle filter (paper 003) — not yet implemented.
+    /// Cloud-genetic particle filter (paper 003).
     Cgapf = 8,
     /// Robust H-infinity filter (paper 002) — not yet implemented.
     Hinf = 9,
@@ -85,7 +95,52 @@ impl FilterKind {
 
     /// Whether this build implements the filter.
     pub fn is_implemented(self) -> bool {
-        matches!(self, FilterKind::Ekf | FilterKind::Ukf)
+        !matches!(self, FilterKind::Aqukf | FilterKind::Hinf)
+    }
+
+    /// The particle-filter variant of codes 4-8 (`None` for the other filters).
+    pub fn pf_kind(self) -> Option<PfKind> {
+        match self {
+            FilterKind::Pf => Some(PfKind::Sir),
+            FilterKind::Rpf => Some(PfKind::Rpf),
+            FilterKind::Upf => Some(PfKind::Upf),
+            FilterKind::Gapf => Some(PfKind::Gapf),
+            FilterKind::Cgapf => Some(PfKind::Cgapf),
+            _ => None,
+        }
+    }
+}
+
+/// Measurement-noise density codes, shared by the C ABI (`relnav_noise_model`) and the FMU
+/// (`noise_model` parameter). The parameters live beside it in [`NavConfig`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[repr(i32)]
+pub enum NoiseKind {
+    /// `N(0, sigma^2)`.
+    Gaussian = 1,
+    /// Contaminated Gaussian `(1 - zeta) N(0, sigma^2) + zeta N(0, (scale sigma)^2)`
+    /// (paper 003's heavy-tailed lidar noise).
+    Mixture = 2,
+    /// `sigma t_dof`, Student-t with `dof` degrees of freedom.
+    StudentT = 3,
+}
+
+impl NoiseKind {
+    /// All codes, in order.
+    pub const ALL: [NoiseKind; 3] = [NoiseKind::Gaussian, NoiseKind::Mixture, NoiseKind::StudentT];
+
+    /// From the stable code 1..=3.
+    pub fn from_code(code: i32) -> Option<Self> {
+        Self::ALL.into_iter().find(|k| *k as i32 == code)
+    }
+
+    /// Short name (`gaussian`, `mixture`, `student_t`).
+    pub fn name(self) -> &'static str {
+        match self {
+            NoiseKind::Gaussian => "gaussian",
+            NoiseKind::Mixture => "mixture",
+            NoiseKind::StudentT => "student_t",
+        }
     }
 }
 
@@ -101,9 +156,10 @@ pub struct NavConfig {
     pub mean_motion: f64,
     /// Chaser mass [kg], > 0 (thrust / mass = acceleration).
     pub chaser_mass: f64,
-    /// Range noise, 1 sigma [m], > 0.
+    /// Range noise scale [m], > 0: the standard deviation of the nominal (Gaussian) part of
+    /// [`NavConfig::noise_model`].
     pub sigma_range: f64,
-    /// Azimuth/elevation noise, 1 sigma [rad], > 0.
+    /// Azimuth/elevation noise scale [rad], > 0 (as `sigma_range`).
     pub sigma_angle: f64,
     /// Initial estimate `(x, y, z, vx, vy, vz)` in the I/O frame [m, m/s].
     pub x0: [f64; 6],
@@ -121,8 +177,27 @@ pub struct NavConfig {
     pub discretization: Discretization,
     /// UKF sigma-point parameters.
     pub ukf: UkfParams,
-    /// Seed for filters that draw random numbers.
+    /// Seed for filters that draw random numbers (the particle filters): identical seeds
+    /// give bit-identical outputs, also after [`Navigator::reset`].
     pub seed: u64,
+    /// Number of particles of the particle filters, `1..=MAX_PARTICLES` (paper 003: 1500).
+    pub particles: usize,
+    /// Resampling scheme of the particle filters (codes 1 multinomial, 2 systematic,
+    /// 3 stratified, 4 residual).
+    pub resampler: Resampler,
+    /// The particle filters resample when `N_eff < resample_threshold * particles`; in
+    /// (0, 1] (paper 000: 2/3).
+    pub resample_threshold: f64,
+    /// Measurement-noise density with scales `sigma_range`, `sigma_angle`. The particle
+    /// filters weigh with it; the Kalman filters use the Gaussian of its variance,
+    /// `sigma^2 * NoiseModel::variance_factor()` (see the module documentation).
+    pub noise_model: NoiseKind,
+    /// Contamination weight of the mixture noise model, in [0, 1).
+    pub noise_zeta: f64,
+    /// Standard deviation of the mixture's wide component over the nominal one, >= 1.
+    pub noise_scale: f64,
+    /// Degrees of freedom of the Student-t noise model, > 2 (finite variance).
+    pub noise_dof: f64,
 }
 
 impl Default for NavConfig {
@@ -145,6 +220,13 @@ impl Default for NavConfig {
             discretization: Discretization::Exact,
             ukf: UkfParams::default(),
             seed: 0,
+            particles: 1500,
+            resampler: Resampler::Systematic,
+            resample_threshold: 2.0 / 3.0,
+            noise_model: NoiseKind::Gaussian,
+            noise_zeta: 0.2,
+            noise_scale: 10.0,
+            noise_dof: 4.0,
         }
     }
 }
@@ -239,13 +321,19 @@ impl NavConfig {
     /// Check every field; the error names the first offending one.
     pub fn validate(&self) -> Result<(), NavError> {
         if !self.filter.is_implemented() {
+            let available: Vec<String> = FilterKind::ALL
+                .iter()
+                .filter(|k| k.is_implemented())
+                .map(|k| format!("{} {}", *k as i32, k.name()))
+                .collect();
             return Err(NavError {
                 kind: NavErrorKind::NotImplemented,
                 message: format!(
-                    "filter {} ({}) is not implemented in relnav {}; available: 1 ekf, 2 ukf",
+                    "filter {} ({}) is not implemented in relnav {}; available: {}",
                     self.filter as i32,
                     self.filter.name(),
-                    crate::VERSION
+                    crate::VERSION,
+                    available.join(", ")
                 ),
             });
         }
@@ -301,7 +389,94 @@ impl NavConfig {
         }
         // checked whatever the filter, so a bad value never hides until the filter changes
         self.ukf.validate().map_err(NavError::invalid)?;
+        if !(1..=MAX_PARTICLES).contains(&self.particles) {
+            return Err(NavError::invalid(format!(
+                "particles must lie in 1..={MAX_PARTICLES} (got {})",
+                self.particles
+            )));
+        }
+        if !(self.resample_threshold > 0.0 && self.resample_threshold <= 1.0) {
+            return Err(NavError::invalid(format!(
+                "resample_threshold must lie in (0, 1] (got {}): the particles are resampled \
+                 when N_eff < resample_threshold * particles",
+                num(self.resample_threshold)
+            )));
+        }
+        if !(0.0..1.0).contains(&self.noise_zeta) {
+            return Err(NavError::invalid(format!(
+                "noise_zeta must lie in [0, 1) (got {}): the weight of the mixture's wide component",
+                num(self.noise_zeta)
+            )));
+        }
+        if !(self.noise_scale.is_finite() && self.noise_scale >= 1.0) {
+            return Err(NavError::invalid(format!(
+                "noise_scale must be finite and >= 1 (got {}): the mixture's wide component over \
+                 the nominal sigma",
+                num(self.noise_scale)
+            )));
+        }
+        if !(self.noise_dof.is_finite() && self.noise_dof > 2.0) {
+            return Err(NavError::invalid(format!(
+                "noise_dof must be finite and > 2 (got {}): the Student-t needs a finite variance",
+                num(self.noise_dof)
+            )));
+        }
+        for (name, v) in [
+            ("sigma_range", self.sigma_range),
+            ("sigma_angle", self.sigma_angle),
+        ] {
+            let var = v * v * self.noise().variance_factor();
+            if !var.is_finite() {
+                return Err(NavError::invalid(format!(
+                    "{name} = {} with noise model {} has no finite variance",
+                    num(v),
+                    self.noise_model.name()
+                )));
+            }
+        }
+        if self.filter.pf_kind().is_some_and(PfKind::unscented)
+            && !(self.accel_psd > 0.0 || self.q_pos.iter().chain(&self.q_vel).all(|q| *q > 0.0))
+        {
+            return Err(NavError::invalid(format!(
+                "filter {} needs a positive-definite process noise (accel_psd > 0, or every \
+                 q_pos_* and q_vel_* > 0): its proposal is built on the transition density",
+                self.filter.name()
+            )));
+        }
+        if let Some(p) = self.pf_params() {
+            p.validate().map_err(NavError::invalid)?;
+        }
         Ok(())
+    }
+
+    /// The measurement-noise density (scales `sigma_range`, `sigma_angle`).
+    pub fn noise(&self) -> NoiseModel {
+        match self.noise_model {
+            NoiseKind::Gaussian => NoiseModel::Gaussian,
+            NoiseKind::Mixture => NoiseModel::Mixture {
+                zeta: self.noise_zeta,
+                scale: self.noise_scale,
+            },
+            NoiseKind::StudentT => NoiseModel::StudentT {
+                dof: self.noise_dof,
+            },
+        }
+    }
+
+    /// The particle-filter settings for filter codes 4-8 (`None` for the other filters):
+    /// `PfParams::new(kind)` with `particles`, `resampler`, `resample_threshold`, `seed` and
+    /// the UKF parameters (the unscented proposal of `upf` and `cgapf`) of this
+    /// configuration.
+    pub fn pf_params(&self) -> Option<PfParams> {
+        let kind = self.filter.pf_kind()?;
+        Some(PfParams {
+            particles: self.particles,
+            resampler: self.resampler,
+            threshold: self.resample_threshold,
+            seed: self.seed,
+            ukf: self.ukf,
+            ..PfParams::new(kind)
+        })
     }
 
     /// Initial estimate in the canonical frame.
@@ -324,7 +499,7 @@ pub enum AnyFilter {
     Ekf(Ekf),
     /// Unscented Kalman filter.
     Ukf(Ukf),
-    /// Particle filter (SIR or regularised); evaluation engine only for now.
+    /// Particle filter (codes 4-8: SIR, regularised, unscented, genetic, cloud-genetic).
     Pf(ParticleFilter),
 }
 
@@ -371,37 +546,66 @@ impl Estimator for AnyFilter {
 }
 
 /// A configured estimator working in the user's frame and units.
+///
+/// **Failures.** Inputs are checked before anything changes. A Kalman filter that fails
+/// numerically inside a step (zero range, loss of positive definiteness) is restored to
+/// its state before the step. A particle filter is not: copying its particle set would
+/// allocate and cost as much as the step itself, so a particle filter whose step fails
+/// (every likelihood zero, a non-finite particle mean, a measurement that cannot be
+/// inverted at the first update) is marked failed and every later `update`, `predict` or
+/// `step` is refused with [`NavErrorKind::Numerical`] until [`Navigator::reset`].
 #[derive(Debug, Clone)]
 pub struct Navigator {
     cfg: NavConfig,
     model: CwModel,
+    /// the sensor with the noise model's scales (particle filters' likelihood)
     sensor: RadioSensor,
+    /// the sensor with the noise model's variance (Kalman filters)
+    kalman_sensor: RadioSensor,
+    noise: NoiseModel,
+    scales: [f64; 3],
     filter: AnyFilter,
     step_cache: DiscreteModel,
     last_update: Option<UpdateInfo>,
+    /// a particle filter failed inside a step: refuse to go on until reset
+    failed: bool,
+}
+
+fn build_filter(cfg: &NavConfig) -> Result<AnyFilter, NavError> {
+    let x0 = cfg.initial_state();
+    let p0 = cfg.initial_covariance();
+    if let Some(params) = cfg.pf_params() {
+        return Ok(AnyFilter::Pf(ParticleFilter::new(x0, p0, params)));
+    }
+    match cfg.filter {
+        FilterKind::Ekf => Ok(AnyFilter::Ekf(Ekf::new(x0, p0))),
+        FilterKind::Ukf => Ok(AnyFilter::Ukf(Ukf::new(x0, p0, cfg.ukf))),
+        other => Err(NavError {
+            kind: NavErrorKind::NotImplemented,
+            message: format!("filter {} is not implemented", other.name()),
+        }),
+    }
 }
 
 impl Navigator {
     /// Build a navigator; fails with a message naming the bad parameter.
     pub fn new(cfg: &NavConfig) -> Result<Self, NavError> {
         cfg.validate()?;
-        let x0 = cfg.initial_state();
-        let p0 = cfg.initial_covariance();
-        let filter = match cfg.filter {
-            FilterKind::Ekf => AnyFilter::Ekf(Ekf::new(x0, p0)),
-            FilterKind::Ukf => AnyFilter::Ukf(Ukf::new(x0, p0, cfg.ukf)),
-            other => {
-                return Err(NavError {
-                    kind: NavErrorKind::NotImplemented,
-                    message: format!("filter {} is not implemented", other.name()),
-                })
-            }
-        };
+        let filter = build_filter(cfg)?;
         let model = CwModel::new(cfg.mean_motion);
+        let noise = cfg.noise();
+        let inflate = noise.variance_factor().sqrt();
         let mut nav = Self {
             cfg: *cfg,
             model,
             sensor: RadioSensor::new(cfg.frame, cfg.sigma_range, cfg.sigma_angle),
+            kalman_sensor: RadioSensor::new(
+                cfg.frame,
+                cfg.sigma_range * inflate,
+                cfg.sigma_angle * inflate,
+            ),
+            noise,
+            scales: [cfg.sigma_range, cfg.sigma_angle, cfg.sigma_angle],
             filter,
             step_cache: DiscreteModel {
                 dt: f64::NAN,
@@ -410,6 +614,7 @@ impl Navigator {
                 q: Mat6::zeros(),
             },
             last_update: None,
+            failed: false,
         };
         nav.discrete(1.0);
         Ok(nav)
@@ -443,22 +648,7 @@ impl Navigator {
         positive("step size h", dt)
     }
 
-    /// Time update over `dt` [s] with thrust `thrust` [N] (I/O frame) held constant.
-    pub fn predict(&mut self, thrust: &[f64; 3], dt: f64) -> Result<(), NavError> {
-        Self::check_dt(dt)?;
-        finite3("thrust", thrust)?;
-        let model = self.discrete(dt);
-        let accel = self
-            .cfg
-            .frame
-            .vec_to_canonical(&Vec3::from_row_slice(thrust))
-            / self.cfg.chaser_mass;
-        self.filter.predict(&model, &accel)?;
-        Ok(())
-    }
-
-    /// Measurement update with `(range [m], azimuth [rad], elevation [rad])` in the I/O frame.
-    pub fn update(&mut self, z: &[f64; 3]) -> Result<UpdateInfo, NavError> {
+    fn check_measurement(z: &[f64; 3]) -> Result<(), NavError> {
         finite3("measurement (range, azimuth, elevation)", z)?;
         if z[0] < 0.0 {
             return Err(NavError::invalid(format!(
@@ -472,13 +662,69 @@ impl Navigator {
                 num(z[2])
             )));
         }
-        let info = self.filter.update(&self.sensor, &Vec3::from_row_slice(z))?;
+        Ok(())
+    }
+
+    fn check_not_failed(&self) -> Result<(), NavError> {
+        if self.failed {
+            Err(NavError {
+                kind: NavErrorKind::Numerical,
+                message: format!(
+                    "the {} particle filter failed in an earlier step and its particles are \
+                     no longer valid: reset the estimator",
+                    self.cfg.filter.name()
+                ),
+            })
+        } else {
+            Ok(())
+        }
+    }
+
+    /// Mark a particle filter failed after an error inside it (see the type's docs).
+    fn note_failure<T>(&mut self, r: Result<T, FilterError>) -> Result<T, NavError> {
+        r.map_err(|e| {
+            if matches!(self.filter, AnyFilter::Pf(_)) {
+                self.failed = true;
+            }
+            NavError::from(e)
+        })
+    }
+
+    /// Time update over `dt` [s] with thrust `thrust` [N] (I/O frame) held constant.
+    pub fn predict(&mut self, thrust: &[f64; 3], dt: f64) -> Result<(), NavError> {
+        Self::check_dt(dt)?;
+        finite3("thrust", thrust)?;
+        self.check_not_failed()?;
+        let model = self.discrete(dt);
+        let accel = self
+            .cfg
+            .frame
+            .vec_to_canonical(&Vec3::from_row_slice(thrust))
+            / self.cfg.chaser_mass;
+        let r = self.filter.predict(&model, &accel);
+        self.note_failure(r)
+    }
+
+    /// Measurement update with `(range [m], azimuth [rad], elevation [rad])` in the I/O frame.
+    /// The particle filters weigh with the configured noise density, the Kalman filters use
+    /// the Gaussian of its variance.
+    pub fn update(&mut self, z: &[f64; 3]) -> Result<UpdateInfo, NavError> {
+        Self::check_measurement(z)?;
+        self.check_not_failed()?;
+        let zv = Vec3::from_row_slice(z);
+        let r = match &mut self.filter {
+            AnyFilter::Pf(pf) => pf.update_with(&self.sensor, &zv, &self.noise, &self.scales),
+            other => other.update(&self.kalman_sensor, &zv),
+        };
+        let info = self.note_failure(r)?;
         self.last_update = Some(info);
         Ok(info)
     }
 
     /// One step: update with `measurement` (taken at the step's start, if any), then predict
-    /// over `dt` with `thrust` held. All inputs are checked before anything changes.
+    /// over `dt` with `thrust` held. All inputs are checked before anything changes; a
+    /// Kalman filter whose step fails is restored, a particle filter is marked failed (see
+    /// the type's documentation).
     pub fn step(
         &mut self,
         thrust: &[f64; 3],
@@ -487,22 +733,40 @@ impl Navigator {
     ) -> Result<(), NavError> {
         Self::check_dt(dt)?;
         finite3("thrust", thrust)?;
-        let saved = self.filter.clone();
         if let Some(z) = measurement {
-            self.update(z)?;
+            Self::check_measurement(z)?;
         }
-        if let Err(e) = self.predict(thrust, dt) {
-            self.filter = saved;
-            return Err(e);
+        self.check_not_failed()?;
+        // Kalman filters are a few hundred bytes on the stack: keep a copy to restore
+        let saved = match &self.filter {
+            AnyFilter::Pf(_) => None,
+            other => Some((other.clone(), self.last_update)),
+        };
+        let result = match measurement {
+            Some(z) => self.update(z).map(|_| ()),
+            None => Ok(()),
         }
-        Ok(())
+        .and_then(|()| self.predict(thrust, dt));
+        if result.is_err() {
+            if let Some((filter, last)) = saved {
+                self.filter = filter;
+                self.last_update = last;
+            }
+        }
+        result
     }
 
-    /// Back to the initial estimate.
+    /// Back to the initial estimate. A particle filter is rebuilt from its settings (new
+    /// particles drawn with the configured seed), so a reset navigator reproduces a new one
+    /// bit for bit; a failed particle filter works again.
     pub fn reset(&mut self) {
-        self.filter
-            .set_estimate(self.cfg.initial_state(), self.cfg.initial_covariance());
+        let (x0, p0) = (self.cfg.initial_state(), self.cfg.initial_covariance());
+        match &mut self.filter {
+            AnyFilter::Pf(pf) => *pf = ParticleFilter::new(x0, p0, *pf.params()),
+            other => other.set_estimate(x0, p0),
+        }
         self.last_update = None;
+        self.failed = false;
     }
 
     /// State estimate in the I/O frame.
@@ -516,8 +780,20 @@ impl Navigator {
     }
 
     /// Diagnostics of the last measurement update, if any since construction or reset.
+    /// The particle filters report the innovation of their weighted mean and no NIS (NaN).
     pub fn last_update(&self) -> Option<UpdateInfo> {
         self.last_update
+    }
+
+    /// Effective sample size `1 / sum w_i^2` of a particle filter after its last update
+    /// (before resampling; the particle count before the first update), in
+    /// `[1, particles]` (clamped there against rounding of the normalised weights). `None`
+    /// for the Kalman filters, which carry no particles.
+    pub fn ess(&self) -> Option<f64> {
+        match &self.filter {
+            AnyFilter::Pf(pf) => Some(pf.ess().clamp(1.0, pf.params().particles as f64)),
+            _ => None,
+        }
     }
 
     /// The estimator itself (canonical frame).

@@ -269,10 +269,62 @@ fn invalid_configurations_name_the_parameter() {
         ),
         (
             NavConfig {
-                filter: FilterKind::Pf,
+                filter: FilterKind::Aqukf,
                 ..Default::default()
             },
             "not implemented",
+        ),
+        (
+            NavConfig {
+                filter: FilterKind::Hinf,
+                ..Default::default()
+            },
+            "not implemented",
+        ),
+        (
+            NavConfig {
+                filter: FilterKind::Rpf,
+                particles: 0,
+                ..Default::default()
+            },
+            "particles",
+        ),
+        (
+            NavConfig {
+                resample_threshold: 1.5,
+                ..Default::default()
+            },
+            "resample_threshold",
+        ),
+        (
+            NavConfig {
+                noise_zeta: 1.0,
+                ..Default::default()
+            },
+            "noise_zeta",
+        ),
+        (
+            NavConfig {
+                noise_scale: 0.5,
+                ..Default::default()
+            },
+            "noise_scale",
+        ),
+        (
+            NavConfig {
+                noise_dof: 2.0,
+                ..Default::default()
+            },
+            "noise_dof",
+        ),
+        (
+            NavConfig {
+                filter: FilterKind::Upf,
+                q_pos: [0.0; 3],
+                q_vel: [0.0; 3],
+                ..Default::default()
+            },
+            "q_pos",
         ),
         (
             NavConfig {

@@ -1,6 +1,7 @@
 //! No heap allocation per step after construction: a counting global allocator (per
-//! thread, so parallel tests do not interfere) around EKF/UKF steps through the library,
-//! the C ABI and the FMU's `fmi2DoStep` / `fmi2SetReal` / `fmi2GetReal`.
+//! thread, so parallel tests do not interfere) around EKF/UKF and particle-filter steps
+//! through the library, the C ABI and the FMU's `fmi2DoStep` / `fmi2SetReal` /
+//! `fmi2GetReal`.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)] // test code
 
 use relnav::ffi;
@@ -103,8 +104,16 @@ fn library_and_c_abi_steps_do_not_allocate() {
     }
 }
 
+/// `fmi2DoStep` cycles (set inputs, step, get the 12 estimate outputs and `ess`) for the
+/// EKF and two particle filters.
 #[test]
 fn fmu_do_step_does_not_allocate() {
+    for filter in [1, 5, 8] {
+        fmu_cycles_do_not_allocate(filter);
+    }
+}
+
+fn fmu_cycles_do_not_allocate(filter: i32) {
     let g = std::ffi::CString::new(guid()).unwrap();
     let cb = fmi2CallbackFunctions {
         logger: None,
@@ -132,6 +141,15 @@ fn fmu_do_step_does_not_allocate() {
             fmi2SetupExperiment(c, 0, 0.0, 0.0, 0, 0.0),
             fmi2Status::fmi2OK
         );
+        assert_eq!(
+            fmi2SetInteger(
+                c,
+                [vr::FILTER, vr::PARTICLES].as_ptr(),
+                2,
+                [filter, 300].as_ptr()
+            ),
+            fmi2Status::fmi2OK
+        );
         assert_eq!(fmi2EnterInitializationMode(c), fmi2Status::fmi2OK);
         assert_eq!(fmi2ExitInitializationMode(c), fmi2Status::fmi2OK);
     }
@@ -149,9 +167,10 @@ fn fmu_do_step_does_not_allocate() {
         vr::SIGMA_VX,
         vr::SIGMA_VY,
         vr::SIGMA_VZ,
+        vr::ESS,
     ];
     let valid = [vr::MEASUREMENT_VALID];
-    let mut y = [0.0; 12];
+    let mut y = [0.0; 13];
     let n = allocations(|| {
         for k in 0..200 {
             let z = measurement(k);
@@ -167,7 +186,7 @@ fn fmu_do_step_does_not_allocate() {
                 );
                 assert_eq!(fmi2DoStep(c, k as f64, 1.0, 1), fmi2Status::fmi2OK);
                 assert_eq!(
-                    fmi2GetReal(c, outs.as_ptr(), 12, y.as_mut_ptr()),
+                    fmi2GetReal(c, outs.as_ptr(), 13, y.as_mut_ptr()),
                     fmi2Status::fmi2OK
                 );
             }
@@ -175,5 +194,92 @@ fn fmu_do_step_does_not_allocate() {
     });
     // SAFETY: live instance, freed once.
     unsafe { fmi2FreeInstance(c) };
-    assert_eq!(n, 0, "{n} allocations in 200 fmi2DoStep cycles");
+    assert_eq!(
+        n, 0,
+        "filter {filter}: {n} allocations in 200 fmi2DoStep cycles"
+    );
+}
+
+/// Every particle-filter kind (codes 4-8), with every resampler and a heavy-tailed noise
+/// model: the first step after construction (the first update initialises the particles
+/// from the measurement) and every later step (weighting, resampling, regularisation or
+/// genetic moves, UKF proposals, a new step size, steps without measurement) allocate
+/// nothing, through the library and the C ABI (with the ess getter).
+#[test]
+fn particle_filter_steps_do_not_allocate() {
+    use relnav::estimators::pf::resample::Resampler;
+    use relnav::nav::NoiseKind;
+    let kinds = [
+        FilterKind::Pf,
+        FilterKind::Rpf,
+        FilterKind::Upf,
+        FilterKind::Gapf,
+        FilterKind::Cgapf,
+    ];
+    for (i, filter) in kinds.into_iter().enumerate() {
+        let cfg = NavConfig {
+            filter,
+            particles: 300,
+            resampler: Resampler::ALL[i % 4],
+            noise_model: if i % 2 == 0 {
+                NoiseKind::Gaussian
+            } else {
+                NoiseKind::Mixture
+            },
+            seed: 7,
+            ..Default::default()
+        };
+        let mut nav = Navigator::new(&cfg).unwrap();
+        let first = allocations(|| {
+            nav.step(&[0.0; 3], Some(&measurement(0)), 1.0).unwrap();
+        });
+        assert_eq!(
+            first, 0,
+            "{filter:?}: {first} allocations in the first step"
+        );
+        let mut resampled = 0;
+        let n = allocations(|| {
+            for k in 1..60 {
+                nav.step(&[0.1, 0.0, -0.1], Some(&measurement(k)), 1.0)
+                    .unwrap();
+                if nav.ess().unwrap_or(0.0) < 200.0 {
+                    resampled += 1;
+                }
+            }
+            nav.step(&[0.0; 3], None, 0.5).unwrap();
+            nav.predict(&[0.0; 3], 2.0).unwrap();
+            nav.step(&[0.0; 3], Some(&measurement(61)), 1.0).unwrap();
+        });
+        assert_eq!(n, 0, "{filter:?}: {n} allocations in library steps");
+        assert!(resampled > 0, "{filter:?}: never resampled");
+
+        let mut c = ffi::relnav_config_default();
+        c.filter = filter as i32;
+        c.particles = 300;
+        let mut est = std::ptr::null_mut();
+        // SAFETY: valid pointers.
+        unsafe { ffi::relnav_estimator_new(&c, &mut est) };
+        assert!(!est.is_null());
+        let thrust = [0.0; 3];
+        let mut x = [0.0; 6];
+        let mut ess = 0.0;
+        let n = allocations(|| {
+            for k in 0..60 {
+                let z = measurement(k);
+                // SAFETY: live handle, arrays of the documented lengths.
+                unsafe {
+                    assert_eq!(
+                        ffi::relnav_estimator_step(est, thrust.as_ptr(), z.as_ptr(), 1.0),
+                        ffi::relnav_status::RELNAV_OK
+                    );
+                    ffi::relnav_estimator_get_state(est, x.as_mut_ptr());
+                    ffi::relnav_estimator_get_ess(est, &mut ess);
+                }
+            }
+        });
+        // SAFETY: live handle, freed once.
+        unsafe { ffi::relnav_estimator_free(est) };
+        assert_eq!(n, 0, "{filter:?}: {n} allocations in C-ABI steps");
+        assert!((1.0..=300.0).contains(&ess), "{filter:?}: ess {ess}");
+    }
 }

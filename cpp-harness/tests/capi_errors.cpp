@@ -353,9 +353,27 @@ void check_config() {
         expect_config_fail("discretization=" + std::to_string(v), IA, [&](relnav_config& c) { c.discretization = v; },
                            "discretization");
     // Known but not implemented in this build.
-    for (int v = 4; v <= 9; ++v)
-        expect_config_fail("filter=" + std::to_string(v) + " (not implemented)", RELNAV_ERROR_NOT_IMPLEMENTED,
-                           [&](relnav_config& c) { c.filter = v; }, "implemented");
+    expect_config_fail("filter=9 (not implemented)", RELNAV_ERROR_NOT_IMPLEMENTED,
+                       [&](relnav_config& c) { c.filter = RELNAV_FILTER_HINF; }, "implemented");
+    // Particle-filter and noise-model fields: out of their domain, named in the message.
+    for (int v : {0, -1, 2000001, INT_MIN})
+        expect_config_fail("particles=" + std::to_string(v), IA, [&](relnav_config& c) { c.particles = v; },
+                           "particles");
+    for (int v : {0, 5, 7, INT_MIN})
+        expect_config_fail("resampler=" + std::to_string(v), IA, [&](relnav_config& c) { c.resampler = v; },
+                           "resampler");
+    for (double v : {0.0, -0.5, 1.5, kNaN, kInf})
+        expect_config_fail("resample_threshold=" + fmt(v), IA,
+                           [&](relnav_config& c) { c.resample_threshold = v; }, "resample_threshold");
+    for (int v : {0, 4})
+        expect_config_fail("noise_model=" + std::to_string(v), IA, [&](relnav_config& c) { c.noise_model = v; },
+                           "noise_model");
+    for (double v : {1.0, -0.1, kNaN})
+        expect_config_fail("noise_zeta=" + fmt(v), IA, [&](relnav_config& c) { c.noise_zeta = v; }, "noise_zeta");
+    for (double v : {0.5, kInf, kNaN})
+        expect_config_fail("noise_scale=" + fmt(v), IA, [&](relnav_config& c) { c.noise_scale = v; }, "noise_scale");
+    for (double v : {2.0, 1.0, kNaN})
+        expect_config_fail("noise_dof=" + fmt(v), IA, [&](relnav_config& c) { c.noise_dof = v; }, "noise_dof");
     {
         // Filter 3 (AQUKF) is scheduled: either not implemented yet, or it works.
         relnav_config c = relnav_config_default();
@@ -373,8 +391,23 @@ void check_config() {
     });
     expect_config_ok("accel_psd=1e-8", [](relnav_config& c) { c.accel_psd = 1e-8; });
     expect_config_ok("seed=UINT64_MAX", [](relnav_config& c) { c.seed = UINT64_MAX; });
+    for (int r : {RELNAV_RESAMPLER_MULTINOMIAL, RELNAV_RESAMPLER_SYSTEMATIC, RELNAV_RESAMPLER_STRATIFIED,
+                  RELNAV_RESAMPLER_RESIDUAL})
+        for (int nm : {RELNAV_NOISE_GAUSSIAN, RELNAV_NOISE_MIXTURE, RELNAV_NOISE_STUDENT_T})
+            expect_config_ok("cgapf resampler=" + std::to_string(r) + " noise_model=" + std::to_string(nm),
+                             [=](relnav_config& c) {
+                                 c.filter = RELNAV_FILTER_CGAPF;
+                                 c.particles = 200;
+                                 c.resampler = r;
+                                 c.noise_model = nm;
+                             });
+    expect_config_ok("rpf particles=1 resample_threshold=1", [](relnav_config& c) {
+        c.filter = RELNAV_FILTER_RPF;
+        c.particles = 1;
+        c.resample_threshold = 1.0;
+    });
     expect_config_ok("ukf kappa=-5.5", [](relnav_config& c) { c.filter = RELNAV_FILTER_UKF; c.ukf_kappa = -5.5; });
-    for (int f : {1, 2})
+    for (int f : {1, 2, 4, 5, 6, 7, 8})
         for (int fr : {1, 2, 3})
             for (int d : {1, 2})
                 expect_config_ok("filter=" + std::to_string(f) + " frame=" + std::to_string(fr) +

@@ -61,7 +61,7 @@ fn body() -> String {
     let _ = writeln!(x, r#"<?xml version="1.0" encoding="UTF-8"?>"#);
     let _ = writeln!(
         x,
-        r#"<fmiModelDescription fmiVersion="2.0" modelName="relnav" guid="{GUID_PLACEHOLDER}" description="Spacecraft relative navigation: EKF/UKF estimate of the chaser's relative position and velocity near a target on a circular orbit (Clohessy-Wiltshire), from thrust and range/azimuth/elevation measurements" author="relnav developers" version="{}" generationTool="relnav {}" variableNamingConvention="flat">"#,
+        r#"<fmiModelDescription fmiVersion="2.0" modelName="relnav" guid="{GUID_PLACEHOLDER}" description="Spacecraft relative navigation: Kalman (EKF, UKF) or particle-filter estimate of the chaser's relative position and velocity near a target on a circular orbit (Clohessy-Wiltshire), from thrust and range/azimuth/elevation measurements" author="relnav developers" version="{}" generationTool="relnav {}" variableNamingConvention="flat">"#,
         crate::VERSION,
         crate::VERSION
     );

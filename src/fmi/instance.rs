@@ -268,15 +268,33 @@ impl Instance {
         c.ukf_kappa = v(vr::UKF_KAPPA);
         // FMI Integers are 32-bit; the seed's bit pattern is kept
         c.seed = u64::from(v(vr::SEED) as i32 as u32);
+        c.particles = v(vr::PARTICLES) as i32;
+        c.resampler = v(vr::RESAMPLER) as i32;
+        c.resample_threshold = v(vr::RESAMPLE_THRESHOLD);
+        c.noise_model = v(vr::NOISE_MODEL) as i32;
+        c.noise_zeta = v(vr::NOISE_ZETA);
+        c.noise_scale = v(vr::NOISE_SCALE);
+        c.noise_dof = v(vr::NOISE_DOF);
         c
     }
 
-    /// Outputs before the first step: the initial estimate and its 1-sigma.
+    /// Whether the `filter` parameter selects a particle filter (codes 4-8).
+    fn particle_filter_selected(&self) -> bool {
+        (4.0..=8.0).contains(&self.values[vr::FILTER as usize])
+    }
+
+    /// Outputs before the first step: the initial estimate and its 1-sigma; `ess` is the
+    /// particle count for a particle filter (equal weights) and NaN for a Kalman filter.
     fn publish_initial_outputs(&mut self) {
         let v = self.values;
         let x0 = [vr::X0, vr::Y0, vr::Z0, vr::VX0, vr::VY0, vr::VZ0].map(|r| v[r as usize]);
         let (sp, sv) = (v[vr::SIGMA_POS0 as usize], v[vr::SIGMA_VEL0 as usize]);
         self.write_outputs(&x0, &[sp, sp, sp, sv, sv, sv]);
+        self.values[vr::ESS as usize] = if self.particle_filter_selected() {
+            v[vr::PARTICLES as usize]
+        } else {
+            f64::NAN
+        };
     }
 
     fn write_outputs(&mut self, x: &[f64; 6], sigma: &[f64; 6]) {
@@ -302,7 +320,11 @@ impl Instance {
         status_of(unsafe { ffi::relnav_estimator_get_state(self.estimator, x.as_mut_ptr()) })?;
         // SAFETY: as above.
         status_of(unsafe { ffi::relnav_estimator_get_sigma(self.estimator, s.as_mut_ptr()) })?;
+        let mut ess = f64::NAN;
+        // SAFETY: as above; `ess` is a writable local.
+        status_of(unsafe { ffi::relnav_estimator_get_ess(self.estimator, &mut ess) })?;
         self.write_outputs(&x, &s);
+        self.values[vr::ESS as usize] = ess;
         Ok(())
     }
 
@@ -317,14 +339,24 @@ impl Instance {
         self.estimator = est;
         self.publish_estimate()?;
         self.state = ModelState::StepComplete;
-        self.log(
-            fmi2Status::fmi2OK,
-            "logInfo",
-            &format!(
-                "initialised: filter {}, frame {}, mean_motion {} rad/s, chaser_mass {} kg, sigma_range {} m, sigma_angle {} rad, t0 = {} s",
-                cfg.filter, cfg.frame, cfg.mean_motion, cfg.chaser_mass, cfg.sigma_range, cfg.sigma_angle, self.time
-            ),
-        );
+        if self.logging_on {
+            let pf = if self.particle_filter_selected() {
+                format!(
+                    ", particles {}, resampler {}, resample_threshold {}, seed {}",
+                    cfg.particles, cfg.resampler, cfg.resample_threshold, cfg.seed
+                )
+            } else {
+                String::new()
+            };
+            self.log(
+                fmi2Status::fmi2OK,
+                "logInfo",
+                &format!(
+                    "initialised: filter {}, frame {}, mean_motion {} rad/s, chaser_mass {} kg, sigma_range {} m, sigma_angle {} rad, noise_model {}{pf}, t0 = {} s",
+                    cfg.filter, cfg.frame, cfg.mean_motion, cfg.chaser_mass, cfg.sigma_range, cfg.sigma_angle, cfg.noise_model, self.time
+                ),
+            );
+        }
         Ok(())
     }
 

@@ -89,29 +89,37 @@ pub static FILTER_TYPE: EnumType = EnumType {
         (
             "aqukf",
             3,
-            "Sliding-window adaptive UKF (paper 001; not implemented yet)",
+            "Sliding-window adaptive UKF (paper 001; not implemented yet: rejected)",
         ),
         (
             "pf",
             4,
-            "SIR particle filter (paper 000; not implemented yet)",
+            "SIR particle filter (paper 000; its velocities stay impoverished, metres off on paper 000)",
         ),
         (
             "rpf",
             5,
-            "Regularised particle filter (not implemented yet)",
+            "Regularised particle filter (kernel jitter after resampling)",
         ),
-        ("upf", 6, "Unscented particle filter (not implemented yet)"),
-        ("gapf", 7, "Genetic particle filter (not implemented yet)"),
+        (
+            "upf",
+            6,
+            "Unscented particle filter (per-particle UKF proposal)",
+        ),
+        (
+            "gapf",
+            7,
+            "Genetic-algorithm particle filter (crossover and mutation after resampling)",
+        ),
         (
             "cgapf",
             8,
-            "Cloud-genetic particle filter (paper 003; not implemented yet)",
+            "Cloud-genetic particle filter (paper 003: UKF proposal, cloud-model genetic moves)",
         ),
         (
             "hinf",
             9,
-            "Robust H-infinity filter (paper 002; not implemented yet)",
+            "Robust H-infinity filter (paper 002; not implemented yet: rejected)",
         ),
     ],
 };
@@ -151,8 +159,51 @@ pub static DISCRETIZATION_TYPE: EnumType = EnumType {
     ],
 };
 
+/// `resampler` parameter values (same codes as the C ABI's `relnav_resampler`).
+pub static RESAMPLER_TYPE: EnumType = EnumType {
+    name: "Resampler",
+    items: &[
+        (
+            "multinomial",
+            1,
+            "N independent draws from the weights (paper 000's SIR)",
+        ),
+        (
+            "systematic",
+            2,
+            "One uniform, N evenly spaced points (Kitagawa 1996)",
+        ),
+        ("stratified", 3, "One uniform per stratum (Kitagawa 1996)"),
+        (
+            "residual",
+            4,
+            "floor(N w) deterministic copies, the rest multinomial (Liu and Chen 1998)",
+        ),
+    ],
+};
+
+/// `noise_model` parameter values (same codes as the C ABI's `relnav_noise_model`).
+pub static NOISE_MODEL_TYPE: EnumType = EnumType {
+    name: "NoiseModel",
+    items: &[
+        ("gaussian", 1, "Gaussian N(0, sigma^2)"),
+        (
+            "mixture",
+            2,
+            "Contaminated Gaussian (1 - zeta) N(0, sigma^2) + zeta N(0, (scale sigma)^2) (paper 003)",
+        ),
+        ("student_t", 3, "Student-t sigma t_dof"),
+    ],
+};
+
 /// All enumeration types, in declaration order.
-pub static ENUM_TYPES: [&EnumType; 3] = [&FILTER_TYPE, &FRAME_TYPE, &DISCRETIZATION_TYPE];
+pub static ENUM_TYPES: [&EnumType; 5] = [
+    &FILTER_TYPE,
+    &FRAME_TYPE,
+    &DISCRETIZATION_TYPE,
+    &RESAMPLER_TYPE,
+    &NOISE_MODEL_TYPE,
+];
 
 macro_rules! variables {
     ($( $id:ident = $vr:literal : $name:literal, $caus:ident, $var:ident, $ty:expr, $start:expr, $desc:literal; )*) => {
@@ -182,7 +233,7 @@ use VarType::{Boolean, Enumeration, Integer, Real};
 
 variables! {
     FILTER = 0: "filter", Parameter, Fixed, Enumeration(&FILTER_TYPE), 1.0,
-        "Estimator (codes 1-9; 1 ekf and 2 ukf are implemented)";
+        "Estimator (codes 1-9; 1-2 Kalman and 4-8 particle filters are implemented, 3 aqukf and 9 hinf are rejected)";
     FRAME = 1: "frame", Parameter, Fixed, Enumeration(&FRAME_TYPE), 2.0,
         "Hill-frame convention of every input and output vector and angle";
     DISCRETIZATION = 2: "discretization", Parameter, Fixed, Enumeration(&DISCRETIZATION_TYPE), 1.0,
@@ -192,9 +243,9 @@ variables! {
     CHASER_MASS = 4: "chaser_mass", Parameter, Fixed, Real("kg"), 1000.0,
         "Chaser mass: thrust / mass = acceleration (> 0)";
     SIGMA_RANGE = 5: "sigma_range", Parameter, Fixed, Real("m"), 0.5,
-        "Range measurement noise, 1 sigma (> 0)";
+        "Range measurement noise, 1 sigma of the Gaussian (nominal sigma of the other noise models; > 0)";
     SIGMA_ANGLE = 6: "sigma_angle", Parameter, Fixed, Real("rad"), 0.01 * PI / 180.0,
-        "Azimuth and elevation measurement noise, 1 sigma (> 0)";
+        "Azimuth and elevation measurement noise, 1 sigma of the Gaussian (nominal sigma of the other noise models; > 0)";
     X0 = 7: "x0", Parameter, Fixed, Real("m"), 405.0, "Initial estimate of x";
     Y0 = 8: "y0", Parameter, Fixed, Real("m"), 505.0, "Initial estimate of y";
     Z0 = 9: "z0", Parameter, Fixed, Real("m"), 205.0, "Initial estimate of z";
@@ -219,7 +270,8 @@ variables! {
         "Process noise: vy variance added per second (>= 0)";
     Q_VEL_Z = 21: "q_vel_z", Parameter, Fixed, Real("m2/s3"), 1e-6,
         "Process noise: vz variance added per second (>= 0)";
-    UKF_ALPHA = 22: "ukf_alpha", Parameter, Fixed, Real(""), 1.0, "UKF sigma-point spread alpha (> 0)";
+    UKF_ALPHA = 22: "ukf_alpha", Parameter, Fixed, Real(""), 1.0,
+        "UKF sigma-point spread alpha (> 0); also the unscented proposal of upf and cgapf";
     UKF_BETA = 23: "ukf_beta", Parameter, Fixed, Real(""), 2.0, "UKF beta (2 for Gaussian priors)";
     UKF_KAPPA = 24: "ukf_kappa", Parameter, Fixed, Real(""), 0.0, "UKF kappa";
     SEED = 25: "seed", Parameter, Fixed, Integer, 0.0,
@@ -246,10 +298,26 @@ variables! {
     SIGMA_VX = 42: "sigma_vx", Output, Continuous, Real("m/s"), 0.0, "1-sigma uncertainty of vx";
     SIGMA_VY = 43: "sigma_vy", Output, Continuous, Real("m/s"), 0.0, "1-sigma uncertainty of vy";
     SIGMA_VZ = 44: "sigma_vz", Output, Continuous, Real("m/s"), 0.0, "1-sigma uncertainty of vz";
+    PARTICLES = 45: "particles", Parameter, Fixed, Integer, 1500.0,
+        "Number of particles of the particle filters (codes 4-8; 1..2000000)";
+    RESAMPLER = 46: "resampler", Parameter, Fixed, Enumeration(&RESAMPLER_TYPE), 2.0,
+        "Resampling scheme of the particle filters";
+    RESAMPLE_THRESHOLD = 47: "resample_threshold", Parameter, Fixed, Real(""), 2.0 / 3.0,
+        "The particle filters resample when the effective sample size drops below resample_threshold * particles (in (0, 1]; paper 000: 2/3)";
+    NOISE_MODEL = 48: "noise_model", Parameter, Fixed, Enumeration(&NOISE_MODEL_TYPE), 1.0,
+        "Measurement-noise density scaled by sigma_range and sigma_angle: the particle filters weigh with it, the Kalman filters assume the Gaussian of its variance";
+    NOISE_ZETA = 49: "noise_zeta", Parameter, Fixed, Real(""), 0.2,
+        "Mixture noise: weight of the wide component (in [0, 1))";
+    NOISE_SCALE = 50: "noise_scale", Parameter, Fixed, Real(""), 10.0,
+        "Mixture noise: sigma of the wide component over the nominal sigma (>= 1)";
+    NOISE_DOF = 51: "noise_dof", Parameter, Fixed, Real(""), 4.0,
+        "Student-t noise: degrees of freedom (> 2)";
+    ESS = 52: "ess", Output, Continuous, Real(""), 0.0,
+        "Effective sample size 1 / sum w^2 of a particle filter after the last measurement update, before resampling (in [1, particles]); NaN for the Kalman filters";
 }
 
 /// Number of variables.
-pub const N_VARS: usize = 45;
+pub const N_VARS: usize = 53;
 
 /// The definition for a value reference, if it exists.
 pub fn lookup(vr: u32) -> Option<&'static VarDef> {
@@ -303,5 +371,37 @@ mod tests {
             [c.ukf.alpha, c.ukf.beta, c.ukf.kappa]
         );
         assert_eq!(s(vr::SEED), c.seed as f64);
+        assert_eq!(s(vr::PARTICLES), c.particles as f64);
+        assert_eq!(s(vr::RESAMPLER), c.resampler as i32 as f64);
+        assert_eq!(s(vr::RESAMPLE_THRESHOLD), c.resample_threshold);
+        assert_eq!(s(vr::NOISE_MODEL), c.noise_model as i32 as f64);
+        assert_eq!(s(vr::NOISE_ZETA), c.noise_zeta);
+        assert_eq!(s(vr::NOISE_SCALE), c.noise_scale);
+        assert_eq!(s(vr::NOISE_DOF), c.noise_dof);
+    }
+
+    /// The enumerations carry the library's codes and names.
+    #[test]
+    fn enumerations_match_library_codes() {
+        use crate::estimators::pf::resample::Resampler;
+        use crate::nav::{FilterKind, NoiseKind};
+        let names = |t: &EnumType| -> Vec<(i32, &str)> {
+            t.items.iter().map(|(n, v, _)| (*v, *n)).collect()
+        };
+        let filters: Vec<(i32, &str)> = FilterKind::ALL
+            .iter()
+            .map(|k| (*k as i32, k.name()))
+            .collect();
+        assert_eq!(names(&FILTER_TYPE), filters);
+        let resamplers: Vec<(i32, &str)> = Resampler::ALL
+            .iter()
+            .map(|k| (*k as i32, k.name()))
+            .collect();
+        assert_eq!(names(&RESAMPLER_TYPE), resamplers);
+        let noises: Vec<(i32, &str)> = NoiseKind::ALL
+            .iter()
+            .map(|k| (*k as i32, k.name()))
+            .collect();
+        assert_eq!(names(&NOISE_MODEL_TYPE), noises);
     }
 }

@@ -13,7 +13,7 @@ BAD = [
     ("chaser_mass", 0.0),
     ("sigma_range", -1.0),
     ("mean_motion", math.nan),
-    ("filter", 7),
+    ("filter", 3),
     ("frame", 5),
     # more of the same kind
     ("chaser_mass", -5.0),
@@ -29,6 +29,17 @@ BAD = [
     ("filter", 9),
     ("frame", 0),
     ("discretization", 3),
+    # particle filters and noise models
+    ("particles", 0),
+    ("particles", -5),
+    ("resample_threshold", 0.0),
+    ("resample_threshold", 1.5),
+    ("noise_zeta", 1.0),
+    ("noise_scale", 0.5),
+    ("noise_dof", 2.0),
+    ("resampler", 7),
+    ("resampler", 0),
+    ("noise_model", 4),
 ]
 
 
@@ -65,15 +76,37 @@ def test_bad_parameter_rejected_with_reason(runner, name, value):
     assert exc is None, log
 
 
-def test_unimplemented_filter_is_rejected_at_exit_initialization(runner):
-    exc, stage, log = attempt(runner, {"filter": 7})
+@pytest.mark.parametrize("code,name", [(3, "aqukf"), (9, "hinf")])
+def test_unimplemented_filter_is_rejected_at_exit_initialization(runner, code, name):
+    exc, stage, log = attempt(runner, {"filter": code})
     assert exc is not None and stage == "exit", (stage, log)
-    assert "filter" in log and ("gapf" in log.lower() or "implemented" in log.lower()), log
+    assert "filter" in log and name in log and "not implemented" in log, log
+
+
+@pytest.mark.parametrize("name,value", [("particles", 0), ("noise_zeta", 1.0)])
+def test_particle_parameters_checked_whatever_the_filter(runner, name, value):
+    """A bad particle-filter or noise parameter is refused with the EKF selected too, so it
+    never hides until the filter changes."""
+    exc, stage, log = attempt(runner, {"filter": 1, name: value})
+    assert exc is not None and stage == "exit" and name in log, (stage, log)
+
+
+def test_unscented_particle_filters_need_process_noise(runner):
+    no_q = {f"q_{k}_{a}": 0.0 for k in ("pos", "vel") for a in "xyz"}
+    for code in (6, 8):
+        exc, stage, log = attempt(runner, {"filter": code, **no_q})
+        assert exc is not None and stage == "exit" and "process noise" in log, (code, stage, log)
+    exc, stage, log = attempt(runner, {"filter": 5, **no_q})  # the RPF needs no density of Q
+    assert exc is None, log
 
 
 def test_valid_edge_values_accepted(runner):
     ok = {"q_pos_x": 0.0, "q_vel_y": 0.0, "accel_psd": 1e-9, "filter": 2, "frame": 3, "discretization": 2, "seed": -7}
     exc, stage, log = attempt(runner, ok)
+    assert exc is None, log
+    pf = {"filter": 8, "particles": 1, "resampler": 4, "resample_threshold": 1.0, "noise_model": 2,
+          "noise_zeta": 0.0, "noise_scale": 1.0, "noise_dof": 2.001}
+    exc, stage, log = attempt(runner, pf)
     assert exc is None, log
 
 

@@ -36,6 +36,12 @@ EXPECTED = {
     "measurement_valid": ("input", "discrete", "Boolean", None),
     **{n: ("output", None, "Real", "m") for n in ["x", "y", "z", "sigma_x", "sigma_y", "sigma_z"]},
     **{n: ("output", None, "Real", "m/s") for n in ["vx", "vy", "vz", "sigma_vx", "sigma_vy", "sigma_vz"]},
+    "particles": ("parameter", "fixed", "Integer", None),
+    "resampler": ("parameter", "fixed", "Enumeration", None),
+    "resample_threshold": ("parameter", "fixed", "Real", None),
+    "noise_model": ("parameter", "fixed", "Enumeration", None),
+    **{n: ("parameter", "fixed", "Real", None) for n in ["noise_zeta", "noise_scale", "noise_dof"]},
+    "ess": ("output", "continuous", "Real", None),
 }
 
 DEFAULTS = {
@@ -65,6 +71,13 @@ DEFAULTS = {
     "thrust_y": 0.0,
     "thrust_z": 0.0,
     "measurement_valid": False,
+    "particles": 1500,
+    "resampler": 2,
+    "resample_threshold": 2 / 3,
+    "noise_model": 1,
+    "noise_zeta": 0.2,
+    "noise_scale": 10.0,
+    "noise_dof": 4.0,
 }
 
 FMI2_CS_FUNCTIONS = [
@@ -133,6 +146,14 @@ def test_variables_declared_as_specified(md):
     assert len(vrs) == len(set(vrs)), "value references are not unique"
 
 
+def test_value_references_are_stable(md):
+    """Variables are appended, never renumbered: masters may store value references."""
+    vr = {v.name: v.valueReference for v in md.modelVariables}
+    assert [vr[n] for n in ["filter", "seed", "thrust_x", "measurement_valid", "x", "sigma_vz"]] == [0, 25, 26, 32, 33, 44]
+    added = ["particles", "resampler", "resample_threshold", "noise_model", "noise_zeta", "noise_scale", "noise_dof", "ess"]
+    assert [vr[n] for n in added] == list(range(45, 53))
+
+
 def test_every_declared_unit_is_defined(md):
     units = {u.name for u in md.unitDefinitions}
     for v in md.modelVariables:
@@ -166,6 +187,8 @@ def test_enumerations(md):
     assert items("filter") == {1: "ekf", 2: "ukf", 3: "aqukf", 4: "pf", 5: "rpf", 6: "upf", 7: "gapf", 8: "cgapf", 9: "hinf"}
     assert items("frame") == {1: "radial_along_normal", 2: "along_radial_antinormal", 3: "along_antinormal_nadir"}
     assert items("discretization") == {1: "exact", 2: "euler"}
+    assert items("resampler") == {1: "multinomial", 2: "systematic", 3: "stratified", 4: "residual"}
+    assert items("noise_model") == {1: "gaussian", 2: "mixture", 3: "student_t"}
 
 
 def test_outputs_have_no_direct_feedthrough_in_model_structure(xml_root, md):
@@ -179,7 +202,7 @@ def test_outputs_have_no_direct_feedthrough_in_model_structure(xml_root, md):
         assert variables[idx - 1].get("causality") == "output"
         assert u.get("dependencies") == "", f"output {variables[idx - 1].get('name')}: dependencies={u.get('dependencies')!r}"
     assert listed == output_indices
-    assert len(md.outputs) == 12
+    assert len(md.outputs) == 13
 
 
 def test_binary_exports_fmi2_cosimulation_api(unzipdir):

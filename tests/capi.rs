@@ -1,0 +1,400 @@
+//! The C ABI (`include/relnav.h`) from Rust, as a C caller uses it: the particle-filter and
+//! noise-model fields of `relnav_config` (defaults, validation with a message naming the
+//! field, round trip), `relnav_estimator_get_ess`, seeded reproducibility, the noise
+//! model's variance in the Kalman filters, and a failed particle filter refusing to go on
+//! until reset.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)] // test code
+
+use relnav::ffi::*;
+use relnav::noise::NoiseModel;
+use std::ffi::CStr;
+
+const OK: relnav_status = relnav_status::RELNAV_OK;
+const INVALID: relnav_status = relnav_status::RELNAV_ERROR_INVALID_ARGUMENT;
+
+fn last_error() -> String {
+    // SAFETY: relnav_last_error returns a valid NUL-terminated string.
+    unsafe { CStr::from_ptr(relnav_last_error()) }
+        .to_string_lossy()
+        .into_owned()
+}
+
+fn validate(c: &relnav_config) -> relnav_status {
+    // SAFETY: a valid config.
+    unsafe { relnav_config_validate(c) }
+}
+
+struct Est(*mut relnav_estimator);
+
+impl Est {
+    fn new(c: &relnav_config) -> Self {
+        let mut p = std::ptr::null_mut();
+        // SAFETY: valid pointers.
+        let st = unsafe { relnav_estimator_new(c, &mut p) };
+        assert_eq!(st, OK, "{}", last_error());
+        Est(p)
+    }
+    fn step(&self, z: Option<&[f64; 3]>) -> relnav_status {
+        let zp = z.map_or(std::ptr::null(), |z| z.as_ptr());
+        // SAFETY: live handle, 3 doubles each.
+        unsafe { relnav_estimator_step(self.0, [0.0; 3].as_ptr(), zp, 1.0) }
+    }
+    fn state(&self) -> [f64; 6] {
+        let mut x = [0.0; 6];
+        // SAFETY: live handle, 6 doubles.
+        assert_eq!(
+            unsafe { relnav_estimator_get_state(self.0, x.as_mut_ptr()) },
+            OK
+        );
+        x
+    }
+    fn sigma(&self) -> [f64; 6] {
+        let mut s = [0.0; 6];
+        // SAFETY: live handle, 6 doubles.
+        assert_eq!(
+            unsafe { relnav_estimator_get_sigma(self.0, s.as_mut_ptr()) },
+            OK
+        );
+        s
+    }
+    fn ess(&self) -> f64 {
+        let mut e = -1.0;
+        // SAFETY: live handle, writable double.
+        assert_eq!(unsafe { relnav_estimator_get_ess(self.0, &mut e) }, OK);
+        e
+    }
+    fn reset(&self) {
+        // SAFETY: live handle.
+        assert_eq!(unsafe { relnav_estimator_reset(self.0) }, OK);
+    }
+}
+
+impl Drop for Est {
+    fn drop(&mut self) {
+        // SAFETY: freed once.
+        unsafe { relnav_estimator_free(self.0) };
+    }
+}
+
+/// Paper 000's measurements near t = k s (a smooth track; exact values do not matter).
+fn z(k: usize) -> [f64; 3] {
+    let t = k as f64;
+    [670.8 - 0.002 * t, 0.8961 + 2e-6 * t, 0.3025 - 1e-6 * t]
+}
+
+fn pf_config(filter: relnav_filter, particles: i32, seed: u64) -> relnav_config {
+    let mut c = relnav_config_default();
+    c.filter = filter as i32;
+    c.particles = particles;
+    c.seed = seed;
+    c
+}
+
+#[test]
+fn defaults_of_the_new_fields() {
+    let c = relnav_config_default();
+    assert_eq!(c.particles, 1500);
+    assert_eq!(
+        c.resampler,
+        relnav_resampler::RELNAV_RESAMPLER_SYSTEMATIC as i32
+    );
+    assert_eq!(c.resample_threshold, 2.0 / 3.0);
+    assert_eq!(
+        c.noise_model,
+        relnav_noise_model::RELNAV_NOISE_GAUSSIAN as i32
+    );
+    assert_eq!((c.noise_zeta, c.noise_scale, c.noise_dof), (0.2, 10.0, 4.0));
+    assert_eq!(validate(&c), OK);
+    // every particle filter code is accepted with the defaults; 3 and 9 are not implemented
+    for f in 4..=8 {
+        let c = relnav_config {
+            filter: f,
+            ..relnav_config_default()
+        };
+        assert_eq!(validate(&c), OK, "filter {f}: {}", last_error());
+    }
+    for f in [3, 9] {
+        let c = relnav_config {
+            filter: f,
+            ..relnav_config_default()
+        };
+        assert_eq!(
+            validate(&c),
+            relnav_status::RELNAV_ERROR_NOT_IMPLEMENTED,
+            "filter {f}"
+        );
+        assert!(last_error().contains("not implemented"), "{}", last_error());
+    }
+}
+
+#[test]
+fn bad_new_fields_are_refused_with_their_name() {
+    type Mutator = fn(&mut relnav_config);
+    let cases: &[(&str, Mutator)] = &[
+        ("particles", |c| c.particles = 0),
+        ("particles", |c| c.particles = -1),
+        ("particles", |c| c.particles = 2_000_001),
+        ("particles", |c| c.particles = i32::MIN),
+        ("resampler", |c| c.resampler = 0),
+        ("resampler", |c| c.resampler = 5),
+        ("resampler", |c| c.resampler = 7),
+        ("resample_threshold", |c| c.resample_threshold = 0.0),
+        ("resample_threshold", |c| c.resample_threshold = -0.5),
+        ("resample_threshold", |c| c.resample_threshold = 1.5),
+        ("resample_threshold", |c| c.resample_threshold = f64::NAN),
+        ("noise_model", |c| c.noise_model = 0),
+        ("noise_model", |c| c.noise_model = 4),
+        ("noise_zeta", |c| c.noise_zeta = 1.0),
+        ("noise_zeta", |c| c.noise_zeta = -0.1),
+        ("noise_zeta", |c| c.noise_zeta = f64::NAN),
+        ("noise_scale", |c| c.noise_scale = 0.5),
+        ("noise_scale", |c| c.noise_scale = f64::INFINITY),
+        ("noise_dof", |c| c.noise_dof = 2.0),
+        ("noise_dof", |c| c.noise_dof = f64::NAN),
+    ];
+    // refused for a particle filter and for a Kalman filter alike (no value hides until
+    // the filter changes)
+    for filter in [
+        relnav_filter::RELNAV_FILTER_EKF,
+        relnav_filter::RELNAV_FILTER_RPF,
+    ] {
+        for (name, m) in cases {
+            let mut c = relnav_config {
+                filter: filter as i32,
+                ..relnav_config_default()
+            };
+            m(&mut c);
+            assert_eq!(validate(&c), INVALID, "{name} accepted ({filter:?})");
+            let msg = last_error();
+            assert!(msg.contains(name), "{name}: {msg}");
+            // and relnav_estimator_new refuses it the same way, leaving *out null
+            let mut p = 1usize as *mut relnav_estimator;
+            // SAFETY: valid pointers.
+            assert_eq!(unsafe { relnav_estimator_new(&c, &mut p) }, INVALID);
+            assert!(p.is_null());
+        }
+    }
+    // the variance of a heavy-tailed model must be finite for the Kalman filters
+    let c = relnav_config {
+        noise_model: relnav_noise_model::RELNAV_NOISE_MIXTURE as i32,
+        noise_scale: 1e160,
+        ..relnav_config_default()
+    };
+    assert_eq!(validate(&c), INVALID);
+    assert!(last_error().contains("variance"), "{}", last_error());
+    // valid edges
+    let ok: &[Mutator] = &[
+        |c| c.particles = 1,
+        |c| c.particles = 2_000_000,
+        |c| c.resample_threshold = 1.0,
+        |c| c.resample_threshold = 1e-9,
+        |c| c.noise_zeta = 0.0,
+        |c| c.noise_scale = 1.0,
+        |c| c.noise_dof = 2.000001,
+        |c| c.resampler = 1,
+        |c| c.resampler = 4,
+        |c| c.noise_model = 3,
+    ];
+    for m in ok {
+        let mut c = relnav_config {
+            filter: relnav_filter::RELNAV_FILTER_CGAPF as i32,
+            ..relnav_config_default()
+        };
+        m(&mut c);
+        assert_eq!(validate(&c), OK, "{}", last_error());
+    }
+}
+
+#[test]
+fn config_round_trip_keeps_the_new_fields() {
+    let mut c = pf_config(relnav_filter::RELNAV_FILTER_GAPF, 77, 9);
+    c.resampler = relnav_resampler::RELNAV_RESAMPLER_RESIDUAL as i32;
+    c.resample_threshold = 0.5;
+    c.noise_model = relnav_noise_model::RELNAV_NOISE_STUDENT_T as i32;
+    c.noise_zeta = 0.1;
+    c.noise_scale = 3.0;
+    c.noise_dof = 5.0;
+    let e = Est::new(&c);
+    let mut back = relnav_config_default();
+    // SAFETY: live handle, writable config.
+    assert_eq!(unsafe { relnav_estimator_get_config(e.0, &mut back) }, OK);
+    assert_eq!(
+        (
+            back.filter,
+            back.particles,
+            back.resampler,
+            back.noise_model
+        ),
+        (c.filter, 77, 4, 3)
+    );
+    assert_eq!(
+        (
+            back.resample_threshold,
+            back.noise_zeta,
+            back.noise_scale,
+            back.noise_dof,
+            back.seed
+        ),
+        (0.5, 0.1, 3.0, 5.0, 9)
+    );
+}
+
+#[test]
+fn get_ess_checks_pointers_and_reports_particles() {
+    let mut out = 0.0;
+    // SAFETY: null handle and null output are the cases under test.
+    unsafe {
+        assert_eq!(
+            relnav_estimator_get_ess(std::ptr::null(), &mut out),
+            relnav_status::RELNAV_ERROR_NULL_POINTER
+        );
+        assert!(last_error().contains("estimator"), "{}", last_error());
+    }
+    let kf = Est::new(&relnav_config_default());
+    // SAFETY: null output under test.
+    unsafe {
+        assert_eq!(
+            relnav_estimator_get_ess(kf.0, std::ptr::null_mut()),
+            relnav_status::RELNAV_ERROR_NULL_POINTER
+        );
+    }
+    assert!(last_error().contains("out"), "{}", last_error());
+    // Kalman filters: NaN (no particles), before and after steps
+    assert!(kf.ess().is_nan());
+    assert_eq!(kf.step(Some(&z(0))), OK);
+    assert!(kf.ess().is_nan());
+    for filter in [
+        relnav_filter::RELNAV_FILTER_PF,
+        relnav_filter::RELNAV_FILTER_RPF,
+        relnav_filter::RELNAV_FILTER_UPF,
+        relnav_filter::RELNAV_FILTER_GAPF,
+        relnav_filter::RELNAV_FILTER_CGAPF,
+    ] {
+        let n = 400;
+        let e = Est::new(&pf_config(filter, n, 1));
+        assert_eq!(e.ess(), f64::from(n), "{filter:?} before any update");
+        let mut below = false;
+        for k in 0..30 {
+            assert_eq!(e.step(Some(&z(k))), OK, "{filter:?}: {}", last_error());
+            let ess = e.ess();
+            assert!(
+                (1.0..=f64::from(n)).contains(&ess),
+                "{filter:?} step {k}: ess {ess}"
+            );
+            below |= ess < f64::from(n);
+        }
+        // the weights do become unequal: the output is not a constant
+        assert!(
+            below,
+            "{filter:?}: ess never dropped below the particle count"
+        );
+        // a step without measurement does not change the ess
+        let before = e.ess();
+        assert_eq!(e.step(None), OK);
+        assert_eq!(e.ess(), before);
+    }
+}
+
+#[test]
+fn identical_seeds_reproduce_and_reset_reseeds() {
+    for filter in [
+        relnav_filter::RELNAV_FILTER_PF,
+        relnav_filter::RELNAV_FILTER_RPF,
+        relnav_filter::RELNAV_FILTER_UPF,
+        relnav_filter::RELNAV_FILTER_GAPF,
+        relnav_filter::RELNAV_FILTER_CGAPF,
+    ] {
+        let run = |e: &Est| -> Vec<[f64; 6]> {
+            (0..25)
+                .map(|k| {
+                    assert_eq!(e.step(Some(&z(k))), OK);
+                    e.state()
+                })
+                .collect()
+        };
+        let a = Est::new(&pf_config(filter, 250, 123));
+        let b = Est::new(&pf_config(filter, 250, 123));
+        let c = Est::new(&pf_config(filter, 250, 124));
+        let ra = run(&a);
+        assert_eq!(ra, run(&b), "{filter:?}: same seed, different outputs");
+        assert_ne!(ra, run(&c), "{filter:?}: different seeds, same outputs");
+        a.reset();
+        assert_eq!(ra, run(&a), "{filter:?}: reset does not reproduce the run");
+    }
+}
+
+/// The Kalman filters with a heavy-tailed noise model use its variance: an EKF with the
+/// mixture model is the EKF with Gaussian sigmas `sigma sqrt(variance_factor)`, number for
+/// number, and its reported uncertainty is wider than with the Gaussian model.
+#[test]
+fn kalman_filters_use_the_noise_model_variance() {
+    let (zeta, scale, dof) = (0.2, 10.0, 4.0);
+    for (code, model) in [
+        (
+            relnav_noise_model::RELNAV_NOISE_MIXTURE,
+            NoiseModel::Mixture { zeta, scale },
+        ),
+        (
+            relnav_noise_model::RELNAV_NOISE_STUDENT_T,
+            NoiseModel::StudentT { dof },
+        ),
+    ] {
+        for filter in [
+            relnav_filter::RELNAV_FILTER_EKF,
+            relnav_filter::RELNAV_FILTER_UKF,
+        ] {
+            let mut heavy = relnav_config_default();
+            heavy.filter = filter as i32;
+            heavy.noise_model = code as i32;
+            let vf = model.variance_factor();
+            let mut gauss = heavy;
+            gauss.noise_model = relnav_noise_model::RELNAV_NOISE_GAUSSIAN as i32;
+            gauss.sigma_range = heavy.sigma_range * vf.sqrt();
+            gauss.sigma_angle = heavy.sigma_angle * vf.sqrt();
+            let plain = relnav_config {
+                filter: filter as i32,
+                ..relnav_config_default()
+            };
+            let (h, g, p) = (Est::new(&heavy), Est::new(&gauss), Est::new(&plain));
+            for k in 0..60 {
+                for e in [&h, &g, &p] {
+                    assert_eq!(e.step(Some(&z(k))), OK);
+                }
+                assert_eq!(h.state(), g.state(), "{code:?} {filter:?} step {k}");
+                assert_eq!(h.sigma(), g.sigma());
+            }
+            assert!(vf > 1.9, "{code:?}: variance factor {vf}");
+            assert!(
+                h.sigma()[0] > p.sigma()[0],
+                "{code:?} {filter:?}: {:?} vs {:?}",
+                h.sigma(),
+                p.sigma()
+            );
+        }
+    }
+}
+
+/// A particle filter that fails inside a step (here: a zero measured range at the first
+/// update, which initialises the particles by inverting noisy copies of the measurement)
+/// reports RELNAV_ERROR_NUMERICAL and refuses every later step until it is reset.
+#[test]
+fn failed_particle_filter_refuses_until_reset() {
+    let e = Est::new(&pf_config(relnav_filter::RELNAV_FILTER_RPF, 200, 0));
+    assert_eq!(
+        e.step(Some(&[0.0, 0.5, 0.1])),
+        relnav_status::RELNAV_ERROR_NUMERICAL
+    );
+    assert!(last_error().contains("inversion"), "{}", last_error());
+    assert_eq!(e.step(Some(&z(0))), relnav_status::RELNAV_ERROR_NUMERICAL);
+    assert!(last_error().contains("reset"), "{}", last_error());
+    assert_eq!(e.step(None), relnav_status::RELNAV_ERROR_NUMERICAL);
+    // invalid inputs are still reported as such
+    assert_eq!(e.step(Some(&[f64::NAN, 0.0, 0.0])), INVALID);
+    e.reset();
+    let fresh = Est::new(&pf_config(relnav_filter::RELNAV_FILTER_RPF, 200, 0));
+    for k in 0..5 {
+        assert_eq!(e.step(Some(&z(k))), OK, "{}", last_error());
+        assert_eq!(fresh.step(Some(&z(k))), OK);
+        assert_eq!(e.state(), fresh.state(), "step {k}");
+    }
+}
