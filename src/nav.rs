@@ -549,11 +549,15 @@ impl Estimator for AnyFilter {
 ///
 /// **Failures.** Inputs are checked before anything changes. A Kalman filter that fails
 /// numerically inside a step (zero range, loss of positive definiteness) is restored to
-/// its state before the step. A particle filter is not: copying its particle set would
-/// allocate and cost as much as the step itself, so a particle filter whose step fails
-/// (every likelihood zero, a non-finite particle mean, a measurement that cannot be
-/// inverted at the first update) is marked failed and every later `update`, `predict` or
-/// `step` is refused with [`NavErrorKind::Numerical`] until [`Navigator::reset`].
+/// its state before the step. A particle filter's update and prediction are each
+/// transactional (new particles go to spare buffers and are swapped in on success; see
+/// [`ParticleFilter::update_with`]): a failed `update` or `predict` changes nothing, and
+/// so does a `step` whose update fails (every likelihood zero, a measurement that cannot
+/// be inverted at the first update). Copying the particle set to undo a *successful*
+/// update would cost as much as the step itself, so in the one remaining case — the
+/// update succeeded and the prediction after it failed (a non-finite particle mean, i.e.
+/// overflow) — the particle filter is marked failed and every later `update`, `predict`
+/// or `step` is refused with [`NavErrorKind::Numerical`] until [`Navigator::reset`].
 #[derive(Debug, Clone)]
 pub struct Navigator {
     cfg: NavConfig,
@@ -567,7 +571,8 @@ pub struct Navigator {
     filter: AnyFilter,
     step_cache: DiscreteModel,
     last_update: Option<UpdateInfo>,
-    /// a particle filter failed inside a step: refuse to go on until reset
+    /// a particle filter's prediction failed after its update in one step: refuse to go
+    /// on until reset
     failed: bool,
 }
 
@@ -670,24 +675,15 @@ impl Navigator {
             Err(NavError {
                 kind: NavErrorKind::Numerical,
                 message: format!(
-                    "the {} particle filter failed in an earlier step and its particles are \
-                     no longer valid: reset the estimator",
+                    "the {} particle filter failed in an earlier step (its prediction after \
+                     a successful update) and its particles are no longer valid: reset the \
+                     estimator",
                     self.cfg.filter.name()
                 ),
             })
         } else {
             Ok(())
         }
-    }
-
-    /// Mark a particle filter failed after an error inside it (see the type's docs).
-    fn note_failure<T>(&mut self, r: Result<T, FilterError>) -> Result<T, NavError> {
-        r.map_err(|e| {
-            if matches!(self.filter, AnyFilter::Pf(_)) {
-                self.failed = true;
-            }
-            NavError::from(e)
-        })
     }
 
     /// Time update over `dt` [s] with thrust `thrust` [N] (I/O frame) held constant.
@@ -701,8 +697,7 @@ impl Navigator {
             .frame
             .vec_to_canonical(&Vec3::from_row_slice(thrust))
             / self.cfg.chaser_mass;
-        let r = self.filter.predict(&model, &accel);
-        self.note_failure(r)
+        self.filter.predict(&model, &accel).map_err(NavError::from)
     }
 
     /// Measurement update with `(range [m], azimuth [rad], elevation [rad])` in the I/O frame.
@@ -716,15 +711,16 @@ impl Navigator {
             AnyFilter::Pf(pf) => pf.update_with(&self.sensor, &zv, &self.noise, &self.scales),
             other => other.update(&self.kalman_sensor, &zv),
         };
-        let info = self.note_failure(r)?;
+        let info = r?;
         self.last_update = Some(info);
         Ok(info)
     }
 
     /// One step: update with `measurement` (taken at the step's start, if any), then predict
     /// over `dt` with `thrust` held. All inputs are checked before anything changes; a
-    /// Kalman filter whose step fails is restored, a particle filter is marked failed (see
-    /// the type's documentation).
+    /// failed step leaves the estimate as it was, except a particle filter whose
+    /// prediction fails after a successful update, which is marked failed (see the type's
+    /// documentation).
     pub fn step(
         &mut self,
         thrust: &[f64; 3],
@@ -740,17 +736,25 @@ impl Navigator {
         // Kalman filters are a few hundred bytes on the stack: keep a copy to restore
         let saved = match &self.filter {
             AnyFilter::Pf(_) => None,
-            other => Some((other.clone(), self.last_update)),
+            other => Some(other.clone()),
         };
+        let last = self.last_update;
+        let mut updated = false;
         let result = match measurement {
-            Some(z) => self.update(z).map(|_| ()),
+            Some(z) => self.update(z).map(|_| updated = true),
             None => Ok(()),
         }
         .and_then(|()| self.predict(thrust, dt));
         if result.is_err() {
-            if let Some((filter, last)) = saved {
-                self.filter = filter;
-                self.last_update = last;
+            match saved {
+                Some(filter) => {
+                    self.filter = filter;
+                    self.last_update = last;
+                }
+                // a particle filter's failed update or prediction changed nothing by
+                // itself; a failed prediction after a committed update cannot be undone
+                None if updated => self.failed = true,
+                None => {}
             }
         }
         result

@@ -1,8 +1,8 @@
 //! The C ABI (`include/relnav.h`) from Rust, as a C caller uses it: the particle-filter and
 //! noise-model fields of `relnav_config` (defaults, validation with a message naming the
 //! field, round trip), `relnav_estimator_get_ess`, seeded reproducibility, the noise
-//! model's variance in the Kalman filters, and a failed particle filter refusing to go on
-//! until reset.
+//! model's variance in the Kalman filters, a failed particle-filter step changing nothing
+//! (or, after a committed update, refusing to go on until reset).
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)] // test code
 
 use relnav::ffi::*;
@@ -35,9 +35,12 @@ impl Est {
         Est(p)
     }
     fn step(&self, z: Option<&[f64; 3]>) -> relnav_status {
+        self.step_with(&[0.0; 3], z, 1.0)
+    }
+    fn step_with(&self, thrust: &[f64; 3], z: Option<&[f64; 3]>, dt: f64) -> relnav_status {
         let zp = z.map_or(std::ptr::null(), |z| z.as_ptr());
         // SAFETY: live handle, 3 doubles each.
-        unsafe { relnav_estimator_step(self.0, [0.0; 3].as_ptr(), zp, 1.0) }
+        unsafe { relnav_estimator_step(self.0, thrust.as_ptr(), zp, dt) }
     }
     fn state(&self) -> [f64; 6] {
         let mut x = [0.0; 6];
@@ -374,18 +377,59 @@ fn kalman_filters_use_the_noise_model_variance() {
     }
 }
 
-/// A particle filter that fails inside a step (here: a zero measured range at the first
+/// A particle filter whose update fails (here: a zero measured range at the first
 /// update, which initialises the particles by inverting noisy copies of the measurement)
-/// reports RELNAV_ERROR_NUMERICAL and refuses every later step until it is reset.
+/// reports RELNAV_ERROR_NUMERICAL and changes nothing: it goes on bit for bit like one
+/// that never saw the bad measurement. So does one whose prediction alone fails
+/// (a thrust that overflows the state).
 #[test]
-fn failed_particle_filter_refuses_until_reset() {
+fn failed_particle_filter_step_changes_nothing() {
+    for kind in [
+        relnav_filter::RELNAV_FILTER_PF,
+        relnav_filter::RELNAV_FILTER_RPF,
+        relnav_filter::RELNAV_FILTER_UPF,
+        relnav_filter::RELNAV_FILTER_GAPF,
+        relnav_filter::RELNAV_FILTER_CGAPF,
+    ] {
+        let e = Est::new(&pf_config(kind, 200, 0));
+        let fresh = Est::new(&pf_config(kind, 200, 0));
+        assert_eq!(
+            e.step(Some(&[0.0, 0.5, 0.1])),
+            relnav_status::RELNAV_ERROR_NUMERICAL
+        );
+        assert!(last_error().contains("inversion"), "{}", last_error());
+        assert_eq!(e.state(), fresh.state(), "{kind:?}");
+        for k in 0..4 {
+            assert_eq!(e.step(Some(&z(k))), OK, "{kind:?}: {}", last_error());
+            assert_eq!(fresh.step(Some(&z(k))), OK);
+            assert_eq!(e.state(), fresh.state(), "{kind:?} step {k}");
+        }
+        // prediction alone overflows: refused, nothing changed
+        assert_eq!(
+            e.step_with(&[1e308; 3], None, 1e4),
+            relnav_status::RELNAV_ERROR_NUMERICAL,
+            "{kind:?}"
+        );
+        assert!(last_error().contains("not finite"), "{}", last_error());
+        assert_eq!(e.state(), fresh.state(), "{kind:?}");
+        assert_eq!(e.step(Some(&z(4))), OK, "{kind:?}: {}", last_error());
+        assert_eq!(fresh.step(Some(&z(4))), OK);
+        assert_eq!(e.state(), fresh.state(), "{kind:?}");
+    }
+}
+
+/// The one failure a particle filter cannot undo without copying its particle set: the
+/// update of a step succeeded and the prediction after it overflowed. It is reported,
+/// then every later step is refused until a reset.
+#[test]
+fn particle_filter_failing_after_its_update_refuses_until_reset() {
     let e = Est::new(&pf_config(relnav_filter::RELNAV_FILTER_RPF, 200, 0));
+    assert_eq!(e.step(Some(&z(0))), OK, "{}", last_error());
     assert_eq!(
-        e.step(Some(&[0.0, 0.5, 0.1])),
+        e.step_with(&[1e308; 3], Some(&z(1)), 1e4),
         relnav_status::RELNAV_ERROR_NUMERICAL
     );
-    assert!(last_error().contains("inversion"), "{}", last_error());
-    assert_eq!(e.step(Some(&z(0))), relnav_status::RELNAV_ERROR_NUMERICAL);
+    assert_eq!(e.step(Some(&z(1))), relnav_status::RELNAV_ERROR_NUMERICAL);
     assert!(last_error().contains("reset"), "{}", last_error());
     assert_eq!(e.step(None), relnav_status::RELNAV_ERROR_NUMERICAL);
     // invalid inputs are still reported as such

@@ -303,6 +303,55 @@ fn log_gauss(x: &State, m: &State, l: &Mat6) -> f64 {
     }
 }
 
+/// Weighted first and second moments accumulated in one pass about a reference point
+/// `c` near the cloud: `m = c + s1 / W`, `P = s2 / W - (m - c)(m - c)^T` with
+/// `s1 = sum w_i d_i`, `s2 = sum w_i d_i d_i^T`, `d_i = x_i - c`, `W = sum w_i`. Shifting
+/// to a point inside the cloud avoids the cancellation of the textbook one-pass formula;
+/// only the upper triangle of `s2` is accumulated (21 of 36 products).
+struct Moments {
+    reference: State,
+    s1: State,
+    s2: Mat6,
+    wsum: f64,
+}
+
+impl Moments {
+    fn new(reference: State) -> Self {
+        Self {
+            reference,
+            s1: State::zeros(),
+            s2: Mat6::zeros(),
+            wsum: 0.0,
+        }
+    }
+
+    #[inline(always)]
+    fn add(&mut self, x: &State, w: f64) {
+        let d = x - self.reference;
+        self.s1 += d * w;
+        self.wsum += w;
+        for c in 0..N {
+            let wdc = w * d[c];
+            for r in 0..=c {
+                self.s2[(r, c)] += d[r] * wdc;
+            }
+        }
+    }
+
+    fn finish(self) -> (State, Mat6) {
+        let md = self.s1 / self.wsum;
+        let mut p = self.s2;
+        for c in 0..N {
+            for r in 0..=c {
+                let v = p[(r, c)] / self.wsum - md[r] * md[c];
+                p[(r, c)] = v;
+                p[(c, r)] = v;
+            }
+        }
+        (self.reference + md, p)
+    }
+}
+
 /// Lower Cholesky factor, `None` unless positive definite.
 fn chol(p: &Mat6) -> Option<Mat6> {
     symmetrize(p).cholesky().map(|c| c.unpack())
@@ -324,6 +373,8 @@ pub struct ParticleFilter {
     xbar_tmp: Vec<State>,
     pc_tmp: Vec<Mat6>,
     logw: Vec<f64>,
+    /// the update's new log-weights until the update has succeeded
+    logw_tmp: Vec<f64>,
     w: Vec<f64>,
     /// log-likelihood of each particle at the last update (fitness of the genetic kinds)
     loglik: Vec<f64>,
@@ -386,6 +437,7 @@ impl ParticleFilter {
             xbar_tmp: vec![State::zeros(); n],
             pc_tmp: vec![Mat6::zeros(); m],
             logw: vec![0.0; n],
+            logw_tmp: vec![0.0; n],
             w: vec![1.0 / n as f64; n],
             loglik: vec![0.0; n],
             loglik_tmp: vec![0.0; n],
@@ -460,29 +512,14 @@ impl ParticleFilter {
         (&self.x, &self.w)
     }
 
+    /// Weighted mean and covariance of the particles ([`Moments`] about the first
+    /// particle, which lies inside the cloud).
     fn summarise(&mut self) {
-        let mut m = State::zeros();
+        let mut acc = Moments::new(self.x.first().copied().unwrap_or(self.mean));
         for (xi, wi) in self.x.iter().zip(&self.w) {
-            m += xi * *wi;
+            acc.add(xi, *wi);
         }
-        // upper triangle of sum w d d^T, mirrored
-        let mut c = Mat6::zeros();
-        for (xi, wi) in self.x.iter().zip(&self.w) {
-            let d = xi - m;
-            let wd = d * *wi;
-            for j in 0..N {
-                for i in 0..=j {
-                    c[(i, j)] += wd[i] * d[j];
-                }
-            }
-        }
-        for j in 0..N {
-            for i in 0..j {
-                c[(j, i)] = c[(i, j)];
-            }
-        }
-        self.mean = m;
-        self.cov = c;
+        (self.mean, self.cov) = acc.finish();
     }
 
     /// Positions from the measurement's likelihood, velocities from the prior.
@@ -506,9 +543,12 @@ impl ParticleFilter {
                 .ok_or(FilterError::NonFinite("measurement inversion"))?;
             let v =
                 self.prior_mean.fixed_rows::<3>(3) + (l * gauss6(&mut self.rng)).fixed_rows::<3>(3);
-            self.x[i] = State::new(r.x, r.y, r.z, v.x, v.y, v.z);
-            self.xbar[i] = self.x[i];
+            self.x_tmp[i] = State::new(r.x, r.y, r.z, v.x, v.y, v.z);
+            self.xbar_tmp[i] = self.x_tmp[i];
         }
+        // commit only when every particle was drawn
+        std::mem::swap(&mut self.x, &mut self.x_tmp);
+        std::mem::swap(&mut self.xbar, &mut self.xbar_tmp);
         Ok(())
     }
 
@@ -558,8 +598,9 @@ impl ParticleFilter {
         }
     }
 
-    /// Draw particle `i` from its UKF proposal and return `ln p(x|anc) - ln q(x)`.
-    /// `None` when the UKF step fails (the caller keeps the transition draw).
+    /// Draw particle `i` from its UKF proposal into `x_tmp[i]`, `pc_tmp[i]` and return
+    /// `ln p(x|anc) - ln q(x)`. `None` when the UKF step fails (the caller keeps the
+    /// transition draw).
     fn unscented_move<M: MeasurementModel>(
         &mut self,
         i: usize,
@@ -576,8 +617,8 @@ impl ParticleFilter {
         let x = m + l * eps;
         let half_logdet: f64 = (0..N).map(|k| l[(k, k)].ln()).sum();
         let log_q = -0.5 * eps.norm_squared() - half_logdet;
-        self.x[i] = x;
-        self.pc[i] = if self.params.carry_covariance {
+        self.x_tmp[i] = x;
+        self.pc_tmp[i] = if self.params.carry_covariance {
             p
         } else {
             Mat6::zeros()
@@ -588,7 +629,26 @@ impl ParticleFilter {
     /// Measurement update with the sensor's likelihood under `noise` (per-component
     /// scales `scales`): the particle filters weigh with the true noise density, heavy
     /// tails included; the unscented proposal uses the Gaussian of the same variance.
+    ///
+    /// A failed update changes nothing (the generator included): new particles, weights
+    /// and covariances are written to the spare buffers and swapped in once the weights
+    /// have normalised; every later step cannot fail.
     pub fn update_with<M: MeasurementModel>(
+        &mut self,
+        sensor: &M,
+        z: &Vec3,
+        noise: &NoiseModel,
+        scales: &[f64; 3],
+    ) -> Result<UpdateInfo, FilterError> {
+        let rng = self.rng.clone();
+        let r = self.try_update(sensor, z, noise, scales);
+        if r.is_err() {
+            self.rng = rng;
+        }
+        r
+    }
+
+    fn try_update<M: MeasurementModel>(
         &mut self,
         sensor: &M,
         z: &Vec3,
@@ -645,7 +705,6 @@ impl ParticleFilter {
         }
         if matches!(self.params.kind, PfKind::Gapf | PfKind::Cgapf) {
             // the predicted particles (the state after predict) as a Gaussian
-            self.pred_mean = self.mean;
             self.pred_l = chol(&self.cov)
                 .or_else(|| {
                     let eps = 1e-12 * self.cov.trace().max(f64::MIN_POSITIVE);
@@ -654,6 +713,7 @@ impl ParticleFilter {
                 .ok_or(FilterError::NotPositiveDefinite(
                     "predicted particle covariance",
                 ))?;
+            self.pred_mean = self.mean;
         }
         if self.params.kind.unscented() {
             let vf = noise.variance_factor();
@@ -674,10 +734,11 @@ impl ParticleFilter {
                     let x = m + l * eps;
                     let log_q = -0.5 * eps.norm_squared() - half_logdet;
                     let ll = lik.log(&x);
-                    self.logw[i] += ll + log_gauss(&x, &self.prior_mean, &self.prior_l) - log_q;
+                    self.logw_tmp[i] =
+                        self.logw[i] + ll + log_gauss(&x, &self.prior_mean, &self.prior_l) - log_q;
                     self.loglik[i] = ll;
-                    self.x[i] = x;
-                    self.pc[i] = if self.params.carry_covariance {
+                    self.x_tmp[i] = x;
+                    self.pc_tmp[i] = if self.params.carry_covariance {
                         p
                     } else {
                         Mat6::zeros()
@@ -685,26 +746,42 @@ impl ParticleFilter {
                 }
             } else {
                 for i in 0..n {
-                    let corr = self.unscented_move(i, sensor, &r, z).unwrap_or(0.0);
-                    let ll = lik.log(&self.x[i]);
-                    self.logw[i] += ll + corr;
+                    let corr = match self.unscented_move(i, sensor, &r, z) {
+                        Some(c) => c,
+                        None => {
+                            self.x_tmp[i] = self.x[i];
+                            self.pc_tmp[i] = self.pc[i];
+                            0.0
+                        }
+                    };
+                    let ll = lik.log(&self.x_tmp[i]);
+                    self.logw_tmp[i] = self.logw[i] + ll + corr;
                     self.loglik[i] = ll;
                 }
             }
         } else {
-            for ((xi, lw), ll) in self
+            for (((xi, lw), lw_new), ll) in self
                 .x
                 .iter()
-                .zip(self.logw.iter_mut())
+                .zip(&self.logw)
+                .zip(self.logw_tmp.iter_mut())
                 .zip(self.loglik.iter_mut())
             {
                 *ll = lik.log(xi);
-                *lw += *ll;
+                *lw_new = *lw + *ll;
             }
         }
-        let log_mean = normalize_log_weights(&self.logw, &mut self.w).ok_or(
+        // normalise into the spare buffer; nothing is committed if every weight is zero
+        let log_mean = normalize_log_weights(&self.logw_tmp, &mut self.scratch).ok_or(
             FilterError::NonFinite("particle weights (every likelihood is zero)"),
         )?;
+        // commit: from here on nothing can fail
+        std::mem::swap(&mut self.w, &mut self.scratch);
+        std::mem::swap(&mut self.logw, &mut self.logw_tmp);
+        if self.params.kind.unscented() {
+            std::mem::swap(&mut self.x, &mut self.x_tmp);
+            std::mem::swap(&mut self.pc, &mut self.pc_tmp);
+        }
         // keep log-weights bounded: store the normalised ones, ln w_i = l_i - ln sum_j e^l_j
         let log_sum = log_mean + (n as f64).ln();
         if log_sum.is_finite() {
@@ -755,29 +832,33 @@ impl ParticleFilter {
 }
 
 impl Estimator for ParticleFilter {
+    /// Transition draw `x_i <- Phi x_i + Gamma a + w_i` fused with the weighted moments.
+    /// The new particles go to the spare buffers and are swapped in only when the mean is
+    /// finite: a failed prediction changes nothing (the generator included).
     fn predict(&mut self, model: &DiscreteModel, accel: &Vec3) -> Result<(), FilterError> {
-        if model.q != self.q_key {
+        // the square root of Q is cached per Q; the next update's transition density uses
+        // it, so it is committed with the particles
+        let (l, lower) = if model.q == self.q_key {
+            (self.q_sqrt, self.q_pd)
+        } else {
             match chol(&model.q) {
-                Some(l) => {
-                    self.q_sqrt = l;
-                    self.q_pd = true;
-                }
-                None => {
-                    self.q_sqrt = psd_sqrt(&model.q);
-                    self.q_pd = false;
-                }
+                Some(l) => (l, true),
+                None => (psd_sqrt(&model.q), false),
             }
-            self.q_key = model.q;
-        }
+        };
         let u = model.gamma * accel;
         let phi = model.phi;
-        let l = self.q_sqrt;
-        let lower = self.q_pd;
         // moments about a reference point near the mean (no cancellation)
         let reference = phi * self.mean + u;
-        let mut s1 = State::zeros();
-        let mut s2 = Mat6::zeros();
-        for ((xi, xb), wi) in self.x.iter_mut().zip(self.xbar.iter_mut()).zip(&self.w) {
+        let rng_saved = self.rng.clone();
+        let mut acc = Moments::new(reference);
+        for (((xi, xn), xb), wi) in self
+            .x
+            .iter()
+            .zip(self.x_tmp.iter_mut())
+            .zip(self.xbar_tmp.iter_mut())
+            .zip(&self.w)
+        {
             *xb = phi * *xi + u;
             let e = gauss6(&mut self.rng);
             let noise = if lower {
@@ -794,36 +875,25 @@ impl Estimator for ParticleFilter {
             } else {
                 l * e
             };
-            *xi = *xb + noise;
-            let d = *xi - reference;
-            s1 += d * *wi;
-            for c in 0..N {
-                let wdc = *wi * d[c];
-                for r in 0..=c {
-                    s2[(r, c)] += d[r] * wdc;
-                }
-            }
+            *xn = *xb + noise;
+            acc.add(xn, *wi);
         }
-        let wsum: f64 = self.w.iter().sum();
-        let md = s1 / wsum;
-        for c in 0..N {
-            for r in 0..=c {
-                let v = s2[(r, c)] / wsum - md[r] * md[c];
-                s2[(r, c)] = v;
-                s2[(c, r)] = v;
-            }
+        let (mean, cov) = acc.finish();
+        if !mean.iter().all(|v| v.is_finite()) {
+            self.rng = rng_saved;
+            return Err(FilterError::NonFinite("particle mean"));
         }
-        self.mean = reference + md;
-        self.cov = s2;
+        std::mem::swap(&mut self.x, &mut self.x_tmp);
+        std::mem::swap(&mut self.xbar, &mut self.xbar_tmp);
+        (self.q_key, self.q_sqrt, self.q_pd) = (model.q, l, lower);
+        self.mean = mean;
+        self.cov = cov;
         for p in self.pc.iter_mut() {
             *p = symmetrize(&(phi * *p * phi.transpose() + model.q));
         }
         if self.prior_mode {
             self.prior_mean = phi * self.prior_mean + u;
             self.prior_cov = symmetrize(&(phi * self.prior_cov * phi.transpose() + model.q));
-        }
-        if !self.mean.iter().all(|v| v.is_finite()) {
-            return Err(FilterError::NonFinite("particle mean"));
         }
         Ok(())
     }
