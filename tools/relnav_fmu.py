@@ -36,6 +36,8 @@ BOOL_INPUTS = ["measurement_valid"]
 INPUTS = REAL_INPUTS + BOOL_INPUTS
 
 FILTERS = {"ekf": 1, "ukf": 2}
+# the particle filters (filter codes 4-8)
+PARTICLE_FILTERS = {"pf": 4, "rpf": 5, "upf": 6, "gapf": 7, "cgapf": 8}
 
 
 def locate_fmu() -> Path:
