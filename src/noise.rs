@@ -20,10 +20,14 @@
 use rand::Rng;
 use rand_distr::{Distribution, StandardNormal, StudentT};
 
-/// A zero-mean noise density (see the module table).
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// A zero-mean noise density (see the module table). In scenario files it is written as
+/// `noise = { model = "mixture", zeta = 0.2, scale = 10.0 }` (snake-case model names,
+/// unknown keys rejected).
+#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(tag = "model", rename_all = "snake_case", deny_unknown_fields)]
 pub enum NoiseModel {
     /// Gaussian.
+    #[default]
     Gaussian,
     /// Contaminated Gaussian: weight `zeta` on a component `scale` times wider.
     Mixture {

@@ -198,7 +198,7 @@ pub struct Sensor {
     /// Noise density of the truth's measurements (the Kalman filters assume a Gaussian
     /// of the same variance).
     #[serde(default)]
-    pub noise: NoiseSpec,
+    pub noise: NoiseModel,
 }
 
 /// Measurement types.
@@ -251,19 +251,6 @@ pub enum NoiseSpec {
         /// Correlation of successive samples.
         phi: f64,
     },
-}
-
-impl From<NoiseSpec> for NoiseModel {
-    fn from(n: NoiseSpec) -> NoiseModel {
-        match n {
-            NoiseSpec::Gaussian => NoiseModel::Gaussian,
-            NoiseSpec::Mixture { zeta, scale } => NoiseModel::Mixture { zeta, scale },
-            NoiseSpec::StudentT { dof } => NoiseModel::StudentT { dof },
-            NoiseSpec::Uniform => NoiseModel::Uniform,
-            NoiseSpec::Laplace => NoiseModel::Laplace,
-            NoiseSpec::Ar1 { phi } => NoiseModel::Ar1 { phi },
-        }
-    }
 }
 
 /// Campaign settings.
@@ -499,7 +486,8 @@ impl Scenario {
             }
             SensorKind::Cartesian => pos("sensor.sigma_position", self.sensor.sigma_position)?,
         }
-        NoiseModel::from(self.sensor.noise)
+        self.sensor
+            .noise
             .validate()
             .map_err(|e| format!("sensor.{e}"))?;
         if self
@@ -571,7 +559,7 @@ impl Scenario {
     /// The filters' assumed measurement covariance diagonal (variance-matched to the
     /// truth's noise model).
     pub fn filter_r_diag(&self) -> [f64; 3] {
-        let vf = NoiseModel::from(self.sensor.noise).variance_factor();
+        let vf = self.sensor.noise.variance_factor();
         match self.sensor.kind {
             SensorKind::Cartesian => [self.sensor.sigma_position.powi(2) * vf; 3],
             _ => {
@@ -621,7 +609,7 @@ sigma_vel0 = 0.1
         let back = Scenario::from_toml(&s.to_toml().unwrap()).unwrap();
         assert_eq!(s, back);
         assert_eq!(s.thrust, Thrust::None);
-        assert_eq!(s.sensor.noise, NoiseSpec::Gaussian);
+        assert_eq!(s.sensor.noise, NoiseModel::Gaussian);
     }
 
     #[test]

@@ -193,7 +193,7 @@ impl Prepared {
                 .discretize(dt, &qc, Discretization::Exact)
                 .q,
         );
-        let noise = NoiseModel::from(s.sensor.noise);
+        let noise = s.sensor.noise;
         let (noise_sigma, truth_sensor, filter_sensor) = match s.sensor.kind {
             SensorKind::Radio | SensorKind::Lidar => {
                 let r = s.filter_r_diag();
