@@ -38,6 +38,13 @@ pub const POLE_COS: f64 = 1e-6;
 
 /// Wrap an angle to `(-pi, pi]`.
 pub fn wrap_pi(a: f64) -> f64 {
+    // fast path: differences of two angles in [0, 2 pi) lie in (-2 pi, 2 pi)
+    if a > -PI && a <= PI {
+        return a;
+    }
+    if (-TAU..=TAU).contains(&a) {
+        return if a > 0.0 { a - TAU } else { a + TAU };
+    }
     let w = a.rem_euclid(TAU); // [0, 2 pi)
     if w > PI {
         w - TAU
@@ -48,6 +55,14 @@ pub fn wrap_pi(a: f64) -> f64 {
 
 /// Wrap an angle to `[0, 2 pi)`.
 pub fn wrap_2pi(a: f64) -> f64 {
+    // fast path: atan2 returns (-pi, pi]
+    if (0.0..TAU).contains(&a) {
+        return a;
+    }
+    if (-TAU..0.0).contains(&a) {
+        let w = a + TAU;
+        return if w >= TAU { 0.0 } else { w };
+    }
     let w = a.rem_euclid(TAU);
     // rem_euclid can return TAU itself for tiny negative inputs after rounding
     if w >= TAU {
@@ -373,6 +388,14 @@ mod tests {
     fn wrapping() {
         assert!((wrap_pi(TAU - 1e-3) + 1e-3).abs() < 1e-15);
         assert!((wrap_pi(PI + 0.1) - (-PI + 0.1)).abs() < 1e-15);
+        // the range is (-pi, pi], on every path
+        assert_eq!(wrap_pi(-PI), PI);
+        assert_eq!(wrap_pi(PI), PI);
+        assert_eq!(wrap_pi(-TAU), 0.0);
+        assert_eq!(wrap_pi(TAU), 0.0);
+        assert!((wrap_pi(-PI - 0.1) - (PI - 0.1)).abs() < 1e-15);
+        assert!((wrap_pi(5.0 * PI + 0.1) - (-PI + 0.1)).abs() < 1e-12);
+        assert!(wrap_pi(f64::NAN).is_nan());
         assert_eq!(wrap_2pi(-0.0), 0.0);
         assert!((wrap_2pi(-1e-3) - (TAU - 1e-3)).abs() < 1e-15);
         let r = RadioSensor::residual(&Vec3::new(0.0, 1e-4, 0.0), &Vec3::new(0.0, TAU - 1e-4, 0.0));
