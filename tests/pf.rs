@@ -248,9 +248,9 @@ fn paper000_particle_filters_meet_their_reproduced_bars() {
 }
 
 /// Paper 003 (lidar, contaminated Gaussian zeta = 0.2): every particle filter beats the
-/// Gaussian EKF by at least 15 % in position (the 100-run reproduction: 27-29 %), and the
+/// Gaussian EKF by at least 15 % in position (the 100-run reproduction: 26-28 %), and the
 /// unscented ones come within 15 % of a 10 000-particle SIR on the same runs (100 runs:
-/// 2.5 %; 16 runs of heavy-tailed errors scatter by several per cent).
+/// 3.1 %; 16 runs of heavy-tailed errors scatter by several per cent).
 #[test]
 fn paper003_particle_filters_beat_the_gaussian_filters() {
     let labels = [
