@@ -211,26 +211,26 @@ fn row<'a>(
     sm.iter().find(|s| s.label == label).unwrap()
 }
 
-/// Paper 000 (radio, 0.5 m / 0.01 deg), 8 runs over its 600 s, errors averaged after 80 s.
-/// Bars: the paper's 0.4 m for position; position and velocity against the PCRLB. A
+/// Paper 000 (radio, 0.5 m / 0.01 deg), 20 runs over its 600 s, errors averaged after
+/// 80 s. Bars: the paper's 0.4 m for position; position and velocity against the PCRLB. A
 /// particle filter's velocity error is heavy-tailed across runs (impoverishment strikes
-/// some runs much harder), so the velocity bars are loose: measured CGA-PF 1.08 / 4.13
-/// and RPF 1.30 / 4.37 on these 8 runs, CGA-PF 1.00 / 1.69 and RPF 1.31 / 4.26 over 20
-/// (docs/evaluation.md). The literal SIR and the SIR without regularisation fail, as
-/// documented (measured 502 m and 32 m).
+/// some runs much harder), so the campaign is the full 20 runs of the reproduction: with
+/// 8 runs the CGA-PF's velocity efficiency was measured at 4.1, over 20 at 1.69 (1.29
+/// with the previous generator); RPF 1.31 / 4.26 (docs/evaluation.md). The literal SIR
+/// and the SIR without regularisation fail, as documented (measured 670 m and 56 m).
 #[test]
 fn paper000_particle_filters_meet_their_reproduced_bars() {
     let sm = reproduce(
         "paper000",
         &["SIR PF (literal)", "SIR PF", "RPF", "CGA-PF"],
-        8,
+        20,
         600.0,
     );
 
     let cga = row(&sm, "CGA-PF");
     assert!(cga.rmse_pos < 0.4, "CGA-PF position RMSE {}", cga.rmse_pos);
     assert!(
-        cga.efficiency_pos.unwrap() < 1.3 && cga.efficiency_vel.unwrap() < 6.0,
+        cga.efficiency_pos.unwrap() < 1.3 && cga.efficiency_vel.unwrap() < 3.0,
         "CGA-PF efficiency {:?} / {:?}",
         cga.efficiency_pos,
         cga.efficiency_vel
