@@ -6,6 +6,9 @@
 #include <stddef.h>
 #include <stdint.h>
 
+// Largest sliding-window width (capacity of the ring buffer).
+#define MAX_WINDOW 512
+
 // Result of every fallible call. Values are stable.
 typedef enum relnav_status {
   // Success.
@@ -28,7 +31,8 @@ typedef enum relnav_filter {
   RELNAV_FILTER_EKF = 1,
   // Unscented Kalman filter (scaled sigma points).
   RELNAV_FILTER_UKF = 2,
-  // Sliding-window adaptive UKF (paper 001); not implemented yet.
+  // Sliding-window adaptive UKF (paper 001): adaptive velocity process noise, `window`,
+  // `q_vv_floor`, `q_vv_ceiling`; `relnav_estimator_get_q_vv` reports it.
   RELNAV_FILTER_AQUKF = 3,
   // SIR (bootstrap) particle filter (paper 000). Its velocities stay impoverished on
   // paper 000's example (metres off after 100 s): prefer RPF or CGA-PF.
@@ -94,7 +98,7 @@ typedef struct relnav_estimator relnav_estimator;
 // [`relnav_config_default`], then change what you need. Enum fields are plain integers so
 // that an unknown value is reported, not undefined behaviour.
 typedef struct relnav_config {
-  // A `relnav_filter` code (1 EKF, 2 UKF, 4-8 particle filters; 3 and 9 are reserved).
+  // A `relnav_filter` code (1 EKF, 2 UKF, 3 AQUKF, 4-8 particle filters; 9 is reserved).
   int32_t filter;
   // A `relnav_frame` code: the frame of every vector and angle passed in and out.
   int32_t frame;
@@ -148,6 +152,13 @@ typedef struct relnav_config {
   double noise_scale;
   // Student-t: degrees of freedom, > 2 (default 4).
   double noise_dof;
+  // AQUKF (code 3): sliding-window width N, 1..=512 (default 10, paper 001).
+  int32_t window;
+  // AQUKF: lower bound of each adaptive velocity density `q_vv` [m^2/s^3], >= 0
+  // (default 0). For the AQUKF, `q_vel` is the initial `q_vv`.
+  double q_vv_floor;
+  // AQUKF: upper bound of each `q_vv` [m^2/s^3], finite, > 0, >= `q_vv_floor` (default 1).
+  double q_vv_ceiling;
 } relnav_config;
 
 
@@ -278,6 +289,16 @@ enum relnav_status relnav_estimator_get_innovation(const struct relnav_estimator
 // # Safety
 // `estimator` is a live handle or null; `out` is null or writable.
 enum relnav_status relnav_estimator_get_ess(const struct relnav_estimator *estimator, double *out);
+
+// The AQUKF's (code 3) current adaptive velocity process-noise density `q_vv`
+// [m^2/s^3], one value per axis of the configured frame (the diagonal of the rotated
+// matrix, exact because every frame rotation is a signed permutation; paper 001
+// sec. 2.2, `q_vv = diag(Q_vv) / T`). The other filters have none: `out` is filled with
+// NaN for them (and the status `RELNAV_OK`).
+//
+// # Safety
+// `estimator` is a live handle or null; `out` is null or 3 writable doubles.
+enum relnav_status relnav_estimator_get_q_vv(const struct relnav_estimator *estimator, double *out);
 
 #ifdef __cplusplus
 }  // extern "C"

@@ -52,7 +52,8 @@ pub enum relnav_filter {
     RELNAV_FILTER_EKF = 1,
     /// Unscented Kalman filter (scaled sigma points).
     RELNAV_FILTER_UKF = 2,
-    /// Sliding-window adaptive UKF (paper 001); not implemented yet.
+    /// Sliding-window adaptive UKF (paper 001): adaptive velocity process noise, `window`,
+    /// `q_vv_floor`, `q_vv_ceiling`; `relnav_estimator_get_q_vv` reports it.
     RELNAV_FILTER_AQUKF = 3,
     /// SIR (bootstrap) particle filter (paper 000). Its velocities stay impoverished on
     /// paper 000's example (metres off after 100 s): prefer RPF or CGA-PF.
@@ -125,7 +126,7 @@ pub enum relnav_noise_model {
 #[repr(C)]
 #[derive(Debug, Clone, Copy)]
 pub struct relnav_config {
-    /// A `relnav_filter` code (1 EKF, 2 UKF, 4-8 particle filters; 3 and 9 are reserved).
+    /// A `relnav_filter` code (1 EKF, 2 UKF, 3 AQUKF, 4-8 particle filters; 9 is reserved).
     pub filter: i32,
     /// A `relnav_frame` code: the frame of every vector and angle passed in and out.
     pub frame: i32,
@@ -179,6 +180,13 @@ pub struct relnav_config {
     pub noise_scale: f64,
     /// Student-t: degrees of freedom, > 2 (default 4).
     pub noise_dof: f64,
+    /// AQUKF (code 3): sliding-window width N, 1..=512 (default 10, paper 001).
+    pub window: i32,
+    /// AQUKF: lower bound of each adaptive velocity density `q_vv` [m^2/s^3], >= 0
+    /// (default 0). For the AQUKF, `q_vel` is the initial `q_vv`.
+    pub q_vv_floor: f64,
+    /// AQUKF: upper bound of each `q_vv` [m^2/s^3], finite, > 0, >= `q_vv_floor` (default 1).
+    pub q_vv_ceiling: f64,
 }
 
 /// Opaque estimator handle.
@@ -335,6 +343,9 @@ impl From<&NavConfig> for relnav_config {
             noise_zeta: c.noise_zeta,
             noise_scale: c.noise_scale,
             noise_dof: c.noise_dof,
+            window: i32::try_from(c.window).unwrap_or(i32::MAX),
+            q_vv_floor: c.q_vv_floor,
+            q_vv_ceiling: c.q_vv_ceiling,
         }
     }
 }
@@ -352,6 +363,14 @@ impl TryFrom<&relnav_config> for NavConfig {
                 "particles must lie in 1..={} (got {})",
                 crate::estimators::pf::MAX_PARTICLES,
                 c.particles
+            ),
+        })?;
+        let window = usize::try_from(c.window).map_err(|_| NavError {
+            kind: NavErrorKind::InvalidArgument,
+            message: format!(
+                "window must lie in 1..={} (got {})",
+                crate::estimators::MAX_WINDOW,
+                c.window
             ),
         })?;
         let cfg = NavConfig {
@@ -406,6 +425,9 @@ impl TryFrom<&relnav_config> for NavConfig {
             noise_zeta: c.noise_zeta,
             noise_scale: c.noise_scale,
             noise_dof: c.noise_dof,
+            window,
+            q_vv_floor: c.q_vv_floor,
+            q_vv_ceiling: c.q_vv_ceiling,
         };
         cfg.validate()?;
         Ok(cfg)
@@ -746,5 +768,28 @@ pub unsafe extern "C" fn relnav_estimator_get_ess(
         let o = unsafe { out.as_mut() }.ok_or_else(|| null("out", F))?;
         *o = nav.ess().unwrap_or(f64::NAN);
         Ok(())
+    })
+}
+
+/// The AQUKF's (code 3) current adaptive velocity process-noise density `q_vv`
+/// [m^2/s^3], one value per axis of the configured frame (the diagonal of the rotated
+/// matrix, exact because every frame rotation is a signed permutation; paper 001
+/// sec. 2.2, `q_vv = diag(Q_vv) / T`). The other filters have none: `out` is filled with
+/// NaN for them (and the status `RELNAV_OK`).
+///
+/// # Safety
+/// `estimator` is a live handle or null; `out` is null or 3 writable doubles.
+#[no_mangle]
+pub unsafe extern "C" fn relnav_estimator_get_q_vv(
+    estimator: *const relnav_estimator,
+    out: *mut f64,
+) -> relnav_status {
+    const F: &str = "relnav_estimator_get_q_vv";
+    boundary(F, || {
+        // SAFETY: pointer contracts are the caller's, checked for null.
+        let nav = unsafe { estimator_ref(estimator, F) }?;
+        let q = nav.q_vv().unwrap_or([f64::NAN; 3]);
+        // SAFETY: as above; `write_array` checks `out` for null.
+        unsafe { write_array(out, &q, "out", F) }
     })
 }

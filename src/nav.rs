@@ -13,6 +13,10 @@
 //! discretisation) and `q_pos` [m^2/s], `q_vel` [m^2/s^3] are per-axis variance rates in
 //! the I/O frame that reproduce a paper's diagonal discrete `Q` (paper 000: its `Q` per 1 s
 //! step, so `q_pos = (0.3^2, 0.025^2, 0.05^2)`, `q_vel = 0.001^2` each).
+//! For the **AQUKF** (code 3) the velocity part is adaptive: `q_vel` is the initial
+//! adaptive density `q_vv`, and each step adds `Qd_VanLoan(diag(q_vv_k), h)` (canonical)
+//! instead of `q_vel h`; `window`, `q_vv_floor`, `q_vv_ceiling` set the adaptation
+//! ([`crate::estimators::aqukf`]), [`Navigator::q_vv`] reports it.
 //!
 //! **Measurement noise.** `sigma_range` and `sigma_angle` are the scales of the noise
 //! density [`NavConfig::noise_model`] (Gaussian by default; a contaminated Gaussian or a
@@ -25,7 +29,7 @@
 use crate::dynamics::{CwModel, DiscreteModel, Discretization};
 use crate::estimators::pf::resample::Resampler;
 use crate::estimators::pf::{ParticleFilter, PfKind, PfParams, MAX_PARTICLES};
-use crate::estimators::{Ekf, Estimator, FilterError, Ukf, UkfParams, UpdateInfo};
+use crate::estimators::{AqParams, Aqukf, Ekf, Estimator, FilterError, Ukf, UkfParams, UpdateInfo};
 use crate::frames::Frame;
 use crate::noise::NoiseModel;
 use crate::sensors::{MeasurementModel, RadioSensor};
@@ -43,7 +47,7 @@ pub enum FilterKind {
     Ekf = 1,
     /// Unscented Kalman filter.
     Ukf = 2,
-    /// Sliding-window adaptive UKF (paper 001) — not yet implemented.
+    /// Sliding-window adaptive UKF (paper 001, [`crate::estimators::aqukf`]).
     Aqukf = 3,
     /// SIR (bootstrap) particle filter (paper 000).
     Pf = 4,
@@ -95,7 +99,7 @@ impl FilterKind {
 
     /// Whether this build implements the filter.
     pub fn is_implemented(self) -> bool {
-        !matches!(self, FilterKind::Aqukf | FilterKind::Hinf)
+        !matches!(self, FilterKind::Hinf)
     }
 
     /// The particle-filter variant of codes 4-8 (`None` for the other filters).
@@ -198,6 +202,13 @@ pub struct NavConfig {
     pub noise_scale: f64,
     /// Degrees of freedom of the Student-t noise model, > 2 (finite variance).
     pub noise_dof: f64,
+    /// AQUKF (code 3): sliding-window width `N`, `1..=MAX_WINDOW` (paper 001: 10).
+    pub window: usize,
+    /// AQUKF: lower bound of each adaptive `q_vv` entry [m^2/s^3], >= 0.
+    pub q_vv_floor: f64,
+    /// AQUKF: upper bound of each adaptive `q_vv` entry [m^2/s^3], finite, > 0 and
+    /// >= `q_vv_floor`.
+    pub q_vv_ceiling: f64,
 }
 
 impl Default for NavConfig {
@@ -227,6 +238,9 @@ impl Default for NavConfig {
             noise_zeta: 0.2,
             noise_scale: 10.0,
             noise_dof: 4.0,
+            window: 10,
+            q_vv_floor: 0.0,
+            q_vv_ceiling: 1.0,
         }
     }
 }
@@ -446,6 +460,7 @@ impl NavConfig {
         if let Some(p) = self.pf_params() {
             p.validate().map_err(NavError::invalid)?;
         }
+        self.aq_params().validate().map_err(NavError::invalid)?;
         Ok(())
     }
 
@@ -479,6 +494,29 @@ impl NavConfig {
         })
     }
 
+    /// The AQUKF's adaptive settings: `window`, `q_vv_floor`, `q_vv_ceiling`, and the
+    /// initial `q_vv` = `q_vel` rotated to the canonical frame (for the AQUKF, `q_vel_*`
+    /// is the initial adaptive density rather than a fixed part of `Q`; see
+    /// [`Navigator`]). MAX: [`crate::estimators::MAX_WINDOW`] bounds `window`.
+    pub fn aq_params(&self) -> AqParams {
+        let qv = self
+            .frame
+            .cov_to_canonical(&Mat6::from_diagonal(&State::from_row_slice(&[
+                0.0,
+                0.0,
+                0.0,
+                self.q_vel[0],
+                self.q_vel[1],
+                self.q_vel[2],
+            ])));
+        AqParams {
+            window: self.window,
+            q_vv0: Vec3::new(qv[(3, 3)], qv[(4, 4)], qv[(5, 5)]),
+            floor: self.q_vv_floor,
+            ceiling: self.q_vv_ceiling,
+        }
+    }
+
     /// Initial estimate in the canonical frame.
     pub fn initial_state(&self) -> State {
         self.frame
@@ -499,6 +537,8 @@ pub enum AnyFilter {
     Ekf(Ekf),
     /// Unscented Kalman filter.
     Ukf(Ukf),
+    /// Sliding-window adaptive UKF (paper 001).
+    Aqukf(Aqukf),
     /// Particle filter (codes 4-8: SIR, regularised, unscented, genetic, cloud-genetic).
     Pf(ParticleFilter),
 }
@@ -508,6 +548,7 @@ impl Estimator for AnyFilter {
         match self {
             AnyFilter::Ekf(f) => f.predict(model, accel),
             AnyFilter::Ukf(f) => f.predict(model, accel),
+            AnyFilter::Aqukf(f) => f.predict(model, accel),
             AnyFilter::Pf(f) => f.predict(model, accel),
         }
     }
@@ -519,6 +560,7 @@ impl Estimator for AnyFilter {
         match self {
             AnyFilter::Ekf(f) => f.update(sensor, z),
             AnyFilter::Ukf(f) => f.update(sensor, z),
+            AnyFilter::Aqukf(f) => f.update(sensor, z),
             AnyFilter::Pf(f) => f.update(sensor, z),
         }
     }
@@ -526,6 +568,7 @@ impl Estimator for AnyFilter {
         match self {
             AnyFilter::Ekf(f) => f.state(),
             AnyFilter::Ukf(f) => f.state(),
+            AnyFilter::Aqukf(f) => f.state(),
             AnyFilter::Pf(f) => f.state(),
         }
     }
@@ -533,6 +576,7 @@ impl Estimator for AnyFilter {
         match self {
             AnyFilter::Ekf(f) => f.covariance(),
             AnyFilter::Ukf(f) => f.covariance(),
+            AnyFilter::Aqukf(f) => f.covariance(),
             AnyFilter::Pf(f) => f.covariance(),
         }
     }
@@ -540,6 +584,7 @@ impl Estimator for AnyFilter {
         match self {
             AnyFilter::Ekf(f) => f.set_estimate(x, p),
             AnyFilter::Ukf(f) => f.set_estimate(x, p),
+            AnyFilter::Aqukf(f) => f.set_estimate(x, p),
             AnyFilter::Pf(f) => f.set_estimate(x, p),
         }
     }
@@ -585,6 +630,13 @@ fn build_filter(cfg: &NavConfig) -> Result<AnyFilter, NavError> {
     match cfg.filter {
         FilterKind::Ekf => Ok(AnyFilter::Ekf(Ekf::new(x0, p0))),
         FilterKind::Ukf => Ok(AnyFilter::Ukf(Ukf::new(x0, p0, cfg.ukf))),
+        FilterKind::Aqukf => Ok(AnyFilter::Aqukf(Aqukf::new(
+            x0,
+            p0,
+            cfg.ukf,
+            cfg.aq_params(),
+            cfg.mean_motion,
+        ))),
         other => Err(NavError {
             kind: NavErrorKind::NotImplemented,
             message: format!("filter {} is not implemented", other.name()),
@@ -635,13 +687,19 @@ impl Navigator {
         if self.step_cache.dt != dt {
             let qc = Mat3::identity() * self.cfg.accel_psd;
             let mut d = self.model.discretize(dt, &qc, self.cfg.discretization);
+            // the AQUKF adapts the velocity part itself (q_vel is its initial q_vv)
+            let qv = if self.cfg.filter == FilterKind::Aqukf {
+                [0.0; 3]
+            } else {
+                self.cfg.q_vel
+            };
             let qio = State::from_row_slice(&[
                 self.cfg.q_pos[0],
                 self.cfg.q_pos[1],
                 self.cfg.q_pos[2],
-                self.cfg.q_vel[0],
-                self.cfg.q_vel[1],
-                self.cfg.q_vel[2],
+                qv[0],
+                qv[1],
+                qv[2],
             ]) * dt;
             d.q += self.cfg.frame.cov_to_canonical(&Mat6::from_diagonal(&qio));
             self.step_cache = d;
@@ -767,6 +825,7 @@ impl Navigator {
         let (x0, p0) = (self.cfg.initial_state(), self.cfg.initial_covariance());
         match &mut self.filter {
             AnyFilter::Pf(pf) => *pf = ParticleFilter::new(x0, p0, *pf.params()),
+            AnyFilter::Aqukf(f) => f.reset(x0, p0),
             other => other.set_estimate(x0, p0),
         }
         self.last_update = None;
@@ -796,6 +855,23 @@ impl Navigator {
     pub fn ess(&self) -> Option<f64> {
         match &self.filter {
             AnyFilter::Pf(pf) => Some(pf.ess().clamp(1.0, pf.params().particles as f64)),
+            _ => None,
+        }
+    }
+
+    /// The AQUKF's current adaptive velocity density `q_vv` [m^2/s^3] in the I/O frame:
+    /// the diagonal of `T blockdiag(0, diag(q_vv)) T^T`. Every frame rotation is a signed
+    /// permutation, so the rotated matrix is diagonal again and this is exact (entries
+    /// permuted). `None` for the other filters.
+    pub fn q_vv(&self) -> Option<[f64; 3]> {
+        match &self.filter {
+            AnyFilter::Aqukf(f) => {
+                let q = f.q_vv();
+                let c =
+                    Mat6::from_diagonal(&State::from_row_slice(&[0.0, 0.0, 0.0, q[0], q[1], q[2]]));
+                let io = self.cfg.frame.cov_from_canonical(&c);
+                Some([io[(3, 3)], io[(4, 4)], io[(5, 5)]])
+            }
             _ => None,
         }
     }

@@ -108,23 +108,25 @@ fn defaults_of_the_new_fields() {
     );
     assert_eq!((c.noise_zeta, c.noise_scale, c.noise_dof), (0.2, 10.0, 4.0));
     assert_eq!(validate(&c), OK);
-    // every particle filter code is accepted with the defaults; 3 and 9 are not implemented
-    for f in 4..=8 {
+    // the AQUKF and every particle filter code are accepted with the defaults; 9 is not
+    // implemented
+    assert_eq!((c.window, c.q_vv_floor, c.q_vv_ceiling), (10, 0.0, 1.0));
+    for f in 3..=8 {
         let c = relnav_config {
             filter: f,
             ..relnav_config_default()
         };
         assert_eq!(validate(&c), OK, "filter {f}: {}", last_error());
     }
-    for f in [3, 9] {
+    {
         let c = relnav_config {
-            filter: f,
+            filter: 9,
             ..relnav_config_default()
         };
         assert_eq!(
             validate(&c),
             relnav_status::RELNAV_ERROR_NOT_IMPLEMENTED,
-            "filter {f}"
+            "filter 9"
         );
         assert!(last_error().contains("not implemented"), "{}", last_error());
     }
@@ -154,6 +156,17 @@ fn bad_new_fields_are_refused_with_their_name() {
         ("noise_scale", |c| c.noise_scale = f64::INFINITY),
         ("noise_dof", |c| c.noise_dof = 2.0),
         ("noise_dof", |c| c.noise_dof = f64::NAN),
+        ("window", |c| c.window = 0),
+        ("window", |c| c.window = -3),
+        ("window", |c| c.window = 513),
+        ("q_vv_floor", |c| c.q_vv_floor = -1e-9),
+        ("q_vv_floor", |c| c.q_vv_floor = f64::NAN),
+        ("q_vv_ceiling", |c| c.q_vv_ceiling = 0.0),
+        ("q_vv_ceiling", |c| c.q_vv_ceiling = f64::INFINITY),
+        ("q_vv_ceiling", |c| {
+            c.q_vv_floor = 1e-3;
+            c.q_vv_ceiling = 1e-4;
+        }),
     ];
     // refused for a particle filter and for a Kalman filter alike (no value hides until
     // the filter changes)

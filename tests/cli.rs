@@ -37,6 +37,41 @@ fn reproduce_writes_table_csv_and_plots() {
     let _ = std::fs::remove_dir_all(&out);
 }
 
+/// `reproduce --paper 001` prints paper 001's Tables 3-5 beside the published values and
+/// the model-error scenarios.
+#[test]
+fn reproduce_paper_001_prints_the_tables() {
+    let out = tmp("p001");
+    let o = Command::new(env!("CARGO_BIN_EXE_relnav"))
+        .args([
+            "reproduce",
+            "--paper",
+            "001",
+            "--runs",
+            "1",
+            "--no-plots",
+            "--out",
+        ])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let t = String::from_utf8_lossy(&o.stdout);
+    for want in [
+        "**Table 3**",
+        "**Table 4**",
+        "**Table 5**",
+        "92.2212 km",
+        "| AQUKF N = 300 |",
+        "model_error_burns",
+        "model_error_j2",
+    ] {
+        assert!(t.contains(want), "missing {want}:\n{t}");
+    }
+    assert!(out.join("paper001_mars").join("tables.md").is_file());
+    let _ = std::fs::remove_dir_all(&out);
+}
+
 #[test]
 fn bad_scenario_names_the_key() {
     let dir = tmp("bad");

@@ -269,13 +269,6 @@ fn invalid_configurations_name_the_parameter() {
         ),
         (
             NavConfig {
-                filter: FilterKind::Aqukf,
-                ..Default::default()
-            },
-            "not implemented",
-        ),
-        (
-            NavConfig {
                 filter: FilterKind::Hinf,
                 ..Default::default()
             },

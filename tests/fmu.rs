@@ -110,7 +110,7 @@ fn platform_strings_and_description() {
         );
     }
     assert!(model_description().contains(guid()));
-    assert_eq!(VARIABLES.len(), vr::ESS as usize + 1);
+    assert_eq!(VARIABLES.len(), vr::Q_VV_Z as usize + 1);
 }
 
 #[test]
@@ -250,7 +250,9 @@ fn call_sequence_and_parameter_errors() {
             assert_eq!(fmi2ExitInitializationMode(c), ERR, "vr {r} = {v}");
             assert_eq!(fmi2Reset(c), OK);
         }
-        for f in [3, 9] {
+        // 9 (hinf) is not implemented yet; 3 (aqukf) is
+        {
+            let f = 9;
             assert_eq!(set_int(c, vr::FILTER, f), OK);
             assert_eq!(fmi2EnterInitializationMode(c), OK);
             assert_eq!(fmi2ExitInitializationMode(c), ERR, "filter {f}");

@@ -58,7 +58,7 @@ fn library_and_c_abi_steps_do_not_allocate() {
         allocations(|| drop(std::hint::black_box(Box::new(1u64)))),
         1
     );
-    for filter in [FilterKind::Ekf, FilterKind::Ukf] {
+    for filter in [FilterKind::Ekf, FilterKind::Ukf, FilterKind::Aqukf] {
         let cfg = NavConfig {
             filter,
             accel_psd: 1e-9,
@@ -85,6 +85,7 @@ fn library_and_c_abi_steps_do_not_allocate() {
         assert!(!est.is_null());
         let thrust = [0.0; 3];
         let mut x = [0.0; 6];
+        let mut q = [0.0; 3];
         let n = allocations(|| {
             for k in 0..200 {
                 let z = measurement(k);
@@ -95,6 +96,7 @@ fn library_and_c_abi_steps_do_not_allocate() {
                         ffi::relnav_status::RELNAV_OK
                     );
                     ffi::relnav_estimator_get_state(est, x.as_mut_ptr());
+                    ffi::relnav_estimator_get_q_vv(est, q.as_mut_ptr());
                 }
             }
         });
@@ -104,11 +106,11 @@ fn library_and_c_abi_steps_do_not_allocate() {
     }
 }
 
-/// `fmi2DoStep` cycles (set inputs, step, get the 12 estimate outputs and `ess`) for the
-/// EKF and two particle filters.
+/// `fmi2DoStep` cycles (set inputs, step, get the 12 estimate outputs, `ess` and `q_vv_*`)
+/// for the EKF, the AQUKF and two particle filters.
 #[test]
 fn fmu_do_step_does_not_allocate() {
-    for filter in [1, 5, 8] {
+    for filter in [1, 3, 5, 8] {
         fmu_cycles_do_not_allocate(filter);
     }
 }
@@ -144,9 +146,9 @@ fn fmu_cycles_do_not_allocate(filter: i32) {
         assert_eq!(
             fmi2SetInteger(
                 c,
-                [vr::FILTER, vr::PARTICLES].as_ptr(),
-                2,
-                [filter, 300].as_ptr()
+                [vr::FILTER, vr::PARTICLES, vr::WINDOW].as_ptr(),
+                3,
+                [filter, 300, 5].as_ptr()
             ),
             fmi2Status::fmi2OK
         );
@@ -168,9 +170,12 @@ fn fmu_cycles_do_not_allocate(filter: i32) {
         vr::SIGMA_VY,
         vr::SIGMA_VZ,
         vr::ESS,
+        vr::Q_VV_X,
+        vr::Q_VV_Y,
+        vr::Q_VV_Z,
     ];
     let valid = [vr::MEASUREMENT_VALID];
-    let mut y = [0.0; 13];
+    let mut y = [0.0; 16];
     let n = allocations(|| {
         for k in 0..200 {
             let z = measurement(k);
@@ -186,7 +191,7 @@ fn fmu_cycles_do_not_allocate(filter: i32) {
                 );
                 assert_eq!(fmi2DoStep(c, k as f64, 1.0, 1), fmi2Status::fmi2OK);
                 assert_eq!(
-                    fmi2GetReal(c, outs.as_ptr(), 13, y.as_mut_ptr()),
+                    fmi2GetReal(c, outs.as_ptr(), 16, y.as_mut_ptr()),
                     fmi2Status::fmi2OK
                 );
             }

@@ -374,14 +374,30 @@ void check_config() {
         expect_config_fail("noise_scale=" + fmt(v), IA, [&](relnav_config& c) { c.noise_scale = v; }, "noise_scale");
     for (double v : {2.0, 1.0, kNaN})
         expect_config_fail("noise_dof=" + fmt(v), IA, [&](relnav_config& c) { c.noise_dof = v; }, "noise_dof");
+    // Filter 3 (AQUKF, paper 001) and its fields.
+    expect_config_ok("filter=3", [](relnav_config& c) { c.filter = RELNAV_FILTER_AQUKF; });
+    for (int v : {0, -1, 513, INT_MIN})
+        expect_config_fail("window=" + std::to_string(v), IA, [&](relnav_config& c) { c.window = v; }, "window");
+    for (double v : {-1e-9, kNaN})
+        expect_config_fail("q_vv_floor=" + fmt(v), IA, [&](relnav_config& c) { c.q_vv_floor = v; }, "q_vv_floor");
+    for (double v : {0.0, kInf, kNaN})
+        expect_config_fail("q_vv_ceiling=" + fmt(v), IA, [&](relnav_config& c) { c.q_vv_ceiling = v; },
+                           "q_vv_ceiling");
     {
-        // Filter 3 (AQUKF) is scheduled: either not implemented yet, or it works.
-        relnav_config c = relnav_config_default();
-        c.filter = RELNAV_FILTER_AQUKF;
-        const relnav_status s = relnav_config_validate(&c);
-        std::printf("  filter=3 (aqukf): %s\n", relnav_status_string(s));
-        CHECK(s == RELNAV_ERROR_NOT_IMPLEMENTED || s == RELNAV_OK);
-        if (s == RELNAV_OK) expect_config_ok("filter=3", [](relnav_config& cc) { cc.filter = RELNAV_FILTER_AQUKF; });
+        // relnav_estimator_get_q_vv: the initial q_vel for the AQUKF, NaN for the EKF,
+        // a null output pointer refused.
+        for (int f : {RELNAV_FILTER_AQUKF, RELNAV_FILTER_EKF}) {
+            relnav_config c = relnav_config_default();
+            c.filter = f;
+            relnav_estimator* e = nullptr;
+            CHECK(relnav_estimator_new(&c, &e) == RELNAV_OK);
+            double q[3] = {0.0, 0.0, 0.0};
+            CHECK(relnav_estimator_get_q_vv(e, q) == RELNAV_OK);
+            for (int i = 0; i < 3; ++i)
+                CHECK(f == RELNAV_FILTER_AQUKF ? q[i] == c.q_vel[i] : std::isnan(q[i]));
+            CHECK(relnav_estimator_get_q_vv(e, nullptr) == RELNAV_ERROR_NULL_POINTER);
+            relnav_estimator_free(e);
+        }
     }
 
     // Valid corner cases must be accepted.

@@ -500,7 +500,7 @@ void error_cases(Context& cx) {
             EXPECT_FMI(api.fmi2Terminate(s.get()), fmi2::OK);
         }
     }
-    // Codes 4..8 (particle filters) initialise; 9 fails like above, 3 may become implemented;
+    // Codes 3 (AQUKF) and 4..8 (particle filters) initialise; 9 fails like above;
     // 10 is not even a valid enumeration value.
     for (int code = 3; code <= 10; ++code) {
         Slave s(api, *cx.md, env, "filter" + std::to_string(code), cx.resource_uri, cx.md->guid);
@@ -522,8 +522,8 @@ void error_cases(Context& cx) {
                     set == fmi2::OK ? exit_st : -1, last_message(env).c_str());
         if (code <= 9) {
             CHECK(set == fmi2::OK);
-            // 3 (aqukf) may become implemented; 4..8 are; 9 is not.
-            if (code >= 4 && code <= 8) CHECK_MSG(exit_st == fmi2::OK, "filter " + std::to_string(code) + ": " + last_message(env));
+            // 3 (aqukf) and 4..8 are implemented; 9 is not.
+            if (code >= 3 && code <= 8) CHECK_MSG(exit_st == fmi2::OK, "filter " + std::to_string(code) + ": " + last_message(env));
             if (code == 9) CHECK(exit_st == fmi2::Error);
         } else {
             CHECK(set == fmi2::Error);

@@ -1,9 +1,10 @@
 //! `relnav` — the evaluation engine's command line.
 //!
-//! * `relnav reproduce [--paper 000|002|003|all] [--runs M] [--out DIR]` runs the papers'
+//! * `relnav reproduce [--paper 000|001|002|003|all] [--runs M] [--out DIR]` runs the papers'
 //!   numerical examples (built-in scenario files) and prints, per scenario, a Markdown
 //!   table of the paper's published figures beside ours; writes CSV time series and PNG
-//!   plots under `DIR/<scenario>/`.
+//!   plots under `DIR/<scenario>/`. Paper 001 also runs its Mars approach
+//!   ([`relnav::eval::mars`]): Tables 3-5 beside the paper's, in `DIR/paper001_mars/tables.md`.
 //! * `relnav simulate SCENARIO.toml [--runs M] [--out DIR]` does the same for any file.
 //! * `relnav scenarios [--show NAME]` lists (or prints) the built-in scenarios.
 //!
@@ -11,7 +12,7 @@
 //! marked as interrupted.
 
 use clap::{Parser, Subcommand};
-use relnav::eval::{builtin, metrics, report, runner, scenario::Scenario};
+use relnav::eval::{builtin, mars, metrics, report, runner, scenario::Scenario};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -32,8 +33,8 @@ struct Cli {
 enum Command {
     /// Reproduce the papers' numerical examples.
     Reproduce {
-        /// Which paper: 000, 002, 003 or all.
-        #[arg(long, default_value = "all", value_parser = ["000", "002", "003", "all"])]
+        /// Which paper: 000, 001, 002, 003 or all.
+        #[arg(long, default_value = "all", value_parser = ["000", "001", "002", "003", "all"])]
         paper: String,
         /// Monte Carlo runs per scenario (default: the scenario's own count).
         #[arg(long)]
@@ -123,7 +124,34 @@ fn main() -> ExitCode {
             no_plots,
         } => {
             let mut r = Ok(());
+            let mars: Vec<_> = builtin::MARS
+                .iter()
+                .filter(|(p, _, _)| paper == "all" || *p == paper)
+                .collect();
+            for (_, name, text) in mars {
+                if cancel.load(Ordering::Relaxed) {
+                    break;
+                }
+                r = builtin::parse_mars(text)
+                    .map_err(|e| format!("built-in scenario {name}: {e}"))
+                    .and_then(|s| {
+                        let table = mars::reproduce(&s, runs)?;
+                        println!("{table}");
+                        let dir = out.join(&s.name);
+                        std::fs::create_dir_all(&dir)
+                            .and_then(|()| std::fs::write(dir.join("tables.md"), &table))
+                            .map_err(|e| format!("write {}: {e}", dir.display()))?;
+                        println!("wrote: {}\n", dir.join("tables.md").display());
+                        Ok(())
+                    });
+                if r.is_err() {
+                    break;
+                }
+            }
             for (name, text) in builtin::for_paper(&paper) {
+                if r.is_err() {
+                    break;
+                }
                 if cancel.load(Ordering::Relaxed) {
                     break;
                 }
@@ -151,12 +179,17 @@ fn main() -> ExitCode {
         Command::Scenarios { show } => match show {
             Some(n) => builtin::BUILTIN
                 .iter()
+                .chain(builtin::MARS)
                 .find(|(_, name, _)| *name == n)
                 .map(|(_, _, t)| print!("{t}"))
                 .ok_or_else(|| format!("no built-in scenario named {n}")),
             None => {
                 for (p, n, t) in builtin::BUILTIN {
                     let title = Scenario::from_toml(t).map(|s| s.title).unwrap_or_default();
+                    println!("{p}  {n:<24} {title}");
+                }
+                for (p, n, t) in builtin::MARS {
+                    let title = builtin::parse_mars(t).map(|s| s.title).unwrap_or_default();
                     println!("{p}  {n:<24} {title}");
                 }
                 Ok(())

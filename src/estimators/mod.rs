@@ -11,11 +11,13 @@ use crate::dynamics::DiscreteModel;
 use crate::sensors::{GeometryError, MeasurementModel};
 use crate::types::{Mat6, State, Vec3};
 
+pub mod aqukf;
 pub mod ekf;
 /// cbindgen:ignore
 pub mod pf;
 pub mod ukf;
 
+pub use aqukf::{AdaptiveQ, AdaptiveUkf, AqParams, Aqukf, MAX_WINDOW};
 pub use ekf::Ekf;
 pub use ukf::{Ukf, UkfParams};
 

@@ -31,7 +31,7 @@ use super::{finite, symmetrize, Estimator, FilterError, UpdateInfo};
 use crate::dynamics::DiscreteModel;
 use crate::sensors::{GeometryError, MeasurementModel};
 use crate::types::{Mat3, Mat6, Mat63, State, Vec3};
-use nalgebra::SMatrix;
+use nalgebra::{SMatrix, SVector};
 
 const N: usize = 6;
 const NS: usize = 2 * N + 1;
@@ -174,6 +174,81 @@ impl Ukf {
         ))
     }
 
+    /// Generic unscented time update (paper 001, sec. 2.1, steps 2-3): every sigma point of
+    /// `(x, P)` goes through the process function `f` (any model: the CW transition, or an
+    /// RK4 step of a nonlinear orbit), `x- = sum Wm chi_i`,
+    /// `P- = sum Wc (chi_i - x-)(chi_i - x-)^T + q`. The filter is unchanged on error.
+    pub fn predict_with<F>(&mut self, q: &Mat6, mut f: F) -> Result<(), FilterError>
+    where
+        F: FnMut(&State) -> Result<State, FilterError>,
+    {
+        let s = self.sigma_points(&self.x, &self.p)?;
+        let mut prop = Sigma::zeros();
+        let mut mean = State::zeros();
+        for i in 0..NS {
+            let c = f(&s.column(i).into_owned())?;
+            mean += c * self.wm[i];
+            prop.set_column(i, &c);
+        }
+        let mut p = *q;
+        for i in 0..NS {
+            let d = prop.column(i) - mean;
+            p += d * d.transpose() * self.wc[i];
+        }
+        let p = symmetrize(&p);
+        finite(&mean, "predicted state")?;
+        finite(&p, "predicted covariance")?;
+        self.x = mean;
+        self.p = p;
+        Ok(())
+    }
+
+    /// Generic unscented measurement update (paper 001, sec. 2.1, steps 4-6) for a
+    /// measurement of any dimension `M` with additive noise covariance `r`, arithmetic means
+    /// and plain differences (no angle wrapping: for measurements that stay away from a
+    /// cut, such as the star-to-body angles of paper 001 in `[0, pi]`). `h` returns `None`
+    /// where the measurement is undefined. Returns the NIS `nu^T Pzz^-1 nu`; the filter is
+    /// unchanged on error.
+    pub fn update_generic<const M: usize, H>(
+        &mut self,
+        h: H,
+        z: &SVector<f64, M>,
+        r: &SMatrix<f64, M, M>,
+    ) -> Result<f64, FilterError>
+    where
+        H: Fn(&State) -> Option<SVector<f64, M>>,
+    {
+        let s = self.sigma_points(&self.x, &self.p)?;
+        let mut zs = [SVector::<f64, M>::zeros(); NS];
+        let mut z_hat = SVector::<f64, M>::zeros();
+        for (i, zi) in zs.iter_mut().enumerate() {
+            *zi = h(&s.column(i).into_owned())
+                .ok_or(FilterError::Geometry(GeometryError::ZeroRange))?;
+            z_hat += *zi * self.wm[i];
+        }
+        let mut pzz = *r;
+        let mut pxz = SMatrix::<f64, N, M>::zeros();
+        for (i, zi) in zs.iter().enumerate() {
+            let dz = zi - z_hat;
+            let dx = s.column(i) - self.x;
+            pzz += dz * dz.transpose() * self.wc[i];
+            pxz += dx * dz.transpose() * self.wc[i];
+        }
+        let chol = pzz.cholesky().ok_or(FilterError::NotPositiveDefinite(
+            "innovation covariance Pzz",
+        ))?;
+        let k = chol.solve(&pxz.transpose()).transpose();
+        let nu = z - z_hat;
+        let xn = self.x + k * nu;
+        let pn = symmetrize(&(self.p - k * pzz * k.transpose()));
+        finite(&xn, "updated state")?;
+        finite(&pn, "updated covariance")?;
+        let nis = nu.dot(&chol.solve(&nu));
+        self.x = xn;
+        self.p = pn;
+        Ok(nis)
+    }
+
     fn sigma_points(&self, x: &State, p: &Mat6) -> Result<Sigma, FilterError> {
         let l = p
             .cholesky()
@@ -192,25 +267,7 @@ impl Ukf {
 
 impl Estimator for Ukf {
     fn predict(&mut self, model: &DiscreteModel, accel: &Vec3) -> Result<(), FilterError> {
-        let s = self.sigma_points(&self.x, &self.p)?;
-        let mut prop = Sigma::zeros();
-        let mut mean = State::zeros();
-        for i in 0..NS {
-            let c = model.apply(&s.column(i).into_owned(), accel);
-            mean += c * self.wm[i];
-            prop.set_column(i, &c);
-        }
-        let mut p = model.q;
-        for i in 0..NS {
-            let d = prop.column(i) - mean;
-            p += d * d.transpose() * self.wc[i];
-        }
-        let p = symmetrize(&p);
-        finite(&mean, "predicted state")?;
-        finite(&p, "predicted covariance")?;
-        self.x = mean;
-        self.p = p;
-        Ok(())
+        self.predict_with(&model.q, |x| Ok(model.apply(x, accel)))
     }
 
     fn update<M: MeasurementModel>(

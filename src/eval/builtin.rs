@@ -24,11 +24,34 @@ pub const BUILTIN: &[(&str, &str, &str)] = &[
         include_str!("../../scenarios/paper002_manoeuvre.toml"),
     ),
     (
+        "001",
+        "model_error_burns",
+        include_str!("../../scenarios/model_error_burns.toml"),
+    ),
+    (
+        "001",
+        "model_error_j2",
+        include_str!("../../scenarios/model_error_j2.toml"),
+    ),
+    (
         "003",
         "paper003",
         include_str!("../../scenarios/paper003.toml"),
     ),
 ];
+
+/// Paper 001's Mars approach (its own problem, not a relative-navigation scenario):
+/// (paper, name, TOML text of a [`crate::eval::mars::MarsScenario`]).
+pub const MARS: &[(&str, &str, &str)] = &[(
+    "001",
+    "paper001_mars",
+    include_str!("../../scenarios/paper001_mars.toml"),
+)];
+
+/// Parse a Mars-approach file (strict keys).
+pub fn parse_mars(text: &str) -> Result<crate::eval::mars::MarsScenario, String> {
+    toml::from_str(text).map_err(|e| e.to_string())
+}
 
 /// The built-in scenarios of one paper (`"all"` for every paper).
 pub fn for_paper(paper: &str) -> Vec<(&'static str, &'static str)> {
@@ -51,6 +74,10 @@ mod tests {
             assert_eq!(&s.name, name);
             let back = Scenario::from_toml(&s.to_toml().unwrap()).unwrap();
             assert_eq!(s, back);
+        }
+        for (_, name, text) in MARS {
+            let s = parse_mars(text).unwrap_or_else(|e| panic!("{name}: {e}"));
+            assert_eq!(&s.name, name);
         }
     }
 }

@@ -1,7 +1,9 @@
 //! Evaluation engine: scenarios as data, Monte Carlo campaigns, metrics, reports.
 
 pub mod builtin;
+pub mod mars;
 pub mod metrics;
+pub mod orbit;
 pub mod pcrlb;
 pub mod report;
 pub mod results;

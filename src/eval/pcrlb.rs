@@ -33,6 +33,9 @@ pub fn undefined_reason(prep: &Prepared) -> Option<String> {
             prep.noise
         ));
     }
+    if prep.scenario.truth.dynamics != crate::eval::scenario::TruthDynamics::Cw {
+        return Some("the truth is not the CW model (nonlinear two-body motion with J2)".into());
+    }
     if let OrbitRateError::Uniform { .. } = prep.scenario.truth.orbit_rate_error {
         return Some("undefined: the true orbit rate is random per run".into());
     }

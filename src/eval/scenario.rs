@@ -116,6 +116,29 @@ pub struct Truth {
     /// Relative error `delta` of the true orbit rate, `w = w0 (1 + delta)` (paper 002).
     #[serde(default)]
     pub orbit_rate_error: OrbitRateError,
+    /// The truth's dynamics: the CW model (default) or both spacecraft around the Earth.
+    #[serde(default)]
+    pub dynamics: TruthDynamics,
+}
+
+/// The truth's equations of motion.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum TruthDynamics {
+    /// The CW model (exact transition), with the truth's process noise.
+    #[default]
+    Cw,
+    /// Target and chaser propagated in Earth-centred inertial coordinates, point mass plus
+    /// J2, by a 10th-order Gragg–Bulirsch–Stoer step of `substep` seconds; the target starts
+    /// on the circular orbit of `orbit` at inclination `inclination_deg`, at its ascending
+    /// node; the relative state is taken in the target's local-vertical frame. The truth's
+    /// process noise is not used (the model error is the point).
+    TwoBodyJ2 {
+        /// Inclination of the target's orbit [deg].
+        inclination_deg: f64,
+        /// Integration step [s] (a divisor of `simulation.step`).
+        substep: f64,
+    },
 }
 
 /// How the true orbit rate differs from the nominal one.
@@ -330,6 +353,20 @@ pub struct FilterSpec {
     /// literally) instead of restarting it from `Q` each step (default false).
     #[serde(default)]
     pub carry_covariance: bool,
+    /// AQUKF: sliding-window width (default 10, paper 001). Its initial adaptive density
+    /// is the velocity part of `process_noise` divided by `simulation.step`.
+    #[serde(default = "default_window")]
+    pub window: usize,
+    /// AQUKF: lower bound on each adaptive `q_vv` [m^2/s^3] (default 0).
+    #[serde(default)]
+    pub q_vv_floor: f64,
+    /// AQUKF: upper bound on each adaptive `q_vv` [m^2/s^3] (default 1).
+    #[serde(default = "one")]
+    pub q_vv_ceiling: f64,
+}
+
+fn default_window() -> usize {
+    10
 }
 
 fn default_particles() -> usize {
@@ -375,6 +412,22 @@ pub enum KernelName {
 }
 
 impl FilterSpec {
+    /// AQUKF settings: `window`, `q_vv_floor`, `q_vv_ceiling`, and the initial `q_vv`
+    /// (canonical) = velocity variances of `process_noise` (I/O frame) per `step`.
+    pub fn aq_params(&self, step: f64, frame: Frame) -> crate::estimators::AqParams {
+        let mut d = [0.0; 6];
+        for (di, p) in d.iter_mut().zip(self.process_noise).skip(3) {
+            *di = p / step;
+        }
+        let c = frame.cov_to_canonical(&Mat6::from_diagonal(&State::from_row_slice(&d)));
+        crate::estimators::AqParams {
+            window: self.window,
+            q_vv0: crate::types::Vec3::new(c[(3, 3)], c[(4, 4)], c[(5, 5)]),
+            floor: self.q_vv_floor,
+            ceiling: self.q_vv_ceiling,
+        }
+    }
+
     /// Particle-filter settings of this spec (for the particle kinds), seeded with `seed`.
     pub fn pf_params(&self, seed: u64) -> crate::estimators::pf::PfParams {
         use crate::estimators::pf::{resample::Resampler, Kernel, PfInit, PfKind, PfParams};
@@ -498,17 +551,38 @@ impl Scenario {
         {
             return Err("truth.process_noise entries must be finite and >= 0".into());
         }
+        if let TruthDynamics::TwoBodyJ2 { substep, .. } = self.truth.dynamics {
+            pos("truth.dynamics.substep", substep)?;
+            let r = self.simulation.step / substep;
+            if (r - r.round()).abs() > 1e-9 || r.round() < 1.0 {
+                return Err(format!(
+                    "truth.dynamics.substep ({substep}) must divide simulation.step ({})",
+                    self.simulation.step
+                ));
+            }
+            if matches!(self.thrust, Thrust::Feedback { .. }) {
+                return Err("truth.dynamics: two_body_j2 does not support feedback thrust".into());
+            }
+            if !matches!(self.truth.orbit_rate_error, OrbitRateError::None) {
+                return Err("truth.dynamics: two_body_j2 takes no orbit_rate_error".into());
+            }
+        }
         if self.filters.is_empty() {
             return Err("at least one [[filter]] is required".into());
         }
         for f in &self.filters {
             let is_pf = crate::estimators::pf::PfKind::from_name(&f.kind).is_some();
-            if !(is_pf || matches!(f.kind.as_str(), "ekf" | "ukf")) {
+            if !(is_pf || matches!(f.kind.as_str(), "ekf" | "ukf" | "aqukf")) {
                 return Err(format!(
-                    "filter \"{}\": kind \"{}\" is not available (implemented: ekf, ukf, pf, \
-                     rpf, upf, gapf, cgapf; hinf lands with issue 5, aqukf with issue 6)",
+                    "filter \"{}\": kind \"{}\" is not available (implemented: ekf, ukf, \
+                     aqukf, pf, rpf, upf, gapf, cgapf; hinf lands with issue 5)",
                     f.label, f.kind
                 ));
+            }
+            if f.kind == "aqukf" {
+                f.aq_params(self.simulation.step, self.io_frame())
+                    .validate()
+                    .map_err(|e| format!("filter \"{}\": {e}", f.label))?;
             }
             if is_pf {
                 f.pf_params(0)

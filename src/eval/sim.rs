@@ -11,10 +11,10 @@
 //!   posteriori estimate; the prediction when there was no measurement), then predicts to
 //!   `t_(k+1)` with the thrust it is told about.
 
-use super::scenario::{Scenario, SensorKind, Thrust};
+use super::scenario::{Scenario, SensorKind, Thrust, TruthDynamics};
 use crate::dynamics::{CwModel, DiscreteModel, Discretization};
 use crate::estimators::pf::ParticleFilter;
-use crate::estimators::{Ekf, Estimator, Ukf, UkfParams};
+use crate::estimators::{AqParams, Aqukf, Ekf, Estimator, Ukf, UkfParams};
 use crate::nav::AnyFilter;
 use crate::noise::NoiseModel;
 use crate::sensors::{wrap_2pi, CartesianSensor, Geometry, MeasurementModel, RadioSensor};
@@ -90,6 +90,8 @@ pub struct PreparedFilter {
     /// Its measurement model (variance-matched Gaussian).
     pub sensor: AnySensor,
     ukf: UkfParams,
+    aq: AqParams,
+    mean_motion: f64,
     spec: super::scenario::FilterSpec,
 }
 
@@ -98,6 +100,13 @@ impl PreparedFilter {
     pub fn instantiate(&self, seed: u64) -> AnyFilter {
         match self.kind.as_str() {
             "ukf" => AnyFilter::Ukf(Ukf::new(self.x0, self.p0, self.ukf)),
+            "aqukf" => AnyFilter::Aqukf(Aqukf::new(
+                self.x0,
+                self.p0,
+                self.ukf,
+                self.aq,
+                self.mean_motion,
+            )),
             "pf" | "rpf" | "upf" | "gapf" | "cgapf" => AnyFilter::Pf(ParticleFilter::new(
                 self.x0,
                 self.p0,
@@ -234,9 +243,12 @@ impl Prepared {
                 &(Mat3::identity() * f.accel_psd),
                 f.discretization.into(),
             );
-            model.q += frame.cov_to_canonical(&Mat6::from_diagonal(&State::from_row_slice(
-                &f.process_noise,
-            )));
+            // the AQUKF adapts the velocity part (its initial q_vv comes from it)
+            let mut pn = f.process_noise;
+            if f.kind == "aqukf" {
+                pn[3..].fill(0.0);
+            }
+            model.q += frame.cov_to_canonical(&Mat6::from_diagonal(&State::from_row_slice(&pn)));
             if let (Some(k), true) = (&feedback, f.knows_control) {
                 model.phi += model.gamma * k;
             }
@@ -254,6 +266,8 @@ impl Prepared {
                     beta: f.ukf_beta,
                     kappa: f.ukf_kappa,
                 },
+                aq: f.aq_params(dt, frame),
+                mean_motion: nf,
                 spec: f.clone(),
             });
         }
@@ -301,6 +315,13 @@ impl Prepared {
             x0[i] += s.truth.initial_sigma[i] * rng.sample::<f64, _>(StandardNormal);
         }
         let mut x = frame.state_to_canonical(&x0);
+        if let TruthDynamics::TwoBodyJ2 {
+            inclination_deg,
+            substep,
+        } = s.truth.dynamics
+        {
+            return self.simulate_two_body(x, inclination_deg.to_radians(), substep, rng);
+        }
         let mut states = Vec::with_capacity(self.steps + 1);
         let mut meas = Vec::with_capacity(self.steps + 1);
         let mut ar = [0.0; 3];
@@ -340,6 +361,70 @@ impl Prepared {
                 let w: State =
                     self.truth_q_sqrt * State::from_fn(|_, _| rng.sample::<f64, _>(StandardNormal));
                 x = phi * x + gamma * a + w;
+            }
+        }
+        (states, meas)
+    }
+}
+
+impl Prepared {
+    /// Noisy measurement of a true canonical state (or `None` at zero range).
+    fn measure(&self, x: &State, ar: &mut [f64; 3], rng: &mut ChaCha8Rng) -> Option<Vec3> {
+        self.truth_sensor
+            .predict(&x.fixed_rows::<3>(0).into_owned())
+            .map(|z0| {
+                let mut z = z0;
+                for i in 0..3 {
+                    z[i] += self.noise.sample(self.noise_sigma[i], &mut ar[i], rng);
+                }
+                if let AnySensor::Radio(_) = self.truth_sensor {
+                    z.x = z.x.max(0.0);
+                    z.y = wrap_2pi(z.y);
+                    z.z =
+                        z.z.clamp(-std::f64::consts::FRAC_PI_2, std::f64::consts::FRAC_PI_2);
+                }
+                z
+            })
+    }
+
+    /// The truth of a `two_body_j2` scenario: target and chaser around the Earth (point
+    /// mass + J2, GBS steps of `substep`), burns acting on the chaser (inertial direction of
+    /// the Hill axes at the step's start), relative state in the target's Hill frame.
+    fn simulate_two_body(
+        &self,
+        rel0: State,
+        incl: f64,
+        substep: f64,
+        rng: &mut ChaCha8Rng,
+    ) -> (Vec<State>, Vec<Option<Vec3>>) {
+        use super::orbit::{chaser_from_relative, circular_target, gbs_step, hill_frame, j2_rhs};
+        let mut target = circular_target(self.n0, incl);
+        let mut chaser = chaser_from_relative(&target, &rel0);
+        let sub = (self.dt / substep).round().max(1.0) as usize;
+        let h = self.dt / sub as f64;
+        let mut states = Vec::with_capacity(self.steps + 1);
+        let mut meas = Vec::with_capacity(self.steps + 1);
+        let mut ar = [0.0; 3];
+        for (i, a) in ar.iter_mut().enumerate() {
+            *a = self.noise.initial_state(self.noise_sigma[i], rng);
+        }
+        for k in 0..=self.steps {
+            let x = super::orbit::relative_state(&target, &chaser);
+            states.push(x);
+            meas.push(if self.measured[k] {
+                self.measure(&x, &mut ar, rng)
+            } else {
+                None
+            });
+            if k < self.steps {
+                let (rot, _) = hill_frame(&target);
+                let a_in = rot.transpose() * self.burn_accel[k];
+                let t0 = k as f64 * self.dt;
+                for j in 0..sub {
+                    let t = t0 + j as f64 * h;
+                    target = gbs_step(&|_, y: &State| j2_rhs(y, &Vec3::zeros()), t, &target, h);
+                    chaser = gbs_step(&|_, y: &State| j2_rhs(y, &a_in), t, &chaser, h);
+                }
             }
         }
         (states, meas)

@@ -275,6 +275,7 @@ impl Instance {
         c.noise_zeta = v(vr::NOISE_ZETA);
         c.noise_scale = v(vr::NOISE_SCALE);
         c.noise_dof = v(vr::NOISE_DOF);
+        c.window = v(vr::WINDOW) as i32;
         c
     }
 
@@ -295,6 +296,20 @@ impl Instance {
         } else {
             f64::NAN
         };
+        // the AQUKF starts from q_vel (clipped into [floor, ceiling] by the library)
+        let aqukf = v[vr::FILTER as usize] == 3.0;
+        let def = ffi::relnav_config_default();
+        for (out, q) in [
+            (vr::Q_VV_X, vr::Q_VEL_X),
+            (vr::Q_VV_Y, vr::Q_VEL_Y),
+            (vr::Q_VV_Z, vr::Q_VEL_Z),
+        ] {
+            self.values[out as usize] = if aqukf {
+                v[q as usize].clamp(def.q_vv_floor, def.q_vv_ceiling.max(def.q_vv_floor))
+            } else {
+                f64::NAN
+            };
+        }
     }
 
     fn write_outputs(&mut self, x: &[f64; 6], sigma: &[f64; 6]) {
@@ -323,8 +338,14 @@ impl Instance {
         let mut ess = f64::NAN;
         // SAFETY: as above; `ess` is a writable local.
         status_of(unsafe { ffi::relnav_estimator_get_ess(self.estimator, &mut ess) })?;
+        let mut q = [f64::NAN; 3];
+        // SAFETY: as above; `q` holds 3 doubles.
+        status_of(unsafe { ffi::relnav_estimator_get_q_vv(self.estimator, q.as_mut_ptr()) })?;
         self.write_outputs(&x, &s);
         self.values[vr::ESS as usize] = ess;
+        self.values[vr::Q_VV_X as usize] = q[0];
+        self.values[vr::Q_VV_Y as usize] = q[1];
+        self.values[vr::Q_VV_Z as usize] = q[2];
         Ok(())
     }
 

@@ -89,7 +89,7 @@ pub static FILTER_TYPE: EnumType = EnumType {
         (
             "aqukf",
             3,
-            "Sliding-window adaptive UKF (paper 001; not implemented yet: rejected)",
+            "Sliding-window adaptive UKF (paper 001: adaptive velocity process noise, see window and q_vv_*)",
         ),
         (
             "pf",
@@ -233,7 +233,7 @@ use VarType::{Boolean, Enumeration, Integer, Real};
 
 variables! {
     FILTER = 0: "filter", Parameter, Fixed, Enumeration(&FILTER_TYPE), 1.0,
-        "Estimator (codes 1-9; 1-2 Kalman and 4-8 particle filters are implemented, 3 aqukf and 9 hinf are rejected)";
+        "Estimator (codes 1-9; 1-3 Kalman and 4-8 particle filters are implemented, 9 hinf is rejected)";
     FRAME = 1: "frame", Parameter, Fixed, Enumeration(&FRAME_TYPE), 2.0,
         "Hill-frame convention of every input and output vector and angle";
     DISCRETIZATION = 2: "discretization", Parameter, Fixed, Enumeration(&DISCRETIZATION_TYPE), 1.0,
@@ -314,10 +314,18 @@ variables! {
         "Student-t noise: degrees of freedom (> 2)";
     ESS = 52: "ess", Output, Continuous, Real(""), 0.0,
         "Effective sample size 1 / sum w^2 of a particle filter after the last measurement update, before resampling (in [1, particles]); NaN for the Kalman filters";
+    WINDOW = 53: "window", Parameter, Fixed, Integer, 10.0,
+        "AQUKF (filter 3): sliding-window width N of the adaptive process noise (1..512; paper 001: 10). For the AQUKF, q_vel_* is the initial adaptive density";
+    Q_VV_X = 54: "q_vv_x", Output, Continuous, Real("m2/s3"), 0.0,
+        "AQUKF: current adaptive velocity process-noise density along x (I/O frame; q_vv = diag(Q_vv) / T of paper 001); NaN for the other filters";
+    Q_VV_Y = 55: "q_vv_y", Output, Continuous, Real("m2/s3"), 0.0,
+        "AQUKF: current adaptive velocity process-noise density along y; NaN for the other filters";
+    Q_VV_Z = 56: "q_vv_z", Output, Continuous, Real("m2/s3"), 0.0,
+        "AQUKF: current adaptive velocity process-noise density along z; NaN for the other filters";
 }
 
 /// Number of variables.
-pub const N_VARS: usize = 53;
+pub const N_VARS: usize = 57;
 
 /// The definition for a value reference, if it exists.
 pub fn lookup(vr: u32) -> Option<&'static VarDef> {
@@ -378,6 +386,7 @@ mod tests {
         assert_eq!(s(vr::NOISE_ZETA), c.noise_zeta);
         assert_eq!(s(vr::NOISE_SCALE), c.noise_scale);
         assert_eq!(s(vr::NOISE_DOF), c.noise_dof);
+        assert_eq!(s(vr::WINDOW), c.window as f64);
     }
 
     /// The enumerations carry the library's codes and names.

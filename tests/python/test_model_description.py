@@ -42,6 +42,8 @@ EXPECTED = {
     "noise_model": ("parameter", "fixed", "Enumeration", None),
     **{n: ("parameter", "fixed", "Real", None) for n in ["noise_zeta", "noise_scale", "noise_dof"]},
     "ess": ("output", "continuous", "Real", None),
+    "window": ("parameter", "fixed", "Integer", None),
+    **{n: ("output", "continuous", "Real", "m2/s3") for n in ["q_vv_x", "q_vv_y", "q_vv_z"]},
 }
 
 DEFAULTS = {
@@ -78,6 +80,7 @@ DEFAULTS = {
     "noise_zeta": 0.2,
     "noise_scale": 10.0,
     "noise_dof": 4.0,
+    "window": 10,
 }
 
 FMI2_CS_FUNCTIONS = [
@@ -152,6 +155,8 @@ def test_value_references_are_stable(md):
     assert [vr[n] for n in ["filter", "seed", "thrust_x", "measurement_valid", "x", "sigma_vz"]] == [0, 25, 26, 32, 33, 44]
     added = ["particles", "resampler", "resample_threshold", "noise_model", "noise_zeta", "noise_scale", "noise_dof", "ess"]
     assert [vr[n] for n in added] == list(range(45, 53))
+    # issue 6 (AQUKF): 53-56; issue 5 takes 57 onwards
+    assert [vr[n] for n in ["window", "q_vv_x", "q_vv_y", "q_vv_z"]] == [53, 54, 55, 56]
 
 
 def test_every_declared_unit_is_defined(md):
@@ -202,7 +207,7 @@ def test_outputs_have_no_direct_feedthrough_in_model_structure(xml_root, md):
         assert variables[idx - 1].get("causality") == "output"
         assert u.get("dependencies") == "", f"output {variables[idx - 1].get('name')}: dependencies={u.get('dependencies')!r}"
     assert listed == output_indices
-    assert len(md.outputs) == 13
+    assert len(md.outputs) == 16
 
 
 def test_binary_exports_fmi2_cosimulation_api(unzipdir):
