@@ -136,6 +136,9 @@ pub struct Summary {
     pub us_per_step: f64,
     /// Failed or diverged runs (copied).
     pub failed_runs: u32,
+    /// Recovery after each unreported burn \[s\] ([`recovery_times`]); empty when the
+    /// scenario has none.
+    pub recovery: Vec<Option<f64>>,
 }
 
 /// Quantile of the chi-square distribution with `dof` degrees of freedom at probability
@@ -208,6 +211,37 @@ pub fn convergence_time(t: &[f64], mse: &[[f64; 6]], threshold: (f64, f64)) -> O
         }
     }
     first
+}
+
+/// Recovery after each unreported burn `[start_i, stop_i)` of `burns` (time order): the
+/// time from `stop_i` to the first `t[k] >= stop_i` after which the position RMSE
+/// `sqrt(mse_x + mse_y + mse_z)` stays below `threshold` up to the next burn's start (or
+/// the last time); `None` if it never does. `Some(0)` means the error never left the band.
+pub fn recovery_times(
+    t: &[f64],
+    mse: &[[f64; 6]],
+    threshold: f64,
+    burns: &[(f64, f64)],
+) -> Vec<Option<f64>> {
+    let n = t.len().min(mse.len());
+    burns
+        .iter()
+        .enumerate()
+        .map(|(i, &(_, stop))| {
+            let until = burns.get(i + 1).map_or(f64::INFINITY, |b| b.0);
+            let mut first = None;
+            for (tk, m) in t.iter().zip(mse).take(n).rev() {
+                if *tk >= until {
+                    continue;
+                }
+                if *tk < stop || pos_sq(m).sqrt() >= threshold {
+                    break;
+                }
+                first = Some(*tk);
+            }
+            first.map(|tk| tk - stop)
+        })
+        .collect()
 }
 
 /// Indices `k` of the averaging window `t[k] >= convergence_time`.
@@ -300,6 +334,7 @@ fn summarize_filter(
         efficiency_vel: bound.and_then(|(_, b)| ratio(rmse_vel, b)),
         us_per_step: f.us_per_step,
         failed_runs: f.failed_runs,
+        recovery: recovery_times(&r.t, &f.mse, r.convergence_threshold.0, &r.unreported_burns),
     }
 }
 
@@ -409,7 +444,27 @@ mod tests {
             convergence_time: 0.0,
             convergence_threshold: (1.0, 0.1),
             published: vec![],
+            unreported_burns: vec![],
         }
+    }
+
+    #[test]
+    fn recovery_after_each_burn_until_the_next() {
+        let t: Vec<f64> = (0..10).map(f64::from).collect();
+        // position RMSE per time (x only), threshold 1
+        let e = [0.5, 0.5, 3.0, 3.0, 0.5, 2.0, 2.0, 0.5, 0.5, 0.5];
+        let mse: Vec<[f64; 6]> = e.iter().map(|v| [v * v, 0.0, 0.0, 0.0, 0.0, 0.0]).collect();
+        // burn 1 ends at 2: error above 1 at 2, 3, below from 4 up to burn 2's start (5)
+        // burn 2 ends at 6: above at 6, below from 7 on
+        let r = recovery_times(&t, &mse, 1.0, &[(1.0, 2.0), (5.0, 6.0)]);
+        assert_eq!(r, vec![Some(2.0), Some(1.0)]);
+        // never recovering before the next burn, and a burn the error never notices
+        let r = recovery_times(&t, &mse, 1.0, &[(1.0, 2.0), (6.5, 7.0)]);
+        assert_eq!(r, vec![None, Some(0.0)]);
+        let r = recovery_times(&t, &mse, 1.0, &[(3.5, 4.0)]);
+        assert_eq!(r, vec![Some(3.0)]);
+        let r = recovery_times(&t, &mse, 0.1, &[(1.0, 2.0)]);
+        assert_eq!(r, vec![None]);
     }
 
     #[test]

@@ -196,6 +196,40 @@ pub fn markdown_table(r: &McResult, s: &[Summary]) -> String {
         );
     }
     let _ = writeln!(out);
+    if !r.unreported_burns.is_empty() {
+        let _ = writeln!(
+            out,
+            "Recovery after the unreported burns: time from a burn's end until the position \
+             RMSE stays below {} m up to the next burn (or the end).",
+            fmt_trim(r.convergence_threshold.0, 4)
+        );
+        let _ = writeln!(out);
+        let mut head = String::from("| filter |");
+        let mut rule = String::from("|---|");
+        for (a, b) in &r.unreported_burns {
+            let _ = write!(
+                head,
+                " burn {}–{} s: recovery [s] |",
+                fmt_trim(*a, 4),
+                fmt_trim(*b, 4)
+            );
+            rule.push_str("---:|");
+        }
+        let _ = writeln!(out, "{head}");
+        let _ = writeln!(out, "{rule}");
+        for x in s {
+            let mut row = format!("| {} |", cell(&x.label));
+            for v in &x.recovery {
+                let _ = write!(
+                    row,
+                    " {} |",
+                    v.map_or_else(|| "never".to_string(), |t| fmt_trim(t, 4))
+                );
+            }
+            let _ = writeln!(out, "{row}");
+        }
+        let _ = writeln!(out);
+    }
     match pcrlb_averaged(r) {
         Ok((p, v)) => {
             let _ = writeln!(
@@ -860,6 +894,7 @@ mod tests {
                 ("EKF".to_string(), "0.52 m RMSE (Table 2)".to_string()),
                 ("SIR-PF".to_string(), "0.31 m | fig. 4".to_string()),
             ],
+            unreported_burns: vec![],
         }
     }
 

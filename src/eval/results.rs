@@ -55,4 +55,8 @@ pub struct McResult {
     pub convergence_threshold: (f64, f64),
     /// The paper's published figures, per filter label (free text), for the table.
     pub published: Vec<(String, String)>,
+    /// Time windows `[start, stop)` [s] of burns the filters are not told about (scenario
+    /// thrust `reported = false`), in time order; the summary measures the recovery
+    /// after each.
+    pub unreported_burns: Vec<(f64, f64)>,
 }

@@ -9,7 +9,7 @@
 
 use super::pcrlb;
 use super::results::{FilterStats, McResult};
-use super::scenario::Scenario;
+use super::scenario::{Scenario, Thrust};
 use super::sim::{run_filter, Prepared, Score};
 use crate::types::Mat6;
 use rand::SeedableRng;
@@ -272,6 +272,17 @@ pub fn run(scenario: &Scenario, opts: &Options) -> Result<McResult, String> {
             .iter()
             .map(|p| (p.filter.clone(), p.figure.clone()))
             .collect(),
+        unreported_burns: match &scenario.thrust {
+            Thrust::Burns {
+                burns,
+                reported: false,
+            } => {
+                let mut w: Vec<(f64, f64)> = burns.iter().map(|b| (b.start, b.stop)).collect();
+                w.sort_by(|a, b| a.0.total_cmp(&b.0));
+                w
+            }
+            _ => Vec::new(),
+        },
     })
 }
 
