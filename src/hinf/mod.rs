@@ -428,3 +428,94 @@ impl HinfFilter {
         &self.m
     }
 }
+
+/// The runtime filter behind the [`crate::estimators::Estimator`] trait, as the navigator
+/// (filter code 9) runs it: [`Estimator::update`](crate::estimators::Estimator::update)
+/// turns the radio measurement into the indirect Cartesian position of paper 002 (sec. 1.2
+/// eq. 7: `rho (cos el cos az, cos el sin az, sin el)` in the measurement frame, rotated to
+/// the canonical frame) and holds it; the following
+/// [`Estimator::predict`](crate::estimators::Estimator::predict) makes the one filter step
+/// `x_f <- A_F x_f + B_F y + E_F a` with it (or with the prediction when no measurement
+/// came). There is no Gaussian covariance: [`HinfEstimator::covariance`] is NaN.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HinfEstimator {
+    filter: HinfFilter,
+    pending: Option<Vec3>,
+    gamma: f64,
+    nan: Mat6,
+}
+
+impl HinfEstimator {
+    /// Wrap designed matrices with their certified `gamma`; the estimate starts at `x0`.
+    pub fn new(m: HinfMatrices, gamma: f64, x0: State) -> Result<Self, HinfError> {
+        Ok(Self {
+            filter: HinfFilter::new(m, x0)?,
+            pending: None,
+            gamma,
+            nan: Mat6::from_element(f64::NAN),
+        })
+    }
+    /// The design's `gamma`.
+    pub fn gamma(&self) -> f64 {
+        self.gamma
+    }
+    /// The period the matrices hold for [s].
+    pub fn period(&self) -> f64 {
+        self.filter.matrices().period
+    }
+    /// The runtime filter.
+    pub fn filter(&self) -> &HinfFilter {
+        &self.filter
+    }
+}
+
+impl crate::estimators::Estimator for HinfEstimator {
+    fn predict(
+        &mut self,
+        _model: &crate::dynamics::DiscreteModel,
+        accel: &Vec3,
+    ) -> Result<(), crate::estimators::FilterError> {
+        let saved = self.filter;
+        self.filter.step(self.pending.as_ref(), accel);
+        self.pending = None;
+        if !self.filter.state().iter().all(|v| v.is_finite()) {
+            self.filter = saved;
+            return Err(crate::estimators::FilterError::NonFinite(
+                "H-infinity estimate",
+            ));
+        }
+        Ok(())
+    }
+    fn update<M: crate::sensors::MeasurementModel>(
+        &mut self,
+        sensor: &M,
+        z: &Vec3,
+    ) -> Result<crate::estimators::UpdateInfo, crate::estimators::FilterError> {
+        let y = sensor
+            .invert(z)
+            .ok_or(crate::estimators::FilterError::NonFinite(
+                "indirect position",
+            ))?;
+        let r = self.filter.state().fixed_rows::<3>(0).into_owned();
+        let innovation = match sensor.predict(&r) {
+            Some(zh) => sensor.diff(z, &zh),
+            None => Vec3::from_element(f64::NAN),
+        };
+        self.pending = Some(y);
+        Ok(crate::estimators::UpdateInfo {
+            innovation,
+            nis: f64::NAN,
+            azimuth_used: true,
+        })
+    }
+    fn state(&self) -> &State {
+        self.filter.state()
+    }
+    fn covariance(&self) -> &Mat6 {
+        &self.nan
+    }
+    fn set_estimate(&mut self, x: State, _p: Mat6) {
+        self.filter.set_estimate(x);
+        self.pending = None;
+    }
+}
