@@ -291,6 +291,23 @@ impl HinfPlant {
         }
     }
 
+    /// As [`HinfPlant::paper_closed_loop`] with an acceleration gain `a = K_acc x`
+    /// (canonical; `K_acc = K / m`).
+    pub fn closed_loop_accel(spec: &HinfSpec, k_acc: &nalgebra::SMatrix<f64, 3, 6>) -> Self {
+        let (b, d) = Self::noise(spec);
+        let a = Mat6::identity() + (cw_a(spec.w0) + g0(1.0) * k_acc) * spec.period;
+        Self {
+            a,
+            b,
+            c: c_pos(),
+            d,
+            l: Mat6::identity(),
+            ha: paper_ha(spec.w0) * spec.period,
+            ea: paper_ea(spec.w0, spec.delta_bar),
+            g: Mat63::zeros(),
+        }
+    }
+
     /// The true closed-loop transition at `w = w0 (1 + delta)` (Euler, as the paper).
     pub fn paper_closed_loop_at(spec: &HinfSpec, k: &[[f64; 6]; 3], mass: f64, delta: f64) -> Mat6 {
         Mat6::identity() + (cw_a(spec.w0 * (1.0 + delta)) + g0(mass) * k_matrix(k)) * spec.period
