@@ -437,6 +437,24 @@ impl TryFrom<&relnav_config> for NavConfig {
     }
 }
 
+#[cfg(all(feature = "hinf", relnav_openblas))]
+extern "C" {
+    fn openblas_set_num_threads(n: c_int);
+}
+
+/// Run OpenBLAS single-threaded. The H-infinity design's dense blocks are 45x45: threads
+/// only add synchronisation, and on a loaded 2-core machine they made a solve several
+/// times slower (3.5 s against 0.5 s). Called by the design before each solve; a no-op
+/// with the reference BLAS (`RELNAV_BLAS=reference`, single-threaded anyway).
+#[cfg(feature = "hinf")]
+pub(crate) fn blas_single_thread() {
+    #[cfg(relnav_openblas)]
+    // SAFETY: OpenBLAS's documented setter; it only stores the thread count for later calls.
+    unsafe {
+        openblas_set_num_threads(1)
+    };
+}
+
 static VERSION_C: &CStr =
     match CStr::from_bytes_with_nul(concat!(env!("CARGO_PKG_VERSION"), "\0").as_bytes()) {
         Ok(s) => s,

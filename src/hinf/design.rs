@@ -333,6 +333,7 @@ impl Sdp {
                     message: format!("Clarabel rejected the problem: {e:?}"),
                 }
             })?;
+        crate::ffi::blas_single_thread();
         solver.solve();
         let status = solver.solution.status;
         match status {
