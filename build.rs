@@ -8,9 +8,11 @@
 //! `scripts/setup.sh` installs both packages. `RELNAV_OPENBLAS_DIR` / `RELNAV_GFORTRAN_DIR`
 //! override the search directories.
 //!
-//! `RELNAV_BLAS=reference` links the static reference BLAS/LAPACK instead
-//! (`libblas-dev`, `liblapack-dev`): the linker then pulls only the routines Clarabel
-//! calls, where OpenBLAS's run-time CPU dispatch pulls every kernel (see README, sizes).
+//! Size: OpenBLAS's run-time CPU dispatch pulls in its kernels for every CPU type (~25 MB
+//! of the library). Debian's static reference BLAS/LAPACK (`libblas-dev`,
+//! `liblapack-dev`) would pull only the routines Clarabel calls, but it is not compiled
+//! as position-independent code and cannot go into the cdylib (rust-lld: "relocation
+//! R_X86_64_PC32 ... recompile with -fPIC"); tried and dropped.
 
 use std::env;
 use std::path::{Path, PathBuf};
@@ -52,18 +54,12 @@ fn main() {
     println!("cargo:rerun-if-changed=build.rs");
     println!("cargo:rerun-if-env-changed=RELNAV_OPENBLAS_DIR");
     println!("cargo:rerun-if-env-changed=RELNAV_GFORTRAN_DIR");
-    println!("cargo:rerun-if-env-changed=RELNAV_BLAS");
     println!("cargo::rustc-check-cfg=cfg(relnav_openblas)");
     if env::var_os("CARGO_FEATURE_HINF").is_none() {
         return;
     }
-    let reference = env::var("RELNAV_BLAS").is_ok_and(|v| v == "reference");
     let blas = find(
-        if reference {
-            "lapack/liblapack.a"
-        } else {
-            "libopenblas.a"
-        },
+        "libopenblas.a",
         "RELNAV_OPENBLAS_DIR",
         &[
             "/usr/lib/x86_64-linux-gnu/openblas-pthread",
@@ -82,17 +78,10 @@ fn main() {
         ],
     );
     println!("cargo:rustc-link-search=native={}", fortran.display());
-    if reference {
-        println!("cargo:rustc-link-search=native={}/lapack", blas.display());
-        println!("cargo:rustc-link-search=native={}/blas", blas.display());
-        println!("cargo:rustc-link-lib=static:+verbatim=liblapack.a");
-        println!("cargo:rustc-link-lib=static:+verbatim=libblas.a");
-    } else {
-        println!("cargo:rustc-link-search=native={}", blas.display());
-        println!("cargo:rustc-link-lib=static:+verbatim=libopenblas.a");
-        // lets the design switch OpenBLAS to one thread (src/ffi.rs)
-        println!("cargo:rustc-cfg=relnav_openblas");
-    }
+    println!("cargo:rustc-link-search=native={}", blas.display());
+    println!("cargo:rustc-link-lib=static:+verbatim=libopenblas.a");
+    // lets the design switch OpenBLAS to one thread (src/ffi.rs)
+    println!("cargo:rustc-cfg=relnav_openblas");
     println!("cargo:rustc-link-lib=static:+verbatim=libgfortran.a");
     println!("cargo:rustc-link-lib=static:+verbatim=libquadmath.a");
 }
