@@ -38,6 +38,18 @@ fn check_paper_case(spec: &HinfSpec) -> (f64, f64) {
     let (plant, a_of) = closed_loop(spec);
     let d = design_paper(&plant, spec.period, &DesignOptions::default())
         .unwrap_or_else(|e| panic!("design failed for {spec:?}: {e}"));
+    eprintln!(
+        "w0 {:e}: gamma {:.5}, {} in {} iterations, {:.3} s, max eig {:e}\nA_F {:.5}B_F {:.5}C_F {:.5}",
+        spec.w0,
+        d.gamma,
+        d.status,
+        d.iterations,
+        d.solve_time,
+        d.lmi_max_eig,
+        d.matrices.a_f,
+        d.matrices.b_f,
+        d.matrices.c_f
+    );
     assert!(
         d.lmi_max_eig < 0.0,
         "LMI not negative definite: {}",
