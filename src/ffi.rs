@@ -437,9 +437,13 @@ impl TryFrom<&relnav_config> for NavConfig {
     }
 }
 
+/// cbindgen:ignore
 #[cfg(all(feature = "hinf", relnav_openblas))]
-extern "C" {
-    fn openblas_set_num_threads(n: c_int);
+mod openblas {
+    extern "C" {
+        /// OpenBLAS's thread-count setter (linked statically by build.rs).
+        pub(super) fn openblas_set_num_threads(n: std::ffi::c_int);
+    }
 }
 
 /// Run OpenBLAS single-threaded. The H-infinity design's dense blocks are 45x45: threads
@@ -452,7 +456,7 @@ pub(crate) fn blas_single_thread() {
     #[cfg(relnav_openblas)]
     // SAFETY: OpenBLAS's documented setter; it only stores the thread count for later calls.
     unsafe {
-        openblas_set_num_threads(1)
+        openblas::openblas_set_num_threads(1)
     };
 }
 
