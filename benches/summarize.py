@@ -1,6 +1,6 @@
 """Print the criterion medians of benches/filters.rs and benches/pf.rs beside the filterpy
 and numpy-SIR anchors measured in the same run, with the ratios the issues ask for
-(Markdown). Usage: summarize.py FILTERPY_JSON [NUMPY_SIR_JSON]"""
+(Markdown). Usage: summarize.py FILTERPY_JSON [NUMPY_SIR_JSON [CVXPY_HINF_JSON]]"""
 import json
 import pathlib
 import sys
@@ -48,3 +48,20 @@ for r, n, t in pf_rows:
 if numpy_sir and "sir_step_n1500" in pm:
     print(f"| vectorised numpy SIR step, N = 1500 (same run) | {numpy_sir / 1000:.1f} us | {numpy_sir / 1500:.1f} | anchor |")
     print(f"| ratio numpy / relnav SIR step | {numpy_sir / pm['sir_step_n1500']:.1f}x | | |")
+
+cvx = json.loads(sys.argv[3])["cvxpy_hinf_design_ns"] if len(sys.argv) > 3 and sys.argv[3] else None
+print()
+print("| H-infinity (paper 002) | median | target |")
+print("|---|---:|---|")
+hm = {}
+for r, t in [("hinf_design/hinf_design_paper", "<= 0.5 s"), ("hinf_design/hinf_design_observer", ""),
+             ("hinf_step", "<= 200 ns")]:
+    try:
+        hm[r] = median_ns(r)
+    except FileNotFoundError:
+        continue
+    v = f"{hm[r] / 1e6:.1f} ms" if hm[r] > 1e5 else f"{hm[r]:.0f} ns"
+    print(f"| {r} | {v} | {t} |")
+if cvx and "hinf_design/hinf_design_paper" in hm:
+    print(f"| cvxpy + Clarabel, same SDP, assembly included (same run) | {cvx / 1e6:.1f} ms | anchor |")
+    print(f"| ratio cvxpy / relnav design | {cvx / hm['hinf_design/hinf_design_paper']:.2f}x | |")

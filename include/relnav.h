@@ -9,6 +9,23 @@
 // Largest sliding-window width (capacity of the ring buffer).
 #define MAX_WINDOW 512
 
+// Dimensions: state `n = 6`, measurement `m = 3`, process noise `p = 6`, measurement
+// noise `q = 3`, estimated signal `l = 6`, uncertainty channel `h = 6`.
+#define N 6
+
+// Paper 002's example: 24 h orbit, `w0 = 7.2722e-5` rad/s.
+#define PAPER_W0 7.2722e-5
+
+// Paper 002's chaser mass [kg].
+#define PAPER_MASS 1000.0
+
+// Paper 002's uncertainty bound `delta_bar`.
+#define PAPER_DELTA_BAR 0.05
+
+// The sampling period implied by the published `A_F` (0.1 in its position/velocity
+// coupling) [s]; the paper does not state it.
+#define PAPER_PERIOD 0.1
+
 // Result of every fallible call. Values are stable.
 typedef enum relnav_status {
   // Success.
@@ -23,6 +40,8 @@ typedef enum relnav_status {
   RELNAV_ERROR_NUMERICAL = 4,
   // A Rust panic was caught at the boundary (a bug in relnav; please report it).
   RELNAV_ERROR_PANIC = 5,
+  // The H-infinity design has no solution (the LMI is infeasible for these inputs).
+  RELNAV_ERROR_INFEASIBLE = 6,
 } relnav_status;
 
 // Filter codes for `relnav_config.filter` (same as the FMU's `filter` parameter).
@@ -45,7 +64,9 @@ typedef enum relnav_filter {
   RELNAV_FILTER_GAPF = 7,
   // Cloud-genetic particle filter (paper 003): UKF proposal, cloud-model genetic moves.
   RELNAV_FILTER_CGAPF = 8,
-  // Robust H-infinity filter (paper 002); not implemented yet.
+  // Robust H-infinity filter (paper 002): observer form designed by an LMI (Clarabel)
+  // when the estimator is created, for the open-loop CW plant and `hinf_period`; its
+  // covariance and sigma are NaN (no Gaussian covariance exists).
   RELNAV_FILTER_HINF = 9,
 } relnav_filter;
 
@@ -93,6 +114,9 @@ typedef enum relnav_noise_model {
 
 // Opaque estimator handle.
 typedef struct relnav_estimator relnav_estimator;
+
+// Opaque runtime H-infinity filter (no solver, no allocation in a step).
+typedef struct relnav_hinf_filter relnav_hinf_filter;
 
 // Estimator configuration. Get the defaults (paper 000's example) from
 // [`relnav_config_default`], then change what you need. Enum fields are plain integers so
@@ -159,9 +183,82 @@ typedef struct relnav_config {
   double q_vv_floor;
   // AQUKF: upper bound of each `q_vv` [m^2/s^3], finite, > 0, >= `q_vv_floor` (default 1).
   double q_vv_ceiling;
+  // H-infinity filter (code 9): the sampling period of its discrete design [s], > 0
+  // (default 1). A step of another length is refused with `RELNAV_ERROR_INVALID_ARGUMENT`.
+  double hinf_period;
+  // H-infinity filter: orbit-rate uncertainty bound `delta_bar`, >= 0 (default 0.05).
+  double hinf_delta_bar;
+  // H-infinity filter: process-noise scaling on positions [m] (default 0.05).
+  double hinf_b_pos;
+  // H-infinity filter: process-noise scaling on velocities [m/s] (default 0.001).
+  double hinf_b_vel;
+  // H-infinity filter: indirect-position measurement-noise scaling [m] (default 0.1).
+  double hinf_d;
 } relnav_config;
 
+// Inputs of an H-infinity design (canonical frame = paper 002's, SI units).
+typedef struct relnav_hinf_spec {
+  // A `relnav_hinf_form` code.
+  int32_t form;
+  // Nominal mean motion `w0` [rad/s].
+  double mean_motion;
+  // Orbit-rate uncertainty bound `delta_bar`, >= 0.
+  double delta_bar;
+  // Sampling period [s].
+  double period;
+  // Process-noise scaling on positions [m].
+  double b_pos;
+  // Process-noise scaling on velocities [m/s].
+  double b_vel;
+  // Measurement-noise scaling [m].
+  double d;
+} relnav_hinf_spec;
 
+// A designed H-infinity filter: `x_f(k+1) = A_F x_f + B_F y + E_F a`, `z_f = C_F x_f`
+// (row-major matrices; `y` the canonical position [m], `a` the known thrust
+// acceleration [m/s^2], canonical frame).
+typedef struct relnav_hinf_matrices {
+  // `A_F`, 6x6.
+  double a_f[36];
+  // `B_F`, 6x3.
+  double b_f[18];
+  // `C_F`, 6x6.
+  double c_f[36];
+  // `E_F`, 6x3 (zero for the paper form).
+  double e_f[18];
+  // The period the matrices hold for [s].
+  double period;
+} relnav_hinf_matrices;
+
+// Design report.
+typedef struct relnav_hinf_result {
+  // The filter.
+  struct relnav_hinf_matrices matrices;
+  // Certified bound `gamma` on the worst-case gain from the scaled noises to the error.
+  double gamma;
+  // Largest eigenvalue of the LMI assembled from the solution (nalgebra; < 0).
+  double lmi_max_eig;
+  // Clarabel iterations.
+  int32_t iterations;
+  // Wall time of assembly and solve [s].
+  double solve_time;
+} relnav_hinf_result;
+
+
+
+// The paper's closed-loop gain `K` (3x6, N per m and per m/s; paper 002, sec. 4, taken
+// there from its ref. 11).
+#define PAPER_K { { -2.2541, -0.0071, -0.0072, -22.3975, 2.3256, 1.9369, }, { -0.0104, -2.2493, -0.0055, 2.3259, -23.7456, 1.4544, }, { -0.0072, -0.0055, -2.2471, 1.9357, 1.4552, -24.2818, }, }
+
+// Paper 002's published filter (sec. 4, "using MATLAB's LMI tools to solve Corollary 1"),
+// `A_F` row by row.
+#define PAPER_A_F { { -0.6126, -0.0053, -0.0046, 0.1, -1.7e-6, -1.0e-6, }, { -0.0052, -0.6083, -0.0035, -1.5e-6, 0.1, -1.4e-6, }, { -0.0046, -0.0035, -0.6066, -1.5e-6, -5.6e-7, 0.1, }, { -6.1302, -0.0390, -0.0337, 0.9980, 1.1e-4, 8.2e-5, }, { -0.0385, -6.0991, -0.0259, 8.0e-5, 0.9979, 6.3e-5, }, { -0.0337, -0.0259, -6.0864, 8.3e-5, 6.4e-5, 0.9979, }, }
+
+// Paper 002's published `B_F` (6x3).
+#define PAPER_B_F { { -1.6126, -0.0053, -0.0046, }, { -0.0052, -1.6083, -0.0035, }, { -0.0046, -0.0035, -1.6066, }, { -6.1300, -0.0390, -0.0337, }, { -0.0385, -6.0989, -0.0259, }, { -0.0337, -0.0259, -6.0862, }, }
+
+// Paper 002's published `C_F` (6x6, printed as `1e-6 x [...]`).
+#define PAPER_C_F { { -1.0, 0.0489e-6, 0.0247e-6, 6.3345e-6, -5.4934e-6, -4.3894e-6, }, { 0.0386e-6, -1.0, 0.0418e-6, -5.3662e-6, 10.3349e-6, -2.9326e-6, }, { 0.0420e-6, 0.0148e-6, -1.0, -4.5742e-6, -2.9659e-6, 11.3677e-6, }, { -0.3164e-6, 0.3131e-6, 0.1588e-6, -0.999960, -33.635e-6, -28.487e-6, }, { 0.2469e-6, -0.5593e-6, 0.2630e-6, -33.612e-6, -0.999935, -19.564e-6, }, { 0.2712e-6, 0.0939e-6, -0.5821e-6, -28.520e-6, -19.572e-6, -0.999927, }, }
 
 
 
@@ -299,6 +396,58 @@ enum relnav_status relnav_estimator_get_ess(const struct relnav_estimator *estim
 // # Safety
 // `estimator` is a live handle or null; `out` is null or 3 writable doubles.
 enum relnav_status relnav_estimator_get_q_vv(const struct relnav_estimator *estimator, double *out);
+
+// The certified `gamma` of the H-infinity design of an estimator created with filter 9;
+// NaN for every other filter (status `RELNAV_OK`).
+//
+// # Safety
+// `estimator` is a live handle or null; `out` is null or writable.
+enum relnav_status relnav_estimator_get_hinf_gamma(const struct relnav_estimator *estimator,
+                                                   double *out);
+
+// Design an H-infinity filter (LMI solved with Clarabel; see `relnav::hinf`). On
+// success `*out` holds the matrices and the report; an infeasible request returns
+// `RELNAV_ERROR_INFEASIBLE` with a readable reason (`relnav_last_error`) and leaves `*out`
+// untouched. Without the `hinf` cargo feature it returns `RELNAV_ERROR_NOT_IMPLEMENTED`.
+//
+// # Safety
+// `spec` is null or readable; `out` is null or writable.
+enum relnav_status relnav_hinf_design(const struct relnav_hinf_spec *spec,
+                                      struct relnav_hinf_result *out);
+
+// Create a runtime filter from designed matrices; its estimate `C_F x_f` starts at `x0`
+// (6 doubles, canonical frame). Free with `relnav_hinf_filter_free`.
+//
+// # Safety
+// `matrices` is null or readable; `x0` is null or 6 readable doubles; `out` is null or
+// writable.
+enum relnav_status relnav_hinf_filter_new(const struct relnav_hinf_matrices *matrices,
+                                          const double *x0,
+                                          struct relnav_hinf_filter **out);
+
+// One filter step: `x_f <- A_F x_f + B_F y + E_F a`. `y` is the canonical position
+// measurement [m] (3 doubles, or null: replaced by its prediction), `accel` the known
+// acceleration [m/s^2] (3 doubles). Non-finite inputs are refused before anything changes.
+//
+// # Safety
+// `filter` is a live handle or null; `y` is null or 3 readable doubles; `accel` is null or
+// 3 readable doubles.
+enum relnav_status relnav_hinf_filter_step(struct relnav_hinf_filter *filter,
+                                           const double *y,
+                                           const double *accel);
+
+// Copy the estimate `C_F x_f` (6 doubles, canonical frame) to `out`.
+//
+// # Safety
+// `filter` is a live handle or null; `out` is null or 6 writable doubles.
+enum relnav_status relnav_hinf_filter_get_state(const struct relnav_hinf_filter *filter,
+                                                double *out);
+
+// Release a runtime filter (null is accepted).
+//
+// # Safety
+// `filter` is null or a handle from `relnav_hinf_filter_new` not yet freed.
+void relnav_hinf_filter_free(struct relnav_hinf_filter *filter);
 
 #ifdef __cplusplus
 }  // extern "C"

@@ -1,11 +1,15 @@
 #!/usr/bin/env bash
-# Benchmarks: criterion (cargo bench) plus the filterpy and numpy-SIR anchors in the same run; prints
+# Benchmarks: criterion (cargo bench) plus the filterpy, numpy-SIR and cvxpy H-infinity anchors in the same run; prints
 # medians and ratios as a Markdown table. Usage: scripts/bench.sh
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 cargo bench --bench filters -- --warm-up-time 2 --measurement-time 5
 cargo bench --bench pf -- --warm-up-time 2 --measurement-time 5
+cargo bench --bench hinf -- --warm-up-time 1 --measurement-time 3
 anchor=$(.venv/bin/python benches/anchor_filterpy.py)
 numpy_sir=$(.venv/bin/python benches/anchor_numpy_sir.py)
-.venv/bin/python benches/summarize.py "$anchor" "$numpy_sir"
+# the H-infinity design anchor needs cvxpy + clarabel (bench only, not the test suite)
+.venv/bin/python -m pip install --disable-pip-version-check -q --no-input -r benches/requirements-bench.txt </dev/null
+cvxpy_hinf=$(.venv/bin/python benches/anchor_cvxpy_hinf.py 2>/dev/null)
+.venv/bin/python benches/summarize.py "$anchor" "$numpy_sir" "$cvxpy_hinf"

@@ -2,6 +2,7 @@
 # Idempotent machine set-up for relnav on Debian with the Rust toolchain already present.
 #
 #   * apt-get installs what is missing: cmake, g++, valgrind, binutils (readelf),
+#     libopenblas-dev and libgfortran-12-dev (static BLAS/LAPACK for the H-infinity design),
 #     fonts-dejavu-core (text in the plots) and
 #     python3-venv (only if `python3 -m venv` does not work). `apt-get update` runs only
 #     when something has to be installed. sudo is used when not root.
@@ -35,6 +36,13 @@ command -v ctest >/dev/null 2>&1 || missing+=(cmake)
 command -v g++ >/dev/null 2>&1 || missing+=(g++)
 command -v valgrind >/dev/null 2>&1 || missing+=(valgrind)
 command -v readelf >/dev/null 2>&1 || missing+=(binutils)
+# static BLAS/LAPACK and Fortran runtime for the H-infinity design (build.rs links them
+# statically into the library, so the FMU stays self-contained)
+ls /usr/lib/x86_64-linux-gnu/libopenblas.a /usr/lib/x86_64-linux-gnu/openblas-pthread/libopenblas.a \
+    >/dev/null 2>&1 || [ -n "${RELNAV_OPENBLAS_DIR:-}" ] || missing+=(libopenblas-dev)
+{ gcc -print-file-name=libgfortran.a 2>/dev/null | grep -q / \
+    && gcc -print-file-name=libquadmath.a 2>/dev/null | grep -q /; } \
+    || [ -n "${RELNAV_GFORTRAN_DIR:-}" ] || missing+=(libgfortran-12-dev)
 # the font the evaluation engine's PNG plots use for their text
 [ -f /usr/share/fonts/truetype/dejavu/DejaVuSans.ttf ] || missing+=(fonts-dejavu-core)
 
@@ -66,7 +74,7 @@ if [ "${#missing[@]}" -gt 0 ]; then
     "${SUDO[@]}" apt-get update -qq </dev/null
     "${SUDO[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" </dev/null
 else
-    log "system packages present: cmake g++ valgrind readelf fonts-dejavu-core"
+    log "system packages present: cmake g++ valgrind readelf fonts-dejavu-core libopenblas-dev libgfortran-12-dev"
 fi
 
 # ---------------------------------------------------------------- Python venv

@@ -13,6 +13,7 @@ pub mod estimators;
 /// cbindgen:ignore
 pub mod eval;
 pub mod frames;
+pub mod hinf;
 pub mod nav;
 pub mod noise;
 pub mod sensors;

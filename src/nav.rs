@@ -31,6 +31,7 @@ use crate::estimators::pf::resample::Resampler;
 use crate::estimators::pf::{ParticleFilter, PfKind, PfParams, MAX_PARTICLES};
 use crate::estimators::{AqParams, Aqukf, Ekf, Estimator, FilterError, Ukf, UkfParams, UpdateInfo};
 use crate::frames::Frame;
+use crate::hinf::HinfEstimator;
 use crate::noise::NoiseModel;
 use crate::sensors::{MeasurementModel, RadioSensor};
 use crate::types::{Mat3, Mat6, State, Vec3};
@@ -59,7 +60,8 @@ pub enum FilterKind {
     Gapf = 7,
     /// Cloud-genetic particle filter (paper 003).
     Cgapf = 8,
-    /// Robust H-infinity filter (paper 002) — not yet implemented.
+    /// Robust H-infinity filter (paper 002), observer form designed at construction for
+    /// the open-loop CW plant (needs the `hinf` cargo feature; see [`crate::hinf`]).
     Hinf = 9,
 }
 
@@ -99,7 +101,10 @@ impl FilterKind {
 
     /// Whether this build implements the filter.
     pub fn is_implemented(self) -> bool {
-        !matches!(self, FilterKind::Hinf)
+        match self {
+            FilterKind::Hinf => cfg!(feature = "hinf"),
+            _ => true,
+        }
     }
 
     /// The particle-filter variant of codes 4-8 (`None` for the other filters).
@@ -209,6 +214,19 @@ pub struct NavConfig {
     /// AQUKF: upper bound of each adaptive `q_vv` entry [m^2/s^3], finite, > 0 and
     /// >= `q_vv_floor`.
     pub q_vv_ceiling: f64,
+    /// H-infinity filter (code 9): the sampling period the discrete design holds for [s],
+    /// > 0. A step of any other length is refused (no re-design inside a step).
+    pub hinf_period: f64,
+    /// H-infinity filter: bound of the orbit-rate uncertainty, `w = w0 (1 + delta)`,
+    /// `|delta| <= hinf_delta_bar`, >= 0 (paper 002: 0.05).
+    pub hinf_delta_bar: f64,
+    /// H-infinity filter: process-noise scaling on positions [m] (paper 002 `B`: 0.05).
+    pub hinf_b_pos: f64,
+    /// H-infinity filter: process-noise scaling on velocities [m/s] (paper 002 `B`: 0.001).
+    pub hinf_b_vel: f64,
+    /// H-infinity filter: scaling of the indirect position measurement noise [m]
+    /// (paper 002 `D`: 0.1).
+    pub hinf_d: f64,
 }
 
 impl Default for NavConfig {
@@ -241,6 +259,11 @@ impl Default for NavConfig {
             window: 10,
             q_vv_floor: 0.0,
             q_vv_ceiling: 1.0,
+            hinf_period: 1.0,
+            hinf_delta_bar: 0.05,
+            hinf_b_pos: 0.05,
+            hinf_b_vel: 0.001,
+            hinf_d: 0.1,
         }
     }
 }
@@ -461,7 +484,22 @@ impl NavConfig {
             p.validate().map_err(NavError::invalid)?;
         }
         self.aq_params().validate().map_err(NavError::invalid)?;
+        let spec = self.hinf_spec();
+        spec.validate()
+            .map_err(|e| NavError::invalid(format!("hinf_*: {}", e.message)))?;
         Ok(())
+    }
+
+    /// The H-infinity design inputs of this configuration (`w0` = `mean_motion`).
+    pub fn hinf_spec(&self) -> crate::hinf::HinfSpec {
+        crate::hinf::HinfSpec {
+            w0: self.mean_motion,
+            delta_bar: self.hinf_delta_bar,
+            period: self.hinf_period,
+            b_pos: self.hinf_b_pos,
+            b_vel: self.hinf_b_vel,
+            d: self.hinf_d,
+        }
     }
 
     /// The measurement-noise density (scales `sigma_range`, `sigma_angle`).
@@ -541,6 +579,8 @@ pub enum AnyFilter {
     Aqukf(Aqukf),
     /// Particle filter (codes 4-8: SIR, regularised, unscented, genetic, cloud-genetic).
     Pf(ParticleFilter),
+    /// Robust H-infinity filter (code 9).
+    Hinf(HinfEstimator),
 }
 
 impl Estimator for AnyFilter {
@@ -550,6 +590,7 @@ impl Estimator for AnyFilter {
             AnyFilter::Ukf(f) => f.predict(model, accel),
             AnyFilter::Aqukf(f) => f.predict(model, accel),
             AnyFilter::Pf(f) => f.predict(model, accel),
+            AnyFilter::Hinf(f) => f.predict(model, accel),
         }
     }
     fn update<M: MeasurementModel>(
@@ -562,6 +603,7 @@ impl Estimator for AnyFilter {
             AnyFilter::Ukf(f) => f.update(sensor, z),
             AnyFilter::Aqukf(f) => f.update(sensor, z),
             AnyFilter::Pf(f) => f.update(sensor, z),
+            AnyFilter::Hinf(f) => f.update(sensor, z),
         }
     }
     fn state(&self) -> &State {
@@ -570,6 +612,7 @@ impl Estimator for AnyFilter {
             AnyFilter::Ukf(f) => f.state(),
             AnyFilter::Aqukf(f) => f.state(),
             AnyFilter::Pf(f) => f.state(),
+            AnyFilter::Hinf(f) => f.state(),
         }
     }
     fn covariance(&self) -> &Mat6 {
@@ -578,6 +621,7 @@ impl Estimator for AnyFilter {
             AnyFilter::Ukf(f) => f.covariance(),
             AnyFilter::Aqukf(f) => f.covariance(),
             AnyFilter::Pf(f) => f.covariance(),
+            AnyFilter::Hinf(f) => f.covariance(),
         }
     }
     fn set_estimate(&mut self, x: State, p: Mat6) {
@@ -586,6 +630,7 @@ impl Estimator for AnyFilter {
             AnyFilter::Ukf(f) => f.set_estimate(x, p),
             AnyFilter::Aqukf(f) => f.set_estimate(x, p),
             AnyFilter::Pf(f) => f.set_estimate(x, p),
+            AnyFilter::Hinf(f) => f.set_estimate(x, p),
         }
     }
 }
@@ -637,6 +682,19 @@ fn build_filter(cfg: &NavConfig) -> Result<AnyFilter, NavError> {
             cfg.aq_params(),
             cfg.mean_motion,
         ))),
+        #[cfg(feature = "hinf")]
+        FilterKind::Hinf => {
+            use crate::hinf::design::{design_open_loop, DesignOptions};
+            let d = design_open_loop(&cfg.hinf_spec(), &DesignOptions::default()).map_err(|e| {
+                NavError {
+                    kind: NavErrorKind::InvalidArgument,
+                    message: format!("hinf design failed: {e}"),
+                }
+            })?;
+            HinfEstimator::new(d.matrices, d.gamma, x0)
+                .map(AnyFilter::Hinf)
+                .map_err(|e| NavError::invalid(format!("hinf: {e}")))
+        }
         other => Err(NavError {
             kind: NavErrorKind::NotImplemented,
             message: format!("filter {} is not implemented", other.name()),
@@ -707,8 +765,20 @@ impl Navigator {
         self.step_cache
     }
 
-    fn check_dt(dt: f64) -> Result<(), NavError> {
-        positive("step size h", dt)
+    fn check_dt(&self, dt: f64) -> Result<(), NavError> {
+        positive("step size h", dt)?;
+        if let AnyFilter::Hinf(f) = &self.filter {
+            let t = f.period();
+            if (dt - t).abs() > 1e-9 * t {
+                return Err(NavError::invalid(format!(
+                    "the hinf filter was designed for hinf_period = {} s and holds for that \
+                     period only; step h = {} s refused (set hinf_period to the step size)",
+                    num(t),
+                    num(dt)
+                )));
+            }
+        }
+        Ok(())
     }
 
     fn check_measurement(z: &[f64; 3]) -> Result<(), NavError> {
@@ -746,7 +816,7 @@ impl Navigator {
 
     /// Time update over `dt` [s] with thrust `thrust` [N] (I/O frame) held constant.
     pub fn predict(&mut self, thrust: &[f64; 3], dt: f64) -> Result<(), NavError> {
-        Self::check_dt(dt)?;
+        self.check_dt(dt)?;
         finite3("thrust", thrust)?;
         self.check_not_failed()?;
         let model = self.discrete(dt);
@@ -785,7 +855,7 @@ impl Navigator {
         measurement: Option<&[f64; 3]>,
         dt: f64,
     ) -> Result<(), NavError> {
-        Self::check_dt(dt)?;
+        self.check_dt(dt)?;
         finite3("thrust", thrust)?;
         if let Some(z) = measurement {
             Self::check_measurement(z)?;
@@ -872,6 +942,14 @@ impl Navigator {
                 let io = self.cfg.frame.cov_from_canonical(&c);
                 Some([io[(3, 3)], io[(4, 4)], io[(5, 5)]])
             }
+            _ => None,
+        }
+    }
+
+    /// The certified `gamma` of the H-infinity design (filter code 9), `None` otherwise.
+    pub fn hinf_gamma(&self) -> Option<f64> {
+        match &self.filter {
+            AnyFilter::Hinf(f) => Some(f.gamma()),
             _ => None,
         }
     }

@@ -108,16 +108,27 @@ fn defaults_of_the_new_fields() {
     );
     assert_eq!((c.noise_zeta, c.noise_scale, c.noise_dof), (0.2, 10.0, 4.0));
     assert_eq!(validate(&c), OK);
-    // the AQUKF and every particle filter code are accepted with the defaults; 9 is not
-    // implemented
+    // the AQUKF, every particle filter code and hinf are accepted with the defaults (9
+    // needs the default `hinf` feature)
     assert_eq!((c.window, c.q_vv_floor, c.q_vv_ceiling), (10, 0.0, 1.0));
-    for f in 3..=8 {
+    assert_eq!(
+        (
+            c.hinf_period,
+            c.hinf_delta_bar,
+            c.hinf_b_pos,
+            c.hinf_b_vel,
+            c.hinf_d
+        ),
+        (1.0, 0.05, 0.05, 0.001, 0.1)
+    );
+    for f in (3..=8).chain(cfg!(feature = "hinf").then_some(9)) {
         let c = relnav_config {
             filter: f,
             ..relnav_config_default()
         };
         assert_eq!(validate(&c), OK, "filter {f}: {}", last_error());
     }
+    #[cfg(not(feature = "hinf"))]
     {
         let c = relnav_config {
             filter: 9,
@@ -454,4 +465,74 @@ fn particle_filter_failing_after_its_update_refuses_until_reset() {
         assert_eq!(fresh.step(Some(&z(k))), OK);
         assert_eq!(e.state(), fresh.state(), "step {k}");
     }
+}
+
+/// The H-infinity filter through the C ABI: the design on its own (paper form: gamma and
+/// matrices; an infeasible request is a status and a message, `*out` untouched), the
+/// navigator with code 9 (gamma, NaN sigma, a step of another length refused).
+#[cfg(feature = "hinf")]
+#[test]
+fn hinf_design_and_estimator() {
+    let spec = relnav_hinf_spec {
+        form: relnav_hinf_form::RELNAV_HINF_PAPER as i32,
+        mean_motion: 7.2722e-5,
+        delta_bar: 0.05,
+        period: 0.1,
+        b_pos: 0.05,
+        b_vel: 0.001,
+        d: 0.1,
+    };
+    // SAFETY: all-zero bytes are a valid relnav_hinf_result (plain doubles and ints).
+    let mut out: relnav_hinf_result = unsafe { std::mem::zeroed() };
+    // SAFETY: valid pointers.
+    let st = unsafe { relnav_hinf_design(&spec, &mut out) };
+    assert_eq!(st, OK, "{}", last_error());
+    assert!(out.gamma > 0.3 && out.gamma < 0.5, "gamma {}", out.gamma);
+    assert!(out.lmi_max_eig < 0.0);
+    assert!((out.matrices.period - 0.1).abs() < 1e-15);
+    // positions are corrected by the measurement: B_F's position block is far from zero
+    assert!(out.matrices.b_f[0].abs() > 0.1);
+    let bad = relnav_hinf_spec {
+        mean_motion: std::f64::consts::TAU / 5400.0,
+        delta_bar: 50.0,
+        ..spec
+    };
+    let before = out.gamma;
+    // SAFETY: valid pointers.
+    let st = unsafe { relnav_hinf_design(&bad, &mut out) };
+    assert_eq!(st, relnav_status::RELNAV_ERROR_INFEASIBLE);
+    assert!(last_error().contains("infeasible"), "{}", last_error());
+    assert_eq!(out.gamma, before);
+
+    let c = relnav_config {
+        filter: relnav_filter::RELNAV_FILTER_HINF as i32,
+        ..relnav_config_default()
+    };
+    let mut est = std::ptr::null_mut();
+    // SAFETY: valid pointers.
+    assert_eq!(
+        unsafe { relnav_estimator_new(&c, &mut est) },
+        OK,
+        "{}",
+        last_error()
+    );
+    let (mut gamma, mut sig) = (f64::NAN, [0.0; 6]);
+    let z = [670.0, 0.9, 0.3];
+    // SAFETY: live handle, arrays of the documented lengths.
+    unsafe {
+        assert_eq!(relnav_estimator_get_hinf_gamma(est, &mut gamma), OK);
+        assert_eq!(
+            relnav_estimator_step(est, [0.0; 3].as_ptr(), z.as_ptr(), 1.0),
+            OK
+        );
+        assert_eq!(
+            relnav_estimator_step(est, [0.0; 3].as_ptr(), z.as_ptr(), 0.5),
+            relnav_status::RELNAV_ERROR_INVALID_ARGUMENT
+        );
+        assert!(last_error().contains("hinf_period"), "{}", last_error());
+        assert_eq!(relnav_estimator_get_sigma(est, sig.as_mut_ptr()), OK);
+        relnav_estimator_free(est);
+    }
+    assert!(gamma.is_finite() && gamma > 0.0);
+    assert!(sig.iter().all(|s| s.is_nan()));
 }

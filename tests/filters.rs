@@ -270,9 +270,10 @@ fn invalid_configurations_name_the_parameter() {
         (
             NavConfig {
                 filter: FilterKind::Hinf,
+                hinf_delta_bar: -1.0,
                 ..Default::default()
             },
-            "not implemented",
+            "delta_bar",
         ),
         (
             NavConfig {

@@ -106,11 +106,85 @@ fn library_and_c_abi_steps_do_not_allocate() {
     }
 }
 
-/// `fmi2DoStep` cycles (set inputs, step, get the 12 estimate outputs, `ess` and `q_vv_*`)
-/// for the EKF, the AQUKF and two particle filters.
+/// The H-infinity filter (code 9): navigator steps (with and without a measurement), C-ABI
+/// steps and the standalone runtime filter allocate nothing after the design.
+#[cfg(feature = "hinf")]
+#[test]
+fn hinf_steps_do_not_allocate() {
+    let cfg = NavConfig {
+        filter: FilterKind::Hinf,
+        ..Default::default()
+    };
+    let mut nav = Navigator::new(&cfg).unwrap();
+    let n = allocations(|| {
+        for k in 0..200 {
+            let z = measurement(k);
+            let m = if k % 7 == 3 { None } else { Some(&z) };
+            nav.step(&[0.1, 0.0, -0.1], m, 1.0).unwrap();
+        }
+    });
+    assert_eq!(n, 0, "{n} allocations in hinf navigator steps");
+
+    let mut c = ffi::relnav_config_default();
+    c.filter = FilterKind::Hinf as i32;
+    let mut est = std::ptr::null_mut();
+    // SAFETY: valid pointers.
+    unsafe { ffi::relnav_estimator_new(&c, &mut est) };
+    assert!(!est.is_null());
+    let thrust = [0.0; 3];
+    let mut x = [0.0; 6];
+    let n = allocations(|| {
+        for k in 0..200 {
+            let z = measurement(k);
+            // SAFETY: live handle, arrays of the documented lengths.
+            unsafe {
+                assert_eq!(
+                    ffi::relnav_estimator_step(est, thrust.as_ptr(), z.as_ptr(), 1.0),
+                    ffi::relnav_status::RELNAV_OK
+                );
+                ffi::relnav_estimator_get_state(est, x.as_mut_ptr());
+            }
+        }
+    });
+    // SAFETY: live handle, freed once.
+    unsafe { ffi::relnav_estimator_free(est) };
+    assert_eq!(n, 0, "{n} allocations in hinf C-ABI steps");
+
+    let m = ffi::relnav_hinf_matrices {
+        a_f: std::array::from_fn(|i| if i % 7 == 0 { 0.9 } else { 0.0 }),
+        b_f: [0.01; 18],
+        c_f: std::array::from_fn(|i| if i % 7 == 0 { 1.0 } else { 0.0 }),
+        e_f: [0.0; 18],
+        period: 1.0,
+    };
+    let mut f = std::ptr::null_mut();
+    // SAFETY: valid pointers.
+    unsafe { ffi::relnav_hinf_filter_new(&m, [0.0; 6].as_ptr(), &mut f) };
+    assert!(!f.is_null());
+    let n = allocations(|| {
+        for k in 0..200 {
+            let yk = [k as f64, 1.0, 2.0];
+            // SAFETY: live handle, arrays of the documented lengths.
+            unsafe {
+                assert_eq!(
+                    ffi::relnav_hinf_filter_step(f, yk.as_ptr(), thrust.as_ptr()),
+                    ffi::relnav_status::RELNAV_OK
+                );
+                ffi::relnav_hinf_filter_get_state(f, x.as_mut_ptr());
+            }
+        }
+    });
+    // SAFETY: live handle, freed once.
+    unsafe { ffi::relnav_hinf_filter_free(f) };
+    assert_eq!(n, 0, "{n} allocations in runtime hinf filter steps");
+}
+
+/// `fmi2DoStep` cycles (set inputs, step, get the 12 estimate outputs, `ess`, `q_vv_*`
+/// and `hinf_gamma`) for the EKF, the AQUKF, two particle filters and the H-infinity
+/// filter.
 #[test]
 fn fmu_do_step_does_not_allocate() {
-    for filter in [1, 3, 5, 8] {
+    for filter in [1, 3, 5, 8, 9] {
         fmu_cycles_do_not_allocate(filter);
     }
 }
@@ -173,9 +247,10 @@ fn fmu_cycles_do_not_allocate(filter: i32) {
         vr::Q_VV_X,
         vr::Q_VV_Y,
         vr::Q_VV_Z,
+        vr::HINF_GAMMA,
     ];
     let valid = [vr::MEASUREMENT_VALID];
-    let mut y = [0.0; 16];
+    let mut y = [0.0; 17];
     let n = allocations(|| {
         for k in 0..200 {
             let z = measurement(k);
@@ -191,7 +266,7 @@ fn fmu_cycles_do_not_allocate(filter: i32) {
                 );
                 assert_eq!(fmi2DoStep(c, k as f64, 1.0, 1), fmi2Status::fmi2OK);
                 assert_eq!(
-                    fmi2GetReal(c, outs.as_ptr(), 16, y.as_mut_ptr()),
+                    fmi2GetReal(c, outs.as_ptr(), 17, y.as_mut_ptr()),
                     fmi2Status::fmi2OK
                 );
             }

@@ -127,7 +127,7 @@ void check_static_functions() {
     std::printf("  relnav_version() = %s\n", v ? v : "<NULL>");
 
     std::vector<std::string> names;
-    for (int s = 0; s <= 5; ++s) {
+    for (int s = 0; s <= 6; ++s) {
         const char* n = relnav_status_string(s);
         CHECK(n != nullptr && n[0] != '\0');
         if (n) {
@@ -137,7 +137,7 @@ void check_static_functions() {
     }
     std::sort(names.begin(), names.end());
     CHECK(std::unique(names.begin(), names.end()) == names.end());
-    for (int s : {-1, 6, 7, 1000, INT_MIN, INT_MAX}) {
+    for (int s : {-1, 7, 1000, INT_MIN, INT_MAX}) {
         const char* n = relnav_status_string(s);
         CHECK(n != nullptr && std::string(n) == "unknown status");
     }
@@ -352,9 +352,9 @@ void check_config() {
     for (int v : {0, -1, 3, 100, INT_MIN, INT_MAX})
         expect_config_fail("discretization=" + std::to_string(v), IA, [&](relnav_config& c) { c.discretization = v; },
                            "discretization");
-    // Known but not implemented in this build.
-    expect_config_fail("filter=9 (not implemented)", RELNAV_ERROR_NOT_IMPLEMENTED,
-                       [&](relnav_config& c) { c.filter = RELNAV_FILTER_HINF; }, "implemented");
+    // H-infinity design inputs out of their domain.
+    expect_config_fail("filter=9, hinf_period=-1", IA,
+                       [&](relnav_config& c) { c.filter = RELNAV_FILTER_HINF; c.hinf_period = -1.0; }, "period");
     // Particle-filter and noise-model fields: out of their domain, named in the message.
     for (int v : {0, -1, 2000001, INT_MIN})
         expect_config_fail("particles=" + std::to_string(v), IA, [&](relnav_config& c) { c.particles = v; },

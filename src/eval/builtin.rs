@@ -34,6 +34,21 @@ pub const BUILTIN: &[(&str, &str, &str)] = &[
         include_str!("../../scenarios/model_error_j2.toml"),
     ),
     (
+        "002",
+        "paper002_stress_uniform",
+        include_str!("../../scenarios/paper002_stress_uniform.toml"),
+    ),
+    (
+        "002",
+        "paper002_stress_laplace",
+        include_str!("../../scenarios/paper002_stress_laplace.toml"),
+    ),
+    (
+        "002",
+        "paper002_stress_ar1",
+        include_str!("../../scenarios/paper002_stress_ar1.toml"),
+    ),
+    (
         "003",
         "paper003",
         include_str!("../../scenarios/paper003.toml"),

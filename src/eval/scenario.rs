@@ -363,6 +363,19 @@ pub struct FilterSpec {
     /// AQUKF: upper bound on each adaptive `q_vv` [m^2/s^3] (default 1).
     #[serde(default = "one")]
     pub q_vv_ceiling: f64,
+    /// H-infinity (`kind = "hinf"`): `paper` (Theorem 1 / Corollary 1 on the closed loop
+    /// `u = K x`, Euler as the paper; needs `thrust.kind = "feedback"`), `published` (the
+    /// paper's printed `A_F, B_F, C_F`, T = 0.1 s) or `observer` (open-loop observer form,
+    /// the known thrust as feed-forward). Default `paper`.
+    #[serde(default)]
+    pub hinf_design: Option<String>,
+    /// H-infinity: uncertainty bound `delta_bar` of the design (default 0.05).
+    #[serde(default)]
+    pub hinf_delta_bar: Option<f64>,
+    /// H-infinity: noise scalings `(b_pos, b_vel, d)` of the design (default the paper's
+    /// 0.05, 0.001, 0.1).
+    #[serde(default)]
+    pub hinf_scalings: Option<[f64; 3]>,
 }
 
 fn default_window() -> usize {
@@ -572,10 +585,10 @@ impl Scenario {
         }
         for f in &self.filters {
             let is_pf = crate::estimators::pf::PfKind::from_name(&f.kind).is_some();
-            if !(is_pf || matches!(f.kind.as_str(), "ekf" | "ukf" | "aqukf")) {
+            if !(is_pf || matches!(f.kind.as_str(), "ekf" | "ukf" | "aqukf" | "hinf")) {
                 return Err(format!(
                     "filter \"{}\": kind \"{}\" is not available (implemented: ekf, ukf, \
-                     aqukf, pf, rpf, upf, gapf, cgapf; hinf lands with issue 5)",
+                     aqukf, pf, rpf, upf, gapf, cgapf, hinf)",
                     f.label, f.kind
                 ));
             }

@@ -276,6 +276,11 @@ impl Instance {
         c.noise_scale = v(vr::NOISE_SCALE);
         c.noise_dof = v(vr::NOISE_DOF);
         c.window = v(vr::WINDOW) as i32;
+        c.hinf_period = v(vr::HINF_PERIOD);
+        c.hinf_delta_bar = v(vr::HINF_DELTA_BAR);
+        c.hinf_b_pos = v(vr::HINF_B_POS);
+        c.hinf_b_vel = v(vr::HINF_B_VEL);
+        c.hinf_d = v(vr::HINF_D);
         c
     }
 
@@ -290,7 +295,13 @@ impl Instance {
         let v = self.values;
         let x0 = [vr::X0, vr::Y0, vr::Z0, vr::VX0, vr::VY0, vr::VZ0].map(|r| v[r as usize]);
         let (sp, sv) = (v[vr::SIGMA_POS0 as usize], v[vr::SIGMA_VEL0 as usize]);
-        self.write_outputs(&x0, &[sp, sp, sp, sv, sv, sv]);
+        if self.values[vr::FILTER as usize] == 9.0 {
+            // no Gaussian covariance exists for the H-infinity filter: NaN, as after init
+            self.write_outputs(&x0, &[f64::NAN; 6]);
+        } else {
+            self.write_outputs(&x0, &[sp, sp, sp, sv, sv, sv]);
+        }
+        self.values[vr::HINF_GAMMA as usize] = f64::NAN;
         self.values[vr::ESS as usize] = if self.particle_filter_selected() {
             v[vr::PARTICLES as usize]
         } else {
@@ -341,11 +352,15 @@ impl Instance {
         let mut q = [f64::NAN; 3];
         // SAFETY: as above; `q` holds 3 doubles.
         status_of(unsafe { ffi::relnav_estimator_get_q_vv(self.estimator, q.as_mut_ptr()) })?;
+        let mut gamma = f64::NAN;
+        // SAFETY: as above; `gamma` is a writable local.
+        status_of(unsafe { ffi::relnav_estimator_get_hinf_gamma(self.estimator, &mut gamma) })?;
         self.write_outputs(&x, &s);
         self.values[vr::ESS as usize] = ess;
         self.values[vr::Q_VV_X as usize] = q[0];
         self.values[vr::Q_VV_Y as usize] = q[1];
         self.values[vr::Q_VV_Z as usize] = q[2];
+        self.values[vr::HINF_GAMMA as usize] = gamma;
         Ok(())
     }
 
@@ -365,6 +380,16 @@ impl Instance {
                 format!(
                     ", particles {}, resampler {}, resample_threshold {}, seed {}",
                     cfg.particles, cfg.resampler, cfg.resample_threshold, cfg.seed
+                )
+            } else if cfg.filter == 9 {
+                format!(
+                    ", hinf: observer design for hinf_period {} s, delta_bar {}, b_pos {}, b_vel {}, d {}: gamma = {}",
+                    cfg.hinf_period,
+                    cfg.hinf_delta_bar,
+                    cfg.hinf_b_pos,
+                    cfg.hinf_b_vel,
+                    cfg.hinf_d,
+                    self.values[vr::HINF_GAMMA as usize]
                 )
             } else {
                 String::new()

@@ -78,6 +78,7 @@ pub const UNITS: &[(&str, [i32; 4])] = &[
     ("rad/s", [0, 0, -1, 1]),
     ("m2/s", [0, 2, -1, 0]),
     ("m2/s3", [0, 2, -3, 0]),
+    ("s", [0, 0, 1, 0]),
 ];
 
 /// `filter` parameter values (same codes as the C ABI's `relnav_filter`).
@@ -119,7 +120,7 @@ pub static FILTER_TYPE: EnumType = EnumType {
         (
             "hinf",
             9,
-            "Robust H-infinity filter (paper 002; not implemented yet: rejected)",
+            "Robust H-infinity filter (paper 002; observer form designed by an LMI at initialisation for hinf_period; sigma_* are NaN)",
         ),
     ],
 };
@@ -233,7 +234,7 @@ use VarType::{Boolean, Enumeration, Integer, Real};
 
 variables! {
     FILTER = 0: "filter", Parameter, Fixed, Enumeration(&FILTER_TYPE), 1.0,
-        "Estimator (codes 1-9; 1-3 Kalman and 4-8 particle filters are implemented, 9 hinf is rejected)";
+        "Estimator (codes 1-9: 1-3 Kalman (EKF, UKF, AQUKF), 4-8 particle filters, 9 robust H-infinity)";
     FRAME = 1: "frame", Parameter, Fixed, Enumeration(&FRAME_TYPE), 2.0,
         "Hill-frame convention of every input and output vector and angle";
     DISCRETIZATION = 2: "discretization", Parameter, Fixed, Enumeration(&DISCRETIZATION_TYPE), 1.0,
@@ -322,10 +323,22 @@ variables! {
         "AQUKF: current adaptive velocity process-noise density along y; NaN for the other filters";
     Q_VV_Z = 56: "q_vv_z", Output, Continuous, Real("m2/s3"), 0.0,
         "AQUKF: current adaptive velocity process-noise density along z; NaN for the other filters";
+    HINF_PERIOD = 57: "hinf_period", Parameter, Fixed, Real("s"), 1.0,
+        "H-infinity filter (code 9): sampling period of its discrete design; fmi2DoStep with another step size is refused (set it to the communication step)";
+    HINF_DELTA_BAR = 58: "hinf_delta_bar", Parameter, Fixed, Real(""), 0.05,
+        "H-infinity filter: bound of the orbit-rate uncertainty, w = w0 (1 + delta), |delta| <= hinf_delta_bar (paper 002: 0.05)";
+    HINF_B_POS = 59: "hinf_b_pos", Parameter, Fixed, Real("m"), 0.05,
+        "H-infinity filter: process-noise scaling on positions (paper 002 B: 0.05)";
+    HINF_B_VEL = 60: "hinf_b_vel", Parameter, Fixed, Real("m/s"), 0.001,
+        "H-infinity filter: process-noise scaling on velocities (paper 002 B: 0.001)";
+    HINF_D = 61: "hinf_d", Parameter, Fixed, Real("m"), 0.1,
+        "H-infinity filter: scaling of the indirect position measurement noise (paper 002 D: 0.1)";
+    HINF_GAMMA = 62: "hinf_gamma", Output, Continuous, Real(""), 0.0,
+        "H-infinity filter: the design's certified bound gamma on the worst-case gain from the scaled noises to the estimation error; NaN for the other filters";
 }
 
 /// Number of variables.
-pub const N_VARS: usize = 57;
+pub const N_VARS: usize = 63;
 
 /// The definition for a value reference, if it exists.
 pub fn lookup(vr: u32) -> Option<&'static VarDef> {
@@ -387,6 +400,11 @@ mod tests {
         assert_eq!(s(vr::NOISE_SCALE), c.noise_scale);
         assert_eq!(s(vr::NOISE_DOF), c.noise_dof);
         assert_eq!(s(vr::WINDOW), c.window as f64);
+        assert_eq!(s(vr::HINF_PERIOD), c.hinf_period);
+        assert_eq!(s(vr::HINF_DELTA_BAR), c.hinf_delta_bar);
+        assert_eq!(s(vr::HINF_B_POS), c.hinf_b_pos);
+        assert_eq!(s(vr::HINF_B_VEL), c.hinf_b_vel);
+        assert_eq!(s(vr::HINF_D), c.hinf_d);
     }
 
     /// The enumerations carry the library's codes and names.

@@ -26,7 +26,6 @@ BAD = [
     ("accel_psd", -1.0),
     ("x0", math.inf),
     ("filter", 0),
-    ("filter", 9),
     ("frame", 0),
     ("discretization", 3),
     # particle filters and noise models
@@ -76,11 +75,11 @@ def test_bad_parameter_rejected_with_reason(runner, name, value):
     assert exc is None, log
 
 
-@pytest.mark.parametrize("code,name", [(9, "hinf")])
-def test_unimplemented_filter_is_rejected_at_exit_initialization(runner, code, name):
-    exc, stage, log = attempt(runner, {"filter": code})
+@pytest.mark.parametrize("name,value", [("hinf_period", 0.0), ("hinf_delta_bar", -0.1)])
+def test_bad_hinf_parameters_are_refused_at_exit_initialization(runner, name, value):
+    exc, stage, log = attempt(runner, {"filter": 9, name: value})
     assert exc is not None and stage == "exit", (stage, log)
-    assert "filter" in log and name in log and "not implemented" in log, log
+    assert name.removeprefix("hinf_") in log, log
 
 
 @pytest.mark.parametrize("name,value", [("particles", 0), ("noise_zeta", 1.0)])

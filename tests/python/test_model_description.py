@@ -44,6 +44,12 @@ EXPECTED = {
     "ess": ("output", "continuous", "Real", None),
     "window": ("parameter", "fixed", "Integer", None),
     **{n: ("output", "continuous", "Real", "m2/s3") for n in ["q_vv_x", "q_vv_y", "q_vv_z"]},
+    "hinf_period": ("parameter", "fixed", "Real", "s"),
+    "hinf_delta_bar": ("parameter", "fixed", "Real", None),
+    "hinf_b_pos": ("parameter", "fixed", "Real", "m"),
+    "hinf_b_vel": ("parameter", "fixed", "Real", "m/s"),
+    "hinf_d": ("parameter", "fixed", "Real", "m"),
+    "hinf_gamma": ("output", "continuous", "Real", None),
 }
 
 DEFAULTS = {
@@ -155,8 +161,10 @@ def test_value_references_are_stable(md):
     assert [vr[n] for n in ["filter", "seed", "thrust_x", "measurement_valid", "x", "sigma_vz"]] == [0, 25, 26, 32, 33, 44]
     added = ["particles", "resampler", "resample_threshold", "noise_model", "noise_zeta", "noise_scale", "noise_dof", "ess"]
     assert [vr[n] for n in added] == list(range(45, 53))
-    # issue 6 (AQUKF): 53-56; issue 5 takes 57 onwards
+    # issue 6 (AQUKF): 53-56; issue 5 (H-infinity): 57-62
     assert [vr[n] for n in ["window", "q_vv_x", "q_vv_y", "q_vv_z"]] == [53, 54, 55, 56]
+    hinf = ["hinf_period", "hinf_delta_bar", "hinf_b_pos", "hinf_b_vel", "hinf_d", "hinf_gamma"]
+    assert [vr[n] for n in hinf] == list(range(57, 63))
 
 
 def test_every_declared_unit_is_defined(md):
@@ -207,7 +215,7 @@ def test_outputs_have_no_direct_feedthrough_in_model_structure(xml_root, md):
         assert variables[idx - 1].get("causality") == "output"
         assert u.get("dependencies") == "", f"output {variables[idx - 1].get('name')}: dependencies={u.get('dependencies')!r}"
     assert listed == output_indices
-    assert len(md.outputs) == 16
+    assert len(md.outputs) == 17
 
 
 def test_binary_exports_fmi2_cosimulation_api(unzipdir):

@@ -1,0 +1,703 @@
+//! LMI design of the robust H-infinity filter as a semidefinite program in Clarabel's PSD
+//! cone (cargo feature `hinf`).
+//!
+//! # Paper design (Theorem 1 / Corollary 1 of paper 002)
+//!
+//! Variables `R = R^T, S = S^T` (6x6), `Abar_F` (6x6), `Bbar_F` (6x3), `Cbar_F` (6x6),
+//! `lambda`, `g2 = gamma^2`; minimise `g2` subject to (blocks of sizes n, n, n, n, p, q, l, h)
+//!
+//! ```text
+//! [ -R  -S  R A + Bb C   Ab   R B   Bb D   0     R Ha ]
+//! [  *  -S  S A + Bb C   Ab   S B   Bb D   0     S Ha ]
+//! [  *   *  -R + l Ea'Ea -S   0     0      L'    0    ]
+//! [  *   *   *          -S    0     0     -Cb'   0    ]   <  0          (paper eq. 20)
+//! [  *   *   *           *   -g2 I  0      0     0    ]
+//! [  *   *   *           *    *    -g2 I   0     0    ]
+//! [  *   *   *           *    *     *     -I     0    ]
+//! [  *   *   *           *    *     *      *    -l I  ]
+//! ```
+//!
+//! and `A_F = S^-1 Abar_F`, `B_F = S^-1 Bbar_F`, `C_F = Cbar_F` (eq. 21).
+//!
+//! # Observer (error-dynamics) design, for the open-loop plant
+//!
+//! Filter `xh(k+1) = A xh + Gamma a + G (y - C xh)`, estimate `xh`. With `e = x - xh`:
+//!
+//! ```text
+//! e(k+1) = (A - G C) e + B w - G D v + Ha d,    d := F Ea x,    z_e = L e
+//! ```
+//!
+//! The known thrust cancels (feed-forward), and the error no longer depends on the plant
+//! state except through the uncertainty term, which enters as an exogenous input of the
+//! robustness channel: `Ha F Ea x = (|Ea| Ha) d'` with `d' = F Ea x / |Ea|`, `|d'| <= |x|`
+//! (Frobenius `|Ea|`, ~`2 w0 delta_bar`), weighted like the unit-intensity noises `w, v`. The
+//! discrete bounded-real lemma for `(A - G C, [B, -G D, Ha], L)`, congruence with
+//! `diag(P, I, I, I)` and `Y = P G` give the LMI in `P = P^T, Y, g2`:
+//!
+//! ```text
+//! [ -P   P A - Y C   P B    -Y D  |Ea| P Ha 0  ]
+//! [  *     -P        0       0       0      L' ]
+//! [  *      *      -g2 I     0       0      0  ]   <  0,     G = P^-1 Y
+//! [  *      *        *     -g2 I     0      0  ]
+//! [  *      *        *       *     -g2 I    0  ]
+//! [  *      *        *       *       *     -I  ]
+//! ```
+//!
+//! It does not contain the plant state, so the plant need not be stable: the open-loop CW
+//! model (eigenvalues on the unit circle) is fine as long as `(A, C)` is detectable.
+//! *Relation to the paper's result*: the paper's augmented state `(x, x_f)` becomes `(x,
+//! e)` for the observer structure `A_F = A - B_F C`, `C_F = L`, and there the `x`-rows
+//! couple into `e` only through `dA x`; without uncertainty (`delta_bar = 0`, so `d = 0`)
+//! and with `u = K x` inside `A`, the H-infinity filtering optimum is attained by an
+//! observer-form filter (the central filter), so both designs give the same optimal
+//! `gamma` — `tests/hinf.rs` checks this numerically on the paper's closed loop. With
+//! uncertainty the observer form bounds the error gain from `(w, v, d)` jointly instead
+//! of using the S-procedure on `x`, which the open-loop plant would make unbounded.
+//!
+//! # Conditioning and the unattained minimum (why the problem is not posed literally)
+//!
+//! 1. **Scale of the uncertainty.** `T Ha` has entries ~0.2, `Ea` ~`w0 delta_bar` ~4e-6;
+//!    `dA = (T Ha / s) F (s Ea)` for any `s > 0`, and `s = sqrt(|T Ha| / |Ea|)` makes both
+//!    factors the same size (~1e-3). For the paper design this only rescales `lambda`
+//!    (the LMI is equivalent); for the observer design it sets the weight of the
+//!    robustness channel, so there the scaling is fixed at `s = 1` and left to `Ea`.
+//! 2. **The minimum is not attained**: as `g2` tends to its infimum some of `R, S, Abar_F,
+//!    ...` grow without bound (the optimal filter has a singular Lyapunov certificate), and
+//!    an interior-point solver never converges. We bound the certificate, `R <= rho I`
+//!    (paper) or `P <= rho I` (observer), with `rho` = [`DesignOptions::bound`]
+//!    (default 1e4). Observed: with `rho = 1e12` Clarabel ends `AlmostSolved` at a point
+//!    whose assembled LMI has a positive eigenvalue (1.5e-4), i.e. no certificate. The
+//!    bounded problem has an attained minimum; its
+//!    `gamma` exceeds the infimum by a margin that shrinks as `rho` grows (reported, not
+//!    hidden: `gamma` is what the returned filter certifies).
+//! 3. **Strict inequalities** `LMI < 0` are posed as `LMI <= -eps I` with `eps` =
+//!    [`DesignOptions::margin`] (default 1e-5; with 1e-7 the
+//!    solver's answer, accurate to its feasibility tolerance, can violate the strict LMI by
+//!    ~1e-6 and is then rejected by the check below), plus `lambda >= eps` and `S >= eps I`
+//!    (`R > S > 0` is implied by the leading blocks of the LMI). The returned matrices are then re-checked with nalgebra
+//!    ([`crate::hinf::verify`]); a solution whose assembled LMI is not negative definite is
+//!    reported as infeasible, never returned.
+
+use super::verify::{lmi_observer, lmi_paper};
+use super::{HinfError, HinfErrorKind, HinfMatrices, HinfPlant, HinfSpec};
+use crate::types::{Mat6, Mat63};
+use clarabel::algebra::CscMatrix;
+use clarabel::solver::{DefaultSettings, DefaultSolver, IPSolver, SolverStatus, SupportedConeT};
+use nalgebra::DMatrix;
+use std::time::Instant;
+
+/// Options of the SDP.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DesignOptions {
+    /// Bound `rho` on the Lyapunov certificate (`R <= rho I` or `P <= rho I`).
+    pub bound: f64,
+    /// Margin `eps` of the strict inequalities.
+    pub margin: f64,
+    /// Clarabel iteration limit.
+    pub max_iter: u32,
+}
+
+impl Default for DesignOptions {
+    fn default() -> Self {
+        Self {
+            bound: 1e4,
+            margin: 1e-5,
+            max_iter: 200,
+        }
+    }
+}
+
+/// Outcome of a design.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HinfDesign {
+    /// The filter.
+    pub matrices: HinfMatrices,
+    /// `gamma = sqrt(g2)` of the solution: the certified bound on the worst-case gain
+    /// from the (scaled) noises to the estimation error.
+    pub gamma: f64,
+    /// Largest eigenvalue of the assembled LMI at the returned variables (nalgebra; < 0).
+    pub lmi_max_eig: f64,
+    /// Clarabel's status (`Solved` or `AlmostSolved`).
+    pub status: &'static str,
+    /// Interior-point iterations.
+    pub iterations: u32,
+    /// Wall time of assembly and solve [s].
+    pub solve_time: f64,
+}
+
+/// A symmetric affine matrix function `M(x) = M0 + sum x_i M_i` on a block structure.
+struct Lmi {
+    dim: usize,
+    offsets: Vec<usize>,
+    /// `mats[0]` = constant, `mats[i + 1]` = coefficient of variable `i`
+    mats: Vec<DMatrix<f64>>,
+}
+
+impl Lmi {
+    fn new(blocks: &[usize], nvar: usize) -> Self {
+        let mut offsets = Vec::with_capacity(blocks.len());
+        let mut o = 0;
+        for b in blocks {
+            offsets.push(o);
+            o += b;
+        }
+        Self {
+            dim: o,
+            offsets,
+            mats: vec![DMatrix::zeros(o, o); nvar + 1],
+        }
+    }
+
+    /// Add `m` at block `(r, c)` (and `m^T` at `(c, r)`) to the coefficient of `var`
+    /// (`None`: the constant).
+    fn add(&mut self, var: Option<usize>, r: usize, c: usize, m: &DMatrix<f64>) {
+        let k = var.map_or(0, |v| v + 1);
+        let (r0, c0) = (self.offsets[r], self.offsets[c]);
+        let t = &mut self.mats[k];
+        for i in 0..m.nrows() {
+            for j in 0..m.ncols() {
+                let v = m[(i, j)];
+                if v != 0.0 {
+                    t[(r0 + i, c0 + j)] += v;
+                    if r != c {
+                        t[(c0 + j, r0 + i)] += v;
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// A group of scalar variables forming a matrix: symmetric (upper triangle) or full.
+#[derive(Clone)]
+struct VarMat {
+    first: usize,
+    rows: usize,
+    cols: usize,
+    sym: bool,
+}
+
+impl VarMat {
+    fn count(&self) -> usize {
+        if self.sym {
+            self.rows * (self.rows + 1) / 2
+        } else {
+            self.rows * self.cols
+        }
+    }
+    /// `(variable index, basis matrix)` for every scalar of the group.
+    fn basis(&self) -> Vec<(usize, DMatrix<f64>)> {
+        let mut out = Vec::with_capacity(self.count());
+        let mut k = self.first;
+        if self.sym {
+            for j in 0..self.rows {
+                for i in 0..=j {
+                    let mut e = DMatrix::zeros(self.rows, self.rows);
+                    e[(i, j)] = 1.0;
+                    e[(j, i)] = 1.0;
+                    out.push((k, e));
+                    k += 1;
+                }
+            }
+        } else {
+            for j in 0..self.cols {
+                for i in 0..self.rows {
+                    let mut e = DMatrix::zeros(self.rows, self.cols);
+                    e[(i, j)] = 1.0;
+                    out.push((k, e));
+                    k += 1;
+                }
+            }
+        }
+        out
+    }
+    fn value(&self, x: &[f64]) -> DMatrix<f64> {
+        let mut m = DMatrix::zeros(self.rows, self.cols);
+        for (k, e) in self.basis() {
+            m += e * x[k];
+        }
+        m
+    }
+}
+
+struct Vars {
+    n: usize,
+}
+impl Vars {
+    fn sym(&mut self, n: usize) -> VarMat {
+        let v = VarMat {
+            first: self.n,
+            rows: n,
+            cols: n,
+            sym: true,
+        };
+        self.n += v.count();
+        v
+    }
+    fn full(&mut self, r: usize, c: usize) -> VarMat {
+        let v = VarMat {
+            first: self.n,
+            rows: r,
+            cols: c,
+            sym: false,
+        };
+        self.n += v.count();
+        v
+    }
+    fn scalar(&mut self) -> usize {
+        self.n += 1;
+        self.n - 1
+    }
+}
+
+fn dm<const R: usize, const C: usize>(m: &nalgebra::SMatrix<f64, R, C>) -> DMatrix<f64> {
+    DMatrix::from_fn(R, C, |i, j| m[(i, j)])
+}
+
+/// svec of a symmetric matrix in Clarabel's convention: upper triangle by columns,
+/// off-diagonal entries times sqrt(2).
+fn svec(m: &DMatrix<f64>, out: &mut Vec<f64>) {
+    let s2 = std::f64::consts::SQRT_2;
+    for j in 0..m.ncols() {
+        for i in 0..=j {
+            out.push(if i == j { m[(i, j)] } else { s2 * m[(i, j)] });
+        }
+    }
+}
+
+/// The SDP: minimise `c^T x` subject to `-M_k(x) - eps_k I` PSD for every `M_k`, and
+/// `x_i >= lo_i` for the listed scalars.
+struct Sdp {
+    nvar: usize,
+    cost: Vec<f64>,
+    lmis: Vec<(Lmi, f64)>,
+    lower: Vec<(usize, f64)>,
+}
+
+struct SdpSolution {
+    x: Vec<f64>,
+    status: SolverStatus,
+    iterations: u32,
+}
+
+impl Sdp {
+    fn solve(&self, opts: &DesignOptions) -> Result<SdpSolution, HinfError> {
+        // columns as triplets
+        let (mut rows, mut cols, mut vals) = (Vec::new(), Vec::new(), Vec::new());
+        let mut b = Vec::new();
+        let mut cones = Vec::new();
+        let mut row0 = 0;
+        let mut buf = Vec::new();
+        for (lmi, eps) in &self.lmis {
+            let mut m0 = -&lmi.mats[0];
+            for i in 0..lmi.dim {
+                m0[(i, i)] -= eps;
+            }
+            svec(&m0, &mut b);
+            for (k, mk) in lmi.mats[1..].iter().enumerate() {
+                buf.clear();
+                svec(mk, &mut buf);
+                for (r, v) in buf.iter().enumerate() {
+                    if *v != 0.0 {
+                        rows.push(row0 + r);
+                        cols.push(k);
+                        vals.push(*v);
+                    }
+                }
+            }
+            row0 += lmi.dim * (lmi.dim + 1) / 2;
+            cones.push(SupportedConeT::PSDTriangleConeT(lmi.dim));
+        }
+        // x_i - lo >= 0  <=>  s = -lo - (-1) x_i
+        for (i, lo) in &self.lower {
+            rows.push(row0);
+            cols.push(*i);
+            vals.push(-1.0);
+            b.push(-lo);
+            row0 += 1;
+        }
+        if !self.lower.is_empty() {
+            cones.push(SupportedConeT::NonnegativeConeT(self.lower.len()));
+        }
+        let a = CscMatrix::new_from_triplets(row0, self.nvar, rows, cols, vals);
+        let p = CscMatrix::zeros((self.nvar, self.nvar));
+        let settings = DefaultSettings {
+            max_iter: opts.max_iter,
+            verbose: false,
+            ..DefaultSettings::default()
+        };
+        let mut solver =
+            DefaultSolver::new(&p, &self.cost, &a, &b, &cones, settings).map_err(|e| {
+                HinfError {
+                    kind: HinfErrorKind::SolverFailed,
+                    message: format!("Clarabel rejected the problem: {e:?}"),
+                }
+            })?;
+        crate::ffi::blas_single_thread();
+        solver.solve();
+        let status = solver.solution.status;
+        match status {
+            SolverStatus::Solved | SolverStatus::AlmostSolved => Ok(SdpSolution {
+                x: solver.solution.x.clone(),
+                status,
+                iterations: solver.solution.iterations,
+            }),
+            SolverStatus::PrimalInfeasible | SolverStatus::AlmostPrimalInfeasible => {
+                Err(HinfError {
+                    kind: HinfErrorKind::Infeasible,
+                    message: format!(
+                        "no filter satisfies the LMI (Clarabel: {status:?} after {} \
+                         iterations)",
+                        solver.solution.iterations
+                    ),
+                })
+            }
+            other => Err(HinfError {
+                kind: HinfErrorKind::SolverFailed,
+                message: format!(
+                    "Clarabel stopped with {other:?} after {} iterations",
+                    solver.solution.iterations
+                ),
+            }),
+        }
+    }
+}
+
+fn status_name(s: SolverStatus) -> &'static str {
+    match s {
+        SolverStatus::Solved => "Solved",
+        SolverStatus::AlmostSolved => "AlmostSolved",
+        _ => "Other",
+    }
+}
+
+fn check_opts(o: &DesignOptions) -> Result<(), HinfError> {
+    if !(o.bound.is_finite() && o.bound > 0.0 && o.margin.is_finite() && o.margin > 0.0) {
+        return Err(HinfError::invalid(format!(
+            "design options: bound and margin must be finite and > 0 (got {}, {})",
+            o.bound, o.margin
+        )));
+    }
+    Ok(())
+}
+
+fn check_plant(p: &HinfPlant) -> Result<(), HinfError> {
+    let all =
+        p.a.iter()
+            .chain(p.b.iter())
+            .chain(p.c.iter())
+            .chain(p.d.iter())
+            .chain(p.l.iter())
+            .chain(p.ha.iter())
+            .chain(p.ea.iter());
+    if all.into_iter().all(|v| v.is_finite()) {
+        Ok(())
+    } else {
+        Err(HinfError::invalid(
+            "plant matrices must be finite".to_string(),
+        ))
+    }
+}
+
+/// Balance `ha F ea = (ha / s) F (s ea)`: `s = sqrt(|ha| / |ea|)` (1 when either is zero).
+pub fn balance(ha: &Mat6, ea: &Mat6) -> f64 {
+    let (nh, ne) = (ha.norm(), ea.norm());
+    if nh > 0.0 && ne > 0.0 {
+        (nh / ne).sqrt()
+    } else {
+        1.0
+    }
+}
+
+/// Paper 002, Corollary 1: minimise `gamma^2` over the LMI (eq. 20) for `plant` (built
+/// with [`HinfPlant::paper_closed_loop`]); `A_F = S^-1 Abar_F`, `B_F = S^-1 Bbar_F`,
+/// `C_F = Cbar_F`. Errors: [`HinfErrorKind::Infeasible`] when no filter exists (or the
+/// solution fails the independent check), [`HinfErrorKind::SolverFailed`] otherwise.
+pub fn design_paper(
+    plant: &HinfPlant,
+    period: f64,
+    opts: &DesignOptions,
+) -> Result<HinfDesign, HinfError> {
+    check_opts(opts)?;
+    check_plant(plant)?;
+    let t0 = Instant::now();
+    // no uncertainty (delta_bar = 0, Ea = 0): drop the channel as well, or lambda would have
+    // to grow without bound against R Ha
+    let mut plant = *plant;
+    if plant.ea.norm() == 0.0 {
+        plant.ha = Mat6::zeros();
+    }
+    let plant = &plant;
+    robustly_stable(plant)?;
+    let s = balance(&plant.ha, &plant.ea);
+    let (ha, ea) = (dm(&plant.ha) / s, dm(&plant.ea) * s);
+    let (a, b, c, d, l) = (
+        dm(&plant.a),
+        dm(&plant.b),
+        dm(&plant.c),
+        dm(&plant.d),
+        dm(&plant.l),
+    );
+    let n = 6;
+    let mut vars = Vars { n: 0 };
+    let r = vars.sym(n);
+    let sv = vars.sym(n);
+    let ab = vars.full(n, n);
+    let bb = vars.full(n, 3);
+    let cb = vars.full(6, n);
+    let lam = vars.scalar();
+    let g2 = vars.scalar();
+    let nvar = vars.n;
+    let blocks = [n, n, n, n, 6, 3, 6, 6];
+    let mut m = Lmi::new(&blocks, nvar);
+    let eye = |k: usize| DMatrix::<f64>::identity(k, k);
+    for (k, e) in r.basis() {
+        m.add(Some(k), 0, 0, &(-&e));
+        m.add(Some(k), 0, 2, &(&e * &a));
+        m.add(Some(k), 0, 4, &(&e * &b));
+        m.add(Some(k), 0, 7, &(&e * &ha));
+        m.add(Some(k), 2, 2, &(-&e));
+    }
+    for (k, e) in sv.basis() {
+        m.add(Some(k), 0, 1, &(-&e));
+        m.add(Some(k), 1, 1, &(-&e));
+        m.add(Some(k), 1, 2, &(&e * &a));
+        m.add(Some(k), 1, 4, &(&e * &b));
+        m.add(Some(k), 1, 7, &(&e * &ha));
+        m.add(Some(k), 2, 3, &(-&e));
+        m.add(Some(k), 3, 3, &(-&e));
+    }
+    for (k, e) in ab.basis() {
+        m.add(Some(k), 0, 3, &e);
+        m.add(Some(k), 1, 3, &e);
+    }
+    for (k, e) in bb.basis() {
+        m.add(Some(k), 0, 2, &(&e * &c));
+        m.add(Some(k), 0, 5, &(&e * &d));
+        m.add(Some(k), 1, 2, &(&e * &c));
+        m.add(Some(k), 1, 5, &(&e * &d));
+    }
+    for (k, e) in cb.basis() {
+        m.add(Some(k), 3, 6, &(-e.transpose()));
+    }
+    m.add(Some(lam), 2, 2, &(ea.transpose() * &ea));
+    m.add(Some(lam), 7, 7, &(-eye(6)));
+    m.add(Some(g2), 4, 4, &(-eye(6)));
+    m.add(Some(g2), 5, 5, &(-eye(3)));
+    m.add(None, 2, 6, &l.transpose());
+    m.add(None, 6, 6, &(-eye(6)));
+
+    // R <= rho I  <=>  R - rho I <= 0 ;  S >= eps I  <=>  -S <= -eps I (margin eps) ;
+    // R - S >= eps I is implied by the main LMI's leading 2x2 block
+    let mut bound = Lmi::new(&[n], nvar);
+    for (k, e) in r.basis() {
+        bound.add(Some(k), 0, 0, &e);
+    }
+    bound.add(None, 0, 0, &(-eye(n) * opts.bound));
+    let mut spos = Lmi::new(&[n], nvar);
+    for (k, e) in sv.basis() {
+        spos.add(Some(k), 0, 0, &(-e));
+    }
+    let mut cost = vec![0.0; nvar];
+    cost[g2] = 1.0;
+    let sdp = Sdp {
+        nvar,
+        cost,
+        lmis: vec![(m, opts.margin), (bound, 0.0), (spos, opts.margin)],
+        lower: vec![(lam, opts.margin), (g2, 0.0)],
+    };
+    let sol = sdp.solve(opts)?;
+    let x = &sol.x;
+    let (rv, svv, abv, bbv, cbv) = (
+        r.value(x),
+        sv.value(x),
+        ab.value(x),
+        bb.value(x),
+        cb.value(x),
+    );
+    let s_inv = svv.clone().try_inverse().ok_or_else(|| HinfError {
+        kind: HinfErrorKind::Infeasible,
+        message: "the solver's S is singular: no filter can be recovered".to_string(),
+    })?;
+    let a_f = &s_inv * &abv;
+    let b_f = &s_inv * &bbv;
+    let matrices = HinfMatrices {
+        a_f: Mat6::from_fn(|i, j| a_f[(i, j)]),
+        b_f: Mat63::from_fn(|i, j| b_f[(i, j)]),
+        c_f: Mat6::from_fn(|i, j| cbv[(i, j)]),
+        e_f: Mat63::zeros(),
+        period,
+    };
+    let gamma2 = x[g2];
+    // independent check: the LMI assembled from the recovered blocks with nalgebra
+    let lmi = lmi_paper(plant, &rv, &svv, &abv, &bbv, &cbv, x[lam] * s * s, gamma2);
+    let max_eig = max_eig(&lmi);
+    if !(max_eig < 0.0) {
+        return Err(HinfError {
+            kind: HinfErrorKind::Infeasible,
+            message: format!(
+                "the solver's answer violates the strict LMI (largest eigenvalue {max_eig:e} \
+                 >= 0 at gamma {}, Clarabel {:?}): no filter with a certified gamma was found",
+                gamma2.sqrt(),
+                sol.status
+            ),
+        });
+    }
+    Ok(HinfDesign {
+        matrices,
+        gamma: gamma2.sqrt(),
+        lmi_max_eig: max_eig,
+        status: status_name(sol.status),
+        iterations: sol.iterations,
+        solve_time: t0.elapsed().as_secs_f64(),
+    })
+}
+
+/// Necessary condition of Theorem 1: the augmented error system contains the plant state,
+/// so `A + Ha F Ea` must be stable for every admissible `F`. Checked at the 64 sign
+/// vertices `F = diag(+-1)`; a violation means the LMI has no solution (reported as
+/// infeasible before the solver runs, which otherwise may stop with a numerical error).
+fn robustly_stable(plant: &HinfPlant) -> Result<(), HinfError> {
+    for mask in 0u32..64 {
+        let f = Mat6::from_fn(|i, j| {
+            if i != j {
+                0.0
+            } else if mask & (1 << i) != 0 {
+                1.0
+            } else {
+                -1.0
+            }
+        });
+        let a = dm(&(plant.a + plant.ha * f * plant.ea));
+        let rho = super::verify::spectral_radius(&a);
+        if !(rho < 1.0) {
+            return Err(HinfError {
+                kind: HinfErrorKind::Infeasible,
+                message: format!(
+                    "infeasible: the plant is not robustly stable (spectral radius {rho} of A + \
+                     Ha F Ea at F = diag(+-1) vertex {mask}); Theorem 1's augmented system \
+                     contains the plant state, so no filter exists — for an open-loop plant \
+                     use the observer design"
+                ),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Largest eigenvalue of a symmetric matrix.
+pub(crate) fn max_eig(m: &DMatrix<f64>) -> f64 {
+    let sym = (m + m.transpose()) * 0.5;
+    sym.symmetric_eigenvalues()
+        .iter()
+        .fold(f64::NEG_INFINITY, |a, b| a.max(*b))
+}
+
+/// The observer (error-dynamics) design for `plant` (any `A`, e.g.
+/// [`HinfPlant::open_loop`]): minimise `gamma^2` over the LMI in the module docs; returns
+/// `A_F = A - G C`, `B_F = G`, `C_F = I`, `E_F = plant.g`.
+pub fn design_observer(
+    plant: &HinfPlant,
+    period: f64,
+    opts: &DesignOptions,
+) -> Result<HinfDesign, HinfError> {
+    check_opts(opts)?;
+    check_plant(plant)?;
+    let t0 = Instant::now();
+    let (a, b, c, d, l) = (
+        dm(&plant.a),
+        dm(&plant.b),
+        dm(&plant.c),
+        dm(&plant.d),
+        dm(&plant.l),
+    );
+    // the robustness channel d = F Ea x enters with Ha; |d| <= |Ea x|: no rescaling here,
+    // it would change the channel's weight (module docs, conditioning 1)
+    let hae = dm(&(plant.ha * plant.ea.norm()));
+    let n = 6;
+    let mut vars = Vars { n: 0 };
+    let p = vars.sym(n);
+    let y = vars.full(n, 3);
+    let g2 = vars.scalar();
+    let nvar = vars.n;
+    let eye = |k: usize| DMatrix::<f64>::identity(k, k);
+    let mut m = Lmi::new(&[n, n, 6, 3, 6, 6], nvar);
+    for (k, e) in p.basis() {
+        m.add(Some(k), 0, 0, &(-&e));
+        m.add(Some(k), 0, 1, &(&e * &a));
+        m.add(Some(k), 0, 2, &(&e * &b));
+        m.add(Some(k), 0, 4, &(&e * &hae));
+        m.add(Some(k), 1, 1, &(-&e));
+    }
+    for (k, e) in y.basis() {
+        m.add(Some(k), 0, 1, &(-(&e * &c)));
+        m.add(Some(k), 0, 3, &(-(&e * &d)));
+    }
+    m.add(Some(g2), 2, 2, &(-eye(6)));
+    m.add(Some(g2), 3, 3, &(-eye(3)));
+    m.add(Some(g2), 4, 4, &(-eye(6)));
+    m.add(None, 1, 5, &l.transpose());
+    m.add(None, 5, 5, &(-eye(6)));
+    let mut bound = Lmi::new(&[n], nvar);
+    for (k, e) in p.basis() {
+        bound.add(Some(k), 0, 0, &e);
+    }
+    bound.add(None, 0, 0, &(-eye(n) * opts.bound));
+    let mut cost = vec![0.0; nvar];
+    cost[g2] = 1.0;
+    let sdp = Sdp {
+        nvar,
+        cost,
+        lmis: vec![(m, opts.margin), (bound, 0.0)],
+        lower: vec![(g2, 0.0)],
+    };
+    let sol = sdp.solve(opts)?;
+    let x = &sol.x;
+    let (pv, yv) = (p.value(x), y.value(x));
+    let p_inv = pv.clone().try_inverse().ok_or_else(|| HinfError {
+        kind: HinfErrorKind::Infeasible,
+        message: "the solver's P is singular: no observer gain can be recovered".to_string(),
+    })?;
+    let gain = &p_inv * &yv;
+    let g = Mat63::from_fn(|i, j| gain[(i, j)]);
+    let gamma2 = x[g2];
+    let lmi = lmi_observer(plant, &pv, &g, gamma2);
+    let max_eig = max_eig(&lmi);
+    if !(max_eig < 0.0) {
+        return Err(HinfError {
+            kind: HinfErrorKind::Infeasible,
+            message: format!(
+                "the solver's answer violates the strict LMI (largest eigenvalue {max_eig:e} \
+                 >= 0): no observer with a certified gamma was found"
+            ),
+        });
+    }
+    Ok(HinfDesign {
+        matrices: HinfMatrices {
+            a_f: plant.a - g * plant.c,
+            b_f: g,
+            c_f: Mat6::identity(),
+            e_f: plant.g,
+            period,
+        },
+        gamma: gamma2.sqrt(),
+        lmi_max_eig: max_eig,
+        status: status_name(sol.status),
+        iterations: sol.iterations,
+        solve_time: t0.elapsed().as_secs_f64(),
+    })
+}
+
+/// Paper design from a spec: [`HinfPlant::paper_closed_loop`] with the paper's `K` and mass.
+pub fn design_paper_spec(spec: &HinfSpec, opts: &DesignOptions) -> Result<HinfDesign, HinfError> {
+    spec.validate()?;
+    let plant = HinfPlant::paper_closed_loop(spec, &super::PAPER_K, super::PAPER_MASS);
+    design_paper(&plant, spec.period, opts)
+}
+
+/// Observer design from a spec on the open-loop CW plant ([`HinfPlant::open_loop`]).
+pub fn design_open_loop(spec: &HinfSpec, opts: &DesignOptions) -> Result<HinfDesign, HinfError> {
+    spec.validate()?;
+    let plant = HinfPlant::open_loop(spec);
+    design_observer(&plant, spec.period, opts)
+}

@@ -1,0 +1,538 @@
+//! Robust H-infinity filter of paper 002 (Sun, Deng, Liu, Zhong, J. Astronautics 32(7),
+//! 2011): the plant with norm-bounded orbit-rate uncertainty, the LMI design (Clarabel SDP,
+//! [`design`], cargo feature `hinf`), a verifier independent of the solver ([`verify`]) and
+//! the runtime filter ([`HinfFilter`], no solver, no allocation).
+//!
+//! **Plant** (paper 002, sec. 2, eq. 9; canonical frame = the paper's frame):
+//!
+//! ```text
+//! x(k+1) = (A + dA(k)) x(k) + B w(k),   dA = Ha F(k) Ea,  F^T F <= I
+//! y(k)   = C x(k) + D v(k),             C = [I3 0]
+//! z(k)   = L x(k)
+//! ```
+//!
+//! Two uses of it are built here:
+//!
+//! * [`HinfPlant::paper_closed_loop`] — the paper's case: known closed-loop orbit control
+//!   `u = K x`, `A = I + T (A1 + G0 K)` (Euler, literally as the paper, sec. 1.1 eq. 6),
+//!   `dA = T dA1`, and the paper's `Ha`, `F`, `Ea` (sec. 4). The design is then
+//!   [`design::design_paper`] (Theorem 1 / Corollary 1: the full-order filter
+//!   `x_f(k+1) = A_F x_f + B_F y`, `z_f = C_F x_f`).
+//! * [`HinfPlant::open_loop`] — the FMU's case: thrust is a known input, the plant is the
+//!   open-loop CW model, exactly discretised (`A = Phi(T)`), which is *not* asymptotically
+//!   stable (secular along-track drift, eigenvalues on the unit circle): the paper's
+//!   augmented LMI, which contains the plant state, is infeasible there. The design is then
+//!   [`design::design_observer`] (error-dynamics form, see there).
+//!
+//! **Erratum (uncertainty structure).** The paper prints `dA = T dA1` and `dA1 = Ha F Ea`
+//! with `F = diag(f1, 0, f1, f2, f2, 0)`, `f1 = (2 delta + delta^2) / (2 db + db^2)`,
+//! `f2 = delta / db`, `Ea = diag(w0 (2 db + db^2), 0, w0 (2 db + db^2), w0 db, w0 db, 0)`,
+//! `Ha` rows 4-6 = `(3 w0, 0, 0, 0, 2, 0)`, `(0, 0, 0, -2, 0, 0)`, `(0, 0, -w0, 0, 0, 0)`.
+//! Multiplying out gives `dA1` exactly (e.g. entry (4,1): `3 w0 f1 w0 (2 db + db^2) =
+//! 3 w0^2 (2 delta + delta^2)`), so the structure is right as printed; the discrete
+//! uncertainty is `dA = (T Ha) F Ea`, i.e. the LMI uses `T Ha` (the digest's LMI omits the
+//! `T`). Tested in `tests/hinf.rs`.
+
+use crate::dynamics::CwModel;
+use crate::types::{Mat3, Mat36, Mat6, Mat63, State, Vec3};
+
+#[cfg(feature = "hinf")]
+pub mod design;
+pub mod verify;
+
+/// Dimensions: state `n = 6`, measurement `m = 3`, process noise `p = 6`, measurement
+/// noise `q = 3`, estimated signal `l = 6`, uncertainty channel `h = 6`.
+pub const N: usize = 6;
+
+/// The paper's closed-loop gain `K` (3x6, N per m and per m/s; paper 002, sec. 4, taken
+/// there from its ref. 11).
+pub const PAPER_K: [[f64; 6]; 3] = [
+    [-2.2541, -0.0071, -0.0072, -22.3975, 2.3256, 1.9369],
+    [-0.0104, -2.2493, -0.0055, 2.3259, -23.7456, 1.4544],
+    [-0.0072, -0.0055, -2.2471, 1.9357, 1.4552, -24.2818],
+];
+
+/// Paper 002's example: 24 h orbit, `w0 = 7.2722e-5` rad/s.
+pub const PAPER_W0: f64 = 7.2722e-5;
+/// Paper 002's chaser mass [kg].
+pub const PAPER_MASS: f64 = 1000.0;
+/// Paper 002's uncertainty bound `delta_bar`.
+pub const PAPER_DELTA_BAR: f64 = 0.05;
+/// The sampling period implied by the published `A_F` (0.1 in its position/velocity
+/// coupling) [s]; the paper does not state it.
+pub const PAPER_PERIOD: f64 = 0.1;
+
+/// Paper 002's published filter (sec. 4, "using MATLAB's LMI tools to solve Corollary 1"),
+/// `A_F` row by row.
+pub const PAPER_A_F: [[f64; 6]; 6] = [
+    [-0.6126, -0.0053, -0.0046, 0.1, -1.7e-6, -1.0e-6],
+    [-0.0052, -0.6083, -0.0035, -1.5e-6, 0.1, -1.4e-6],
+    [-0.0046, -0.0035, -0.6066, -1.5e-6, -5.6e-7, 0.1],
+    [-6.1302, -0.0390, -0.0337, 0.9980, 1.1e-4, 8.2e-5],
+    [-0.0385, -6.0991, -0.0259, 8.0e-5, 0.9979, 6.3e-5],
+    [-0.0337, -0.0259, -6.0864, 8.3e-5, 6.4e-5, 0.9979],
+];
+/// Paper 002's published `B_F` (6x3).
+pub const PAPER_B_F: [[f64; 3]; 6] = [
+    [-1.6126, -0.0053, -0.0046],
+    [-0.0052, -1.6083, -0.0035],
+    [-0.0046, -0.0035, -1.6066],
+    [-6.1300, -0.0390, -0.0337],
+    [-0.0385, -6.0989, -0.0259],
+    [-0.0337, -0.0259, -6.0862],
+];
+/// Paper 002's published `C_F` (6x6, printed as `1e-6 x [...]`).
+pub const PAPER_C_F: [[f64; 6]; 6] = [
+    [
+        -1.0, 0.0489e-6, 0.0247e-6, 6.3345e-6, -5.4934e-6, -4.3894e-6,
+    ],
+    [
+        0.0386e-6, -1.0, 0.0418e-6, -5.3662e-6, 10.3349e-6, -2.9326e-6,
+    ],
+    [
+        0.0420e-6, 0.0148e-6, -1.0, -4.5742e-6, -2.9659e-6, 11.3677e-6,
+    ],
+    [
+        -0.3164e-6, 0.3131e-6, 0.1588e-6, -0.999960, -33.635e-6, -28.487e-6,
+    ],
+    [
+        0.2469e-6, -0.5593e-6, 0.2630e-6, -33.612e-6, -0.999935, -19.564e-6,
+    ],
+    [
+        0.2712e-6, 0.0939e-6, -0.5821e-6, -28.520e-6, -19.572e-6, -0.999927,
+    ],
+];
+
+/// An error of the H-infinity design or filter, with a readable reason.
+#[derive(Debug, Clone, PartialEq)]
+pub struct HinfError {
+    /// What went wrong.
+    pub kind: HinfErrorKind,
+    /// Human-readable reason.
+    pub message: String,
+}
+
+/// Category of a [`HinfError`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum HinfErrorKind {
+    /// An input is out of its domain.
+    InvalidArgument,
+    /// No filter meets the LMI (the SDP is primal infeasible, or its optimum violates the
+    /// strict inequality when checked independently).
+    Infeasible,
+    /// The solver stopped without a usable answer (iteration limit, numerical trouble).
+    SolverFailed,
+}
+
+impl std::fmt::Display for HinfError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.message)
+    }
+}
+
+impl HinfError {
+    pub(crate) fn invalid(message: String) -> Self {
+        Self {
+            kind: HinfErrorKind::InvalidArgument,
+            message,
+        }
+    }
+}
+
+/// Design inputs shared by both designs: the orbit, the uncertainty bound, the period and
+/// the noise scalings `B = diag(b_pos I3, b_vel I3)`, `D = d I3`, `L = I6`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HinfSpec {
+    /// Nominal mean motion `w0` [rad/s].
+    pub w0: f64,
+    /// Bound of the relative rate uncertainty, `w = w0 (1 + delta)`, `|delta| <= delta_bar`.
+    pub delta_bar: f64,
+    /// Sampling period `T` [s]; the discrete filter holds for this period only.
+    pub period: f64,
+    /// Process-noise scaling on the positions (paper: 0.05).
+    pub b_pos: f64,
+    /// Process-noise scaling on the velocities (paper: 0.001).
+    pub b_vel: f64,
+    /// Measurement-noise scaling on the indirect position measurement [m] (paper: 0.1).
+    pub d: f64,
+}
+
+impl HinfSpec {
+    /// Paper 002's example (sec. 4).
+    pub fn paper() -> Self {
+        Self {
+            w0: PAPER_W0,
+            delta_bar: PAPER_DELTA_BAR,
+            period: PAPER_PERIOD,
+            b_pos: 0.05,
+            b_vel: 0.001,
+            d: 0.1,
+        }
+    }
+
+    /// Check the domain of every field.
+    pub fn validate(&self) -> Result<(), HinfError> {
+        let pos = |name: &str, v: f64| {
+            if v.is_finite() && v > 0.0 {
+                Ok(())
+            } else {
+                Err(HinfError::invalid(format!(
+                    "{name} must be finite and > 0 (got {v})"
+                )))
+            }
+        };
+        pos("w0 (mean motion)", self.w0)?;
+        pos("period", self.period)?;
+        pos("b_pos", self.b_pos)?;
+        pos("b_vel", self.b_vel)?;
+        pos("d", self.d)?;
+        if !(self.delta_bar.is_finite() && self.delta_bar >= 0.0) {
+            return Err(HinfError::invalid(format!(
+                "delta_bar must be finite and >= 0 (got {})",
+                self.delta_bar
+            )));
+        }
+        if self.w0 * self.period > 0.5 {
+            return Err(HinfError::invalid(format!(
+                "w0 * period = {} > 0.5: the sampling period is not small against the orbit",
+                self.w0 * self.period
+            )));
+        }
+        Ok(())
+    }
+}
+
+/// The uncertain discrete plant of paper 002 eq. (9), with the discrete uncertainty
+/// structure `dA = ha F ea` (`ha` already includes the period `T`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HinfPlant {
+    /// Nominal transition `A`.
+    pub a: Mat6,
+    /// Process-noise input `B` (n x p).
+    pub b: Mat6,
+    /// Measurement matrix `C = [I3 0]`.
+    pub c: Mat36,
+    /// Measurement-noise input `D`.
+    pub d: Mat3,
+    /// Estimated signal `z = L x`.
+    pub l: Mat6,
+    /// Uncertainty input `T Ha`.
+    pub ha: Mat6,
+    /// Uncertainty output `Ea`.
+    pub ea: Mat6,
+    /// Known-input matrix (open loop: exact ZOH `Gamma(T)` for an acceleration; closed
+    /// loop: zero, the control is inside `A`).
+    pub g: Mat63,
+}
+
+/// Continuous CW `A1(w)` in the paper's frame (= canonical).
+pub fn cw_a(w: f64) -> Mat6 {
+    CwModel::new(w).continuous_a()
+}
+
+/// The paper's `Ha` (continuous, before the factor `T`).
+pub fn paper_ha(w0: f64) -> Mat6 {
+    let mut h = Mat6::zeros();
+    h[(3, 0)] = 3.0 * w0;
+    h[(3, 4)] = 2.0;
+    h[(4, 3)] = -2.0;
+    h[(5, 2)] = -w0;
+    h
+}
+
+/// The paper's `Ea`.
+pub fn paper_ea(w0: f64, db: f64) -> Mat6 {
+    let e1 = w0 * (2.0 * db + db * db);
+    let e2 = w0 * db;
+    Mat6::from_diagonal(&State::from_row_slice(&[e1, 0.0, e1, e2, e2, 0.0]))
+}
+
+/// The paper's `F(delta)` (`F^T F <= I` for `|delta| <= delta_bar`).
+pub fn paper_f(delta: f64, db: f64) -> Mat6 {
+    let f1 = (2.0 * delta + delta * delta) / (2.0 * db + db * db);
+    let f2 = delta / db;
+    Mat6::from_diagonal(&State::from_row_slice(&[f1, 0.0, f1, f2, f2, 0.0]))
+}
+
+fn c_pos() -> Mat36 {
+    let mut c = Mat36::zeros();
+    c.fixed_view_mut::<3, 3>(0, 0).copy_from(&Mat3::identity());
+    c
+}
+
+fn k_matrix(k: &[[f64; 6]; 3]) -> SMatrixK {
+    SMatrixK::from_fn(|i, j| k[i][j])
+}
+type SMatrixK = nalgebra::SMatrix<f64, 3, 6>;
+
+impl HinfPlant {
+    fn noise(spec: &HinfSpec) -> (Mat6, Mat3) {
+        let (bp, bv) = (spec.b_pos, spec.b_vel);
+        (
+            Mat6::from_diagonal(&State::from_row_slice(&[bp, bp, bp, bv, bv, bv])),
+            Mat3::identity() * spec.d,
+        )
+    }
+
+    /// The paper's closed loop (sec. 1.1 eq. 6): `A = I + T (A1(w0) + G0 K)` with
+    /// `G0 = [0; I3 / m]`, Euler as printed; `dA = T Ha F Ea`.
+    pub fn paper_closed_loop(spec: &HinfSpec, k: &[[f64; 6]; 3], mass: f64) -> Self {
+        let (b, d) = Self::noise(spec);
+        let a = Mat6::identity() + (cw_a(spec.w0) + g0(mass) * k_matrix(k)) * spec.period;
+        Self {
+            a,
+            b,
+            c: c_pos(),
+            d,
+            l: Mat6::identity(),
+            ha: paper_ha(spec.w0) * spec.period,
+            ea: paper_ea(spec.w0, spec.delta_bar),
+            g: Mat63::zeros(),
+        }
+    }
+
+    /// As [`HinfPlant::paper_closed_loop`] with an acceleration gain `a = K_acc x`
+    /// (canonical; `K_acc = K / m`).
+    pub fn closed_loop_accel(spec: &HinfSpec, k_acc: &nalgebra::SMatrix<f64, 3, 6>) -> Self {
+        let (b, d) = Self::noise(spec);
+        let a = Mat6::identity() + (cw_a(spec.w0) + g0(1.0) * k_acc) * spec.period;
+        Self {
+            a,
+            b,
+            c: c_pos(),
+            d,
+            l: Mat6::identity(),
+            ha: paper_ha(spec.w0) * spec.period,
+            ea: paper_ea(spec.w0, spec.delta_bar),
+            g: Mat63::zeros(),
+        }
+    }
+
+    /// The true closed-loop transition at `w = w0 (1 + delta)` (Euler, as the paper).
+    pub fn paper_closed_loop_at(spec: &HinfSpec, k: &[[f64; 6]; 3], mass: f64, delta: f64) -> Mat6 {
+        Mat6::identity() + (cw_a(spec.w0 * (1.0 + delta)) + g0(mass) * k_matrix(k)) * spec.period
+    }
+
+    /// The open-loop plant of the FMU's case: `A = Phi(T)` (closed-form CW), `g =
+    /// Gamma(T)` (exact ZOH for an acceleration), and the paper's uncertainty structure to
+    /// first order in `T`: `Phi_w(T) - Phi_w0(T) = T dA1 + O(T^2 w0 dA1)`, so `ha = T Ha`.
+    pub fn open_loop(spec: &HinfSpec) -> Self {
+        let (b, d) = Self::noise(spec);
+        let m = CwModel::new(spec.w0);
+        Self {
+            a: m.phi(spec.period),
+            b,
+            c: c_pos(),
+            d,
+            l: Mat6::identity(),
+            ha: paper_ha(spec.w0) * spec.period,
+            ea: paper_ea(spec.w0, spec.delta_bar),
+            g: m.gamma(spec.period),
+        }
+    }
+
+    /// The true open-loop transition at `w = w0 (1 + delta)`.
+    pub fn open_loop_at(spec: &HinfSpec, delta: f64) -> Mat6 {
+        CwModel::new(spec.w0 * (1.0 + delta)).phi(spec.period)
+    }
+}
+
+/// `G0 = [0; I3 / m]` (paper 002 eq. 2).
+pub fn g0(mass: f64) -> Mat63 {
+    let mut g = Mat63::zeros();
+    g.fixed_view_mut::<3, 3>(3, 0)
+        .copy_from(&(Mat3::identity() / mass));
+    g
+}
+
+/// The matrices of a designed filter, in the form both designs share:
+///
+/// ```text
+/// x_f(k+1) = A_F x_f(k) + B_F y(k) + E_F a(k),    z_f(k) = C_F x_f(k)
+/// ```
+///
+/// Paper design: `E_F = 0` (the control is inside `A`). Observer design: `A_F = A - G C`,
+/// `B_F = G`, `C_F = I`, `E_F = Gamma(T)` (known thrust acceleration as feed-forward).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HinfMatrices {
+    /// `A_F` (6x6).
+    pub a_f: Mat6,
+    /// `B_F` (6x3).
+    pub b_f: Mat63,
+    /// `C_F` (6x6).
+    pub c_f: Mat6,
+    /// `E_F` (6x3), feed-forward of the known acceleration [m/s^2].
+    pub e_f: Mat63,
+    /// The sampling period the matrices hold for [s].
+    pub period: f64,
+}
+
+impl HinfMatrices {
+    /// The paper's published filter (sec. 4), period 0.1 s.
+    pub fn paper_published() -> Self {
+        Self {
+            a_f: Mat6::from_fn(|i, j| PAPER_A_F[i][j]),
+            b_f: Mat63::from_fn(|i, j| PAPER_B_F[i][j]),
+            c_f: Mat6::from_fn(|i, j| PAPER_C_F[i][j]),
+            e_f: Mat63::zeros(),
+            period: PAPER_PERIOD,
+        }
+    }
+}
+
+/// The runtime filter: matrices in, one step out, no solver, no allocation.
+///
+/// `step(y, a)`: `x_f <- A_F x_f + B_F y + E_F a`; the estimate is `C_F x_f` (for both
+/// designs `z = L x = x`, so the estimate is the state). A missing measurement is replaced
+/// by its prediction `y_hat = C C_F x_f`; for the observer design (`A_F + B_F C = A`,
+/// `C_F = I`) that is exactly the open-loop prediction `x <- A x + Gamma a`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HinfFilter {
+    m: HinfMatrices,
+    /// `C_F^-1` (to start the filter at a given estimate).
+    c_f_inv: Mat6,
+    x_f: State,
+    est: State,
+}
+
+impl HinfFilter {
+    /// A filter whose estimate `C_F x_f` starts at `x0` (`x_f = C_F^-1 x0`).
+    pub fn new(m: HinfMatrices, x0: State) -> Result<Self, HinfError> {
+        if !(m.a_f.iter().chain(m.c_f.iter()).all(|v| v.is_finite())
+            && m.b_f.iter().chain(m.e_f.iter()).all(|v| v.is_finite()))
+        {
+            return Err(HinfError::invalid(
+                "filter matrices must be finite".to_string(),
+            ));
+        }
+        let c_f_inv = m.c_f.try_inverse().ok_or_else(|| {
+            HinfError::invalid("C_F is singular: the estimate cannot be initialised".to_string())
+        })?;
+        let mut f = Self {
+            m,
+            c_f_inv,
+            x_f: State::zeros(),
+            est: State::zeros(),
+        };
+        f.set_estimate(x0);
+        Ok(f)
+    }
+
+    /// Restart at estimate `x0`.
+    pub fn set_estimate(&mut self, x0: State) {
+        self.x_f = self.c_f_inv * x0;
+        self.est = self.m.c_f * self.x_f;
+    }
+
+    /// One step with the indirect position measurement `y` (canonical frame, or `None`)
+    /// and the known acceleration `a` [m/s^2] held over the period.
+    pub fn step(&mut self, y: Option<&Vec3>, a: &Vec3) {
+        let yv = match y {
+            Some(y) => *y,
+            None => self.est.fixed_rows::<3>(0).into_owned(),
+        };
+        self.x_f = self.m.a_f * self.x_f + self.m.b_f * yv + self.m.e_f * a;
+        self.est = self.m.c_f * self.x_f;
+    }
+
+    /// Current estimate `C_F x_f`.
+    pub fn state(&self) -> &State {
+        &self.est
+    }
+
+    /// The matrices.
+    pub fn matrices(&self) -> &HinfMatrices {
+        &self.m
+    }
+}
+
+/// The runtime filter behind the [`crate::estimators::Estimator`] trait, as the navigator
+/// (filter code 9) runs it: [`Estimator::update`](crate::estimators::Estimator::update)
+/// turns the radio measurement into the indirect Cartesian position of paper 002 (sec. 1.2
+/// eq. 7: `rho (cos el cos az, cos el sin az, sin el)` in the measurement frame, rotated to
+/// the canonical frame) and holds it; the following
+/// [`Estimator::predict`](crate::estimators::Estimator::predict) makes the one filter step
+/// `x_f <- A_F x_f + B_F y + E_F a` with it (or with the prediction when no measurement
+/// came). There is no Gaussian covariance: [`HinfEstimator::covariance`] is NaN.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HinfEstimator {
+    filter: HinfFilter,
+    pending: Option<Vec3>,
+    gamma: f64,
+    nan: Mat6,
+}
+
+impl HinfEstimator {
+    /// Wrap designed matrices with their certified `gamma`; the estimate starts at `x0`.
+    pub fn new(m: HinfMatrices, gamma: f64, x0: State) -> Result<Self, HinfError> {
+        Ok(Self {
+            filter: HinfFilter::new(m, x0)?,
+            pending: None,
+            gamma,
+            nan: Mat6::from_element(f64::NAN),
+        })
+    }
+    /// The design's `gamma`.
+    pub fn gamma(&self) -> f64 {
+        self.gamma
+    }
+    /// The period the matrices hold for [s].
+    pub fn period(&self) -> f64 {
+        self.filter.matrices().period
+    }
+    /// The runtime filter.
+    pub fn filter(&self) -> &HinfFilter {
+        &self.filter
+    }
+}
+
+impl crate::estimators::Estimator for HinfEstimator {
+    fn predict(
+        &mut self,
+        _model: &crate::dynamics::DiscreteModel,
+        accel: &Vec3,
+    ) -> Result<(), crate::estimators::FilterError> {
+        let saved = self.filter;
+        self.filter.step(self.pending.as_ref(), accel);
+        self.pending = None;
+        if !self.filter.state().iter().all(|v| v.is_finite()) {
+            self.filter = saved;
+            return Err(crate::estimators::FilterError::NonFinite(
+                "H-infinity estimate",
+            ));
+        }
+        Ok(())
+    }
+    fn update<M: crate::sensors::MeasurementModel>(
+        &mut self,
+        sensor: &M,
+        z: &Vec3,
+    ) -> Result<crate::estimators::UpdateInfo, crate::estimators::FilterError> {
+        let y = sensor
+            .invert(z)
+            .ok_or(crate::estimators::FilterError::NonFinite(
+                "indirect position",
+            ))?;
+        let r = self.filter.state().fixed_rows::<3>(0).into_owned();
+        let innovation = match sensor.predict(&r) {
+            Some(zh) => sensor.diff(z, &zh),
+            None => Vec3::from_element(f64::NAN),
+        };
+        self.pending = Some(y);
+        Ok(crate::estimators::UpdateInfo {
+            innovation,
+            nis: f64::NAN,
+            azimuth_used: true,
+        })
+    }
+    fn state(&self) -> &State {
+        self.filter.state()
+    }
+    fn covariance(&self) -> &Mat6 {
+        &self.nan
+    }
+    fn set_estimate(&mut self, x: State, _p: Mat6) {
+        self.filter.set_estimate(x);
+        self.pending = None;
+    }
+}
