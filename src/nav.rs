@@ -27,6 +27,7 @@
 //! statistics.
 
 use crate::dynamics::{CwModel, DiscreteModel, Discretization};
+use crate::estimators::aqukf::AqukfSnapshot;
 use crate::estimators::pf::resample::Resampler;
 use crate::estimators::pf::{ParticleFilter, PfKind, PfParams, MAX_PARTICLES};
 use crate::estimators::{AqParams, Aqukf, Ekf, Estimator, FilterError, Ukf, UkfParams, UpdateInfo};
@@ -583,6 +584,42 @@ pub enum AnyFilter {
     Hinf(HinfEstimator),
 }
 
+/// What a step of a Kalman-type filter can change, to restore after a failed step. Small
+/// on purpose: `AnyFilter` itself is as large as its largest variant (the AQUKF's window),
+/// and copying that on every step cost a quarter of an EKF step.
+#[derive(Debug, Clone)]
+enum Snapshot {
+    Ekf(Ekf),
+    Ukf(Ukf),
+    Aqukf(AqukfSnapshot),
+    Hinf(HinfEstimator),
+    /// particle filters are transactional themselves (see [`Navigator`])
+    None,
+}
+
+impl AnyFilter {
+    fn snapshot(&self) -> Snapshot {
+        match self {
+            AnyFilter::Ekf(f) => Snapshot::Ekf(f.clone()),
+            AnyFilter::Ukf(f) => Snapshot::Ukf(f.clone()),
+            AnyFilter::Aqukf(f) => Snapshot::Aqukf(f.snapshot()),
+            AnyFilter::Hinf(f) => Snapshot::Hinf(*f),
+            AnyFilter::Pf(_) => Snapshot::None,
+        }
+    }
+
+    /// Undo the step since `s` was taken (`s` from [`AnyFilter::snapshot`] of this filter).
+    fn restore(&mut self, s: &Snapshot) {
+        match (self, s) {
+            (AnyFilter::Ekf(f), Snapshot::Ekf(g)) => f.clone_from(g),
+            (AnyFilter::Ukf(f), Snapshot::Ukf(g)) => f.clone_from(g),
+            (AnyFilter::Aqukf(f), Snapshot::Aqukf(g)) => f.restore(g),
+            (AnyFilter::Hinf(f), Snapshot::Hinf(g)) => *f = *g,
+            _ => {}
+        }
+    }
+}
+
 impl Estimator for AnyFilter {
     fn predict(&mut self, model: &DiscreteModel, accel: &Vec3) -> Result<(), FilterError> {
         match self {
@@ -861,11 +898,8 @@ impl Navigator {
             Self::check_measurement(z)?;
         }
         self.check_not_failed()?;
-        // Kalman filters are a few hundred bytes on the stack: keep a copy to restore
-        let saved = match &self.filter {
-            AnyFilter::Pf(_) => None,
-            other => Some(other.clone()),
-        };
+        // Kalman-type filters: a small snapshot on the stack to restore
+        let saved = self.filter.snapshot();
         let last = self.last_update;
         let mut updated = false;
         let result = match measurement {
@@ -875,14 +909,13 @@ impl Navigator {
         .and_then(|()| self.predict(thrust, dt));
         if result.is_err() {
             match saved {
-                Some(filter) => {
-                    self.filter = filter;
-                    self.last_update = last;
-                }
                 // a particle filter's failed update or prediction changed nothing by
                 // itself; a failed prediction after a committed update cannot be undone
-                None if updated => self.failed = true,
-                None => {}
+                Snapshot::None => self.failed |= updated,
+                s => {
+                    self.filter.restore(&s);
+                    self.last_update = last;
+                }
             }
         }
         result

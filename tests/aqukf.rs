@@ -319,3 +319,35 @@ fn window_one_equals_the_undamped_maybeck_update() {
     }
     assert_eq!(checked, 149);
 }
+
+/// A step whose prediction fails after its update (a thrust that overflows the state) is
+/// undone completely — estimate, adaptive `q_vv` and the window — so the filter goes on bit
+/// for bit like a twin that never saw that step.
+#[test]
+fn failed_step_is_undone_window_included() {
+    let cfg = config(FilterKind::Aqukf, 1e-6, 3);
+    let mut rng = ChaCha8Rng::seed_from_u64(41);
+    let truth = State::from_row_slice(&X0);
+    let z = |k: usize, rng: &mut ChaCha8Rng| {
+        let r = CwModel::new(N).phi(k as f64) * truth;
+        radio(&[r[0], r[1], r[2], r[3], r[4], r[5]], rng)
+    };
+    let zs: Vec<[f64; 3]> = (0..40).map(|k| z(k, &mut rng)).collect();
+    let mut a = Navigator::new(&cfg).unwrap();
+    let mut b = Navigator::new(&cfg).unwrap();
+    for zk in zs.iter().take(10) {
+        a.step(&[0.0; 3], Some(zk), 1.0).unwrap();
+        b.step(&[0.0; 3], Some(zk), 1.0).unwrap();
+    }
+    // the update succeeds (and writes the window), the prediction overflows
+    assert!(a.step(&[1e308; 3], Some(&zs[10]), 1e4).is_err());
+    assert_eq!(a.state(), b.state());
+    assert_eq!(a.covariance(), b.covariance());
+    assert_eq!(a.q_vv(), b.q_vv());
+    for zk in zs.iter().skip(10) {
+        a.step(&[0.0; 3], Some(zk), 1.0).unwrap();
+        b.step(&[0.0; 3], Some(zk), 1.0).unwrap();
+        assert_eq!(a.state(), b.state());
+        assert_eq!(a.q_vv(), b.q_vv());
+    }
+}

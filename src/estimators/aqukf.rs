@@ -205,6 +205,19 @@ impl AdaptiveQ {
     }
 }
 
+/// What one AQUKF update and prediction can change, kept to undo a failed step without
+/// copying the window: the UKF, the adaptive estimate, the window's write position and
+/// the one slot the next update overwrites (so it undoes at most one update).
+#[derive(Debug, Clone, PartialEq)]
+pub struct AqukfSnapshot {
+    ukf: Ukf,
+    q: Vec3,
+    head: usize,
+    len: usize,
+    slot: [f64; 3],
+    elapsed: f64,
+}
+
 /// Discrete covariance of a white acceleration of density `diag(q)` for the double
 /// integrator `r' = v, v' = a` over `t`: `[[t^3/3, t^2/2], [t^2/2, t]] (x) diag(q)` (exact
 /// Van Loan for that model). The noise model of the Mars approach filters.
@@ -364,6 +377,30 @@ impl Aqukf {
     /// Back to `(x, p)` with the initial `q_vv` and an empty window.
     pub fn reset(&mut self, x: State, p: Mat6) {
         self.core.reset(x, p);
+    }
+
+    /// A snapshot of the state one step can change ([`AqukfSnapshot`]).
+    pub fn snapshot(&self) -> AqukfSnapshot {
+        let a = &self.core.adapt;
+        AqukfSnapshot {
+            ukf: self.core.ukf.clone(),
+            q: a.q,
+            head: a.head,
+            len: a.len,
+            slot: a.ring.get(a.head).copied().unwrap_or_default(),
+            elapsed: self.core.elapsed,
+        }
+    }
+
+    /// Undo everything since `s` was taken, provided at most one update happened since.
+    pub fn restore(&mut self, s: &AqukfSnapshot) {
+        let a = &mut self.core.adapt;
+        if let Some(slot) = a.ring.get_mut(s.head) {
+            *slot = s.slot;
+        }
+        (a.q, a.head, a.len) = (s.q, s.head, s.len);
+        self.core.ukf.clone_from(&s.ukf);
+        self.core.elapsed = s.elapsed;
     }
 
     fn refresh_basis(&mut self, dt: f64) {
