@@ -281,22 +281,39 @@ struct Likelihood<'a, M> {
     noise: &'a NoiseModel,
     scales: [f64; 3],
     gaussian: bool,
+    /// `-0.5 / scale_k^2` (the Gaussian case)
+    neg_half_inv_var: [f64; 3],
+    /// `(sin z_1, cos z_1)` for [`MeasurementModel::residual_at`]
+    az_sin_cos: (f64, f64),
 }
 
-impl<M: MeasurementModel> Likelihood<'_, M> {
+impl<'a, M: MeasurementModel> Likelihood<'a, M> {
+    fn new(sensor: &'a M, z: &Vec3, noise: &'a NoiseModel, scales: &[f64; 3]) -> Self {
+        Self {
+            sensor,
+            z: *z,
+            noise,
+            scales: *scales,
+            gaussian: matches!(noise, NoiseModel::Gaussian),
+            neg_half_inv_var: scales.map(|s| -0.5 / (s * s)),
+            az_sin_cos: z.y.sin_cos(),
+        }
+    }
+
+    /// `ln p(z | x)` up to a constant: `-0.5 sum d_k^2 / sigma_k^2` for Gaussian noise, the
+    /// noise model's log-density per component otherwise; `-inf` where `z` is undefined.
     fn log(&self, x: &State) -> f64 {
         let r = x.fixed_rows::<3>(0).into_owned();
+        let Some(d) = self.sensor.residual_at(&self.z, self.az_sin_cos, &r) else {
+            return f64::NEG_INFINITY;
+        };
         if self.gaussian {
-            return self.sensor.log_likelihood(&self.z, &r);
-        }
-        match self.sensor.predict(&r) {
-            Some(zh) => {
-                let d = self.sensor.diff(&self.z, &zh);
-                (0..3)
-                    .map(|k| self.noise.log_density(d[k], self.scales[k]))
-                    .sum()
-            }
-            None => f64::NEG_INFINITY,
+            let c = &self.neg_half_inv_var;
+            c[0] * d.x * d.x + c[1] * d.y * d.y + c[2] * d.z * d.z
+        } else {
+            (0..3)
+                .map(|k| self.noise.log_density(d[k], self.scales[k]))
+                .sum()
         }
     }
 }
@@ -318,7 +335,8 @@ fn log_gauss(x: &State, m: &State, l: &Mat6) -> f64 {
 struct Moments {
     reference: State,
     s1: State,
-    s2: Mat6,
+    /// upper triangle of `s2`, column by column
+    s2: [f64; 21],
     wsum: f64,
 }
 
@@ -327,7 +345,7 @@ impl Moments {
         Self {
             reference,
             s1: State::zeros(),
-            s2: Mat6::zeros(),
+            s2: [0.0; 21],
             wsum: 0.0,
         }
     }
@@ -338,15 +356,32 @@ impl Moments {
         let wd = d * w;
         self.s1 += wd;
         self.wsum += w;
-        // the full outer product: fixed-size and unrolled, it vectorises and beats the
-        // 21 bounds-checked products of the triangle
-        self.s2 += wd * d.transpose();
+        // the 21 products of the triangle on plain arrays (constant indices once unrolled)
+        let (d, wd) = (d.data.0[0], wd.data.0[0]);
+        let mut k = 0;
+        for (c, wdc) in wd.iter().enumerate() {
+            for dr in d.iter().take(c + 1) {
+                if let Some(s) = self.s2.get_mut(k) {
+                    *s += dr * wdc;
+                }
+                k += 1;
+            }
+        }
     }
 
     fn finish(self) -> (State, Mat6) {
         let md = self.s1 / self.wsum;
-        let p = self.s2 / self.wsum - md * md.transpose();
-        (self.reference + md, symmetrize(&p))
+        let mut p = Mat6::zeros();
+        let mut k = 0;
+        for c in 0..N {
+            for r in 0..=c {
+                let v = self.s2.get(k).copied().unwrap_or(f64::NAN) / self.wsum - md[r] * md[c];
+                p[(r, c)] = v;
+                p[(c, r)] = v;
+                k += 1;
+            }
+        }
+        (self.reference + md, p)
     }
 }
 
@@ -363,7 +398,8 @@ pub struct ParticleFilter {
     p0: Mat6,
     /// particles
     x: Vec<State>,
-    /// each particle's transition mean `Phi x_prev + Gamma a`
+    /// each particle's transition mean `Phi x_prev + Gamma a` (unscented kinds, whose
+    /// proposal starts there; empty otherwise)
     xbar: Vec<State>,
     /// each particle's covariance (unscented kinds; empty otherwise)
     pc: Vec<Mat6>,
@@ -409,7 +445,11 @@ pub struct ParticleFilter {
 }
 
 fn gauss6<R: Rng + ?Sized>(rng: &mut R) -> State {
-    State::from_fn(|_, _| rng.sample::<f64, _>(StandardNormal))
+    let mut e = [0.0; N];
+    for v in &mut e {
+        *v = rng.sample(StandardNormal);
+    }
+    State::from(e)
 }
 
 /// Symmetric square root of a PSD matrix (negative rounding eigenvalues clipped).
@@ -431,10 +471,10 @@ impl ParticleFilter {
             x0,
             p0,
             x: vec![State::zeros(); n],
-            xbar: vec![State::zeros(); n],
+            xbar: vec![State::zeros(); m],
             pc: vec![Mat6::zeros(); m],
             x_tmp: vec![State::zeros(); n],
-            xbar_tmp: vec![State::zeros(); n],
+            xbar_tmp: vec![State::zeros(); m],
             pc_tmp: vec![Mat6::zeros(); m],
             logw: vec![0.0; n],
             logw_tmp: vec![0.0; n],
@@ -470,10 +510,10 @@ impl ParticleFilter {
 
     fn draw_prior(&mut self) {
         let l = psd_sqrt(&self.p0);
-        for (xi, xb) in self.x.iter_mut().zip(self.xbar.iter_mut()) {
+        for xi in self.x.iter_mut() {
             *xi = self.x0 + l * gauss6(&mut self.rng);
-            *xb = self.x0;
         }
+        self.xbar.iter_mut().for_each(|xb| *xb = self.x0);
         self.pc.iter_mut().for_each(|p| *p = self.p0);
         let n = self.x.len() as f64;
         self.logw.iter_mut().for_each(|v| *v = 0.0);
@@ -558,7 +598,9 @@ impl ParticleFilter {
             let v =
                 self.prior_mean.fixed_rows::<3>(3) + (l * gauss6(&mut self.rng)).fixed_rows::<3>(3);
             self.x_tmp[i] = State::new(r.x, r.y, r.z, v.x, v.y, v.z);
-            self.xbar_tmp[i] = self.x_tmp[i];
+            if let Some(xb) = self.xbar_tmp.get_mut(i) {
+                *xb = self.x_tmp[i];
+            }
         }
         // commit only when every particle was drawn
         std::mem::swap(&mut self.x, &mut self.x_tmp);
@@ -598,16 +640,16 @@ impl ParticleFilter {
     fn apply_resampling(&mut self) {
         for (k, &i) in self.idx.iter().enumerate() {
             self.x_tmp[k] = self.x[i];
-            self.xbar_tmp[k] = self.xbar[i];
             self.loglik_tmp[k] = self.loglik[i];
         }
         std::mem::swap(&mut self.x, &mut self.x_tmp);
-        std::mem::swap(&mut self.xbar, &mut self.xbar_tmp);
         std::mem::swap(&mut self.loglik, &mut self.loglik_tmp);
         if !self.pc.is_empty() {
             for (k, &i) in self.idx.iter().enumerate() {
+                self.xbar_tmp[k] = self.xbar[i];
                 self.pc_tmp[k] = self.pc[i];
             }
+            std::mem::swap(&mut self.xbar, &mut self.xbar_tmp);
             std::mem::swap(&mut self.pc, &mut self.pc_tmp);
         }
     }
@@ -700,13 +742,7 @@ impl ParticleFilter {
                 azimuth_used: true,
             });
         }
-        let lik = Likelihood {
-            sensor,
-            z: *z,
-            noise,
-            scales: *scales,
-            gaussian: matches!(noise, NoiseModel::Gaussian),
-        };
+        let lik = Likelihood::new(sensor, z, noise, scales);
         if self.params.kind.unscented() {
             if self.prior_mode {
                 self.prior_l = chol(&self.prior_cov)
@@ -864,22 +900,30 @@ impl Estimator for ParticleFilter {
                 None => (psd_sqrt(&model.q), false),
             }
         };
+        // a diagonal Q (paper 000's) needs 6 products per particle instead of 36
+        let diag = (l == Mat6::from_diagonal(&l.diagonal())).then(|| l.diagonal());
         let u = model.gamma * accel;
         let phi = model.phi;
         // moments about a reference point near the mean (no cancellation)
         let reference = phi * self.mean + u;
         let rng_saved = self.rng.clone();
         let mut acc = Moments::new(reference);
-        for (((xi, xn), xb), wi) in self
+        for (i, ((xi, xn), wi)) in self
             .x
             .iter()
             .zip(self.x_tmp.iter_mut())
-            .zip(self.xbar_tmp.iter_mut())
             .zip(&self.w)
+            .enumerate()
         {
-            *xb = phi * *xi + u;
+            let xb = phi * *xi + u;
+            if let Some(slot) = self.xbar_tmp.get_mut(i) {
+                *slot = xb;
+            }
             let e = gauss6(&mut self.rng);
-            *xn = *xb + l * e;
+            *xn = match &diag {
+                Some(d) => xb + e.component_mul(d),
+                None => xb + l * e,
+            };
             acc.add(xn, *wi);
         }
         let (mean, cov) = acc.finish();
