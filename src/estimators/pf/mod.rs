@@ -385,6 +385,43 @@ impl Moments {
     }
 }
 
+/// A transition matrix with the CW structure in the canonical frame: the in-plane states
+/// `(x, y, vx, vy)` (indices 0, 1, 3, 4) and the out-of-plane `(z, vz)` (2, 5) do not
+/// couple, so `Phi x` takes 16 + 4 products instead of 36 (the particle loop's hot path).
+struct CwBlocks {
+    inp: [[f64; 4]; 4],
+    out: [[f64; 2]; 2],
+}
+
+impl CwBlocks {
+    const IN: [usize; 4] = [0, 1, 3, 4];
+    const OUT: [usize; 2] = [2, 5];
+
+    /// `Some` when every coupling entry of `phi` is exactly zero.
+    fn of(phi: &Mat6) -> Option<Self> {
+        let decoupled = Self::IN.iter().all(|&i| {
+            Self::OUT
+                .iter()
+                .all(|&o| phi[(i, o)] == 0.0 && phi[(o, i)] == 0.0)
+        });
+        decoupled.then(|| Self {
+            inp: Self::IN.map(|r| Self::IN.map(|c| phi[(r, c)])),
+            out: Self::OUT.map(|r| Self::OUT.map(|c| phi[(r, c)])),
+        })
+    }
+
+    #[inline(always)]
+    fn apply(&self, x: &State) -> State {
+        let a = [x[0], x[1], x[3], x[4]];
+        let b = [x[2], x[5]];
+        let dot4 = |row: &[f64; 4]| row[0] * a[0] + row[1] * a[1] + row[2] * a[2] + row[3] * a[3];
+        let dot2 = |row: &[f64; 2]| row[0] * b[0] + row[1] * b[1];
+        let [p0, p1, p3, p4] = self.inp.each_ref().map(dot4);
+        let [p2, p5] = self.out.each_ref().map(dot2);
+        State::new(p0, p1, p2, p3, p4, p5)
+    }
+}
+
 /// Lower Cholesky factor, `None` unless positive definite.
 fn chol(p: &Mat6) -> Option<Mat6> {
     symmetrize(p).cholesky().map(|c| c.unpack())
@@ -444,10 +481,11 @@ pub struct ParticleFilter {
     moves_accepted: u64,
 }
 
+#[inline(always)]
 fn gauss6<R: Rng + ?Sized>(rng: &mut R) -> State {
     let mut e = [0.0; N];
     for v in &mut e {
-        *v = rng.sample(StandardNormal);
+        *v = StandardNormal.sample(rng);
     }
     State::from(e)
 }
@@ -904,6 +942,7 @@ impl Estimator for ParticleFilter {
         let diag = (l == Mat6::from_diagonal(&l.diagonal())).then(|| l.diagonal());
         let u = model.gamma * accel;
         let phi = model.phi;
+        let blocks = CwBlocks::of(&phi);
         // moments about a reference point near the mean (no cancellation)
         let reference = phi * self.mean + u;
         let rng_saved = self.rng.clone();
@@ -915,7 +954,10 @@ impl Estimator for ParticleFilter {
             .zip(&self.w)
             .enumerate()
         {
-            let xb = phi * *xi + u;
+            let xb = match &blocks {
+                Some(b) => b.apply(xi) + u,
+                None => phi * *xi + u,
+            };
             if let Some(slot) = self.xbar_tmp.get_mut(i) {
                 *slot = xb;
             }
@@ -974,5 +1016,32 @@ impl Estimator for ParticleFilter {
         self.moves_tried = 0;
         self.moves_accepted = 0;
         self.draw_prior();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dynamics::{CwModel, Discretization};
+
+    /// The block product equals `Phi x` for the exact CW transition, and a coupled matrix
+    /// (Euler's is not coupled either; a rotated one is) falls back to the full product.
+    #[test]
+    fn cw_blocks_equal_the_full_product() {
+        let m = CwModel::new(2.0 * std::f64::consts::PI / 5400.0);
+        for dt in [0.1, 1.0, 600.0] {
+            for disc in [Discretization::Exact, Discretization::Euler] {
+                let phi = m.discretize(dt, &Mat3::zeros(), disc).phi;
+                let b = CwBlocks::of(&phi).expect("CW transition is block-structured");
+                for k in 0..20 {
+                    let x = State::from_fn(|i, _| ((i * 7 + k * 3) as f64).sin() * 300.0);
+                    let d = b.apply(&x) - phi * x;
+                    assert!(d.abs().max() <= 1e-12 * (phi * x).abs().max(), "{d:?}");
+                }
+            }
+        }
+        let mut coupled = Mat6::identity();
+        coupled[(0, 2)] = 1e-3;
+        assert!(CwBlocks::of(&coupled).is_none());
     }
 }
