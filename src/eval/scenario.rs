@@ -246,36 +246,6 @@ pub struct Window {
     pub stop: f64,
 }
 
-/// Noise model as written in scenario files.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
-#[serde(tag = "model", rename_all = "snake_case", deny_unknown_fields)]
-pub enum NoiseSpec {
-    /// Gaussian.
-    #[default]
-    Gaussian,
-    /// Contaminated Gaussian.
-    Mixture {
-        /// Weight of the wide component.
-        zeta: f64,
-        /// Width ratio of the wide component.
-        scale: f64,
-    },
-    /// Student-t.
-    StudentT {
-        /// Degrees of freedom.
-        dof: f64,
-    },
-    /// Uniform.
-    Uniform,
-    /// Laplace.
-    Laplace,
-    /// Coloured (AR(1)).
-    Ar1 {
-        /// Correlation of successive samples.
-        phi: f64,
-    },
-}
-
 /// Campaign settings.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
