@@ -424,24 +424,7 @@ impl Prepared {
         for k in 0..=self.steps {
             states.push(x);
             if self.measured[k] {
-                let z = self
-                    .truth_sensor
-                    .predict(&x.fixed_rows::<3>(0).into_owned())
-                    .map(|z0| {
-                        let mut z = z0;
-                        for i in 0..3 {
-                            z[i] += self.noise.sample(self.noise_sigma[i], &mut ar[i], rng);
-                        }
-                        if let AnySensor::Radio(_) = self.truth_sensor {
-                            z.x = z.x.max(0.0);
-                            z.y = wrap_2pi(z.y);
-                            z.z = z
-                                .z
-                                .clamp(-std::f64::consts::FRAC_PI_2, std::f64::consts::FRAC_PI_2);
-                        }
-                        z
-                    });
-                meas.push(z);
+                meas.push(self.measure(&x, &mut ar, rng));
             } else {
                 // (coloured noise advances at the measurement rate only)
                 meas.push(None);
