@@ -220,13 +220,11 @@ pub fn delta_grid(delta_bar: f64, n: usize) -> Vec<f64> {
         .collect()
 }
 
-/// Worst case over `deltas` of the paper's filter-error system: `a_of(delta)` is the
-/// true plant transition.
-pub fn verify_filter<F: Fn(f64) -> Mat6>(
-    plant: &HinfPlant,
-    f: &HinfMatrices,
+/// Largest spectral radius and worst H-infinity norm of the error systems
+/// `system(delta) = (A, B, C)` over `deltas` (shared by both verifiers).
+fn worst_case<F: FnMut(f64) -> (DMatrix<f64>, DMatrix<f64>, DMatrix<f64>)>(
     deltas: &[f64],
-    a_of: F,
+    mut system: F,
 ) -> Verification {
     let mut v = Verification {
         max_spectral_radius: 0.0,
@@ -234,7 +232,7 @@ pub fn verify_filter<F: Fn(f64) -> Mat6>(
         worst_delta: f64::NAN,
     };
     for &d in deltas {
-        let (a, b, c) = error_system(plant, f, &a_of(d));
+        let (a, b, c) = system(d);
         v.max_spectral_radius = v.max_spectral_radius.max(spectral_radius(&a));
         let nrm = hinf_norm(&a, &b, &c);
         if !(nrm <= v.worst_norm) {
@@ -243,6 +241,17 @@ pub fn verify_filter<F: Fn(f64) -> Mat6>(
         }
     }
     v
+}
+
+/// Worst case over `deltas` of the paper's filter-error system: `a_of(delta)` is the
+/// true plant transition.
+pub fn verify_filter<F: Fn(f64) -> Mat6>(
+    plant: &HinfPlant,
+    f: &HinfMatrices,
+    deltas: &[f64],
+    a_of: F,
+) -> Verification {
+    worst_case(deltas, |d| error_system(plant, f, &a_of(d)))
 }
 
 /// The observer's error system `e(k+1) = (A(delta) - G C) e + B w - G D v`, `z_e = L e`,
@@ -254,23 +263,11 @@ pub fn observer_error_norm<F: Fn(f64) -> Mat6>(
     deltas: &[f64],
     a_of: F,
 ) -> Verification {
-    let mut v = Verification {
-        max_spectral_radius: 0.0,
-        worst_norm: 0.0,
-        worst_delta: f64::NAN,
-    };
     let mut b = DMatrix::zeros(6, 9);
     put(&mut b, 0, 0, &dm(&plant.b), false);
     put(&mut b, 0, 6, &dm(&(-(g * plant.d))), false);
     let c = dm(&plant.l);
-    for &d in deltas {
-        let a = dm(&(a_of(d) - g * plant.c));
-        v.max_spectral_radius = v.max_spectral_radius.max(spectral_radius(&a));
-        let nrm = hinf_norm(&a, &b, &c);
-        if !(nrm <= v.worst_norm) {
-            v.worst_norm = nrm;
-            v.worst_delta = d;
-        }
-    }
-    v
+    worst_case(deltas, |d| {
+        (dm(&(a_of(d) - g * plant.c)), b.clone(), c.clone())
+    })
 }
