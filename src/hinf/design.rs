@@ -168,6 +168,17 @@ impl Lmi {
     }
 }
 
+/// The bound `X <= rho I` on a symmetric certificate `X` (n x n), as the LMI
+/// `X - rho I <= 0` (why the certificate is bounded: see the module docs).
+fn upper_bound(x: &VarMat, n: usize, nvar: usize, rho: f64) -> Lmi {
+    let mut lmi = Lmi::new(&[n], nvar);
+    for (k, e) in x.basis() {
+        lmi.add(Some(k), 0, 0, &e);
+    }
+    lmi.add(None, 0, 0, &(-DMatrix::<f64>::identity(n, n) * rho));
+    lmi
+}
+
 /// A group of scalar variables forming a matrix: symmetric (upper triangle) or full.
 #[derive(Clone)]
 struct VarMat {
@@ -489,11 +500,7 @@ pub fn design_paper(
 
     // R <= rho I  <=>  R - rho I <= 0 ;  S >= eps I  <=>  -S <= -eps I (margin eps) ;
     // R - S >= eps I is implied by the main LMI's leading 2x2 block
-    let mut bound = Lmi::new(&[n], nvar);
-    for (k, e) in r.basis() {
-        bound.add(Some(k), 0, 0, &e);
-    }
-    bound.add(None, 0, 0, &(-eye(n) * opts.bound));
+    let bound = upper_bound(&r, n, nvar, opts.bound);
     let mut spos = Lmi::new(&[n], nvar);
     for (k, e) in sv.basis() {
         spos.add(Some(k), 0, 0, &(-e));
@@ -638,11 +645,7 @@ pub fn design_observer(
     m.add(Some(g2), 4, 4, &(-eye(6)));
     m.add(None, 1, 5, &l.transpose());
     m.add(None, 5, 5, &(-eye(6)));
-    let mut bound = Lmi::new(&[n], nvar);
-    for (k, e) in p.basis() {
-        bound.add(Some(k), 0, 0, &e);
-    }
-    bound.add(None, 0, 0, &(-eye(n) * opts.bound));
+    let bound = upper_bound(&p, n, nvar, opts.bound);
     let mut cost = vec![0.0; nvar];
     cost[g2] = 1.0;
     let sdp = Sdp {
