@@ -16,6 +16,7 @@ pub mod frames;
 pub mod hinf;
 pub mod nav;
 pub mod noise;
+pub mod numerics;
 pub mod sensors;
 pub mod types;
 

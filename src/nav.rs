@@ -34,6 +34,7 @@ use crate::estimators::{AqParams, Aqukf, Ekf, Estimator, FilterError, Ukf, UkfPa
 use crate::frames::Frame;
 use crate::hinf::HinfEstimator;
 use crate::noise::NoiseModel;
+use crate::numerics::num;
 use crate::sensors::{MeasurementModel, RadioSensor};
 use crate::types::{Mat3, Mat6, State, Vec3};
 
@@ -310,16 +311,6 @@ impl From<FilterError> for NavError {
             kind: NavErrorKind::Numerical,
             message: format!("filter step failed: {e}"),
         }
-    }
-}
-
-/// A number for an error message: plain when readable, scientific when tiny or huge.
-pub(crate) fn num(v: f64) -> String {
-    let a = v.abs();
-    if v == 0.0 || !v.is_finite() || (1e-4..1e7).contains(&a) {
-        format!("{v}")
-    } else {
-        format!("{v:e}")
     }
 }
 

@@ -96,14 +96,14 @@ impl AqParams {
         if !(self.floor.is_finite() && self.floor >= 0.0) {
             return Err(format!(
                 "q_vv_floor must be finite and >= 0 (got {})",
-                crate::nav::num(self.floor)
+                crate::numerics::num(self.floor)
             ));
         }
         if !(self.ceiling.is_finite() && self.ceiling >= self.floor && self.ceiling > 0.0) {
             return Err(format!(
                 "q_vv_ceiling must be finite, > 0 and >= q_vv_floor (got {}, floor {})",
-                crate::nav::num(self.ceiling),
-                crate::nav::num(self.floor)
+                crate::numerics::num(self.ceiling),
+                crate::numerics::num(self.floor)
             ));
         }
         if !self.q_vv0.iter().all(|q| q.is_finite() && *q >= 0.0) {

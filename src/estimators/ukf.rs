@@ -71,7 +71,7 @@ impl UkfParams {
         if !(self.alpha > 0.0) {
             return Err(format!(
                 "ukf_alpha must be > 0 (got {})",
-                crate::nav::num(self.alpha)
+                crate::numerics::num(self.alpha)
             ));
         }
         if !(N as f64 + self.lambda() > 0.0) {

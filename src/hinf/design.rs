@@ -344,7 +344,7 @@ impl Sdp {
                     message: format!("Clarabel rejected the problem: {e:?}"),
                 }
             })?;
-        crate::ffi::blas_single_thread();
+        crate::numerics::blas::single_thread();
         solver.solve();
         let status = solver.solution.status;
         match status {

@@ -1,0 +1,283 @@
+//! The H-infinity design on its own (`relnav_hinf_design`) and the runtime filter without
+//! solver (`relnav_hinf_filter_*`).
+
+use super::error::{null, relnav_status, Failure};
+use super::panic::boundary;
+use super::ptr::{read_array, write_array};
+use std::panic::{catch_unwind, AssertUnwindSafe};
+
+/// Which H-infinity design `relnav_hinf_design` solves.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum relnav_hinf_form {
+    /// Observer (error-dynamics) form for the open-loop CW plant, the known thrust as
+    /// feed-forward (the form filter code 9 runs).
+    RELNAV_HINF_OBSERVER = 1,
+    /// Paper 002's Theorem 1 / Corollary 1 on its closed loop `u = K x` (its `K` and
+    /// 1000 kg chaser; Euler `A = I + T (A1 + G0 K)`).
+    RELNAV_HINF_PAPER = 2,
+}
+
+/// Inputs of an H-infinity design (canonical frame = paper 002's, SI units).
+#[repr(C)]
+#[derive(Debug, Clone, Copy)]
+pub struct relnav_hinf_spec {
+    /// A `relnav_hinf_form` code.
+    pub form: i32,
+    /// Nominal mean motion `w0` [rad/s].
+    pub mean_motion: f64,
+    /// Orbit-rate uncertainty bound `delta_bar`, >= 0.
+    pub delta_bar: f64,
+    /// Sampling period [s].
+    pub period: f64,
+    /// Process-noise scaling on positions [m].
+    pub b_pos: f64,
+    /// Process-noise scaling on velocities [m/s].
+    pub b_vel: f64,
+    /// Measurement-noise scaling [m].
+    pub d: f64,
+}
+
+/// A designed H-infinity filter: `x_f(k+1) = A_F x_f + B_F y + E_F a`, `z_f = C_F x_f`
+/// (row-major matrices; `y` the canonical position [m], `a` the known thrust
+/// acceleration [m/s^2], canonical frame).
+#[repr(C)]
+#[derive(Debug, Clone, Copy)]
+pub struct relnav_hinf_matrices {
+    /// `A_F`, 6x6.
+    pub a_f: [f64; 36],
+    /// `B_F`, 6x3.
+    pub b_f: [f64; 18],
+    /// `C_F`, 6x6.
+    pub c_f: [f64; 36],
+    /// `E_F`, 6x3 (zero for the paper form).
+    pub e_f: [f64; 18],
+    /// The period the matrices hold for [s].
+    pub period: f64,
+}
+
+/// Design report.
+#[repr(C)]
+#[derive(Debug, Clone, Copy)]
+pub struct relnav_hinf_result {
+    /// The filter.
+    pub matrices: relnav_hinf_matrices,
+    /// Certified bound `gamma` on the worst-case gain from the scaled noises to the error.
+    pub gamma: f64,
+    /// Largest eigenvalue of the LMI assembled from the solution (nalgebra; < 0).
+    pub lmi_max_eig: f64,
+    /// Clarabel iterations.
+    pub iterations: i32,
+    /// Wall time of assembly and solve [s].
+    pub solve_time: f64,
+}
+
+fn to_c_matrices(m: &crate::hinf::HinfMatrices) -> relnav_hinf_matrices {
+    let mut o = relnav_hinf_matrices {
+        a_f: [0.0; 36],
+        b_f: [0.0; 18],
+        c_f: [0.0; 36],
+        e_f: [0.0; 18],
+        period: m.period,
+    };
+    for i in 0..6 {
+        for j in 0..6 {
+            o.a_f[6 * i + j] = m.a_f[(i, j)];
+            o.c_f[6 * i + j] = m.c_f[(i, j)];
+        }
+        for j in 0..3 {
+            o.b_f[3 * i + j] = m.b_f[(i, j)];
+            o.e_f[3 * i + j] = m.e_f[(i, j)];
+        }
+    }
+    o
+}
+
+fn from_c_matrices(m: &relnav_hinf_matrices) -> crate::hinf::HinfMatrices {
+    use crate::types::{Mat6, Mat63};
+    crate::hinf::HinfMatrices {
+        a_f: Mat6::from_fn(|i, j| m.a_f[6 * i + j]),
+        b_f: Mat63::from_fn(|i, j| m.b_f[3 * i + j]),
+        c_f: Mat6::from_fn(|i, j| m.c_f[6 * i + j]),
+        e_f: Mat63::from_fn(|i, j| m.e_f[3 * i + j]),
+        period: m.period,
+    }
+}
+
+impl From<crate::hinf::HinfError> for Failure {
+    fn from(e: crate::hinf::HinfError) -> Self {
+        use crate::hinf::HinfErrorKind as K;
+        let status = match e.kind {
+            K::InvalidArgument => relnav_status::RELNAV_ERROR_INVALID_ARGUMENT,
+            K::Infeasible => relnav_status::RELNAV_ERROR_INFEASIBLE,
+            K::SolverFailed => relnav_status::RELNAV_ERROR_NUMERICAL,
+        };
+        Failure(status, e.message)
+    }
+}
+
+/// Design an H-infinity filter (LMI solved with Clarabel; see `relnav::hinf`). On
+/// success `*out` holds the matrices and the report; an infeasible request returns
+/// `RELNAV_ERROR_INFEASIBLE` with a readable reason (`relnav_last_error`) and leaves `*out`
+/// untouched. Without the `hinf` cargo feature it returns `RELNAV_ERROR_NOT_IMPLEMENTED`.
+///
+/// # Safety
+/// `spec` is null or readable; `out` is null or writable.
+#[no_mangle]
+pub unsafe extern "C" fn relnav_hinf_design(
+    spec: *const relnav_hinf_spec,
+    out: *mut relnav_hinf_result,
+) -> relnav_status {
+    const F: &str = "relnav_hinf_design";
+    boundary(F, || {
+        // SAFETY: pointer contracts are the caller's, checked for null.
+        let s = *unsafe { spec.as_ref() }.ok_or_else(|| null("spec", F))?;
+        // SAFETY: as above.
+        let o = unsafe { out.as_mut() }.ok_or_else(|| null("out", F))?;
+        hinf_design(&s, o)
+    })
+}
+
+#[cfg(feature = "hinf")]
+fn hinf_design(s: &relnav_hinf_spec, o: &mut relnav_hinf_result) -> Result<(), Failure> {
+    use crate::hinf::design::{design_open_loop, design_paper_spec, DesignOptions};
+    let spec = crate::hinf::HinfSpec {
+        w0: s.mean_motion,
+        delta_bar: s.delta_bar,
+        period: s.period,
+        b_pos: s.b_pos,
+        b_vel: s.b_vel,
+        d: s.d,
+    };
+    let opts = DesignOptions::default();
+    let d = match s.form {
+        1 => design_open_loop(&spec, &opts)?,
+        2 => design_paper_spec(&spec, &opts)?,
+        other => {
+            return Err(Failure(
+                relnav_status::RELNAV_ERROR_INVALID_ARGUMENT,
+                format!("unknown hinf form code {other} (allowed: 1 observer, 2 paper)"),
+            ))
+        }
+    };
+    *o = relnav_hinf_result {
+        matrices: to_c_matrices(&d.matrices),
+        gamma: d.gamma,
+        lmi_max_eig: d.lmi_max_eig,
+        iterations: i32::try_from(d.iterations).unwrap_or(i32::MAX),
+        solve_time: d.solve_time,
+    };
+    Ok(())
+}
+
+#[cfg(not(feature = "hinf"))]
+fn hinf_design(_s: &relnav_hinf_spec, _o: &mut relnav_hinf_result) -> Result<(), Failure> {
+    Err(Failure(
+        relnav_status::RELNAV_ERROR_NOT_IMPLEMENTED,
+        "relnav_hinf_design: this build has no `hinf` feature (no LMI solver)".to_string(),
+    ))
+}
+
+/// Opaque runtime H-infinity filter (no solver, no allocation in a step).
+pub struct relnav_hinf_filter {
+    f: crate::hinf::HinfFilter,
+}
+
+/// Create a runtime filter from designed matrices; its estimate `C_F x_f` starts at `x0`
+/// (6 doubles, canonical frame). Free with `relnav_hinf_filter_free`.
+///
+/// # Safety
+/// `matrices` is null or readable; `x0` is null or 6 readable doubles; `out` is null or
+/// writable.
+#[no_mangle]
+pub unsafe extern "C" fn relnav_hinf_filter_new(
+    matrices: *const relnav_hinf_matrices,
+    x0: *const f64,
+    out: *mut *mut relnav_hinf_filter,
+) -> relnav_status {
+    const F: &str = "relnav_hinf_filter_new";
+    boundary(F, || {
+        // SAFETY: pointer contracts are the caller's, checked for null.
+        let m = unsafe { matrices.as_ref() }.ok_or_else(|| null("matrices", F))?;
+        // SAFETY: as above.
+        let x = unsafe { read_array::<6>(x0, "x0", F) }?;
+        // SAFETY: as above.
+        let o = unsafe { out.as_mut() }.ok_or_else(|| null("out", F))?;
+        let f = crate::hinf::HinfFilter::new(
+            from_c_matrices(m),
+            crate::types::State::from_row_slice(&x),
+        )?;
+        *o = Box::into_raw(Box::new(relnav_hinf_filter { f }));
+        Ok(())
+    })
+}
+
+/// One filter step: `x_f <- A_F x_f + B_F y + E_F a`. `y` is the canonical position
+/// measurement [m] (3 doubles, or null: replaced by its prediction), `accel` the known
+/// acceleration [m/s^2] (3 doubles). Non-finite inputs are refused before anything changes.
+///
+/// # Safety
+/// `filter` is a live handle or null; `y` is null or 3 readable doubles; `accel` is null or
+/// 3 readable doubles.
+#[no_mangle]
+pub unsafe extern "C" fn relnav_hinf_filter_step(
+    filter: *mut relnav_hinf_filter,
+    y: *const f64,
+    accel: *const f64,
+) -> relnav_status {
+    const F: &str = "relnav_hinf_filter_step";
+    boundary(F, || {
+        // SAFETY: non-null handles come from Box::into_raw in relnav_hinf_filter_new.
+        let h = unsafe { filter.as_mut() }.ok_or_else(|| null("filter", F))?;
+        // SAFETY: as above.
+        let a = unsafe { read_array::<3>(accel, "accel", F) }?;
+        let yv = if y.is_null() {
+            None
+        } else {
+            // SAFETY: as above.
+            Some(unsafe { read_array::<3>(y, "y", F) }?)
+        };
+        if !a.iter().chain(yv.iter().flatten()).all(|v| v.is_finite()) {
+            return Err(Failure(
+                relnav_status::RELNAV_ERROR_INVALID_ARGUMENT,
+                format!("{F}: y and accel must be finite"),
+            ));
+        }
+        let yv = yv.map(|v| crate::types::Vec3::from_row_slice(&v));
+        h.f.step(yv.as_ref(), &crate::types::Vec3::from_row_slice(&a));
+        Ok(())
+    })
+}
+
+/// Copy the estimate `C_F x_f` (6 doubles, canonical frame) to `out`.
+///
+/// # Safety
+/// `filter` is a live handle or null; `out` is null or 6 writable doubles.
+#[no_mangle]
+pub unsafe extern "C" fn relnav_hinf_filter_get_state(
+    filter: *const relnav_hinf_filter,
+    out: *mut f64,
+) -> relnav_status {
+    const F: &str = "relnav_hinf_filter_get_state";
+    boundary(F, || {
+        // SAFETY: non-null handles come from Box::into_raw in relnav_hinf_filter_new.
+        let h = unsafe { filter.as_ref() }.ok_or_else(|| null("filter", F))?;
+        let x: [f64; 6] = (*h.f.state()).into();
+        // SAFETY: as above.
+        unsafe { write_array(out, &x, "out", F) }
+    })
+}
+
+/// Release a runtime filter (null is accepted).
+///
+/// # Safety
+/// `filter` is null or a handle from `relnav_hinf_filter_new` not yet freed.
+#[no_mangle]
+pub unsafe extern "C" fn relnav_hinf_filter_free(filter: *mut relnav_hinf_filter) {
+    if !filter.is_null() {
+        let _ = catch_unwind(AssertUnwindSafe(|| {
+            // SAFETY: the handle came from Box::into_raw and is freed once.
+            drop(unsafe { Box::from_raw(filter) });
+        }));
+    }
+}
