@@ -441,9 +441,9 @@ mod tests {
         assert_eq!(s(vr::HINF_D), c.hinf_d);
     }
 
-    /// The enumerations carry the library's codes and names.
+    /// The code lists carry the library's codes and names.
     #[test]
-    fn enumerations_match_library_codes() {
+    fn code_lists_match_library_codes() {
         use crate::estimators::pf::resample::Resampler;
         use crate::nav::{FilterKind, NoiseKind};
         let names = |t: &EnumType| -> Vec<(i32, &str)> {
