@@ -149,8 +149,9 @@ fn settable(def: &VarDef, state: ModelState) -> bool {
 const PERMISSIVE_PARTNERS: [(u32, u32, f64); 1] = [(vr::HINF_PERIOD, vr::MEAN_MOTION, 1e-9)];
 
 /// Refuse a parameter value that is invalid whatever the other parameters are, at
-/// `fmi2Set*` time (masters handle an error there better than at
-/// fmi2ExitInitializationMode: libcosim aborts the process on the latter). The check is
+/// `fmi2Set*` time: the earliest point, where the error belongs to the call and value
+/// that caused it (fmpy raises there; libcosim, which sets initial values during its own
+/// initialisation, aborts either way; Ecos ignores both). The check is
 /// the library's own (`relnav_config_validate`) on the start values with this one value
 /// changed: every start value is valid and, apart from [`PERMISSIVE_PARTNERS`], no check
 /// couples a parameter to one whose start value could make a valid value fail, so
