@@ -58,33 +58,54 @@ impl Logger {
         Self { callback, env }
     }
 
-    /// Send one message. The text goes through `"%s"` so `%` is never interpreted;
-    /// `#` is FMI's escape character and is doubled.
+    /// Send one message. The logger's message is a `printf` format (FMI 2.0 sec. 2.1.5),
+    /// so the text itself is passed as the format with `%` escaped as `%%` and no
+    /// arguments: a master that formats shows the text, and one that prints the format
+    /// as it is still shows it (with `%%`). `#` is FMI's escape character (`#r12#` names a
+    /// variable) and is doubled. Messages are cut at [`MAX_LOG_CHARS`] characters (fmpy
+    /// formats into 2048 bytes), with ` ...` appended.
     pub fn log(&self, instance: &CStr, status: fmi2Status, category: &str, msg: &str) {
         let Some(cb) = self.callback else { return };
-        let escaped: String = msg
-            .replace('#', "##")
-            .chars()
-            .filter(|c| *c != '\0')
-            .take(1500)
-            .collect();
-        let (Ok(text), Ok(cat)) = (CString::new(escaped), CString::new(category)) else {
+        let Ok(cat) = CString::new(category) else {
+            return;
+        };
+        let Ok(text) = CString::new(escape_log_message(msg)) else {
             return;
         };
         // SAFETY: the master gave us this callback for the lifetime of the instance; all
-        // strings are NUL-terminated and live across the call; the format "%s" consumes
-        // exactly one `const char*` argument.
+        // strings are NUL-terminated and live across the call; the format contains no
+        // conversion (every `%` is doubled), so no variadic argument is read.
         unsafe {
             cb(
                 self.env,
                 instance.as_ptr(),
                 status as c_int,
                 cat.as_ptr(),
-                c"%s".as_ptr(),
                 text.as_ptr(),
             )
         };
     }
+}
+
+/// Longest message sent to the logger, in characters before escaping.
+pub const MAX_LOG_CHARS: usize = 1500;
+
+/// A log message as the logger's `printf` format: NULs dropped, cut at
+/// [`MAX_LOG_CHARS`] characters (` ...` appended), then `%` -> `%%` and `#` -> `##`.
+pub fn escape_log_message(msg: &str) -> String {
+    let mut out = String::with_capacity(msg.len() + 8);
+    for (i, c) in msg.chars().filter(|c| *c != '\0').enumerate() {
+        if i == MAX_LOG_CHARS {
+            out.push_str(" ...");
+            break;
+        }
+        match c {
+            '%' => out.push_str("%%"),
+            '#' => out.push_str("##"),
+            c => out.push(c),
+        }
+    }
+    out
 }
 
 /// All data of one instance.
@@ -117,6 +138,47 @@ fn settable(def: &VarDef, state: ModelState) -> bool {
         }
         ModelState::StepComplete => def.causality == Causality::Input,
         ModelState::Terminated | ModelState::Error => false,
+    }
+}
+
+/// Parameters whose valid values depend on another parameter, with that partner set to
+/// its most permissive value for [`check_alone`]: `hinf_period` must satisfy
+/// `mean_motion * hinf_period <= 0.5`, and the smallest `mean_motion` the library
+/// accepts is 1e-9 rad/s (`nav::MEAN_MOTION_RANGE`, checked by a test), so only periods
+/// that no orbit admits are refused before fmi2ExitInitializationMode.
+const PERMISSIVE_PARTNERS: [(u32, u32, f64); 1] = [(vr::HINF_PERIOD, vr::MEAN_MOTION, 1e-9)];
+
+/// Refuse a parameter value that is invalid whatever the other parameters are, at
+/// `fmi2Set*` time: the earliest point, where the error belongs to the call and value
+/// that caused it (fmpy raises there; libcosim, which sets initial values during its own
+/// initialisation, aborts either way; Ecos ignores both). The check is
+/// the library's own (`relnav_config_validate`) on the start values with this one value
+/// changed: every start value is valid and, apart from [`PERMISSIVE_PARTNERS`], no check
+/// couples a parameter to one whose start value could make a valid value fail, so
+/// nothing valid is refused early. Combinations are checked at
+/// fmi2ExitInitializationMode.
+fn check_alone(def: &VarDef, value: f64) -> Result<(), FmiFailure> {
+    let mut values = [0.0; N_VARS];
+    for v in VARIABLES {
+        values[v.vr as usize] = v.start;
+    }
+    values[def.vr as usize] = value;
+    for (var, partner, loose) in PERMISSIVE_PARTNERS {
+        if var == def.vr {
+            values[partner as usize] = loose;
+        }
+    }
+    let cfg = Instance::config_of(&values);
+    // SAFETY: a valid local configuration.
+    status_of(unsafe { ffi::relnav_config_validate(&cfg) })
+}
+
+/// A value as the master gave it: an integer for Integer and code variables.
+fn show(def: &VarDef, value: f64) -> String {
+    match def.ty {
+        VarType::Real(_) => format!("{value}"),
+        VarType::Boolean => format!("{}", value != 0.0),
+        VarType::Integer | VarType::Code(_) => format!("{}", value as i64),
     }
 }
 
@@ -181,9 +243,22 @@ impl Instance {
         }
     }
 
+    /// Record a failed call's status in the `fmi_status` output (the worst so far).
+    pub fn note_status(&mut self, status: fmi2Status) {
+        let v = &mut self.values[vr::FMI_STATUS as usize];
+        *v = v.max(f64::from(status as i32));
+    }
+
     /// Whether `logCalls` messages would be sent (to avoid formatting them otherwise).
     pub fn logs_calls(&self) -> bool {
         self.logging_on && self.categories[3]
+    }
+
+    /// Log a call under `logCalls`, formatting the message only when it is sent.
+    pub fn log_call(&self, msg: impl FnOnce() -> String) {
+        if self.logs_calls() {
+            self.log(fmi2Status::fmi2OK, "logCalls", &msg());
+        }
     }
 
     /// `fmi2SetDebugLogging`.
@@ -248,7 +323,12 @@ impl Instance {
 
     /// The C-ABI configuration assembled from the parameter values.
     pub fn config(&self) -> relnav_config {
-        let v = |r: u32| self.values[r as usize];
+        Self::config_of(&self.values)
+    }
+
+    /// The C-ABI configuration of a set of variable values (value reference = index).
+    fn config_of(values: &[f64; N_VARS]) -> relnav_config {
+        let v = |r: u32| values[r as usize];
         let mut c = ffi::relnav_config_default();
         c.filter = v(vr::FILTER) as i32;
         c.frame = v(vr::FRAME) as i32;
@@ -460,6 +540,14 @@ impl Instance {
         self.time
     }
 
+    /// `name (vr N)` of a value reference, for call logs (`vr N (unknown)` if it is none).
+    pub fn var_label(r: fmi2ValueReference) -> String {
+        match lookup(r) {
+            Some(d) => format!("{} (vr {r})", d.name),
+            None => format!("vr {r} (unknown)"),
+        }
+    }
+
     fn def(&self, r: fmi2ValueReference, func: &str) -> Result<&'static VarDef, FmiFailure> {
         lookup(r).ok_or_else(|| error(format!("{func}: unknown value reference {r}")))
     }
@@ -502,20 +590,25 @@ impl Instance {
                 d.name, d.causality, self.state
             )));
         }
-        if let VarType::Enumeration(t) = d.ty {
-            if !t.items.iter().any(|it| f64::from(it.1) == value) {
-                let allowed: Vec<String> = t
-                    .items
-                    .iter()
-                    .map(|it| format!("{} {}", it.1, it.0))
-                    .collect();
+        if let VarType::Code(t) = d.ty {
+            if t.item(value).is_none() {
                 return Err(error(format!(
-                    "{func}: {} = {value} is not a valid {} (allowed: {})",
+                    "{func}: {} = {value} is not a {} code (allowed: {})",
                     d.name,
                     t.name,
-                    allowed.join(", ")
+                    t.codes()
                 )));
             }
+        }
+        if d.causality == Causality::Parameter {
+            check_alone(d, value).map_err(|e| {
+                error(format!(
+                    "{func}: {} = {} refused: {}",
+                    d.name,
+                    show(d, value),
+                    e.message
+                ))
+            })?;
         }
         self.values[r as usize] = value;
         if matches!(
@@ -525,5 +618,48 @@ impl Instance {
             self.publish_initial_outputs();
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn log_messages_are_printf_formats() {
+        assert_eq!(escape_log_message("50% #r3# ok"), "50%% ##r3## ok");
+        assert_eq!(escape_log_message("a\0b"), "ab");
+        let long = "%".repeat(MAX_LOG_CHARS + 10);
+        let e = escape_log_message(&long);
+        assert_eq!(e, format!("{} ...", "%%".repeat(MAX_LOG_CHARS)));
+    }
+
+    /// The permissive partner of `hinf_period` is the smallest mean motion the library
+    /// accepts, so the early check refuses only periods no orbit admits.
+    #[test]
+    fn permissive_partner_is_the_library_bound() {
+        assert_eq!(
+            PERMISSIVE_PARTNERS,
+            [(
+                vr::HINF_PERIOD,
+                vr::MEAN_MOTION,
+                crate::nav::MEAN_MOTION_RANGE.0
+            )]
+        );
+        let hinf = lookup(vr::HINF_PERIOD).map(|d| check_alone(d, 5e8).is_ok());
+        assert_eq!(hinf, Some(true));
+        let hinf = lookup(vr::HINF_PERIOD).map(|d| check_alone(d, 5.1e8).is_err());
+        assert_eq!(hinf, Some(true));
+    }
+
+    /// Every start value passes the early check (nothing valid is refused early).
+    #[test]
+    fn start_values_pass_the_early_check() {
+        for v in VARIABLES
+            .iter()
+            .filter(|v| v.causality == Causality::Parameter)
+        {
+            assert!(check_alone(v, v.start).is_ok(), "{}", v.name);
+        }
     }
 }
