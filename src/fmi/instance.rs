@@ -101,6 +101,8 @@ pub struct Instance {
     time: f64,
     start_time: f64,
     stop_time: Option<f64>,
+    /// The FMU states handed out by `fmi2GetFMUstate` / `fmi2DeSerializeFMUstate`.
+    pub states: super::state::StateRegistry,
 }
 
 impl Drop for Instance {
@@ -120,7 +122,7 @@ fn settable(def: &VarDef, state: ModelState) -> bool {
     }
 }
 
-fn status_of(s: relnav_status) -> Result<(), FmiFailure> {
+pub(super) fn status_of(s: relnav_status) -> Result<(), FmiFailure> {
     if s == relnav_status::RELNAV_OK {
         Ok(())
     } else {
@@ -147,6 +149,7 @@ impl Instance {
             time: 0.0,
             start_time: 0.0,
             stop_time: None,
+            states: Default::default(),
         };
         inst.set_start_values();
         inst
@@ -248,7 +251,14 @@ impl Instance {
 
     /// The C-ABI configuration assembled from the parameter values.
     pub fn config(&self) -> relnav_config {
-        let v = |r: u32| self.values[r as usize];
+        config_of(&self.values)
+    }
+}
+
+/// The C-ABI configuration assembled from the parameter values of `values`.
+pub(super) fn config_of(values: &[f64; N_VARS]) -> relnav_config {
+    {
+        let v = |r: u32| values[r as usize];
         let mut c = ffi::relnav_config_default();
         c.filter = v(vr::FILTER) as i32;
         c.frame = v(vr::FRAME) as i32;
@@ -283,7 +293,9 @@ impl Instance {
         c.hinf_d = v(vr::HINF_D);
         c
     }
+}
 
+impl Instance {
     /// Whether the `filter` parameter selects a particle filter (codes 4-8).
     fn particle_filter_selected(&self) -> bool {
         (4.0..=8.0).contains(&self.values[vr::FILTER as usize])
@@ -525,5 +537,47 @@ impl Instance {
             self.publish_initial_outputs();
         }
         Ok(())
+    }
+}
+
+/// What the FMU state ([`super::state`]) reads and restores.
+impl Instance {
+    /// Every variable's value, by value reference.
+    pub(super) fn values(&self) -> &[f64; N_VARS] {
+        &self.values
+    }
+
+    /// `(time, start time, stop time)`.
+    pub(super) fn times(&self) -> (f64, f64, Option<f64>) {
+        (self.time, self.start_time, self.stop_time)
+    }
+
+    /// The estimator handle (null before `fmi2ExitInitializationMode`).
+    pub(super) fn estimator_ptr(&self) -> *mut relnav_estimator {
+        self.estimator
+    }
+
+    /// Take `e` (null or a live handle) as the estimator, freeing the previous one.
+    pub(super) fn replace_estimator(&mut self, e: *mut relnav_estimator) {
+        if e != self.estimator {
+            self.free_estimator();
+            self.estimator = e;
+        }
+    }
+
+    /// Everything but the estimator, as a restored state has it.
+    pub(super) fn set_restored(
+        &mut self,
+        mode: ModelState,
+        values: [f64; N_VARS],
+        time: f64,
+        start_time: f64,
+        stop_time: Option<f64>,
+    ) {
+        self.state = mode;
+        self.values = values;
+        self.time = time;
+        self.start_time = start_time;
+        self.stop_time = stop_time;
     }
 }
