@@ -143,6 +143,38 @@ fn every_filter_continues_bit_for_bit_after_a_restore() {
     }
 }
 
+/// A state saved between a separate update and prediction (the H-infinity filter holds
+/// the measurement until its step) continues bit for bit too.
+#[test]
+fn a_state_between_update_and_predict_continues_bit_for_bit() {
+    for kind in FilterKind::ALL {
+        let cfg = config(kind);
+        let inputs = scenario(&cfg);
+        let mut nav = Navigator::new(&cfg).unwrap();
+        for i in &inputs[..6] {
+            step(&mut nav, i);
+        }
+        nav.update(inputs[6].z.as_ref().unwrap()).unwrap();
+        let mut b = Vec::new();
+        nav.save_state(&mut b);
+        let mut trace = Vec::new();
+        nav.predict(&inputs[6].thrust, 1.0).unwrap();
+        trace.push(outputs(&nav));
+        for i in &inputs[7..12] {
+            step(&mut nav, i);
+            trace.push(outputs(&nav));
+        }
+        let mut fresh = Navigator::new(&cfg).unwrap();
+        fresh.restore_state(&b).unwrap();
+        fresh.predict(&inputs[6].thrust, 1.0).unwrap();
+        assert_eq!(outputs(&fresh), trace[0], "{kind:?}");
+        for (i, want) in inputs[7..12].iter().zip(&trace[1..]) {
+            step(&mut fresh, i);
+            assert_eq!(outputs(&fresh), *want, "{kind:?}");
+        }
+    }
+}
+
 /// A particle filter marked failed stays failed after a restore of that state, and a
 /// state saved before the failure works again.
 #[test]
@@ -400,6 +432,12 @@ fn sizes_follow_the_documented_layout() {
             FilterKind::Hinf => m6 + 144 + m6 + 144 + 8 + m6 + v6 + v6 + 1 + 24 + 8,
         };
         let mut nav = Navigator::new(&cfg).unwrap();
+        println!(
+            "filter {} {:6}: {} bytes",
+            kind as i32,
+            kind.name(),
+            nav.state_len()
+        );
         assert_eq!(
             nav.state_len(),
             EST_HEADER + conf + navg + filter,
