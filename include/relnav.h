@@ -42,6 +42,13 @@ typedef enum relnav_status {
   RELNAV_ERROR_PANIC = 5,
   // The H-infinity design has no solution (the LMI is infeasible for these inputs).
   RELNAV_ERROR_INFEASIBLE = 6,
+  // The caller's buffer is too small (`relnav_estimator_save`: the needed size is in
+  // `*len`).
+  RELNAV_ERROR_BUFFER_TOO_SMALL = 7,
+  // A saved state was refused (`relnav_estimator_restore`): truncated, corrupted,
+  // another format version, or saved for another configuration; the estimator is
+  // unchanged.
+  RELNAV_ERROR_INVALID_STATE = 8,
 } relnav_status;
 
 // Filter codes for `relnav_config.filter` (same as the FMU's `filter` parameter).
@@ -448,6 +455,39 @@ enum relnav_status relnav_hinf_filter_get_state(const struct relnav_hinf_filter 
 // # Safety
 // `filter` is null or a handle from `relnav_hinf_filter_new` not yet freed.
 void relnav_hinf_filter_free(struct relnav_hinf_filter *filter);
+
+// Save the estimator's state into `buf` (capacity `cap` bytes); `*len` receives the size
+// the state needs, in every case.
+//
+// * `buf == NULL`: a size query; returns `RELNAV_OK` with the size in `*len` (`cap` is
+//   ignored).
+// * `cap < *len`: returns `RELNAV_ERROR_BUFFER_TOO_SMALL`, nothing written.
+// * otherwise the first `*len` bytes of `buf` hold the state; `RELNAV_OK`.
+//
+// The size depends on the configuration only (a particle filter's grows with
+// `particles`), not on the estimator's history: query it once, and a buffer of that size
+// holds every later state of the estimator.
+//
+// # Safety
+// `estimator` is a live handle or null; `buf` is null or points to `cap` writable bytes;
+// `len` is null or writable.
+enum relnav_status relnav_estimator_save(const struct relnav_estimator *estimator,
+                                         uint8_t *buf,
+                                         size_t cap,
+                                         size_t *len);
+
+// Restore a state saved by [`relnav_estimator_save`] (`len` bytes at `buf`) into an
+// estimator created with the same configuration. A state that is truncated, corrupted
+// (CRC-32), of another format version, or saved for another configuration is refused
+// with `RELNAV_ERROR_INVALID_STATE` and a reason in `relnav_last_error` (naming, for
+// another configuration, the first setting that differs); the estimator is then
+// unchanged.
+//
+// # Safety
+// `estimator` is a live handle or null; `buf` is null or points to `len` readable bytes.
+enum relnav_status relnav_estimator_restore(struct relnav_estimator *estimator,
+                                            const uint8_t *buf,
+                                            size_t len);
 
 #ifdef __cplusplus
 }  // extern "C"

@@ -35,6 +35,9 @@ use crate::frames::Frame;
 use crate::hinf::HinfEstimator;
 use crate::noise::NoiseModel;
 use crate::numerics::num;
+use crate::numerics::state::{
+    self, crc32, refuse, Persist, Reader, StateError, Writer, ESTIMATOR_MAGIC, KINDS,
+};
 use crate::sensors::{MeasurementModel, RadioSensor};
 use crate::types::{Mat3, Mat6, State, Vec3};
 
@@ -288,6 +291,9 @@ pub enum NavErrorKind {
     NotImplemented,
     /// The filter could not complete the step (geometry, loss of positive definiteness).
     Numerical,
+    /// A saved state was refused ([`Navigator::restore_state`]): truncated, corrupted,
+    /// another format version, or saved for another configuration.
+    InvalidState,
 }
 
 impl std::fmt::Display for NavError {
@@ -310,6 +316,52 @@ impl From<FilterError> for NavError {
         Self {
             kind: NavErrorKind::Numerical,
             message: format!("filter step failed: {e}"),
+        }
+    }
+}
+
+/// One setting of a [`NavConfig`] as a saved state records it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Setting {
+    /// A code, count or seed (the seed's `u64` bits as `i64`).
+    Int(i64),
+    /// A real number.
+    Real(f64),
+}
+
+impl Setting {
+    /// The 8 bytes a state stores: the two's complement of an `Int`, the IEEE-754 bits of
+    /// a `Real` (so `-0.0` and `0.0` differ: a restore must continue bit for bit).
+    pub fn bits(self) -> u64 {
+        match self {
+            Setting::Int(v) => v as u64,
+            Setting::Real(v) => v.to_bits(),
+        }
+    }
+
+    /// The same kind of setting with the stored bits `b`.
+    fn with_bits(self, b: u64) -> Self {
+        match self {
+            Setting::Int(_) => Setting::Int(b as i64),
+            Setting::Real(_) => Setting::Real(f64::from_bits(b)),
+        }
+    }
+}
+
+impl std::fmt::Display for Setting {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Setting::Int(v) => write!(f, "{v}"),
+            Setting::Real(v) => f.write_str(&num(*v)),
+        }
+    }
+}
+
+impl From<StateError> for NavError {
+    fn from(e: StateError) -> Self {
+        Self {
+            kind: NavErrorKind::InvalidState,
+            message: format!("state refused: {e}"),
         }
     }
 }
@@ -482,6 +534,107 @@ impl NavConfig {
         Ok(())
     }
 
+    /// Every setting by name, in the order of a saved state's configuration section
+    /// (`docs/state-format.md`). The destructuring names every field: a new field of
+    /// `NavConfig` does not compile until it is added here (and so to the fingerprint).
+    pub fn settings(&self) -> Vec<(&'static str, Setting)> {
+        use Setting::{Int, Real};
+        let NavConfig {
+            filter,
+            frame,
+            mean_motion,
+            chaser_mass,
+            sigma_range,
+            sigma_angle,
+            x0,
+            sigma_pos0,
+            sigma_vel0,
+            accel_psd,
+            q_pos,
+            q_vel,
+            discretization,
+            ukf,
+            seed,
+            particles,
+            resampler,
+            resample_threshold,
+            noise_model,
+            noise_zeta,
+            noise_scale,
+            noise_dof,
+            window,
+            q_vv_floor,
+            q_vv_ceiling,
+            hinf_period,
+            hinf_delta_bar,
+            hinf_b_pos,
+            hinf_b_vel,
+            hinf_d,
+        } = *self;
+        let UkfParams { alpha, beta, kappa } = ukf;
+        vec![
+            ("filter", Int(filter as i64)),
+            ("frame", Int(frame.code() as i64)),
+            ("mean_motion", Real(mean_motion)),
+            ("chaser_mass", Real(chaser_mass)),
+            ("sigma_range", Real(sigma_range)),
+            ("sigma_angle", Real(sigma_angle)),
+            ("x0[0]", Real(x0[0])),
+            ("x0[1]", Real(x0[1])),
+            ("x0[2]", Real(x0[2])),
+            ("x0[3]", Real(x0[3])),
+            ("x0[4]", Real(x0[4])),
+            ("x0[5]", Real(x0[5])),
+            ("sigma_pos0", Real(sigma_pos0)),
+            ("sigma_vel0", Real(sigma_vel0)),
+            ("accel_psd", Real(accel_psd)),
+            ("q_pos[0]", Real(q_pos[0])),
+            ("q_pos[1]", Real(q_pos[1])),
+            ("q_pos[2]", Real(q_pos[2])),
+            ("q_vel[0]", Real(q_vel[0])),
+            ("q_vel[1]", Real(q_vel[1])),
+            ("q_vel[2]", Real(q_vel[2])),
+            ("discretization", Int(discretization as i64)),
+            ("ukf_alpha", Real(alpha)),
+            ("ukf_beta", Real(beta)),
+            ("ukf_kappa", Real(kappa)),
+            ("seed", Int(seed as i64)),
+            ("particles", Int(particles as i64)),
+            ("resampler", Int(resampler as i64)),
+            ("resample_threshold", Real(resample_threshold)),
+            ("noise_model", Int(noise_model as i64)),
+            ("noise_zeta", Real(noise_zeta)),
+            ("noise_scale", Real(noise_scale)),
+            ("noise_dof", Real(noise_dof)),
+            ("window", Int(window as i64)),
+            ("q_vv_floor", Real(q_vv_floor)),
+            ("q_vv_ceiling", Real(q_vv_ceiling)),
+            ("hinf_period", Real(hinf_period)),
+            ("hinf_delta_bar", Real(hinf_delta_bar)),
+            ("hinf_b_pos", Real(hinf_b_pos)),
+            ("hinf_b_vel", Real(hinf_b_vel)),
+            ("hinf_d", Real(hinf_d)),
+        ]
+    }
+
+    /// The configuration section of a saved state: the number of settings (u32) and each
+    /// setting's 8 bytes ([`Setting::bits`]), in [`NavConfig::settings`] order.
+    fn write_settings(&self, w: &mut Writer<'_>) {
+        let s = self.settings();
+        w.u32(s.len() as u32);
+        for (_, v) in s {
+            w.u64(v.bits());
+        }
+    }
+
+    /// The configuration fingerprint of a saved state's header: the CRC-32 of the
+    /// configuration section ([`NavConfig::settings`]).
+    pub fn fingerprint(&self) -> u32 {
+        let mut b = Vec::new();
+        self.write_settings(&mut Writer::new(&mut b));
+        crc32(&b)
+    }
+
     /// The H-infinity design inputs of this configuration (`w0` = `mean_motion`).
     pub fn hinf_spec(&self) -> crate::hinf::HinfSpec {
         crate::hinf::HinfSpec {
@@ -607,6 +760,45 @@ impl AnyFilter {
             (AnyFilter::Aqukf(f), Snapshot::Aqukf(g)) => f.restore(g),
             (AnyFilter::Hinf(f), Snapshot::Hinf(g)) => *f = *g,
             _ => {}
+        }
+    }
+}
+
+impl AnyFilter {
+    /// The 4-byte tag of this filter's section in a saved state.
+    fn state_tag(&self) -> &'static [u8; 4] {
+        match self {
+            AnyFilter::Ekf(_) => b"EKF ",
+            AnyFilter::Ukf(_) => b"UKF ",
+            AnyFilter::Aqukf(_) => b"AQUK",
+            AnyFilter::Pf(_) => b"PART",
+            AnyFilter::Hinf(_) => b"HINF",
+        }
+    }
+}
+
+/// The filter's section: its tag, then the filter's own [`Persist`] fields (each defined
+/// beside the filter).
+impl Persist for AnyFilter {
+    fn save_state(&self, w: &mut Writer<'_>) {
+        w.tag(self.state_tag());
+        match self {
+            AnyFilter::Ekf(f) => f.save_state(w),
+            AnyFilter::Ukf(f) => f.save_state(w),
+            AnyFilter::Aqukf(f) => f.save_state(w),
+            AnyFilter::Pf(f) => f.save_state(w),
+            AnyFilter::Hinf(f) => f.save_state(w),
+        }
+    }
+
+    fn load_state(&mut self, r: &mut Reader<'_>) -> Result<(), StateError> {
+        r.tag(self.state_tag())?;
+        match self {
+            AnyFilter::Ekf(f) => f.load_state(r),
+            AnyFilter::Ukf(f) => f.load_state(r),
+            AnyFilter::Aqukf(f) => f.load_state(r),
+            AnyFilter::Pf(f) => f.load_state(r),
+            AnyFilter::Hinf(f) => f.load_state(r),
         }
     }
 }
@@ -982,4 +1174,153 @@ impl Navigator {
     pub fn filter(&self) -> &AnyFilter {
         &self.filter
     }
+
+    /// The payload of a saved state: configuration section, navigator section, filter
+    /// section (`docs/state-format.md`). The destructuring names every field: a new one
+    /// does not compile until it is saved here or marked as configuration or cache.
+    fn write_state(&self, w: &mut Writer<'_>) {
+        let Self {
+            cfg,
+            // configuration: rebuilt from `cfg` by the restoring navigator
+            model: _,
+            sensor: _,
+            kalman_sensor: _,
+            noise: _,
+            scales: _,
+            filter,
+            // a cache of the discrete model per step size, recomputed from `cfg` (same bits)
+            step_cache: _,
+            last_update,
+            failed,
+        } = self;
+        w.tag(b"CONF");
+        cfg.write_settings(w);
+        w.tag(b"NAVG");
+        w.bool(*failed);
+        // always the same size: zeros in place of an absent last update
+        let u = last_update.unwrap_or_default();
+        w.bool(last_update.is_some());
+        w.matrix(&u.innovation);
+        w.f64(u.nis);
+        w.bool(u.azimuth_used);
+        filter.save_state(w);
+    }
+
+    /// The identity block of a saved state's header: filter code (i32 LE), configuration
+    /// fingerprint (u32 LE, [`NavConfig::fingerprint`]).
+    fn state_ident(&self) -> [u8; 8] {
+        let mut id = [0u8; 8];
+        id[..4].copy_from_slice(&(self.cfg.filter as i32).to_le_bytes());
+        id[4..].copy_from_slice(&self.cfg.fingerprint().to_le_bytes());
+        id
+    }
+
+    /// Size in bytes of [`Navigator::save_state`]'s output (counted, nothing allocated). It
+    /// depends on the configuration only (a particle filter's grows with `particles`), not
+    /// on the history: one buffer of this size holds every later state.
+    pub fn state_len(&self) -> usize {
+        state::sealed_len(STATE_IDENT_LEN, |w| self.write_state(w))
+    }
+
+    /// Append the complete state to `out` as explicit, versioned bytes
+    /// (`docs/state-format.md`): a header (magic `RELNAVES`, [`STATE_FORMAT_VERSION`],
+    /// filter code, configuration fingerprint, payload length, CRC-32) and a payload with
+    /// the configuration, the navigator's own state (failure flag, last-update
+    /// diagnostics) and the filter's (particles, weights and generator state, the AQUKF
+    /// window, the H-infinity matrices, ...). [`Navigator::restore_state`] on a navigator
+    /// of the same configuration — this one or another, in this process or another —
+    /// continues bit for bit as this one would.
+    pub fn save_state(&self, out: &mut Vec<u8>) {
+        let ident = self.state_ident();
+        state::seal(out, ESTIMATOR_MAGIC, STATE_FORMAT_VERSION, &ident, |w| {
+            self.write_state(w)
+        });
+    }
+
+    /// Restore a state saved by [`Navigator::save_state`]. Refused with
+    /// [`NavErrorKind::InvalidState`] and a reason when the bytes are truncated or
+    /// corrupted (length, CRC-32), of another format version or kind, or saved for another
+    /// configuration (the message names the first setting that differs); a malformed field
+    /// (a permutation that is none, an index out of range, a non-finite estimate) is
+    /// refused too. Transactional: on error nothing changes.
+    pub fn restore_state(&mut self, bytes: &[u8]) -> Result<(), NavError> {
+        let o = state::open(
+            bytes,
+            ESTIMATOR_MAGIC,
+            STATE_FORMAT_VERSION,
+            STATE_IDENT_LEN,
+            "a relnav estimator state",
+            &KINDS,
+        )?;
+        let mut id = Reader::new(o.ident);
+        let code = id.i32("filter code")?;
+        let fingerprint = id.u32("configuration fingerprint")?;
+        if code != self.cfg.filter as i32 {
+            let name = FilterKind::from_code(code).map_or("unknown", FilterKind::name);
+            return Err(refuse(format!(
+                "the state is for filter {code} ({name}), this estimator runs filter {} ({})",
+                self.cfg.filter as i32,
+                self.cfg.filter.name()
+            ))
+            .into());
+        }
+        let mut r = Reader::new(o.payload);
+        r.tag(b"CONF")?;
+        let conf_at = r.position();
+        let mine = self.cfg.settings();
+        let n = r.u32("number of settings")? as usize;
+        if n != mine.len() {
+            return Err(refuse(format!(
+                "the state records {n} settings, this build has {}",
+                mine.len()
+            ))
+            .into());
+        }
+        for (name, v) in &mine {
+            let b = r.u64(name)?;
+            if b != v.bits() {
+                return Err(refuse(format!(
+                    "the state was saved for another configuration: {name} = {} in the \
+                     state, {v} in this estimator",
+                    v.with_bits(b)
+                ))
+                .into());
+            }
+        }
+        let conf = o.payload.get(conf_at..r.position()).unwrap_or_default();
+        if crc32(conf) != fingerprint || fingerprint != self.cfg.fingerprint() {
+            return Err(refuse(format!(
+                "configuration fingerprint {fingerprint:08x} of the header does not match the \
+                 configuration it carries ({:08x})",
+                crc32(conf)
+            ))
+            .into());
+        }
+        r.tag(b"NAVG")?;
+        let failed = r.bool("failure flag")?;
+        let present = r.bool("last-update flag")?;
+        let u = UpdateInfo {
+            innovation: r.matrix("last innovation")?,
+            nis: r.f64("last NIS")?,
+            azimuth_used: r.bool("last azimuth-used flag")?,
+        };
+        let last_update = present.then_some(u);
+        let mut filter = self.filter.clone();
+        filter.load_state(&mut r)?;
+        r.finish()?;
+        // commit: nothing below can fail
+        self.filter = filter;
+        self.last_update = last_update;
+        self.failed = failed;
+        Ok(())
+    }
 }
+
+/// cbindgen:ignore
+/// Format version of [`Navigator::save_state`]'s bytes. Bump it whenever the layout
+/// changes (a field added to a filter's `Persist`, a new setting); a state of another
+/// version is refused, never misread.
+pub const STATE_FORMAT_VERSION: u32 = 1;
+
+/// Length of the identity block of an estimator state's header (filter code, fingerprint).
+const STATE_IDENT_LEN: usize = 8;

@@ -14,7 +14,7 @@ pub struct relnav_estimator {
 
 /// # Safety
 /// `ptr` is null or a handle from `relnav_estimator_new` not yet freed.
-unsafe fn estimator_mut<'a>(
+pub(super) unsafe fn estimator_mut<'a>(
     ptr: *mut relnav_estimator,
     func: &str,
 ) -> Result<&'a mut Navigator, Failure> {
@@ -26,7 +26,7 @@ unsafe fn estimator_mut<'a>(
 
 /// # Safety
 /// As [`estimator_mut`].
-unsafe fn estimator_ref<'a>(
+pub(super) unsafe fn estimator_ref<'a>(
     ptr: *const relnav_estimator,
     func: &str,
 ) -> Result<&'a Navigator, Failure> {

@@ -753,95 +753,155 @@ pub unsafe extern "C" fn fmi2SetString(
     }
 }
 
-// ---------------------------------------------------------------- unsupported: state, derivatives
+// ---------------------------------------------------------------- FMU state
 
-const NO_STATE: &str = "canGetAndSetFMUstate=\"false\"";
+/// Copy the instance's complete state (`canGetAndSetFMUstate="true"`; the bytes of
+/// [`super::state`]). `*FMUstate == NULL` allocates a new state; a state this instance
+/// made is overwritten in place. Allowed in every state (a state taken in the error state
+/// restores the error state).
+///
+/// # Safety
+/// `c` live or null; `FMUstate` null or writable.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetFMUstate(
+    c: fmi2Component,
+    FMUstate: *mut fmi2FMUstate,
+) -> fmi2Status {
+    // SAFETY: contract forwarded; `FMUstate` checked for null.
+    unsafe {
+        guarded(c, "fmi2GetFMUstate", ANY_STATE, |inst| {
+            let out = slice_mut(FMUstate, 1, "FMUstate")?;
+            let bytes = inst.save_state()?;
+            out[0] = inst.states.put(out[0], bytes);
+            Ok(())
+        })
+    }
+}
 
-/// Unsupported (`canGetAndSetFMUstate="false"`).
+/// Restore a state made by this instance (see [`super::state`] for what is restored and
+/// what is refused). A refused state leaves the instance's data unchanged.
 ///
 /// # Safety
 /// `c` live or null.
 #[no_mangle]
-pub unsafe extern "C" fn fmi2GetFMUstate(c: fmi2Component, _s: *mut fmi2FMUstate) -> fmi2Status {
-    // SAFETY: contract forwarded.
-    unsafe { unsupported(c, "fmi2GetFMUstate", NO_STATE) }
+pub unsafe extern "C" fn fmi2SetFMUstate(c: fmi2Component, FMUstate: fmi2FMUstate) -> fmi2Status {
+    const F: &str = "fmi2SetFMUstate";
+    // SAFETY: contract forwarded; the state pointer is only compared, never dereferenced.
+    unsafe {
+        guarded(c, F, ANY_STATE, |inst| {
+            let bytes = inst.states.get(FMUstate, F)?.bytes().to_vec();
+            inst.restore_state(&bytes, F)
+        })
+    }
 }
 
-/// Unsupported (`canGetAndSetFMUstate="false"`).
+/// Free a state (`*FMUstate == NULL` is ignored); `*FMUstate` is set to NULL.
 ///
 /// # Safety
-/// `c` live or null.
+/// `c` live or null; `FMUstate` null or writable.
 #[no_mangle]
-pub unsafe extern "C" fn fmi2SetFMUstate(c: fmi2Component, _s: fmi2FMUstate) -> fmi2Status {
-    // SAFETY: contract forwarded.
-    unsafe { unsupported(c, "fmi2SetFMUstate", NO_STATE) }
+pub unsafe extern "C" fn fmi2FreeFMUstate(
+    c: fmi2Component,
+    FMUstate: *mut fmi2FMUstate,
+) -> fmi2Status {
+    const F: &str = "fmi2FreeFMUstate";
+    // SAFETY: contract forwarded; `FMUstate` checked for null.
+    unsafe {
+        guarded(c, F, ANY_STATE, |inst| {
+            let s = slice_mut(FMUstate, 1, "FMUstate")?;
+            if !s[0].is_null() {
+                inst.states.free(s[0], F)?;
+                s[0] = std::ptr::null_mut();
+            }
+            Ok(())
+        })
+    }
 }
 
-/// Unsupported (`canGetAndSetFMUstate="false"`).
+/// Size in bytes of a state's serialised form (`canSerializeFMUstate="true"`).
 ///
 /// # Safety
-/// `c` live or null.
-#[no_mangle]
-pub unsafe extern "C" fn fmi2FreeFMUstate(c: fmi2Component, _s: *mut fmi2FMUstate) -> fmi2Status {
-    // SAFETY: contract forwarded.
-    unsafe { unsupported(c, "fmi2FreeFMUstate", NO_STATE) }
-}
-
-/// Unsupported (`canSerializeFMUstate="false"`).
-///
-/// # Safety
-/// `c` live or null.
+/// `c` live or null; `size` null or writable.
 #[no_mangle]
 pub unsafe extern "C" fn fmi2SerializedFMUstateSize(
     c: fmi2Component,
-    _s: fmi2FMUstate,
-    _size: *mut usize,
+    FMUstate: fmi2FMUstate,
+    size: *mut usize,
 ) -> fmi2Status {
-    // SAFETY: contract forwarded.
+    const F: &str = "fmi2SerializedFMUstateSize";
+    // SAFETY: contract forwarded; `size` checked for null.
     unsafe {
-        unsupported(
-            c,
-            "fmi2SerializedFMUstateSize",
-            "canSerializeFMUstate=\"false\"",
-        )
+        guarded(c, F, ANY_STATE, |inst| {
+            let out = slice_mut(size, 1, "size")?;
+            out[0] = inst.states.get(FMUstate, F)?.bytes().len();
+            Ok(())
+        })
     }
 }
 
-/// Unsupported (`canSerializeFMUstate="false"`).
+/// Copy a state's serialised form into `serializedState` (`size` bytes, at least
+/// [`fmi2SerializedFMUstateSize`]; the state fills the first that many).
 ///
 /// # Safety
-/// `c` live or null.
+/// `c` live or null; `serializedState` null or `size` writable bytes.
 #[no_mangle]
 pub unsafe extern "C" fn fmi2SerializeFMUstate(
     c: fmi2Component,
-    _s: fmi2FMUstate,
-    _bytes: *mut fmi2Byte,
-    _size: usize,
+    FMUstate: fmi2FMUstate,
+    serializedState: *mut fmi2Byte,
+    size: usize,
 ) -> fmi2Status {
-    // SAFETY: contract forwarded.
-    unsafe { unsupported(c, "fmi2SerializeFMUstate", "canSerializeFMUstate=\"false\"") }
+    const F: &str = "fmi2SerializeFMUstate";
+    // SAFETY: contract forwarded; pointers checked.
+    unsafe {
+        guarded(c, F, ANY_STATE, |inst| {
+            let b = inst.states.get(FMUstate, F)?.bytes();
+            if size < b.len() {
+                return Err(error(format!(
+                    "{F}: the state needs {} bytes (fmi2SerializedFMUstateSize), the buffer holds {size}",
+                    b.len()
+                )));
+            }
+            let out = slice_mut(serializedState.cast::<u8>(), b.len(), "serializedState")?;
+            out.copy_from_slice(b);
+            Ok(())
+        })
+    }
 }
 
-/// Unsupported (`canSerializeFMUstate="false"`).
+/// Make a state from serialised bytes (of this FMU, possibly of another instance or
+/// process). The bytes are checked here — length, CRC-32, magic, format version, GUID,
+/// structure — and refused with a logged reason; whether the state fits this instance's
+/// parameters is checked by [`fmi2SetFMUstate`]. `*FMUstate == NULL` allocates a new
+/// state; a state this instance made is overwritten.
 ///
 /// # Safety
-/// `c` live or null.
+/// `c` live or null; `serializedState` null or `size` readable bytes; `FMUstate` null or
+/// writable.
 #[no_mangle]
 pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
     c: fmi2Component,
-    _bytes: *const fmi2Byte,
-    _size: usize,
-    _s: *mut fmi2FMUstate,
+    serializedState: *const fmi2Byte,
+    size: usize,
+    FMUstate: *mut fmi2FMUstate,
 ) -> fmi2Status {
-    // SAFETY: contract forwarded.
+    const F: &str = "fmi2DeSerializeFMUstate";
+    // SAFETY: contract forwarded; pointers checked.
     unsafe {
-        unsupported(
-            c,
-            "fmi2DeSerializeFMUstate",
-            "canSerializeFMUstate=\"false\"",
-        )
+        guarded(c, F, ANY_STATE, |inst| {
+            let out = slice_mut(FMUstate, 1, "FMUstate")?;
+            if serializedState.is_null() {
+                return Err(error(format!("{F}: serializedState is null")));
+            }
+            let bytes = slice(serializedState.cast::<u8>(), size, "serializedState")?;
+            Instance::check_state(bytes, F)?;
+            out[0] = inst.states.put(out[0], bytes.to_vec());
+            Ok(())
+        })
     }
 }
+
+// ---------------------------------------------------------------- unsupported: derivatives
 
 /// Unsupported (`providesDirectionalDerivative="false"`).
 ///

@@ -122,6 +122,8 @@ pub struct Instance {
     time: f64,
     start_time: f64,
     stop_time: Option<f64>,
+    /// The FMU states handed out by `fmi2GetFMUstate` / `fmi2DeSerializeFMUstate`.
+    pub states: super::state::StateRegistry,
 }
 
 impl Drop for Instance {
@@ -168,7 +170,7 @@ fn check_alone(def: &VarDef, value: f64) -> Result<(), FmiFailure> {
             values[partner as usize] = loose;
         }
     }
-    let cfg = Instance::config_of(&values);
+    let cfg = config_of(&values);
     // SAFETY: a valid local configuration.
     status_of(unsafe { ffi::relnav_config_validate(&cfg) })
 }
@@ -182,7 +184,7 @@ fn show(def: &VarDef, value: f64) -> String {
     }
 }
 
-fn status_of(s: relnav_status) -> Result<(), FmiFailure> {
+pub(super) fn status_of(s: relnav_status) -> Result<(), FmiFailure> {
     if s == relnav_status::RELNAV_OK {
         Ok(())
     } else {
@@ -209,6 +211,7 @@ impl Instance {
             time: 0.0,
             start_time: 0.0,
             stop_time: None,
+            states: Default::default(),
         };
         inst.set_start_values();
         inst
@@ -323,11 +326,13 @@ impl Instance {
 
     /// The C-ABI configuration assembled from the parameter values.
     pub fn config(&self) -> relnav_config {
-        Self::config_of(&self.values)
+        config_of(&self.values)
     }
+}
 
-    /// The C-ABI configuration of a set of variable values (value reference = index).
-    fn config_of(values: &[f64; N_VARS]) -> relnav_config {
+/// The C-ABI configuration assembled from the parameter values of `values`.
+pub(super) fn config_of(values: &[f64; N_VARS]) -> relnav_config {
+    {
         let v = |r: u32| values[r as usize];
         let mut c = ffi::relnav_config_default();
         c.filter = v(vr::FILTER) as i32;
@@ -363,7 +368,9 @@ impl Instance {
         c.hinf_d = v(vr::HINF_D);
         c
     }
+}
 
+impl Instance {
     /// Whether the `filter` parameter selects a particle filter (codes 4-8).
     fn particle_filter_selected(&self) -> bool {
         (4.0..=8.0).contains(&self.values[vr::FILTER as usize])
@@ -618,6 +625,48 @@ impl Instance {
             self.publish_initial_outputs();
         }
         Ok(())
+    }
+}
+
+/// What the FMU state ([`super::state`]) reads and restores.
+impl Instance {
+    /// Every variable's value, by value reference.
+    pub(super) fn values(&self) -> &[f64; N_VARS] {
+        &self.values
+    }
+
+    /// `(time, start time, stop time)`.
+    pub(super) fn times(&self) -> (f64, f64, Option<f64>) {
+        (self.time, self.start_time, self.stop_time)
+    }
+
+    /// The estimator handle (null before `fmi2ExitInitializationMode`).
+    pub(super) fn estimator_ptr(&self) -> *mut relnav_estimator {
+        self.estimator
+    }
+
+    /// Take `e` (null or a live handle) as the estimator, freeing the previous one.
+    pub(super) fn replace_estimator(&mut self, e: *mut relnav_estimator) {
+        if e != self.estimator {
+            self.free_estimator();
+            self.estimator = e;
+        }
+    }
+
+    /// Everything but the estimator, as a restored state has it.
+    pub(super) fn set_restored(
+        &mut self,
+        mode: ModelState,
+        values: [f64; N_VARS],
+        time: f64,
+        start_time: f64,
+        stop_time: Option<f64>,
+    ) {
+        self.state = mode;
+        self.values = values;
+        self.time = time;
+        self.start_time = start_time;
+        self.stop_time = stop_time;
     }
 }
 

@@ -34,6 +34,7 @@
 //! `T`). Tested in `tests/hinf.rs`.
 
 use crate::dynamics::CwModel;
+use crate::numerics::state::{refuse, Persist, Reader, StateError, Writer};
 use crate::types::{Mat3, Mat36, Mat6, Mat63, State, Vec3};
 
 #[cfg(feature = "hinf")]
@@ -534,5 +535,94 @@ impl crate::estimators::Estimator for HinfEstimator {
     fn set_estimate(&mut self, x: State, _p: Mat6) {
         self.filter.set_estimate(x);
         self.pending = None;
+    }
+}
+
+/// Saved state: the matrices `A_F` (36), `B_F` (18), `C_F` (36), `E_F` (18), column by
+/// column, and their period (8) — saved rather than re-designed, so a restore continues
+/// with exactly these numbers whatever the solver gives on another machine — then
+/// `C_F^-1` (36), the filter state `x_f` (6) and the estimate `C_F x_f` (6).
+impl Persist for HinfFilter {
+    fn save_state(&self, w: &mut Writer<'_>) {
+        let Self {
+            m,
+            c_f_inv,
+            x_f,
+            est,
+        } = self;
+        let HinfMatrices {
+            a_f,
+            b_f,
+            c_f,
+            e_f,
+            period,
+        } = m;
+        w.matrix(a_f);
+        w.matrix(b_f);
+        w.matrix(c_f);
+        w.matrix(e_f);
+        w.f64(*period);
+        w.matrix(c_f_inv);
+        w.matrix(x_f);
+        w.matrix(est);
+    }
+
+    fn load_state(&mut self, r: &mut Reader<'_>) -> Result<(), StateError> {
+        let Self {
+            m,
+            c_f_inv,
+            x_f,
+            est,
+        } = self;
+        let HinfMatrices {
+            a_f,
+            b_f,
+            c_f,
+            e_f,
+            period,
+        } = m;
+        *a_f = r.finite_matrix("H-infinity A_F")?;
+        *b_f = r.finite_matrix("H-infinity B_F")?;
+        *c_f = r.finite_matrix("H-infinity C_F")?;
+        *e_f = r.finite_matrix("H-infinity E_F")?;
+        *period = r.finite("H-infinity period")?;
+        if !(*period > 0.0) {
+            return Err(refuse(format!(
+                "H-infinity period must be > 0 (got {period})"
+            )));
+        }
+        *c_f_inv = r.finite_matrix("H-infinity C_F^-1")?;
+        *x_f = r.finite_matrix("H-infinity filter state")?;
+        *est = r.finite_matrix("H-infinity estimate")?;
+        Ok(())
+    }
+}
+
+/// Saved state: the runtime filter's, the held indirect position of a measurement not
+/// yet used by a step (flag, then 3), and the design's `gamma` (8).
+impl Persist for HinfEstimator {
+    fn save_state(&self, w: &mut Writer<'_>) {
+        let Self {
+            filter,
+            pending,
+            gamma,
+            nan: _,
+        } = self;
+        filter.save_state(w);
+        w.opt_matrix(pending.as_ref());
+        w.f64(*gamma);
+    }
+
+    fn load_state(&mut self, r: &mut Reader<'_>) -> Result<(), StateError> {
+        let Self {
+            filter,
+            pending,
+            gamma,
+            nan: _,
+        } = self;
+        filter.load_state(r)?;
+        *pending = r.opt_matrix("H-infinity held measurement")?;
+        *gamma = r.f64("H-infinity gamma")?;
+        Ok(())
     }
 }
