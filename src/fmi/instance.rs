@@ -281,6 +281,9 @@ impl Instance {
         c.hinf_b_pos = v(vr::HINF_B_POS);
         c.hinf_b_vel = v(vr::HINF_B_VEL);
         c.hinf_d = v(vr::HINF_D);
+        c.hinf_design = v(vr::HINF_DESIGN) as i32;
+        c.hinf_gamma_factor = v(vr::HINF_GAMMA_FACTOR);
+        c.hinf_acquisition = i32::from(v(vr::HINF_ACQUISITION) != 0.0);
         c
     }
 
@@ -302,6 +305,8 @@ impl Instance {
             self.write_outputs(&x0, &[sp, sp, sp, sv, sv, sv]);
         }
         self.values[vr::HINF_GAMMA as usize] = f64::NAN;
+        self.values[vr::HINF_H2_NORM as usize] = f64::NAN;
+        self.values[vr::HINF_CERTIFIED as usize] = 0.0;
         self.values[vr::ESS as usize] = if self.particle_filter_selected() {
             v[vr::PARTICLES as usize]
         } else {
@@ -355,12 +360,22 @@ impl Instance {
         let mut gamma = f64::NAN;
         // SAFETY: as above; `gamma` is a writable local.
         status_of(unsafe { ffi::relnav_estimator_get_hinf_gamma(self.estimator, &mut gamma) })?;
+        let mut h2 = f64::NAN;
+        // SAFETY: as above; `h2` is a writable local.
+        status_of(unsafe { ffi::relnav_estimator_get_hinf_h2_norm(self.estimator, &mut h2) })?;
+        let mut certified = -1;
+        // SAFETY: as above; `certified` is a writable local.
+        status_of(unsafe {
+            ffi::relnav_estimator_get_hinf_certified(self.estimator, &mut certified)
+        })?;
         self.write_outputs(&x, &s);
         self.values[vr::ESS as usize] = ess;
         self.values[vr::Q_VV_X as usize] = q[0];
         self.values[vr::Q_VV_Y as usize] = q[1];
         self.values[vr::Q_VV_Z as usize] = q[2];
         self.values[vr::HINF_GAMMA as usize] = gamma;
+        self.values[vr::HINF_H2_NORM as usize] = h2;
+        self.values[vr::HINF_CERTIFIED as usize] = f64::from(u8::from(certified == 1));
         Ok(())
     }
 
@@ -382,14 +397,25 @@ impl Instance {
                     cfg.particles, cfg.resampler, cfg.resample_threshold, cfg.seed
                 )
             } else if cfg.filter == 9 {
+                let noise = |v: f64| {
+                    if v == 0.0 {
+                        "derived".to_string()
+                    } else {
+                        v.to_string()
+                    }
+                };
                 format!(
-                    ", hinf: observer design for hinf_period {} s, delta_bar {}, b_pos {}, b_vel {}, d {}: gamma = {}",
+                    ", hinf: {} observer design (gamma_factor {}) for hinf_period {} s, delta_bar {}, b_pos {}, b_vel {}, d {}: gamma = {}, H2 norm = {}, acquisition {}",
+                    if cfg.hinf_design == 1 { "gamma-optimal" } else { "mixed H2/H-infinity" },
+                    cfg.hinf_gamma_factor,
                     cfg.hinf_period,
                     cfg.hinf_delta_bar,
-                    cfg.hinf_b_pos,
-                    cfg.hinf_b_vel,
-                    cfg.hinf_d,
-                    self.values[vr::HINF_GAMMA as usize]
+                    noise(cfg.hinf_b_pos),
+                    noise(cfg.hinf_b_vel),
+                    noise(cfg.hinf_d),
+                    self.values[vr::HINF_GAMMA as usize],
+                    self.values[vr::HINF_H2_NORM as usize],
+                    if cfg.hinf_acquisition != 0 { "on" } else { "off" }
                 )
             } else {
                 String::new()

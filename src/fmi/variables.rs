@@ -197,13 +197,32 @@ pub static NOISE_MODEL_TYPE: EnumType = EnumType {
     ],
 };
 
+/// `hinf_design` parameter values (the C ABI's `relnav_hinf_form` codes available to
+/// filter 9).
+pub static HINF_DESIGN_TYPE: EnumType = EnumType {
+    name: "HinfDesign",
+    items: &[
+        (
+            "gamma_optimal",
+            1,
+            "Observer with the least certified gamma (issue 5's design)",
+        ),
+        (
+            "mixed",
+            3,
+            "Mixed H2/H-infinity observer: least H2 norm (steady-state error) with gamma <= hinf_gamma_factor times the optimum",
+        ),
+    ],
+};
+
 /// All enumeration types, in declaration order.
-pub static ENUM_TYPES: [&EnumType; 5] = [
+pub static ENUM_TYPES: [&EnumType; 6] = [
     &FILTER_TYPE,
     &FRAME_TYPE,
     &DISCRETIZATION_TYPE,
     &RESAMPLER_TYPE,
     &NOISE_MODEL_TYPE,
+    &HINF_DESIGN_TYPE,
 ];
 
 macro_rules! variables {
@@ -327,18 +346,28 @@ variables! {
         "H-infinity filter (code 9): sampling period of its discrete design; fmi2DoStep with another step size is refused (set it to the communication step)";
     HINF_DELTA_BAR = 58: "hinf_delta_bar", Parameter, Fixed, Real(""), 0.05,
         "H-infinity filter: bound of the orbit-rate uncertainty, w = w0 (1 + delta), |delta| <= hinf_delta_bar (paper 002: 0.05)";
-    HINF_B_POS = 59: "hinf_b_pos", Parameter, Fixed, Real("m"), 0.05,
-        "H-infinity filter: process-noise scaling on positions (paper 002 B: 0.05)";
-    HINF_B_VEL = 60: "hinf_b_vel", Parameter, Fixed, Real("m/s"), 0.001,
-        "H-infinity filter: process-noise scaling on velocities (paper 002 B: 0.001)";
-    HINF_D = 61: "hinf_d", Parameter, Fixed, Real("m"), 0.1,
-        "H-infinity filter: scaling of the indirect position measurement noise (paper 002 D: 0.1)";
+    HINF_B_POS = 59: "hinf_b_pos", Parameter, Fixed, Real("m"), 0.0,
+        "H-infinity filter: process-noise scaling on positions (paper 002 B: 0.05); 0 with hinf_b_vel = 0 (default): derived from accel_psd, q_pos_*, q_vel_* (the noise every other filter uses)";
+    HINF_B_VEL = 60: "hinf_b_vel", Parameter, Fixed, Real("m/s"), 0.0,
+        "H-infinity filter: process-noise scaling on velocities (paper 002 B: 0.001); 0 with hinf_b_pos = 0 (default): derived";
+    HINF_D = 61: "hinf_d", Parameter, Fixed, Real("m"), 0.0,
+        "H-infinity filter: scaling of the indirect position measurement noise (paper 002 D: 0.1); 0 (default): derived from sigma_range, sigma_angle and the noise model at the initial estimate's position";
     HINF_GAMMA = 62: "hinf_gamma", Output, Continuous, Real(""), 0.0,
         "H-infinity filter: the design's certified bound gamma on the worst-case gain from the scaled noises to the estimation error; NaN for the other filters";
+    HINF_DESIGN = 63: "hinf_design", Parameter, Fixed, Enumeration(&HINF_DESIGN_TYPE), 3.0,
+        "H-infinity filter: the LMI design (mixed H2/H-infinity by default; gamma_optimal is issue 5's filter)";
+    HINF_GAMMA_FACTOR = 64: "hinf_gamma_factor", Parameter, Fixed, Real(""), 1.5,
+        "H-infinity filter, mixed design: bound on the certified gamma (hinf_gamma) as a multiple of the gamma-optimal design's (> 1)";
+    HINF_ACQUISITION = 65: "hinf_acquisition", Parameter, Fixed, Boolean, 1.0,
+        "H-infinity filter: start with the Kalman gain of the design's noise model and hand over to the designed gain once that is no worse (track initiation); false: the designed gain from the first step";
+    HINF_H2_NORM = 66: "hinf_h2_norm", Output, Continuous, Real(""), 0.0,
+        "H-infinity filter: H2 norm of the design (from the unit white noises of its noise model to the error; with the derived noise model, the steady-state RMS error in m, velocity in m/s included); NaN for the other filters";
+    HINF_CERTIFIED = 67: "hinf_certified", Output, Discrete, Boolean, 0.0,
+        "H-infinity filter: true while the designed, certified gain runs (after the hand-over of hinf_acquisition, or always without it); false while acquiring and for the other filters";
 }
 
 /// Number of variables.
-pub const N_VARS: usize = 63;
+pub const N_VARS: usize = 68;
 
 /// The definition for a value reference, if it exists.
 pub fn lookup(vr: u32) -> Option<&'static VarDef> {
@@ -405,6 +434,12 @@ mod tests {
         assert_eq!(s(vr::HINF_B_POS), c.hinf_b_pos);
         assert_eq!(s(vr::HINF_B_VEL), c.hinf_b_vel);
         assert_eq!(s(vr::HINF_D), c.hinf_d);
+        assert_eq!(s(vr::HINF_DESIGN), c.hinf_design as i32 as f64);
+        assert_eq!(s(vr::HINF_GAMMA_FACTOR), c.hinf_gamma_factor);
+        assert_eq!(
+            s(vr::HINF_ACQUISITION),
+            f64::from(u8::from(c.hinf_acquisition))
+        );
     }
 
     /// The enumerations carry the library's codes and names.
@@ -430,5 +465,10 @@ mod tests {
             .map(|k| (*k as i32, k.name()))
             .collect();
         assert_eq!(names(&NOISE_MODEL_TYPE), noises);
+        let designs: Vec<(i32, &str)> = crate::nav::HinfDesignKind::ALL
+            .iter()
+            .map(|k| (*k as i32, k.name()))
+            .collect();
+        assert_eq!(names(&HINF_DESIGN_TYPE), designs);
     }
 }
