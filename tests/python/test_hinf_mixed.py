@@ -159,3 +159,24 @@ def test_robust_to_the_orbit_rate_error(runner):
         h_p, _ = rmse(np.array(hinf)[idx], truths[idx], times, t_from=300.0)
         # measured (t >= 300 s): EKF 8.1 m / hinf 2.0 m at 5 km, 1.4 m / 0.45 m at 670 m
         assert h_p < 0.5 * e_p, f"EKF {e_p:.2f} m, hinf {h_p:.2f} m"
+
+
+@pytest.mark.parametrize(
+    "params,name",
+    [
+        ({"hinf_gamma_factor": 1.0}, "hinf_gamma_factor"),
+        ({"hinf_b_pos": 0.05}, "hinf_b_vel"),  # set together or derived together
+        ({"accel_psd": 0.0, **{f"q_{k}_{a}": 0.0 for k in ("pos", "vel") for a in "xyz"}}, "accel_psd"),
+    ],
+)
+def test_bad_mixed_design_parameters_are_refused(runner, params, name):
+    from fmpy.fmi1 import FMICallException
+
+    runner.log.records.clear()
+    runner.instantiate(logging_on=True)
+    try:
+        with pytest.raises(FMICallException):
+            runner.initialize({"filter": 9, **params})
+        assert name in runner.log.text(), runner.log.text()
+    finally:
+        runner.free_instance()
