@@ -102,9 +102,10 @@
 //! of coordinates: every transfer is unchanged), `tau = sqrt(trace X_pp / trace X_vv)` of
 //! the steady-state error covariance of the gamma-optimal observer, and solved once more
 //! with the `tau` of the result when that differs by more than a factor 2. In the quiet
-//! case `tau` = 63 s (the result's own: 106 s, one solve; H2 norm 0.0720 m at `f = 1.5`
-//! against 0.0917 m unscaled; without the H-infinity constraint the scaled problem reaches
-//! the Kalman bound to 0.02 %); in paper 002's case 0.31 s, then 3.5 s (two solves). The
+//! case `tau` = 63 s (the result's own: 106 s, one solve; H2 norm 0.072 m at `f = 1.5`
+//! against 0.092 m unscaled; without the H-infinity constraint, at `tau` = 100 s, the
+//! Kalman bound is reached to 0.02 %); in paper 002's case 0.31 s, then 3.5 s (two
+//! solves). The
 //! strict inequalities carry the same margin `eps` as the other designs.
 //!
 //! # Conditioning and the unattained minimum (why the problem is not posed literally)
