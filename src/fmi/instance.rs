@@ -281,6 +281,17 @@ impl Instance {
         c.hinf_b_pos = v(vr::HINF_B_POS);
         c.hinf_b_vel = v(vr::HINF_B_VEL);
         c.hinf_d = v(vr::HINF_D);
+        c.aq_law = v(vr::AQ_LAW) as i32;
+        c.aq_gate_window = v(vr::AQ_GATE_WINDOW) as i32;
+        c.aq_gate_quantile = v(vr::AQ_GATE_QUANTILE);
+        c.imm_modes = v(vr::IMM_MODES) as i32;
+        c.imm_accel_psd = [
+            vr::IMM_ACCEL_PSD_1,
+            vr::IMM_ACCEL_PSD_2,
+            vr::IMM_ACCEL_PSD_3,
+        ]
+        .map(v);
+        c.imm_p_stay = [vr::IMM_P_STAY_1, vr::IMM_P_STAY_2, vr::IMM_P_STAY_3].map(v);
         c
     }
 
@@ -321,6 +332,25 @@ impl Instance {
                 f64::NAN
             };
         }
+        // the IMM starts at the stationary distribution of its mode chain, mu_j ~ 1 / (1 - p_j)
+        let imm = v[vr::FILTER as usize] == 10.0;
+        let modes = v[vr::IMM_MODES as usize];
+        let stay = [vr::IMM_P_STAY_1, vr::IMM_P_STAY_2, vr::IMM_P_STAY_3].map(|r| v[r as usize]);
+        let used = |j: usize| (j as f64) < modes;
+        let total: f64 = (0..3)
+            .filter(|j| used(*j))
+            .map(|j| 1.0 / (1.0 - stay[j]))
+            .sum();
+        for (j, out) in [vr::IMM_MU_1, vr::IMM_MU_2, vr::IMM_MU_3]
+            .iter()
+            .enumerate()
+        {
+            self.values[*out as usize] = if imm && used(j) {
+                1.0 / (1.0 - stay[j]) / total
+            } else {
+                f64::NAN
+            };
+        }
     }
 
     fn write_outputs(&mut self, x: &[f64; 6], sigma: &[f64; 6]) {
@@ -355,6 +385,14 @@ impl Instance {
         let mut gamma = f64::NAN;
         // SAFETY: as above; `gamma` is a writable local.
         status_of(unsafe { ffi::relnav_estimator_get_hinf_gamma(self.estimator, &mut gamma) })?;
+        let mut mu = [f64::NAN; 3];
+        // SAFETY: as above; `mu` holds 3 doubles.
+        status_of(unsafe {
+            ffi::relnav_estimator_get_mode_probabilities(self.estimator, mu.as_mut_ptr())
+        })?;
+        self.values[vr::IMM_MU_1 as usize] = mu[0];
+        self.values[vr::IMM_MU_2 as usize] = mu[1];
+        self.values[vr::IMM_MU_3 as usize] = mu[2];
         self.write_outputs(&x, &s);
         self.values[vr::ESS as usize] = ess;
         self.values[vr::Q_VV_X as usize] = q[0];
