@@ -248,7 +248,17 @@ impl Instance {
 
     /// The C-ABI configuration assembled from the parameter values.
     pub fn config(&self) -> relnav_config {
-        let v = |r: u32| self.values[r as usize];
+        Self::config_from_values(&self.values)
+    }
+
+    /// The C-ABI configuration from the values of the variable table (indexed by value
+    /// reference; parameters are read, other variables ignored): the one mapping from FMU
+    /// parameters to a `relnav_config`, shared with the front ends that take parameters
+    /// by their FMU names (the Python package). Fields that are not FMU parameters keep
+    /// [`ffi::relnav_config_default`]'s values; Enumerations and Integers are the
+    /// integers their `f64` holds.
+    pub fn config_from_values(values: &[f64; N_VARS]) -> relnav_config {
+        let v = |r: u32| values[r as usize];
         let mut c = ffi::relnav_config_default();
         c.filter = v(vr::FILTER) as i32;
         c.frame = v(vr::FRAME) as i32;
