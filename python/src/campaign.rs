@@ -161,10 +161,9 @@ impl PyReducer {
 #[pymethods]
 impl PyReducer {
     /// Add the next chunk's partial sums (refused unless it is chunk `next_index`).
-    fn add(&self, py: Python<'_>, partial: &[u8]) -> PyResult<()> {
+    fn add(&self, partial: &[u8]) -> PyResult<()> {
         let p = Partial::from_bytes(partial).map_err(runtime)?;
         let c = self.campaign.get();
-        let _ = py;
         self.with(|r| r.add(&c.inner, &p))
     }
 

@@ -69,13 +69,13 @@ fn vec3(py: Python<'_>, obj: &Bound<'_, PyAny>, what: &str) -> PyResult<[f64; 3]
         for (o, item) in out.iter_mut().zip(t.iter()) {
             *o = item.extract().map_err(|_| bad())?;
         }
-    } else if let Ok(a) = obj.extract::<PyReadonlyArray1<'_, f64>>() {
-        let a = a.as_array();
+    } else if let Ok(a) = obj.cast::<PyArray1<f64>>() {
+        // element copies: no borrow of the array to register (cheaper for 3 numbers)
         if a.len() != 3 {
             return Err(bad());
         }
-        for (o, x) in out.iter_mut().zip(a.iter()) {
-            *o = *x;
+        for (i, o) in out.iter_mut().enumerate() {
+            *o = a.get_owned([i]).ok_or_else(bad)?;
         }
     } else {
         let items: Vec<f64> = obj
