@@ -29,7 +29,7 @@
 use crate::dynamics::{CwModel, DiscreteModel, Discretization};
 use crate::estimators::aqukf::AqukfSnapshot;
 use crate::estimators::pf::resample::Resampler;
-use crate::estimators::pf::{ParticleFilter, PfKind, PfParams, MAX_PARTICLES};
+use crate::estimators::pf::{ParticleFilter, PfKind, PfParams, MAX_PARTICLES, MAX_THREADS};
 use crate::estimators::{AqParams, Aqukf, Ekf, Estimator, FilterError, Ukf, UkfParams, UpdateInfo};
 use crate::frames::Frame;
 use crate::hinf::HinfEstimator;
@@ -229,6 +229,16 @@ pub struct NavConfig {
     /// H-infinity filter: scaling of the indirect position measurement noise [m]
     /// (paper 002 `D`: 0.1).
     pub hinf_d: f64,
+    /// Particle filters (codes 4-8): move the particles with posterior-invariant
+    /// Metropolis–Hastings steps ([`crate::estimators::pf`], module `moves`; default
+    /// true). False gives the papers' literal filters (paper 000's SIR, the plain RPF,
+    /// van der Merwe's UPF), which degenerate with small process noise.
+    pub pf_move: bool,
+    /// Particle filters: worker threads of the particle loops from
+    /// [`crate::estimators::pf::PARALLEL_MIN_PARTICLES`] particles on (0: one per core,
+    /// rayon's global pool; 1: the calling thread); `0..=MAX_THREADS`. The results do not
+    /// depend on it.
+    pub pf_threads: usize,
 }
 
 impl Default for NavConfig {
@@ -266,6 +276,8 @@ impl Default for NavConfig {
             hinf_b_pos: 0.05,
             hinf_b_vel: 0.001,
             hinf_d: 0.1,
+            pf_move: true,
+            pf_threads: 0,
         }
     }
 }
@@ -464,12 +476,20 @@ impl NavConfig {
             }
         }
         if self.filter.pf_kind().is_some_and(PfKind::unscented)
+            && !self.pf_move
             && !(self.accel_psd > 0.0 || self.q_pos.iter().chain(&self.q_vel).all(|q| *q > 0.0))
         {
             return Err(NavError::invalid(format!(
-                "filter {} needs a positive-definite process noise (accel_psd > 0, or every \
-                 q_pos_* and q_vel_* > 0): its proposal is built on the transition density",
+                "filter {} with pf_move = false needs a positive-definite process noise \
+                 (accel_psd > 0, or every q_pos_* and q_vel_* > 0): its literal proposal is \
+                 built on the transition density",
                 self.filter.name()
+            )));
+        }
+        if self.pf_threads > MAX_THREADS {
+            return Err(NavError::invalid(format!(
+                "pf_threads must lie in 0..={MAX_THREADS} (got {}); 0 = one per core",
+                self.pf_threads
             )));
         }
         if let Some(p) = self.pf_params() {
@@ -509,12 +529,14 @@ impl NavConfig {
     }
 
     /// The particle-filter settings for filter codes 4-8 (`None` for the other filters):
-    /// `PfParams::new(kind)` with `particles`, `resampler`, `resample_threshold`, `seed` and
-    /// the UKF parameters (the unscented proposal of `upf` and `cgapf`) of this
-    /// configuration.
+    /// `PfParams::new(kind)` with `particles`, `resampler`, `resample_threshold`, `seed`,
+    /// the UKF parameters (the unscented proposal of `upf` and `cgapf`), `pf_move` and
+    /// `pf_threads` of this configuration.
     pub fn pf_params(&self) -> Option<PfParams> {
         let kind = self.filter.pf_kind()?;
         Some(PfParams {
+            moves: self.pf_move,
+            threads: self.pf_threads,
             particles: self.particles,
             resampler: self.resampler,
             threshold: self.resample_threshold,

@@ -281,6 +281,8 @@ impl Instance {
         c.hinf_b_pos = v(vr::HINF_B_POS);
         c.hinf_b_vel = v(vr::HINF_B_VEL);
         c.hinf_d = v(vr::HINF_D);
+        c.pf_move = v(vr::PF_MOVE) as i32;
+        c.pf_threads = v(vr::PF_THREADS) as i32;
         c
     }
 

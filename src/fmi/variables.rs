@@ -335,10 +335,14 @@ variables! {
         "H-infinity filter: scaling of the indirect position measurement noise (paper 002 D: 0.1)";
     HINF_GAMMA = 62: "hinf_gamma", Output, Continuous, Real(""), 0.0,
         "H-infinity filter: the design's certified bound gamma on the worst-case gain from the scaled noises to the estimation error; NaN for the other filters";
+    PF_MOVE = 63: "pf_move", Parameter, Fixed, Boolean, 1.0,
+        "Particle filters (codes 4-8): move the particles after every update with Metropolis-Hastings steps that leave the posterior invariant (as accurate as the EKF on Gaussian noise, also with small process noise); false: the papers' literal filters (paper 000's SIR, plain RPF, van der Merwe's UPF), which degenerate with small process noise";
+    PF_THREADS = 64: "pf_threads", Parameter, Fixed, Integer, 0.0,
+        "Particle filters: worker threads of the particle loops from 32768 particles on (0: one per core; 1: the calling thread; <= 1024); results do not depend on it";
 }
 
 /// Number of variables.
-pub const N_VARS: usize = 63;
+pub const N_VARS: usize = 65;
 
 /// The definition for a value reference, if it exists.
 pub fn lookup(vr: u32) -> Option<&'static VarDef> {
@@ -405,6 +409,8 @@ mod tests {
         assert_eq!(s(vr::HINF_B_POS), c.hinf_b_pos);
         assert_eq!(s(vr::HINF_B_VEL), c.hinf_b_vel);
         assert_eq!(s(vr::HINF_D), c.hinf_d);
+        assert_eq!(s(vr::PF_MOVE), f64::from(u8::from(c.pf_move)));
+        assert_eq!(s(vr::PF_THREADS), c.pf_threads as f64);
     }
 
     /// The enumerations carry the library's codes and names.
