@@ -294,7 +294,7 @@ fn particle_filter_steps_do_not_allocate() {
     use relnav::estimators::pf::PARALLEL_MIN_PARTICLES;
     use relnav::nav::NoiseKind;
     const PARTICLES: usize = 300;
-    assert!(PARTICLES < PARALLEL_MIN_PARTICLES);
+    const { assert!(PARTICLES < PARALLEL_MIN_PARTICLES) };
     let kinds = [
         FilterKind::Pf,
         FilterKind::Rpf,
