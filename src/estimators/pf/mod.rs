@@ -1213,7 +1213,7 @@ impl ParticleFilter {
                 self.summarise();
             }
         }
-        if self.params.moves && !self.rejuvenate(&lik, sensor, z, &r) {
+        if self.params.moves && !self.rejuvenate(&lik, sensor, z) {
             self.summarise();
         }
         self.prior_mode = false;

@@ -44,7 +44,12 @@
 //! there are any). One independence Metropolis–Hastings step per particle (Tierney 1994)
 //! with the Gaussian proposal `q = N(m+, P+)`, the Kalman update of `N(m-, P-)` with the
 //! measurement linearised at `m-`, `g(z | x) = N(nu - H (x - m-); 0, R)` (`nu` the
-//! innovation of `m-`, `H` the sensor's Jacobian, `R` the noise model's variance). Since
+//! innovation of `m-`, `H` the sensor's Jacobian, `R` diagonal: for Gaussian noise its
+//! variance, for a Gaussian scale mixture the inverse of the noise precision expected given
+//! the innovation, `1 / E[1/s^2 | nu]` ([`crate::noise::NoiseModel::local_variance`]):
+//! about the narrow variance for an inlier, the wide one for an outlier; with the
+//! mixture's overall variance the proposal would be too wide after an inlier and most of
+//! its draws would be rejected). Since
 //! `N(x; m-, P-) g(z | x) ∝ q(x)` exactly, the importance ratio needs no matrix solve:
 //!
 //! ```text
@@ -196,7 +201,6 @@ impl ParticleFilter {
         lik: &Likelihood<'_, M>,
         sensor: &M,
         z: &Vec3,
-        r: &Mat3,
     ) -> bool {
         let (m0, p0) = (self.pred_mean, self.pred_cov);
         let Ok(g) = sensor.linearize(&m0.fixed_rows::<3>(0).into_owned()) else {
@@ -208,7 +212,13 @@ impl ParticleFilter {
         }
         let h = g.h;
         let ph = p0 * h.transpose();
-        let Some(s) = (h * ph + r).cholesky() else {
+        let hph = h * ph;
+        // the noise's Gaussian stand-in at this innovation (its variance for Gaussian
+        // noise; the narrow or the wide one for an inlier or an outlier of a heavy tail)
+        let r = Mat3::from_diagonal(&Vec3::from_fn(|k, _| {
+            lik.noise.local_variance(nu[k], hph[(k, k)], lik.scales[k])
+        }));
+        let Some(s) = (hph + r).cholesky() else {
             return false;
         };
         let k = s.solve(&ph.transpose()).transpose();
