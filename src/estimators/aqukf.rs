@@ -52,6 +52,7 @@
 
 use super::{Estimator, FilterError, Ukf, UkfParams, UpdateInfo};
 use crate::dynamics::{CwModel, DiscreteModel};
+use crate::numerics::state::{refuse, Persist, Reader, StateError, Writer};
 use crate::sensors::MeasurementModel;
 use crate::types::{Mat3, Mat6, State, Vec3};
 use nalgebra::{SMatrix, SVector};
@@ -445,6 +446,108 @@ impl Estimator for Aqukf {
 
     fn set_estimate(&mut self, x: State, p: Mat6) {
         self.core.ukf.set_estimate(x, p);
+    }
+}
+
+/// Saved state: `q_vv` (3), the ring's write position `head` and fill `len`, the window
+/// width `N` (u64 each; `N` must equal the configuration's), then the `N` slots of the ring
+/// (3 each). The settings are configuration.
+impl Persist for AdaptiveQ {
+    fn save_state(&self, w: &mut Writer<'_>) {
+        let Self {
+            params,
+            q,
+            ring,
+            head,
+            len,
+        } = self;
+        let n = params.window.clamp(1, MAX_WINDOW);
+        w.matrix(q);
+        w.usize(*head);
+        w.usize(*len);
+        w.usize(n);
+        for slot in ring.iter().take(n) {
+            for v in slot {
+                w.f64(*v);
+            }
+        }
+    }
+
+    fn load_state(&mut self, r: &mut Reader<'_>) -> Result<(), StateError> {
+        let Self {
+            params,
+            q,
+            ring,
+            head,
+            len,
+        } = self;
+        let n = params.window.clamp(1, MAX_WINDOW);
+        *q = r.finite_matrix("AQUKF q_vv")?;
+        *head = r.usize("AQUKF window position")?;
+        *len = r.usize("AQUKF window fill")?;
+        if *head >= n || *len > n {
+            return Err(refuse(format!(
+                "AQUKF window position {head} / fill {len} out of range for window {n}"
+            )));
+        }
+        r.count("AQUKF window width", n)?;
+        for slot in ring.iter_mut().take(n) {
+            for v in slot.iter_mut() {
+                *v = r.finite("AQUKF window entry")?;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Saved state: the UKF's, the adaptive estimate's, and the time predicted since the last
+/// update (8).
+impl Persist for AdaptiveUkf {
+    fn save_state(&self, w: &mut Writer<'_>) {
+        let Self {
+            ukf,
+            adapt,
+            elapsed,
+        } = self;
+        ukf.save_state(w);
+        adapt.save_state(w);
+        w.f64(*elapsed);
+    }
+
+    fn load_state(&mut self, r: &mut Reader<'_>) -> Result<(), StateError> {
+        let Self {
+            ukf,
+            adapt,
+            elapsed,
+        } = self;
+        ukf.load_state(r)?;
+        adapt.load_state(r)?;
+        *elapsed = r.finite("AQUKF time since the last update")?;
+        Ok(())
+    }
+}
+
+/// Saved state: the adaptive UKF's. The CW model is configuration; the Van Loan basis is a
+/// cache recomputed from it for the next step size (bit-identical: same inputs).
+impl Persist for Aqukf {
+    fn save_state(&self, w: &mut Writer<'_>) {
+        let Self {
+            core,
+            cw: _,
+            basis_dt: _,
+            basis: _,
+        } = self;
+        core.save_state(w);
+    }
+
+    fn load_state(&mut self, r: &mut Reader<'_>) -> Result<(), StateError> {
+        let Self {
+            core,
+            cw: _,
+            basis_dt: _,
+            basis: _,
+        } = self;
+        core.load_state(r)
     }
 }
 
