@@ -1492,7 +1492,7 @@ impl Persist for ParticleFilter {
         w.matrix(pred_mean);
         w.matrix(pred_cov);
         w.matrix(pred_l);
-        for g in std::iter::once(&*rng).chain(chunk_rng.iter()) {
+        for g in std::iter::once(rng).chain(chunk_rng.iter()) {
             for word in rng_state(g).unwrap_or([0; 4]) {
                 w.u64(word);
             }
