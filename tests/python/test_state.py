@@ -20,9 +20,9 @@ import relnav_fmu as rf
 
 STEPS = 40
 SAVE_AT = 15
-CODES = list(range(1, 10))
+CODES = list(range(1, 11))
 # documented sizes with the default parameters (1500 particles, window 10)
-FMU_STATE_BYTES = {1: 1467, 2: 1467, 3: 1763, 4: 117711, 5: 117711, 6: 621711, 7: 117711, 8: 621711, 9: 2718}
+FMU_STATE_BYTES = {1: 1651, 2: 1651, 3: 2140, 4: 117895, 5: 117895, 6: 621895, 7: 117895, 8: 621895, 9: 2902, 10: 2691}
 FMU_HEADER = 70
 EST_HEADER = 32
 
@@ -94,7 +94,7 @@ def parse_estimator_state(e: bytes) -> dict:
     assert crc == zlib.crc32(e[:28] + e[EST_HEADER:])
     assert e[32:36] == b"CONF"
     (count,) = struct.unpack_from("<I", e, 36)
-    assert count == 45
+    assert count == 55
     conf = e[36 : 40 + 8 * count]
     assert fingerprint == zlib.crc32(conf)
     settings = e[40 : 40 + 8 * count]
