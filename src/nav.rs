@@ -35,7 +35,7 @@
 use crate::dynamics::{CwModel, DiscreteModel, Discretization};
 use crate::estimators::aqukf::AqukfSnapshot;
 use crate::estimators::pf::resample::Resampler;
-use crate::estimators::pf::{ParticleFilter, PfKind, PfParams, MAX_PARTICLES};
+use crate::estimators::pf::{ParticleFilter, PfKind, PfParams, MAX_PARTICLES, MAX_THREADS};
 use crate::estimators::{
     AdaptationLaw, AqParams, Aqukf, Ekf, Estimator, FilterError, Imm, ImmParams, Ukf, UkfParams,
     UpdateInfo, MAX_MODES,
@@ -308,6 +308,16 @@ pub struct NavConfig {
     /// IMM: probability of staying in each mode over one second, in (0, 1)
     /// (default 0.99999, 0.9, 0.9).
     pub imm_p_stay: [f64; MAX_MODES],
+    /// Particle filters (codes 4-8): move the particles with posterior-invariant
+    /// Metropolis–Hastings steps ([`crate::estimators::pf`], module `moves`; default
+    /// true). False gives the papers' literal filters (paper 000's SIR, the plain RPF,
+    /// van der Merwe's UPF), which degenerate with small process noise.
+    pub pf_move: bool,
+    /// Particle filters: worker threads of the particle loops from
+    /// [`crate::estimators::pf::PARALLEL_MIN_PARTICLES`] particles on (0: one per core,
+    /// rayon's global pool; 1: the calling thread); `0..=MAX_THREADS`. The results do not
+    /// depend on it.
+    pub pf_threads: usize,
 }
 
 impl Default for NavConfig {
@@ -354,6 +364,8 @@ impl Default for NavConfig {
             imm_modes: ImmParams::default().modes,
             imm_accel_psd: ImmParams::default().accel_psd,
             imm_p_stay: ImmParams::default().p_stay,
+            pf_move: true,
+            pf_threads: 0,
         }
     }
 }
@@ -601,12 +613,20 @@ impl NavConfig {
             }
         }
         if self.filter.pf_kind().is_some_and(PfKind::unscented)
+            && !self.pf_move
             && !(self.accel_psd > 0.0 || self.q_pos.iter().chain(&self.q_vel).all(|q| *q > 0.0))
         {
             return Err(NavError::invalid(format!(
-                "filter {} needs a positive-definite process noise (accel_psd > 0, or every \
-                 q_pos_* and q_vel_* > 0): its proposal is built on the transition density",
+                "filter {} with pf_move = false needs a positive-definite process noise \
+                 (accel_psd > 0, or every q_pos_* and q_vel_* > 0): its literal proposal is \
+                 built on the transition density",
                 self.filter.name()
+            )));
+        }
+        if self.pf_threads > MAX_THREADS {
+            return Err(NavError::invalid(format!(
+                "pf_threads must lie in 0..={MAX_THREADS} (got {}); 0 = one per core",
+                self.pf_threads
             )));
         }
         if let Some(p) = self.pf_params() {
@@ -620,7 +640,8 @@ impl NavConfig {
 
     /// Every setting by name, in the order of a saved state's configuration section
     /// (`docs/state-format.md`). The destructuring names every field: a new field of
-    /// `NavConfig` does not compile until it is added here (and so to the fingerprint).
+    /// `NavConfig` does not compile until it is added here (and so to the fingerprint) —
+    /// or is named as not state-relevant (`pf_threads`: the results do not depend on it).
     pub fn settings(&self) -> Vec<(&'static str, Setting)> {
         use Setting::{Int, Real};
         let NavConfig {
@@ -663,6 +684,10 @@ impl NavConfig {
             imm_modes,
             imm_accel_psd,
             imm_p_stay,
+            pf_move,
+            // the results (and so a saved state) do not depend on the thread count: a state
+            // moves between instances that run the particle loops on different threads
+            pf_threads: _,
         } = *self;
         let UkfParams { alpha, beta, kappa } = ukf;
         vec![
@@ -720,6 +745,7 @@ impl NavConfig {
             ("imm_p_stay[0]", Real(imm_p_stay[0])),
             ("imm_p_stay[1]", Real(imm_p_stay[1])),
             ("imm_p_stay[2]", Real(imm_p_stay[2])),
+            ("pf_move", Int(i64::from(pf_move))),
         ]
     }
 
@@ -864,12 +890,14 @@ impl NavConfig {
     }
 
     /// The particle-filter settings for filter codes 4-8 (`None` for the other filters):
-    /// `PfParams::new(kind)` with `particles`, `resampler`, `resample_threshold`, `seed` and
-    /// the UKF parameters (the unscented proposal of `upf` and `cgapf`) of this
-    /// configuration.
+    /// `PfParams::new(kind)` with `particles`, `resampler`, `resample_threshold`, `seed`,
+    /// the UKF parameters (the unscented proposal of `upf` and `cgapf`), `pf_move` and
+    /// `pf_threads` of this configuration.
     pub fn pf_params(&self) -> Option<PfParams> {
         let kind = self.filter.pf_kind()?;
         Some(PfParams {
+            moves: self.pf_move,
+            threads: self.pf_threads,
             particles: self.particles,
             resampler: self.resampler,
             threshold: self.resample_threshold,
