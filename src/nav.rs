@@ -36,11 +36,19 @@ use crate::hinf::HinfEstimator;
 use crate::noise::NoiseModel;
 use crate::numerics::num;
 use crate::sensors::{MeasurementModel, RadioSensor};
-use crate::types::{Mat3, Mat6, State, Vec3};
+use crate::types::{Mat6, State, Vec3};
 
 /// Accepted mean motions [rad/s]: from a 200-year orbit to a 1-minute one. Outside, the
 /// CW model has no physical meaning and `1 / n^2` terms of the discretisation overflow.
 pub const MEAN_MOTION_RANGE: (f64, f64) = (1e-9, 0.1);
+
+/// Longest accepted step, in orbital periods `2 pi / n` of the target: a prediction over
+/// more than 1000 orbits (for a 90-minute orbit, two months; geostationary, three years) is
+/// far outside the linearised CW model and is almost certainly a units or time-base error
+/// (a step of 1e45 s was seen from a co-simulation master). [`Navigator::predict`] and
+/// [`Navigator::step`] refuse it with a message naming the limit; below it every step
+/// returns a value or an error in bounded time (the discretisation is closed-form).
+pub const MAX_STEP_PERIODS: f64 = 1000.0;
 
 /// Filter codes, shared by the C ABI and the FMU (`filter` parameter).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -771,8 +779,8 @@ impl Navigator {
     /// The discrete model for step `dt` (cached: recomputed only when `dt` changes).
     fn discrete(&mut self, dt: f64) -> DiscreteModel {
         if self.step_cache.dt != dt {
-            let qc = Mat3::identity() * self.cfg.accel_psd;
-            let mut d = self.model.discretize(dt, &qc, self.cfg.discretization);
+            let psd = Vec3::repeat(self.cfg.accel_psd);
+            let mut d = self.model.discretize(dt, &psd, self.cfg.discretization);
             // the AQUKF adapts the velocity part itself (q_vel is its initial q_vv)
             let qv = if self.cfg.filter == FilterKind::Aqukf {
                 [0.0; 3]
@@ -793,8 +801,23 @@ impl Navigator {
         self.step_cache
     }
 
+    /// The longest accepted step [s]: [`MAX_STEP_PERIODS`] orbital periods.
+    pub fn max_step(&self) -> f64 {
+        MAX_STEP_PERIODS * std::f64::consts::TAU / self.cfg.mean_motion
+    }
+
     fn check_dt(&self, dt: f64) -> Result<(), NavError> {
         positive("step size h", dt)?;
+        if dt > self.max_step() {
+            return Err(NavError::invalid(format!(
+                "step size h = {} s is longer than {MAX_STEP_PERIODS} orbital periods ({} s at \
+                 mean_motion {} rad/s), where the linearised CW model means nothing: split \
+                 the interval, or check the time unit",
+                num(dt),
+                num(self.max_step()),
+                num(self.cfg.mean_motion)
+            )));
+        }
         if let AnyFilter::Hinf(f) = &self.filter {
             let t = f.period();
             if (dt - t).abs() > 1e-9 * t {

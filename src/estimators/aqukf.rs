@@ -53,7 +53,7 @@
 use super::{Estimator, FilterError, Ukf, UkfParams, UpdateInfo};
 use crate::dynamics::{CwModel, DiscreteModel};
 use crate::sensors::MeasurementModel;
-use crate::types::{Mat3, Mat6, State, Vec3};
+use crate::types::{Mat6, State, Vec3};
 use nalgebra::{SMatrix, SVector};
 
 /// Largest sliding-window width (capacity of the ring buffer).
@@ -340,9 +340,9 @@ impl AdaptiveUkf {
 }
 
 /// The AQUKF on the CW model (filter code 3): [`AdaptiveUkf`] whose adaptive density is
-/// discretised exactly by Van Loan for the CW model of mean motion `n`,
-/// `Qd(q_vv) = sum_i q_vv,i Qd_VanLoan(e_i e_i^T)` (linear in `q_vv`; the three unit
-/// matrices are cached per step size, on the stack). The step's fixed noise is the model's
+/// discretised exactly for the CW model of mean motion `n` (the closed-form Van Loan
+/// integral [`CwModel::process_noise`]), `Qd(q_vv) = sum_i q_vv,i Qd(e_i)` (linear in
+/// `q_vv`; the three unit matrices are cached per step size, on the stack). The step's fixed noise is the model's
 /// `q` ([`DiscreteModel::q`]).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Aqukf {
@@ -405,11 +405,7 @@ impl Aqukf {
 
     fn refresh_basis(&mut self, dt: f64) {
         if self.basis_dt != dt {
-            for (i, b) in self.basis.iter_mut().enumerate() {
-                let mut qc = Mat3::zeros();
-                qc[(i, i)] = 1.0;
-                *b = self.cw.van_loan_q(&qc, dt);
-            }
+            self.basis = self.cw.process_noise_axes(dt);
             self.basis_dt = dt;
         }
     }
@@ -527,7 +523,7 @@ mod tests {
         assert_eq!(a.filled(), n);
     }
 
-    /// The double-integrator noise is Van Loan's for that model.
+    /// The double-integrator noise is the CW noise in the limit `n -> 0`.
     #[test]
     fn double_integrator_noise_is_van_loan() {
         // CW with a tiny mean motion is the double integrator up to O(n t) coupling terms
@@ -535,7 +531,7 @@ mod tests {
         let cw = CwModel::new(1e-9);
         let q = Vec3::new(1e-4, 2e-4, 3e-4);
         let t = 600.0;
-        let vl = cw.van_loan_q(&Mat3::from_diagonal(&q), t);
+        let vl = cw.process_noise(&q, t);
         let di = double_integrator_q(&q, t);
         assert!((vl - di).norm() <= 1e-6 * di.norm(), "{vl} vs {di}");
     }

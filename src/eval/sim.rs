@@ -233,11 +233,12 @@ fn prepare_hinf(
 }
 
 /// Symmetric square root of a PSD matrix (eigen-decomposition; negative rounding
-/// eigenvalues clipped to 0).
-pub fn psd_sqrt(q: &Mat6) -> Mat6 {
-    let e = nalgebra::SymmetricEigen::new((q + q.transpose()) * 0.5);
+/// eigenvalues clipped to 0); `None` when `q` is not finite or the capped eigensolver
+/// ([`crate::numerics::eigen`]) does not converge.
+pub fn psd_sqrt(q: &Mat6) -> Option<Mat6> {
+    let e = crate::numerics::eigen::symmetric_eigen((q + q.transpose()) * 0.5)?;
     let d = e.eigenvalues.map(|v| v.max(0.0).sqrt());
-    e.eigenvectors * Mat6::from_diagonal(&d) * e.eigenvectors.transpose()
+    Some(e.eigenvectors * Mat6::from_diagonal(&d) * e.eigenvectors.transpose())
 }
 
 impl Prepared {
@@ -279,7 +280,7 @@ impl Prepared {
             })
             .collect();
         let feedback = s.feedback_accel_gain();
-        let qc = Mat3::identity() * s.truth.accel_psd;
+        let qc = Vec3::repeat(s.truth.accel_psd);
         let truth_q = s.truth_q(
             CwModel::new(n0)
                 .discretize(dt, &qc, Discretization::Exact)
@@ -323,7 +324,7 @@ impl Prepared {
             let nf = n0 * (1.0 + f.orbit_rate_error);
             let mut model = CwModel::new(nf).discretize(
                 dt,
-                &(Mat3::identity() * f.accel_psd),
+                &Vec3::repeat(f.accel_psd),
                 f.discretization.into(),
             );
             // the AQUKF adapts the velocity part (its initial q_vv comes from it)
@@ -372,7 +373,8 @@ impl Prepared {
             measured,
             burn_accel,
             feedback,
-            truth_q_sqrt: psd_sqrt(&truth_q),
+            truth_q_sqrt: psd_sqrt(&truth_q)
+                .ok_or("the truth's process noise has no square root (not finite)")?,
             truth_q,
             noise,
             noise_sigma,

@@ -490,11 +490,12 @@ fn gauss6<R: Rng + ?Sized>(rng: &mut R) -> State {
     State::from(e)
 }
 
-/// Symmetric square root of a PSD matrix (negative rounding eigenvalues clipped).
-fn psd_sqrt(q: &Mat6) -> Mat6 {
-    let e = nalgebra::SymmetricEigen::new(symmetrize(q));
+/// Symmetric square root of a PSD matrix (negative rounding eigenvalues clipped); `None`
+/// when `q` is not finite or the (iteration-capped) eigensolver does not converge.
+fn psd_sqrt(q: &Mat6) -> Option<Mat6> {
+    let e = crate::numerics::eigen::symmetric_eigen(symmetrize(q))?;
     let d = e.eigenvalues.map(|v| v.max(0.0).sqrt());
-    e.eigenvectors * Mat6::from_diagonal(&d) * e.eigenvectors.transpose()
+    Some(e.eigenvectors * Mat6::from_diagonal(&d) * e.eigenvectors.transpose())
 }
 
 impl ParticleFilter {
@@ -547,7 +548,10 @@ impl ParticleFilter {
     }
 
     fn draw_prior(&mut self) {
-        let l = psd_sqrt(&self.p0);
+        // the prior is validated (diagonal, finite); a matrix set through `set_estimate`
+        // that has no square root falls back to the square roots of its diagonal
+        let l = psd_sqrt(&self.p0)
+            .unwrap_or_else(|| Mat6::from_diagonal(&self.p0.diagonal().map(|v| v.max(0.0).sqrt())));
         for xi in self.x.iter_mut() {
             *xi = self.x0 + l * gauss6(&mut self.rng);
         }
@@ -623,7 +627,7 @@ impl ParticleFilter {
         scales: &[f64; 3],
     ) -> Result<(), FilterError> {
         // the velocity rows of a square root of the prior draw from its velocity marginal
-        let l = psd_sqrt(&self.prior_cov);
+        let l = psd_sqrt(&self.prior_cov).ok_or(FilterError::NonFinite("prior covariance"))?;
         for i in 0..self.x.len() {
             let mut zi = *z;
             let mut st = 0.0;
@@ -648,7 +652,11 @@ impl ParticleFilter {
 
     fn regularise(&mut self, kernel: Kernel, cov_before: &Mat6) {
         let h = bandwidth(kernel, self.x.len());
-        let d = psd_sqrt(cov_before) * h;
+        // a non-finite particle covariance (particles near overflow) has no kernel: no jitter
+        let Some(sqrt) = psd_sqrt(cov_before) else {
+            return;
+        };
+        let d = sqrt * h;
         let beta = Beta::new(N as f64 / 2.0, 2.0).ok();
         for xi in self.x.iter_mut() {
             let eps = match kernel {
@@ -925,8 +933,9 @@ impl ParticleFilter {
 
 impl Estimator for ParticleFilter {
     /// Transition draw `x_i <- Phi x_i + Gamma a + w_i` fused with the weighted moments.
-    /// The new particles go to the spare buffers and are swapped in only when the mean is
-    /// finite: a failed prediction changes nothing (the generator included).
+    /// The new particles go to the spare buffers and are swapped in only when their mean
+    /// and covariance (and the Gaussian prior, before the first update) are finite: a failed
+    /// prediction changes nothing (the generator included).
     fn predict(&mut self, model: &DiscreteModel, accel: &Vec3) -> Result<(), FilterError> {
         // the square root of Q is cached per Q; the next update's transition density uses
         // it, so it is committed with the particles
@@ -935,7 +944,10 @@ impl Estimator for ParticleFilter {
         } else {
             match chol(&model.q) {
                 Some(l) => (l, true),
-                None => (psd_sqrt(&model.q), false),
+                None => (
+                    psd_sqrt(&model.q).ok_or(FilterError::NonFinite("process noise Q"))?,
+                    false,
+                ),
             }
         };
         // a diagonal Q (paper 000's) needs 6 products per particle instead of 36
@@ -969,9 +981,26 @@ impl Estimator for ParticleFilter {
             acc.add(xn, *wi);
         }
         let (mean, cov) = acc.finish();
-        if !mean.iter().all(|v| v.is_finite()) {
+        // the Gaussian prior before the first weighting update moves with the particles
+        let prior = self.prior_mode.then(|| {
+            (
+                phi * self.prior_mean + u,
+                symmetrize(&(phi * self.prior_cov * phi.transpose() + model.q)),
+            )
+        });
+        let finite = |m: &[f64]| m.iter().all(|v| v.is_finite());
+        let bad = if !finite(mean.as_slice()) {
+            Some("particle mean")
+        } else if !finite(cov.as_slice()) {
+            Some("particle covariance")
+        } else if prior.is_some_and(|(m, p)| !finite(m.as_slice()) || !finite(p.as_slice())) {
+            Some("predicted prior")
+        } else {
+            None
+        };
+        if let Some(what) = bad {
             self.rng = rng_saved;
-            return Err(FilterError::NonFinite("particle mean"));
+            return Err(FilterError::NonFinite(what));
         }
         std::mem::swap(&mut self.x, &mut self.x_tmp);
         std::mem::swap(&mut self.xbar, &mut self.xbar_tmp);
@@ -981,9 +1010,8 @@ impl Estimator for ParticleFilter {
         for p in self.pc.iter_mut() {
             *p = symmetrize(&(phi * *p * phi.transpose() + model.q));
         }
-        if self.prior_mode {
-            self.prior_mean = phi * self.prior_mean + u;
-            self.prior_cov = symmetrize(&(phi * self.prior_cov * phi.transpose() + model.q));
+        if let Some((m, p)) = prior {
+            (self.prior_mean, self.prior_cov) = (m, p);
         }
         Ok(())
     }
@@ -1031,7 +1059,7 @@ mod tests {
         let m = CwModel::new(2.0 * std::f64::consts::PI / 5400.0);
         for dt in [0.1, 1.0, 600.0] {
             for disc in [Discretization::Exact, Discretization::Euler] {
-                let phi = m.discretize(dt, &Mat3::zeros(), disc).phi;
+                let phi = m.discretize(dt, &Vec3::zeros(), disc).phi;
                 let b = CwBlocks::of(&phi).expect("CW transition is block-structured");
                 for k in 0..20 {
                     let x = State::from_fn(|i, _| ((i * 7 + k * 3) as f64).sin() * 300.0);
