@@ -50,6 +50,13 @@ pub const MEAN_MOTION_RANGE: (f64, f64) = (1e-9, 0.1);
 /// returns a value or an error in bounded time (the discretisation is closed-form).
 pub const MAX_STEP_PERIODS: f64 = 1000.0;
 
+/// Bound on `|x0_i| + 100 sigma_i` of the initial estimate [m, m/s]: a numerical limit,
+/// not a physical one. Covariances are squares of state differences, and a particle
+/// filter's weighted mean is only as exact as the ulp of the state (`1e-16 |x|`): beyond
+/// ~1e154 those squares overflow. 1e150 keeps the initial distribution and the first
+/// steps' arithmetic inside double precision.
+pub const MAX_INITIAL_MAGNITUDE: f64 = 1e150;
+
 /// Filter codes, shared by the C ABI and the FMU (`filter` parameter).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[repr(i32)]
@@ -419,6 +426,21 @@ impl NavConfig {
                     self.x0[i]
                 )));
             }
+            // headroom in double precision for the initial distribution (a particle
+            // filter draws x0 + sigma eps) and the first steps' arithmetic
+            let sigma = if i < 3 {
+                self.sigma_pos0
+            } else {
+                self.sigma_vel0
+            };
+            if !(self.x0[i].abs() + 100.0 * sigma <= MAX_INITIAL_MAGNITUDE) {
+                return Err(NavError::invalid(format!(
+                    "|{n}| + 100 sigma must not exceed {MAX_INITIAL_MAGNITUDE:e} (got {n} = {}, \
+                     sigma {}): the initial estimate would overflow double precision",
+                    num(self.x0[i]),
+                    num(sigma)
+                )));
+            }
         }
         for (i, axis) in ["x", "y", "z"].iter().enumerate() {
             non_negative(&format!("q_pos_{axis}"), self.q_pos[i])?;
@@ -768,6 +790,21 @@ impl Navigator {
             failed: false,
         };
         nav.discrete(1.0);
+        // every field is finite, but x0 near the largest double with its uncertainty can
+        // still overflow (a particle filter's initial draw x0 + L eps): refuse it here rather
+        // than hand out an estimator whose estimate is not a number
+        let cov_ok = matches!(nav.filter, AnyFilter::Hinf(_))
+            || nav.filter.covariance().iter().all(|v| v.is_finite());
+        if !(nav.filter.state().iter().all(|v| v.is_finite()) && cov_ok) {
+            return Err(NavError::invalid(format!(
+                "the initial estimate x0 = {:?} with sigma_pos0 = {}, sigma_vel0 = {} overflows \
+                 double precision in the {} filter's initial state",
+                cfg.x0,
+                num(cfg.sigma_pos0),
+                num(cfg.sigma_vel0),
+                cfg.filter.name()
+            )));
+        }
         Ok(nav)
     }
 

@@ -374,3 +374,45 @@ fn hinf_design_at_the_edges_returns() {
         });
     }
 }
+
+/// Fuzz finding (capi): a GA-PF configured with `z0 = f64::MAX` (finite, so accepted) drew
+/// its initial particles `x0 + sigma eps` into infinity: the estimator was created, and its
+/// state and every reset were NaN. The configuration is now refused (`|x0_i| + 100 sigma`
+/// must stay below 1e150: covariances are squares), the C ABI's validate and new agree, and the largest accepted
+/// initial estimate gives a finite state in every filter.
+#[test]
+fn fuzz_initial_estimate_near_the_largest_double() {
+    for base in configs() {
+        bounded(base.filter.name(), move || {
+            let mut x0 = base.x0;
+            x0[2] = f64::MAX;
+            let bad = NavConfig { x0, ..base };
+            let e = bad.validate().unwrap_err();
+            assert!(e.message.contains("z0"), "{}", e.message);
+            assert!(Navigator::new(&bad).is_err());
+            let mut c = relnav_config::from(&bad);
+            c.x0[2] = f64::MAX;
+            let mut est = std::ptr::null_mut();
+            // SAFETY: valid pointers.
+            unsafe {
+                assert_eq!(
+                    relnav_config_validate(&c),
+                    relnav_status::RELNAV_ERROR_INVALID_ARGUMENT
+                );
+                assert_eq!(
+                    relnav_estimator_new(&c, &mut est),
+                    relnav_status::RELNAV_ERROR_INVALID_ARGUMENT
+                );
+            }
+            assert!(est.is_null());
+            // the largest accepted: a finite estimate, before and after reset and a step
+            x0[2] = 1e150 - 100.0 * base.sigma_pos0;
+            let ok = NavConfig { x0, ..base };
+            let mut nav = Navigator::new(&ok).unwrap();
+            assert!(nav.state().iter().all(|v| v.is_finite()));
+            let _ = nav.step(&[0.0; 3], None, 1.0);
+            nav.reset();
+            assert!(nav.state().iter().all(|v| v.is_finite()));
+        });
+    }
+}
