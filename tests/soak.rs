@@ -329,6 +329,8 @@ struct Report {
     first_error: String,
     pos_sq: f64,
     max_pos_err: f64,
+    /// step and time of the largest position error
+    max_pos_at: (usize, f64),
     segments: Vec<Segment>,
     seconds: f64,
 }
@@ -361,6 +363,7 @@ fn soak(name: &'static str, filter: i32, steps: usize, particles: i32, seed: u64
         first_error: String::new(),
         pos_sq: 0.0,
         max_pos_err: 0.0,
+        max_pos_at: (0, 0.0),
         segments: (0..SEGMENTS).map(|_| Segment::default()).collect(),
         seconds: 0.0,
     };
@@ -450,7 +453,10 @@ fn soak(name: &'static str, filter: i32, steps: usize, particles: i32, seed: u64
         let e = State::from_fn(|i, _| y[i] - to_io6(&truth)[i]);
         let pe = (e[0] * e[0] + e[1] * e[1] + e[2] * e[2]).sqrt();
         r.pos_sq += pe * pe;
-        r.max_pos_err = r.max_pos_err.max(pe);
+        if pe > r.max_pos_err {
+            r.max_pos_err = pe;
+            r.max_pos_at = (k, t);
+        }
         if hinf {
             continue; // no covariance: NEES and P checks do not apply
         }
@@ -512,7 +518,7 @@ fn print(r: &Report) {
         )
     };
     println!(
-        "SOAK | {} | {} | {} | {:.3} | {} | {eig} | {asym} | {} | {} | {} | {} | {nees} | {band} | {:.3} | {:.2} | {:.0} s {}",
+        "SOAK | {} | {} | {} | {:.3} | {} | {eig} | {asym} | {} | {} | {} | {} | {nees} | {band} | {:.3} | {:.2} (step {}) | {:.0} s {}",
         r.name,
         r.steps,
         if r.particles > 0 {
@@ -528,6 +534,7 @@ fn print(r: &Report) {
         r.errors,
         (r.pos_sq / r.steps as f64).sqrt(),
         r.max_pos_err,
+        r.max_pos_at.0,
         r.seconds,
         r.first_error,
     );

@@ -331,7 +331,8 @@ fn log_gauss(x: &State, m: &State, l: &Mat6) -> f64 {
 /// Weighted first and second moments accumulated in one pass about a reference point
 /// `c` near the cloud: `m = c + s1 / W`, `P = s2 / W - (m - c)(m - c)^T` with
 /// `s1 = sum w_i d_i`, `s2 = sum w_i d_i d_i^T`, `d_i = x_i - c`, `W = sum w_i`. Shifting
-/// to a point inside the cloud avoids the cancellation of the textbook one-pass formula.
+/// to a point inside the cloud avoids the cancellation of the textbook one-pass formula;
+/// a variance that still rounds below zero is set to zero.
 struct Moments {
     reference: State,
     s1: State,
@@ -375,7 +376,13 @@ impl Moments {
         let mut k = 0;
         for c in 0..N {
             for r in 0..=c {
-                let v = self.s2.get(k).copied().unwrap_or(f64::NAN) / self.wsum - md[r] * md[c];
+                let mut v = self.s2.get(k).copied().unwrap_or(f64::NAN) / self.wsum - md[r] * md[c];
+                if r == c && v < 0.0 {
+                    // `s2/W >= md^2` in exact arithmetic (Cauchy-Schwarz); a collapsed cloud
+                    // can round it to -1e-20, which would read as a failed filter (NaN
+                    // sigma). NaN stays NaN.
+                    v = 0.0;
+                }
                 p[(r, c)] = v;
                 p[(c, r)] = v;
                 k += 1;
