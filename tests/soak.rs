@@ -331,6 +331,9 @@ struct Report {
     max_pos_err: f64,
     /// step and time of the largest position error
     max_pos_at: (usize, f64),
+    /// first step with a position error above 100 m, and the steps since the last
+    /// measurement then (a lost filter)
+    lost_at: Option<(usize, usize)>,
     segments: Vec<Segment>,
     seconds: f64,
 }
@@ -364,6 +367,7 @@ fn soak(name: &'static str, filter: i32, steps: usize, particles: i32, seed: u64
         pos_sq: 0.0,
         max_pos_err: 0.0,
         max_pos_at: (0, 0.0),
+        lost_at: None,
         segments: (0..SEGMENTS).map(|_| Segment::default()).collect(),
         seconds: 0.0,
     };
@@ -371,6 +375,7 @@ fn soak(name: &'static str, filter: i32, steps: usize, particles: i32, seed: u64
     let (mut t, mut h) = (0.0, 1.0);
     let (mut burn_left, mut burn) = (0.0, [0.0; 3]);
     let mut outage = 0usize;
+    let mut since_measured = 0usize;
     for k in 0..steps {
         if !hinf && rng.random::<f64>() < 0.02 {
             h = STEPS[rng.random_range(0..STEPS.len())];
@@ -420,6 +425,7 @@ fn soak(name: &'static str, filter: i32, steps: usize, particles: i32, seed: u64
             ])
         };
         r.measured += usize::from(z.is_some());
+        since_measured = if z.is_some() { 0 } else { since_measured + 1 };
         let u_io = to_io3(&u);
         let st = fmu.step(t, &u_io, z.as_ref(), h);
         let st2 = twin.step(&u_io, z.as_ref(), h);
@@ -453,6 +459,9 @@ fn soak(name: &'static str, filter: i32, steps: usize, particles: i32, seed: u64
         let e = State::from_fn(|i, _| y[i] - to_io6(&truth)[i]);
         let pe = (e[0] * e[0] + e[1] * e[1] + e[2] * e[2]).sqrt();
         r.pos_sq += pe * pe;
+        if pe > 100.0 && r.lost_at.is_none() {
+            r.lost_at = Some((k, since_measured));
+        }
         if pe > r.max_pos_err {
             r.max_pos_err = pe;
             r.max_pos_at = (k, t);
@@ -518,7 +527,7 @@ fn print(r: &Report) {
         )
     };
     println!(
-        "SOAK | {} | {} | {} | {:.3} | {} | {eig} | {asym} | {} | {} | {} | {} | {nees} | {band} | {:.3} | {:.2} (step {}) | {:.0} s {}",
+        "SOAK | {} | {} | {} | {:.3} | {} | {eig} | {asym} | {} | {} | {} | {} | {nees} | {band} | {:.3} | {:.2} (step {}) | {} | {:.0} s {}",
         r.name,
         r.steps,
         if r.particles > 0 {
@@ -535,6 +544,9 @@ fn print(r: &Report) {
         (r.pos_sq / r.steps as f64).sqrt(),
         r.max_pos_err,
         r.max_pos_at.0,
+        r.lost_at.map_or("-".to_string(), |(k, g)| format!(
+            "step {k} ({g} steps after the last measurement)"
+        )),
         r.seconds,
         r.first_error,
     );
@@ -542,7 +554,7 @@ fn print(r: &Report) {
 
 fn header() {
     println!(
-        "SOAK | filter | steps | particles | measured | random-burn steps | min eig P | max |P-P^T| | not PD | NaN | FMU != C ABI | errors | NEES mean [segment min, max] | in 95 % band [segment min, max] | pos RMS [m] | pos max [m] | time"
+        "SOAK | filter | steps | particles | measured | random-burn steps | min eig P | max |P-P^T| | not PD | NaN | FMU != C ABI | errors | NEES mean [segment min, max] | in 95 % band [segment min, max] | pos RMS [m] | pos max [m] | first error > 100 m | time"
     );
 }
 

@@ -13,7 +13,7 @@
 //! * after a successful call the state estimate is finite;
 //! * `relnav_estimator_get_config` returns the configuration the estimator was made from.
 //!
-//! Limits of the target (documented in fuzz/README.md): at most 64 particles and 96
+//! Limits of the target (documented in fuzz/README.md): at most 16 particles and 64
 //! operations per input, so that one input runs in milliseconds; the H-infinity filter
 //! (code 9) is one estimator designed once per process with the default design inputs
 //! (the LMI design takes ~0.5 s) and reset at the start of every input that selects it.
@@ -78,8 +78,8 @@ enum Input {
     },
 }
 
-const MAX_OPS: usize = 96;
-const MAX_PARTICLES: i32 = 64;
+const MAX_OPS: usize = 64;
+const MAX_PARTICLES: i32 = 16;
 
 thread_local! {
     /// The filter-9 estimator, designed once (default design inputs).
