@@ -15,7 +15,7 @@ use relnav::fmi::types::*;
 use relnav::fmi::variables::vr;
 use relnav::nav::{FilterKind, NavConfig, Navigator};
 use relnav::sensors::RadioSensor;
-use relnav::types::{Mat6, State, Vec3};
+use relnav::types::{Mat3, Mat6, State, Vec3};
 use std::hint::black_box;
 
 const STEPS: usize = 600;
@@ -45,7 +45,7 @@ fn bare<E: Estimator>(c: &mut Criterion, name: &str, make: impl Fn() -> E) {
     let cfg = NavConfig::default();
     let zs = measurements();
     let model = CwModel::new(cfg.mean_motion);
-    let mut d = model.discretize(1.0, &Vec3::zeros(), Discretization::Exact);
+    let mut d = model.discretize(1.0, &Mat3::zeros(), Discretization::Exact);
     d.q += cfg
         .frame
         .cov_to_canonical(&Mat6::from_diagonal(&State::from_row_slice(&[

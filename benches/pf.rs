@@ -13,7 +13,7 @@ use relnav::estimators::pf::{ParticleFilter, PfKind, PfParams};
 use relnav::estimators::Estimator;
 use relnav::nav::NavConfig;
 use relnav::sensors::RadioSensor;
-use relnav::types::{Mat6, State, Vec3};
+use relnav::types::{Mat3, Mat6, State, Vec3};
 use std::hint::black_box;
 
 /// Paper 000's model, sensor and a long run of noisy measurements (frame 2).
@@ -21,7 +21,7 @@ fn setup(steps: usize) -> (DiscreteModel, RadioSensor, Vec<Vec3>) {
     let cfg = NavConfig::default();
     let f = cfg.frame;
     let model = CwModel::new(cfg.mean_motion);
-    let mut d = model.discretize(1.0, &Vec3::zeros(), Discretization::Exact);
+    let mut d = model.discretize(1.0, &Mat3::zeros(), Discretization::Exact);
     d.q += f.cov_to_canonical(&Mat6::from_diagonal(&State::from_row_slice(&[
         cfg.q_pos[0],
         cfg.q_pos[1],

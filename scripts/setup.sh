@@ -3,7 +3,8 @@
 #
 #   * apt-get installs what is missing: cmake, g++, valgrind, binutils (readelf),
 #     libopenblas-dev and libgfortran-12-dev (static BLAS/LAPACK for the H-infinity design),
-#     fonts-dejavu-core (text in the plots) and
+#     fonts-dejavu-core (text in the plots), libtbb12 (the Ecos co-simulation engine that
+#     the FMU tests drive needs libtbb.so.12) and
 #     python3-venv (only if `python3 -m venv` does not work). `apt-get update` runs only
 #     when something has to be installed. sudo is used when not root.
 #   * creates .venv at the repository root and installs scripts/requirements.txt into it
@@ -47,6 +48,9 @@ ls /usr/lib/x86_64-linux-gnu/libopenblas.a /usr/lib/x86_64-linux-gnu/openblas-pt
     || [ -n "${RELNAV_GFORTRAN_DIR:-}" ] || missing+=(libgfortran-12-dev)
 # the font the evaluation engine's PNG plots use for their text
 [ -f /usr/share/fonts/truetype/dejavu/DejaVuSans.ttf ] || missing+=(fonts-dejavu-core)
+# Intel TBB runtime: ecospy's libecosc.so needs libtbb.so.12 (OSError at import otherwise)
+{ dpkg -s libtbb12 >/dev/null 2>&1 || /sbin/ldconfig -p 2>/dev/null | grep -q 'libtbb\.so\.12 '; } \
+    || missing+=(libtbb12)
 
 venv_works() {
     local probe
@@ -76,7 +80,7 @@ if [ "${#missing[@]}" -gt 0 ]; then
     "${SUDO[@]}" apt-get update -qq </dev/null
     "${SUDO[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" </dev/null
 else
-    log "system packages present: cmake g++ valgrind readelf fonts-dejavu-core libopenblas-dev libgfortran-12-dev"
+    log "system packages present: cmake g++ valgrind readelf fonts-dejavu-core libopenblas-dev libgfortran-12-dev libtbb12"
 fi
 
 # ---------------------------------------------------------------- cargo-fuzz (optional)
@@ -108,7 +112,7 @@ fi
 STAMP="$VENV/.relnav-requirements.sha256"
 want="$(sha256sum "$REQ" | cut -d' ' -f1)"
 have="$(cat "$STAMP" 2>/dev/null || true)"
-if [ "$want" = "$have" ] && "$VENV/bin/python" -c 'import fmpy, numpy, pytest, filterpy' >/dev/null 2>&1; then
+if [ "$want" = "$have" ] && "$VENV/bin/python" -c 'import fmpy, numpy, pytest, filterpy, libcosimpy.CosimExecution, ecospy, fmu_manipulation_toolbox' >/dev/null 2>&1; then
     log "venv up to date ($(cd "$ROOT" && "$VENV/bin/python" -c 'import fmpy, numpy; print("fmpy", fmpy.__version__, "numpy", numpy.__version__)'))"
 else
     log "installing Python packages from scripts/requirements.txt"

@@ -329,18 +329,54 @@ impl CwModel {
         [radial, along, normal]
     }
 
+    /// Discrete process noise for a continuous white acceleration of spectral density `qc`
+    /// (3x3, symmetric, canonical frame, [m^2/s^3]): the Van Loan integral
+    /// `Qd(t) = integral_0^t Phi(s) B qc B^T Phi(s)^T ds` (C. F. Van Loan, IEEE TAC 23(3),
+    /// 1978) without the matrix exponential. A diagonal `qc` (every caller in relnav) is
+    /// [`CwModel::process_noise`] of its diagonal (closed form, or the series below
+    /// `|n t| = 1`). Otherwise the series is summed over `t / 2^k` with the least `k` that
+    /// brings `|n t| / 2^k` below 1, and doubled `k` times by
+    /// `Qd(2 s) = Qd(s) + Phi(s) Qd(s) Phi(s)^T` (`k <= 1025` for any finite `n t`: bounded
+    /// work). A non-finite `n t` gives an all-NaN matrix, which the filters refuse.
+    pub fn van_loan_q(&self, qc: &Mat3, t: f64) -> Mat6 {
+        let qc = (qc + qc.transpose()) * 0.5;
+        if (0..3).all(|i| (0..3).all(|j| i == j || qc[(i, j)] == 0.0)) {
+            return self.process_noise(&qc.diagonal(), t);
+        }
+        let theta = (self.n * t).abs();
+        if !theta.is_finite() {
+            return Mat6::from_element(f64::NAN);
+        }
+        let b = Self::continuous_b();
+        let m0 = b * qc * b.transpose();
+        let mut k = 0i32;
+        while theta * 0.5f64.powi(k) >= NOISE_SERIES_THETA {
+            k += 1;
+        }
+        let mut s = t * 0.5f64.powi(k);
+        let mut q = self.noise_series(m0, s);
+        for _ in 0..k {
+            let phi = self.phi(s);
+            q += phi * q * phi.transpose();
+            q = (q + q.transpose()) * 0.5;
+            s *= 2.0;
+        }
+        q
+    }
+
     /// The discrete model over a step `dt` with a continuous white acceleration of
-    /// spectral density `psd` [m^2/s^3] per canonical axis.
-    pub fn discretize(&self, dt: f64, psd: &Vec3, method: Discretization) -> DiscreteModel {
+    /// spectral density `qc` (3x3, canonical frame, [m^2/s^3]; noise by
+    /// [`CwModel::van_loan_q`]).
+    pub fn discretize(&self, dt: f64, qc: &Mat3, method: Discretization) -> DiscreteModel {
         match method {
             Discretization::Exact => DiscreteModel {
                 dt,
                 phi: self.phi(dt),
                 gamma: self.gamma(dt),
-                q: if psd.iter().all(|v| *v == 0.0) {
+                q: if qc.iter().all(|v| *v == 0.0) {
                     Mat6::zeros()
                 } else {
-                    self.process_noise(psd, dt)
+                    self.van_loan_q(qc, dt)
                 },
             },
             Discretization::Euler => {
@@ -349,7 +385,7 @@ impl CwModel {
                     dt,
                     phi: Mat6::identity() + self.continuous_a() * dt,
                     gamma: b * dt,
-                    q: b * Mat3::from_diagonal(psd) * b.transpose() * dt,
+                    q: b * qc * b.transpose() * dt,
                 }
             }
         }
@@ -457,12 +493,17 @@ mod tests {
     /// Van Loan's reference: `exp([[-A, B Qc B^T], [0, A^T]] t)`, `Qd = F22^T F12`
     /// (nalgebra's Pade exponential; fine at moderate `n t`).
     fn van_loan(m: &CwModel, psd: &Vec3, t: f64) -> Mat6 {
+        van_loan_full(m, &Mat3::from_diagonal(psd), t)
+    }
+
+    /// [`van_loan`] of a full (symmetric) `qc`.
+    fn van_loan_full(m: &CwModel, qc: &Mat3, t: f64) -> Mat6 {
         let a = m.continuous_a();
         let b = CwModel::continuous_b();
         let mut big = nalgebra::SMatrix::<f64, 12, 12>::zeros();
         big.fixed_view_mut::<6, 6>(0, 0).copy_from(&(-a * t));
         big.fixed_view_mut::<6, 6>(0, 6)
-            .copy_from(&(b * Mat3::from_diagonal(psd) * b.transpose() * t));
+            .copy_from(&(b * qc * b.transpose() * t));
         big.fixed_view_mut::<6, 6>(6, 6)
             .copy_from(&(a.transpose() * t));
         let e = big.exp();
@@ -623,7 +664,7 @@ mod tests {
         // huge finite entries; 1e300 s non-finite ones, which the filters refuse (the
         // navigator refuses such steps before, see nav::MAX_STEP_PERIODS)
         let m = CwModel::new(N);
-        let psd = Vec3::repeat(1e-9);
+        let psd = Mat3::identity() * 1e-9;
         let d = m.discretize(7200.0 * 1000.0, &psd, Discretization::Exact);
         assert!(d.q.iter().chain(d.phi.iter()).all(|v| v.is_finite()));
         assert!(d.q.cholesky().is_some());
@@ -636,11 +677,37 @@ mod tests {
     }
 
     #[test]
+    fn van_loan_q_of_a_full_density_matches_the_exponential() {
+        // correlated axes: the series over t / 2^k doubled k times
+        let m = CwModel::new(N);
+        let qc = Mat3::new(2e-6, 5e-7, -3e-7, 5e-7, 1e-6, 2e-7, -3e-7, 2e-7, 8e-7);
+        for theta in [0.01, 0.5, 1.0, 2.0, 6.0, 20.0] {
+            let t = theta / N;
+            let q = m.van_loan_q(&qc, t);
+            let e = scaled_error(&q, &van_loan_full(&m, &qc, t));
+            eprintln!("n t = {theta}: doubled series vs Van Loan exponential {e:.1e}");
+            assert!(e < 1e-10, "theta = {theta}: {e:e}");
+            assert_eq!(q, q.transpose());
+        }
+        // a diagonal density takes the closed form, bit for bit
+        let psd = Vec3::new(1e-6, 2e-6, 5e-7);
+        assert_eq!(
+            m.van_loan_q(&Mat3::from_diagonal(&psd), 3.0 / N),
+            m.process_noise(&psd, 3.0 / N)
+        );
+        // bounded work whatever the step: at most ~1025 doublings for a finite n t
+        let q = m.van_loan_q(&qc, 1e300);
+        assert!(!q.iter().all(|v| v.is_finite()));
+        let q = m.van_loan_q(&qc, f64::INFINITY);
+        assert!(q.iter().all(|v| v.is_nan()));
+    }
+
+    #[test]
     fn euler_is_first_order() {
         let m = CwModel::new(N);
-        let d = m.discretize(1.0, &Vec3::zeros(), Discretization::Euler);
+        let d = m.discretize(1.0, &Mat3::zeros(), Discretization::Euler);
         assert_eq!(d.phi, Mat6::identity() + m.continuous_a());
-        let e = m.discretize(1.0, &Vec3::zeros(), Discretization::Exact);
+        let e = m.discretize(1.0, &Mat3::zeros(), Discretization::Exact);
         // the difference is the second-order term A^2 T^2 / 2 up to O(T^3)
         let a = m.continuous_a();
         let second = a * a / 2.0;

@@ -35,8 +35,11 @@ use crate::frames::Frame;
 use crate::hinf::HinfEstimator;
 use crate::noise::NoiseModel;
 use crate::numerics::num;
+use crate::numerics::state::{
+    self, crc32, refuse, Persist, Reader, StateError, Writer, ESTIMATOR_MAGIC, KINDS,
+};
 use crate::sensors::{MeasurementModel, RadioSensor};
-use crate::types::{Mat6, State, Vec3};
+use crate::types::{Mat3, Mat6, State, Vec3};
 
 /// Accepted mean motions [rad/s]: from a 200-year orbit to a 1-minute one. Outside, the
 /// CW model has no physical meaning and `1 / n^2` terms of the discretisation overflow.
@@ -170,6 +173,37 @@ impl NoiseKind {
     }
 }
 
+/// H-infinity design codes for [`NavConfig::hinf_design`], the same as the C ABI's
+/// `relnav_hinf_form` (whose code 2, the paper form, needs the closed loop `u = K x` and is
+/// not available to the navigator).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[repr(i32)]
+pub enum HinfDesignKind {
+    /// The gamma-optimal observer ([`crate::hinf::design::design_observer`]; issue 5).
+    GammaOptimal = 1,
+    /// The mixed H2/H-infinity observer: least H2 norm with `gamma <= hinf_gamma_factor *
+    /// gamma_opt` ([`crate::hinf::design::design_mixed`]).
+    Mixed = 3,
+}
+
+impl HinfDesignKind {
+    /// All codes, in order.
+    pub const ALL: [HinfDesignKind; 2] = [HinfDesignKind::GammaOptimal, HinfDesignKind::Mixed];
+
+    /// From the stable code (1 or 3).
+    pub fn from_code(code: i32) -> Option<Self> {
+        Self::ALL.into_iter().find(|k| *k as i32 == code)
+    }
+
+    /// Short name (`gamma_optimal`, `mixed`).
+    pub fn name(self) -> &'static str {
+        match self {
+            HinfDesignKind::GammaOptimal => "gamma_optimal",
+            HinfDesignKind::Mixed => "mixed",
+        }
+    }
+}
+
 /// Everything that defines a navigator. [`Default`] is paper 000's numerical example
 /// (digest, paper 000 "Example", with its covariance-name erratum applied).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -237,13 +271,28 @@ pub struct NavConfig {
     /// H-infinity filter: bound of the orbit-rate uncertainty, `w = w0 (1 + delta)`,
     /// `|delta| <= hinf_delta_bar`, >= 0 (paper 002: 0.05).
     pub hinf_delta_bar: f64,
-    /// H-infinity filter: process-noise scaling on positions [m] (paper 002 `B`: 0.05).
+    /// H-infinity filter: process-noise scaling on positions [m] (paper 002 `B`: 0.05), not
+    /// negative. With `hinf_b_pos = hinf_b_vel = 0` (the default) `B` is derived from the
+    /// navigator's own process noise (`accel_psd`, `q_pos`, `q_vel`; see
+    /// [`NavConfig::hinf_spec`]); otherwise both must be positive and `B = diag(b_pos I3,
+    /// b_vel I3)`.
     pub hinf_b_pos: f64,
-    /// H-infinity filter: process-noise scaling on velocities [m/s] (paper 002 `B`: 0.001).
+    /// H-infinity filter: process-noise scaling on velocities [m/s] (paper 002 `B`: 0.001),
+    /// >= 0 (0 with `hinf_b_pos = 0`: derived).
     pub hinf_b_vel: f64,
     /// H-infinity filter: scaling of the indirect position measurement noise [m]
-    /// (paper 002 `D`: 0.1).
+    /// (paper 002 `D`: 0.1), >= 0; 0 (the default): `D` is derived from `sigma_range`,
+    /// `sigma_angle` and the noise model at the initial estimate's position.
     pub hinf_d: f64,
+    /// H-infinity filter: which design (default: mixed H2/H-infinity).
+    pub hinf_design: HinfDesignKind,
+    /// H-infinity filter, mixed design: the bound on the certified gamma as a multiple of
+    /// the gamma-optimal design's, finite and > 1 (default 1.5).
+    pub hinf_gamma_factor: f64,
+    /// H-infinity filter: start with the Kalman gain of the design's noise model and hand
+    /// over to the designed gain when it is no worse ([`crate::hinf::HinfAcquisition`];
+    /// default true). False: the designed gain from the first step (issue 5's filter).
+    pub hinf_acquisition: bool,
 }
 
 impl Default for NavConfig {
@@ -278,9 +327,12 @@ impl Default for NavConfig {
             q_vv_ceiling: 1.0,
             hinf_period: 1.0,
             hinf_delta_bar: 0.05,
-            hinf_b_pos: 0.05,
-            hinf_b_vel: 0.001,
-            hinf_d: 0.1,
+            hinf_b_pos: 0.0,
+            hinf_b_vel: 0.0,
+            hinf_d: 0.0,
+            hinf_design: HinfDesignKind::Mixed,
+            hinf_gamma_factor: 1.5,
+            hinf_acquisition: true,
         }
     }
 }
@@ -303,6 +355,9 @@ pub enum NavErrorKind {
     NotImplemented,
     /// The filter could not complete the step (geometry, loss of positive definiteness).
     Numerical,
+    /// A saved state was refused ([`Navigator::restore_state`]): truncated, corrupted,
+    /// another format version, or saved for another configuration.
+    InvalidState,
 }
 
 impl std::fmt::Display for NavError {
@@ -325,6 +380,52 @@ impl From<FilterError> for NavError {
         Self {
             kind: NavErrorKind::Numerical,
             message: format!("filter step failed: {e}"),
+        }
+    }
+}
+
+/// One setting of a [`NavConfig`] as a saved state records it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Setting {
+    /// A code, count or seed (the seed's `u64` bits as `i64`).
+    Int(i64),
+    /// A real number.
+    Real(f64),
+}
+
+impl Setting {
+    /// The 8 bytes a state stores: the two's complement of an `Int`, the IEEE-754 bits of
+    /// a `Real` (so `-0.0` and `0.0` differ: a restore must continue bit for bit).
+    pub fn bits(self) -> u64 {
+        match self {
+            Setting::Int(v) => v as u64,
+            Setting::Real(v) => v.to_bits(),
+        }
+    }
+
+    /// The same kind of setting with the stored bits `b`.
+    fn with_bits(self, b: u64) -> Self {
+        match self {
+            Setting::Int(_) => Setting::Int(b as i64),
+            Setting::Real(_) => Setting::Real(f64::from_bits(b)),
+        }
+    }
+}
+
+impl std::fmt::Display for Setting {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Setting::Int(v) => write!(f, "{v}"),
+            Setting::Real(v) => f.write_str(&num(*v)),
+        }
+    }
+}
+
+impl From<StateError> for NavError {
+    fn from(e: StateError) -> Self {
+        Self {
+            kind: NavErrorKind::InvalidState,
+            message: format!("state refused: {e}"),
         }
     }
 }
@@ -506,14 +607,152 @@ impl NavConfig {
             p.validate().map_err(NavError::invalid)?;
         }
         self.aq_params().validate().map_err(NavError::invalid)?;
-        let spec = self.hinf_spec();
-        spec.validate()
-            .map_err(|e| NavError::invalid(format!("hinf_*: {}", e.message)))?;
+        self.validate_hinf()?;
         Ok(())
     }
 
-    /// The H-infinity design inputs of this configuration (`w0` = `mean_motion`).
-    pub fn hinf_spec(&self) -> crate::hinf::HinfSpec {
+    /// Every setting by name, in the order of a saved state's configuration section
+    /// (`docs/state-format.md`). The destructuring names every field: a new field of
+    /// `NavConfig` does not compile until it is added here (and so to the fingerprint).
+    pub fn settings(&self) -> Vec<(&'static str, Setting)> {
+        use Setting::{Int, Real};
+        let NavConfig {
+            filter,
+            frame,
+            mean_motion,
+            chaser_mass,
+            sigma_range,
+            sigma_angle,
+            x0,
+            sigma_pos0,
+            sigma_vel0,
+            accel_psd,
+            q_pos,
+            q_vel,
+            discretization,
+            ukf,
+            seed,
+            particles,
+            resampler,
+            resample_threshold,
+            noise_model,
+            noise_zeta,
+            noise_scale,
+            noise_dof,
+            window,
+            q_vv_floor,
+            q_vv_ceiling,
+            hinf_period,
+            hinf_delta_bar,
+            hinf_b_pos,
+            hinf_b_vel,
+            hinf_d,
+            hinf_design,
+            hinf_gamma_factor,
+            hinf_acquisition,
+        } = *self;
+        let UkfParams { alpha, beta, kappa } = ukf;
+        vec![
+            ("filter", Int(filter as i64)),
+            ("frame", Int(frame.code() as i64)),
+            ("mean_motion", Real(mean_motion)),
+            ("chaser_mass", Real(chaser_mass)),
+            ("sigma_range", Real(sigma_range)),
+            ("sigma_angle", Real(sigma_angle)),
+            ("x0[0]", Real(x0[0])),
+            ("x0[1]", Real(x0[1])),
+            ("x0[2]", Real(x0[2])),
+            ("x0[3]", Real(x0[3])),
+            ("x0[4]", Real(x0[4])),
+            ("x0[5]", Real(x0[5])),
+            ("sigma_pos0", Real(sigma_pos0)),
+            ("sigma_vel0", Real(sigma_vel0)),
+            ("accel_psd", Real(accel_psd)),
+            ("q_pos[0]", Real(q_pos[0])),
+            ("q_pos[1]", Real(q_pos[1])),
+            ("q_pos[2]", Real(q_pos[2])),
+            ("q_vel[0]", Real(q_vel[0])),
+            ("q_vel[1]", Real(q_vel[1])),
+            ("q_vel[2]", Real(q_vel[2])),
+            ("discretization", Int(discretization as i64)),
+            ("ukf_alpha", Real(alpha)),
+            ("ukf_beta", Real(beta)),
+            ("ukf_kappa", Real(kappa)),
+            ("seed", Int(seed as i64)),
+            ("particles", Int(particles as i64)),
+            ("resampler", Int(resampler as i64)),
+            ("resample_threshold", Real(resample_threshold)),
+            ("noise_model", Int(noise_model as i64)),
+            ("noise_zeta", Real(noise_zeta)),
+            ("noise_scale", Real(noise_scale)),
+            ("noise_dof", Real(noise_dof)),
+            ("window", Int(window as i64)),
+            ("q_vv_floor", Real(q_vv_floor)),
+            ("q_vv_ceiling", Real(q_vv_ceiling)),
+            ("hinf_period", Real(hinf_period)),
+            ("hinf_delta_bar", Real(hinf_delta_bar)),
+            ("hinf_b_pos", Real(hinf_b_pos)),
+            ("hinf_b_vel", Real(hinf_b_vel)),
+            ("hinf_d", Real(hinf_d)),
+            ("hinf_design", Int(hinf_design as i64)),
+            ("hinf_gamma_factor", Real(hinf_gamma_factor)),
+            ("hinf_acquisition", Int(i64::from(hinf_acquisition))),
+        ]
+    }
+
+    /// The configuration section of a saved state: the number of settings (u32) and each
+    /// setting's 8 bytes ([`Setting::bits`]), in [`NavConfig::settings`] order.
+    fn write_settings(&self, w: &mut Writer<'_>) {
+        let s = self.settings();
+        w.u32(s.len() as u32);
+        for (_, v) in s {
+            w.u64(v.bits());
+        }
+    }
+
+    /// The configuration fingerprint of a saved state's header: the CRC-32 of the
+    /// configuration section ([`NavConfig::settings`]).
+    pub fn fingerprint(&self) -> u32 {
+        let mut b = Vec::new();
+        self.write_settings(&mut Writer::new(&mut b));
+        crc32(&b)
+    }
+
+    /// The H-infinity parameters: their domains whatever the filter; the derived noise
+    /// model (which needs a usable initial position) only for filter 9.
+    fn validate_hinf(&self) -> Result<(), NavError> {
+        non_negative("hinf_b_pos", self.hinf_b_pos)?;
+        non_negative("hinf_b_vel", self.hinf_b_vel)?;
+        non_negative("hinf_d", self.hinf_d)?;
+        if (self.hinf_b_pos == 0.0) != (self.hinf_b_vel == 0.0) {
+            return Err(NavError::invalid(format!(
+                "hinf_b_pos and hinf_b_vel are set together (both > 0) or derived together \
+                 (both 0) (got {} and {})",
+                num(self.hinf_b_pos),
+                num(self.hinf_b_vel)
+            )));
+        }
+        if !(self.hinf_gamma_factor.is_finite() && self.hinf_gamma_factor > 1.0) {
+            return Err(NavError::invalid(format!(
+                "hinf_gamma_factor must be finite and > 1 (got {}): the mixed design's bound on \
+                 gamma as a multiple of the gamma-optimal design's",
+                num(self.hinf_gamma_factor)
+            )));
+        }
+        let hinf = |e: crate::hinf::HinfError| NavError::invalid(format!("hinf_*: {}", e.message));
+        let mut spec = self.hinf_spec_scalars();
+        // scalars 0 mean "derived": the placeholders only let the shared checks run
+        spec.b_pos = if spec.b_pos > 0.0 { spec.b_pos } else { 1.0 };
+        spec.b_vel = if spec.b_vel > 0.0 { spec.b_vel } else { 1.0 };
+        spec.d = if spec.d > 0.0 { spec.d } else { 1.0 };
+        spec.validate().map_err(hinf)?;
+        if self.filter == FilterKind::Hinf {
+            self.hinf_spec()?.validate().map_err(hinf)?;
+        }
+        Ok(())
+    }
+
+    fn hinf_spec_scalars(&self) -> crate::hinf::HinfSpec {
         crate::hinf::HinfSpec {
             w0: self.mean_motion,
             delta_bar: self.hinf_delta_bar,
@@ -521,7 +760,70 @@ impl NavConfig {
             b_pos: self.hinf_b_pos,
             b_vel: self.hinf_b_vel,
             d: self.hinf_d,
+            b_matrix: None,
+            d_matrix: None,
         }
+    }
+
+    /// The H-infinity design inputs of this configuration (`w0` = `mean_motion`, canonical
+    /// frame). Set scalings are used as given; zero ones are derived from the noise every
+    /// other filter uses (issue 12):
+    ///
+    /// * `B = Qd^(1/2)` ([`crate::hinf::noise_inputs`]) with `Qd` the process-noise
+    ///   covariance of one step `T = hinf_period`, exactly as the navigator builds it:
+    ///   `Qd_VanLoan(accel_psd I3, T) + T6^T diag(q_pos T, q_vel T) T6` (the `q_*` are per
+    ///   I/O axis, rotated to the canonical frame);
+    /// * `D = R^(1/2)` with `R` the covariance of the indirect Cartesian position
+    ///   ([`RadioSensor::position_covariance`]) at the initial estimate's position, of the
+    ///   radio noise the Kalman filters assume (`sigma^2` times the noise model's variance
+    ///   factor): `sigma_range` along the line of sight, `range * sigma_angle` across it.
+    ///
+    /// Errors: a zero initial range when `D` is derived; a derived `B` of zero (no process
+    /// noise at all) for the mixed design, whose H2 criterion needs one.
+    pub fn hinf_spec(&self) -> Result<crate::hinf::HinfSpec, NavError> {
+        let mut spec = self.hinf_spec_scalars();
+        let t = self.hinf_period;
+        if self.hinf_b_pos == 0.0 && self.hinf_b_vel == 0.0 {
+            positive("hinf_period", t)?;
+            let qc = Mat3::identity() * self.accel_psd;
+            let mut qd = CwModel::new(self.mean_motion).van_loan_q(&qc, t);
+            let qio = State::from_row_slice(&[
+                self.q_pos[0],
+                self.q_pos[1],
+                self.q_pos[2],
+                self.q_vel[0],
+                self.q_vel[1],
+                self.q_vel[2],
+            ]) * t;
+            qd += self.frame.cov_to_canonical(&Mat6::from_diagonal(&qio));
+            if self.hinf_design == HinfDesignKind::Mixed && qd.abs().max() == 0.0 {
+                return Err(NavError::invalid(
+                    "hinf: the mixed design's process noise is derived from accel_psd, q_pos_* \
+                     and q_vel_*, which are all 0: set one of them (or hinf_b_pos and \
+                     hinf_b_vel)"
+                        .to_string(),
+                ));
+            }
+            spec.b_matrix = Some(crate::hinf::psd_sqrt(&qd));
+        }
+        if self.hinf_d == 0.0 {
+            let inflate = self.noise().variance_factor().sqrt();
+            let sensor = RadioSensor::new(
+                self.frame,
+                self.sigma_range * inflate,
+                self.sigma_angle * inflate,
+            );
+            let r0 = self.initial_state().fixed_rows::<3>(0).into_owned();
+            let r = sensor.position_covariance(&r0).ok_or_else(|| {
+                NavError::invalid(
+                    "hinf: the measurement noise is derived at the initial estimate's \
+                     position, which is at zero range: set x0, y0, z0 (or hinf_d)"
+                        .to_string(),
+                )
+            })?;
+            spec.d_matrix = Some(crate::hinf::psd_sqrt(&r));
+        }
+        Ok(spec)
     }
 
     /// The measurement-noise density (scales `sigma_range`, `sigma_angle`).
@@ -641,6 +943,45 @@ impl AnyFilter {
     }
 }
 
+impl AnyFilter {
+    /// The 4-byte tag of this filter's section in a saved state.
+    fn state_tag(&self) -> &'static [u8; 4] {
+        match self {
+            AnyFilter::Ekf(_) => b"EKF ",
+            AnyFilter::Ukf(_) => b"UKF ",
+            AnyFilter::Aqukf(_) => b"AQUK",
+            AnyFilter::Pf(_) => b"PART",
+            AnyFilter::Hinf(_) => b"HINF",
+        }
+    }
+}
+
+/// The filter's section: its tag, then the filter's own [`Persist`] fields (each defined
+/// beside the filter).
+impl Persist for AnyFilter {
+    fn save_state(&self, w: &mut Writer<'_>) {
+        w.tag(self.state_tag());
+        match self {
+            AnyFilter::Ekf(f) => f.save_state(w),
+            AnyFilter::Ukf(f) => f.save_state(w),
+            AnyFilter::Aqukf(f) => f.save_state(w),
+            AnyFilter::Pf(f) => f.save_state(w),
+            AnyFilter::Hinf(f) => f.save_state(w),
+        }
+    }
+
+    fn load_state(&mut self, r: &mut Reader<'_>) -> Result<(), StateError> {
+        r.tag(self.state_tag())?;
+        match self {
+            AnyFilter::Ekf(f) => f.load_state(r),
+            AnyFilter::Ukf(f) => f.load_state(r),
+            AnyFilter::Aqukf(f) => f.load_state(r),
+            AnyFilter::Pf(f) => f.load_state(r),
+            AnyFilter::Hinf(f) => f.load_state(r),
+        }
+    }
+}
+
 impl Estimator for AnyFilter {
     fn predict(&mut self, model: &DiscreteModel, accel: &Vec3) -> Result<(), FilterError> {
         match self {
@@ -742,16 +1083,28 @@ fn build_filter(cfg: &NavConfig) -> Result<AnyFilter, NavError> {
         ))),
         #[cfg(feature = "hinf")]
         FilterKind::Hinf => {
-            use crate::hinf::design::{design_open_loop, DesignOptions};
-            let d = design_open_loop(&cfg.hinf_spec(), &DesignOptions::default()).map_err(|e| {
-                NavError {
-                    kind: NavErrorKind::InvalidArgument,
-                    message: format!("hinf design failed: {e}"),
+            use crate::hinf::design::{design_open_loop, design_open_loop_mixed, DesignOptions};
+            let spec = cfg.hinf_spec()?;
+            let opts = DesignOptions::default();
+            let d = match cfg.hinf_design {
+                HinfDesignKind::GammaOptimal => design_open_loop(&spec, &opts),
+                HinfDesignKind::Mixed => {
+                    design_open_loop_mixed(&spec, cfg.hinf_gamma_factor, &opts).map(|m| m.mixed)
                 }
+            }
+            .map_err(|e| NavError {
+                kind: NavErrorKind::InvalidArgument,
+                message: format!("hinf design ({}) failed: {e}", cfg.hinf_design.name()),
             })?;
-            HinfEstimator::new(d.matrices, d.gamma, x0)
-                .map(AnyFilter::Hinf)
-                .map_err(|e| NavError::invalid(format!("hinf: {e}")))
+            let invalid = |e: crate::hinf::HinfError| NavError::invalid(format!("hinf: {e}"));
+            let mut f = HinfEstimator::new(d.matrices, d.gamma, x0)
+                .map_err(invalid)?
+                .with_h2_norm(d.h2_norm);
+            if cfg.hinf_acquisition {
+                let plant = crate::hinf::HinfPlant::open_loop(&spec);
+                f = f.with_acquisition(&plant, p0).map_err(invalid)?;
+            }
+            Ok(AnyFilter::Hinf(f))
         }
         other => Err(NavError {
             kind: NavErrorKind::NotImplemented,
@@ -816,8 +1169,8 @@ impl Navigator {
     /// The discrete model for step `dt` (cached: recomputed only when `dt` changes).
     fn discrete(&mut self, dt: f64) -> DiscreteModel {
         if self.step_cache.dt != dt {
-            let psd = Vec3::repeat(self.cfg.accel_psd);
-            let mut d = self.model.discretize(dt, &psd, self.cfg.discretization);
+            let qc = Mat3::identity() * self.cfg.accel_psd;
+            let mut d = self.model.discretize(dt, &qc, self.cfg.discretization);
             // the AQUKF adapts the velocity part itself (q_vel is its initial q_vv)
             let qv = if self.cfg.filter == FilterKind::Aqukf {
                 [0.0; 3]
@@ -1038,8 +1391,176 @@ impl Navigator {
         }
     }
 
+    /// The H2 norm of the H-infinity design (filter code 9; see
+    /// [`crate::hinf::design::HinfDesign::h2_norm`]), `None` otherwise.
+    pub fn hinf_h2_norm(&self) -> Option<f64> {
+        match &self.filter {
+            AnyFilter::Hinf(f) => Some(f.h2_norm()),
+            _ => None,
+        }
+    }
+
+    /// Whether the H-infinity filter (code 9) runs its designed, certified gain (true
+    /// after the hand-over of track initiation, or always without it); `None` for the
+    /// other filters.
+    pub fn hinf_certified(&self) -> Option<bool> {
+        match &self.filter {
+            AnyFilter::Hinf(f) => Some(f.certified()),
+            _ => None,
+        }
+    }
+
     /// The estimator itself (canonical frame).
     pub fn filter(&self) -> &AnyFilter {
         &self.filter
     }
+
+    /// The payload of a saved state: configuration section, navigator section, filter
+    /// section (`docs/state-format.md`). The destructuring names every field: a new one
+    /// does not compile until it is saved here or marked as configuration or cache.
+    fn write_state(&self, w: &mut Writer<'_>) {
+        let Self {
+            cfg,
+            // configuration: rebuilt from `cfg` by the restoring navigator
+            model: _,
+            sensor: _,
+            kalman_sensor: _,
+            noise: _,
+            scales: _,
+            filter,
+            // a cache of the discrete model per step size, recomputed from `cfg` (same bits)
+            step_cache: _,
+            last_update,
+            failed,
+        } = self;
+        w.tag(b"CONF");
+        cfg.write_settings(w);
+        w.tag(b"NAVG");
+        w.bool(*failed);
+        // always the same size: zeros in place of an absent last update
+        let u = last_update.unwrap_or_default();
+        w.bool(last_update.is_some());
+        w.matrix(&u.innovation);
+        w.f64(u.nis);
+        w.bool(u.azimuth_used);
+        filter.save_state(w);
+    }
+
+    /// The identity block of a saved state's header: filter code (i32 LE), configuration
+    /// fingerprint (u32 LE, [`NavConfig::fingerprint`]).
+    fn state_ident(&self) -> [u8; 8] {
+        let mut id = [0u8; 8];
+        id[..4].copy_from_slice(&(self.cfg.filter as i32).to_le_bytes());
+        id[4..].copy_from_slice(&self.cfg.fingerprint().to_le_bytes());
+        id
+    }
+
+    /// Size in bytes of [`Navigator::save_state`]'s output (counted, nothing allocated). It
+    /// depends on the configuration only (a particle filter's grows with `particles`), not
+    /// on the history: one buffer of this size holds every later state.
+    pub fn state_len(&self) -> usize {
+        state::sealed_len(STATE_IDENT_LEN, |w| self.write_state(w))
+    }
+
+    /// Append the complete state to `out` as explicit, versioned bytes
+    /// (`docs/state-format.md`): a header (magic `RELNAVES`, [`STATE_FORMAT_VERSION`],
+    /// filter code, configuration fingerprint, payload length, CRC-32) and a payload with
+    /// the configuration, the navigator's own state (failure flag, last-update
+    /// diagnostics) and the filter's (particles, weights and generator state, the AQUKF
+    /// window, the H-infinity matrices, ...). [`Navigator::restore_state`] on a navigator
+    /// of the same configuration — this one or another, in this process or another —
+    /// continues bit for bit as this one would.
+    pub fn save_state(&self, out: &mut Vec<u8>) {
+        let ident = self.state_ident();
+        state::seal(out, ESTIMATOR_MAGIC, STATE_FORMAT_VERSION, &ident, |w| {
+            self.write_state(w)
+        });
+    }
+
+    /// Restore a state saved by [`Navigator::save_state`]. Refused with
+    /// [`NavErrorKind::InvalidState`] and a reason when the bytes are truncated or
+    /// corrupted (length, CRC-32), of another format version or kind, or saved for another
+    /// configuration (the message names the first setting that differs); a malformed field
+    /// (a permutation that is none, an index out of range, a non-finite estimate) is
+    /// refused too. Transactional: on error nothing changes.
+    pub fn restore_state(&mut self, bytes: &[u8]) -> Result<(), NavError> {
+        let o = state::open(
+            bytes,
+            ESTIMATOR_MAGIC,
+            STATE_FORMAT_VERSION,
+            STATE_IDENT_LEN,
+            "a relnav estimator state",
+            &KINDS,
+        )?;
+        let mut id = Reader::new(o.ident);
+        let code = id.i32("filter code")?;
+        let fingerprint = id.u32("configuration fingerprint")?;
+        if code != self.cfg.filter as i32 {
+            let name = FilterKind::from_code(code).map_or("unknown", FilterKind::name);
+            return Err(refuse(format!(
+                "the state is for filter {code} ({name}), this estimator runs filter {} ({})",
+                self.cfg.filter as i32,
+                self.cfg.filter.name()
+            ))
+            .into());
+        }
+        let mut r = Reader::new(o.payload);
+        r.tag(b"CONF")?;
+        let conf_at = r.position();
+        let mine = self.cfg.settings();
+        let n = r.u32("number of settings")? as usize;
+        if n != mine.len() {
+            return Err(refuse(format!(
+                "the state records {n} settings, this build has {}",
+                mine.len()
+            ))
+            .into());
+        }
+        for (name, v) in &mine {
+            let b = r.u64(name)?;
+            if b != v.bits() {
+                return Err(refuse(format!(
+                    "the state was saved for another configuration: {name} = {} in the \
+                     state, {v} in this estimator",
+                    v.with_bits(b)
+                ))
+                .into());
+            }
+        }
+        let conf = o.payload.get(conf_at..r.position()).unwrap_or_default();
+        if crc32(conf) != fingerprint || fingerprint != self.cfg.fingerprint() {
+            return Err(refuse(format!(
+                "configuration fingerprint {fingerprint:08x} of the header does not match the \
+                 configuration it carries ({:08x})",
+                crc32(conf)
+            ))
+            .into());
+        }
+        r.tag(b"NAVG")?;
+        let failed = r.bool("failure flag")?;
+        let present = r.bool("last-update flag")?;
+        let u = UpdateInfo {
+            innovation: r.matrix("last innovation")?,
+            nis: r.f64("last NIS")?,
+            azimuth_used: r.bool("last azimuth-used flag")?,
+        };
+        let last_update = present.then_some(u);
+        let mut filter = self.filter.clone();
+        filter.load_state(&mut r)?;
+        r.finish()?;
+        // commit: nothing below can fail
+        self.filter = filter;
+        self.last_update = last_update;
+        self.failed = failed;
+        Ok(())
+    }
 }
+
+/// cbindgen:ignore
+/// Format version of [`Navigator::save_state`]'s bytes. Bump it whenever the layout
+/// changes (a field added to a filter's `Persist`, a new setting); a state of another
+/// version is refused, never misread.
+pub const STATE_FORMAT_VERSION: u32 = 1;
+
+/// Length of the identity block of an estimator state's header (filter code, fingerprint).
+const STATE_IDENT_LEN: usize = 8;

@@ -16,7 +16,7 @@ use relnav::estimators::{Estimator, Ukf, UkfParams};
 use relnav::frames::Frame;
 use relnav::nav::{FilterKind, NavConfig, Navigator};
 use relnav::sensors::RadioSensor;
-use relnav::types::{Mat6, State, Vec3};
+use relnav::types::{Mat3, Mat6, State, Vec3};
 
 const N: f64 = 2.0 * std::f64::consts::PI / 7200.0;
 const MASS: f64 = 100.0;
@@ -306,7 +306,12 @@ fn window_one_equals_the_undamped_maybeck_update() {
             checked += 1;
         }
         // the same prediction for both: CW with Van Loan noise of the current q_vv
-        let model = cw.discretize(1.0, &q_now, relnav::dynamics::Discretization::Exact);
+        let mut model = cw.discretize(
+            1.0,
+            &Mat3::from_diagonal(&q_now),
+            relnav::dynamics::Discretization::Exact,
+        );
+        model.q = cw.van_loan_q(&Mat3::from_diagonal(&q_now), 1.0);
         ukf.predict(&model, &Vec3::zeros()).unwrap();
         nav.predict(&[0.0; 3], 1.0).unwrap();
         assert!((ukf.state() - frame.state_to_canonical(&nav.state())).norm() < 1e-6);

@@ -11,7 +11,7 @@ use relnav::estimators::{Ekf, Estimator, Ukf, UkfParams};
 use relnav::frames::Frame;
 use relnav::nav::{FilterKind, NavConfig, Navigator};
 use relnav::sensors::RadioSensor;
-use relnav::types::{Mat6, State, Vec3};
+use relnav::types::{Mat3, Mat6, State, Vec3};
 
 /// Per-axis RMSE over `runs` seeded runs of paper 000's example; returns
 /// (worst per-axis RMSE for t >= 80 s, position RMSE over 80..600 s).
@@ -79,7 +79,7 @@ fn paper000_published_figures_ekf_and_ukf() {
 #[test]
 fn ukf_time_update_equals_kalman_for_linear_dynamics() {
     let model = CwModel::new(1.1e-3);
-    let d = model.discretize(7.0, &Vec3::repeat(1e-6), Discretization::Exact);
+    let d = model.discretize(7.0, &(Mat3::identity() * 1e-6), Discretization::Exact);
     let x = State::from_row_slice(&[100.0, -50.0, 20.0, 0.1, 0.2, -0.05]);
     let mut p = Mat6::from_fn(|i, j| 0.3_f64.powi((i as i32 - j as i32).abs()));
     p = p * p.transpose() + Mat6::identity();

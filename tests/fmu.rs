@@ -110,7 +110,7 @@ fn platform_strings_and_description() {
         );
     }
     assert!(model_description().contains(guid()));
-    assert_eq!(VARIABLES.len(), vr::HINF_GAMMA as usize + 1);
+    assert_eq!(VARIABLES.len(), vr::HINF_CERTIFIED as usize + 1);
 }
 
 #[test]
@@ -229,35 +229,72 @@ fn call_sequence_and_parameter_errors() {
         assert_eq!(fmi2Reset(c), OK);
         assert_eq!(set_real(c, 9999, 1.0), ERR);
         assert_eq!(fmi2Reset(c), OK);
-        // wrong type: filter is an enumeration
+        // wrong type: filter is an Integer code
         assert_eq!(set_real(c, vr::FILTER, 1.0), ERR);
         assert_eq!(fmi2Reset(c), OK);
-        // enumeration values outside the type
+        // codes outside their list
         assert_eq!(set_int(c, vr::FRAME, 5), ERR);
         assert_eq!(fmi2Reset(c), OK);
         assert_eq!(set_int(c, vr::FILTER, 0), ERR);
         assert_eq!(fmi2Reset(c), OK);
-        // parameters valid in type but not in value: rejected at exit-initialisation
+        // values invalid whatever the other parameters: refused when set, in both states
+        // where parameters are set
         for (r, v) in [
             (vr::CHASER_MASS, 0.0),
             (vr::SIGMA_RANGE, -1.0),
             (vr::MEAN_MOTION, f64::NAN),
             (vr::Q_POS_X, -1.0),
             (vr::HINF_PERIOD, 0.0),
+            (vr::HINF_PERIOD, 1e10), // w0 * period > 0.5 for every accepted mean_motion
         ] {
             assert_eq!(fmi2SetupExperiment(c, 0, 0.0, 0.0, 0, 0.0), OK);
-            assert_eq!(set_real(c, r, v), OK);
+            assert_eq!(set_real(c, r, v), ERR, "vr {r} = {v}");
+            assert_eq!(fmi2Reset(c), OK);
             assert_eq!(fmi2EnterInitializationMode(c), OK);
-            assert_eq!(fmi2ExitInitializationMode(c), ERR, "vr {r} = {v}");
+            assert_eq!(set_real(c, r, v), ERR, "vr {r} = {v}");
             assert_eq!(fmi2Reset(c), OK);
         }
-        // without the `hinf` feature, 9 (hinf) is not implemented
+        for (r, v) in [(vr::PARTICLES, 0), (vr::WINDOW, 513)] {
+            assert_eq!(set_int(c, r, v), ERR, "vr {r} = {v}");
+            assert_eq!(fmi2Reset(c), OK);
+        }
+        // values valid alone, invalid together: accepted when set, refused at
+        // exit-initialisation (hinf_period 1000 s needs mean_motion <= 5e-4 rad/s; the
+        // unscented particle filters need a process noise)
+        let combos: [&[(u32, f64)]; 2] = [
+            &[(vr::HINF_PERIOD, 1000.0)],
+            &[
+                (vr::Q_POS_X, 0.0),
+                (vr::Q_POS_Y, 0.0),
+                (vr::Q_POS_Z, 0.0),
+                (vr::Q_VEL_X, 0.0),
+                (vr::Q_VEL_Y, 0.0),
+                (vr::Q_VEL_Z, 0.0),
+            ],
+        ];
+        for (i, combo) in combos.iter().enumerate() {
+            assert_eq!(fmi2SetupExperiment(c, 0, 0.0, 0.0, 0, 0.0), OK);
+            if i == 1 {
+                assert_eq!(set_int(c, vr::FILTER, 6), OK);
+            }
+            for (r, v) in combo.iter() {
+                assert_eq!(set_real(c, *r, *v), OK, "vr {r} = {v}");
+            }
+            assert_eq!(fmi2EnterInitializationMode(c), OK);
+            assert_eq!(fmi2ExitInitializationMode(c), ERR, "combination {i}");
+            assert_eq!(fmi2Reset(c), OK);
+        }
+        // ... and the same hinf_period with a slow enough orbit initialises
+        assert_eq!(set_real(c, vr::HINF_PERIOD, 1000.0), OK);
+        assert_eq!(set_real(c, vr::MEAN_MOTION, 7.3e-5), OK);
+        assert_eq!(fmi2EnterInitializationMode(c), OK);
+        assert_eq!(fmi2ExitInitializationMode(c), OK);
+        assert_eq!(fmi2Reset(c), OK);
+        // without the `hinf` feature, 9 (hinf) is not implemented: refused when set
         #[cfg(not(feature = "hinf"))]
         {
             let f = 9;
-            assert_eq!(set_int(c, vr::FILTER, f), OK);
-            assert_eq!(fmi2EnterInitializationMode(c), OK);
-            assert_eq!(fmi2ExitInitializationMode(c), ERR, "filter {f}");
+            assert_eq!(set_int(c, vr::FILTER, f), ERR, "filter {f}");
             assert_eq!(fmi2Reset(c), OK);
         }
         // parameters are fixed after initialisation; inputs are not
@@ -282,9 +319,38 @@ fn call_sequence_and_parameter_errors() {
         assert_eq!(fmi2Reset(c), OK);
         // unsupported functions say so
         init(c);
-        let mut s: fmi2FMUstate = std::ptr::null_mut();
-        assert_eq!(fmi2GetFMUstate(c, &mut s), ERR);
+        assert_eq!(fmi2CancelStep(c), ERR);
         assert_eq!(fmi2Reset(c), OK);
+        fmi2FreeInstance(c);
+    }
+}
+
+/// `fmi_status` reports the worst status returned (for masters that ignore fmi2Error):
+/// 0 while all is well, 3 after a refused call, 0 again after fmi2Reset.
+#[test]
+fn fmi_status_output_reports_errors() {
+    let status = |c: fmi2Component| {
+        let mut s = -1;
+        // SAFETY: live instance, one element.
+        assert_eq!(unsafe { fmi2GetInteger(c, &vr::FMI_STATUS, 1, &mut s) }, OK);
+        s
+    };
+    let c = instantiate();
+    init(c);
+    run(c, 2);
+    assert_eq!(status(c), 0);
+    // SAFETY: live instance.
+    unsafe {
+        assert_eq!(fmi2DoStep(c, 0.0, 1.0, 1), ERR); // wrong communication point
+        assert_eq!(status(c), 3);
+        assert_eq!(fmi2DoStep(c, 2.0, 1.0, 1), ERR); // illegal in the error state
+        assert_eq!(status(c), 3);
+        assert_eq!(fmi2Reset(c), OK);
+        assert_eq!(set_int(c, vr::PARTICLES, 0), ERR); // refused when set
+        assert_eq!(status(c), 3);
+        assert_eq!(fmi2Reset(c), OK);
+        init(c);
+        assert_eq!(status(c), 0);
         fmi2FreeInstance(c);
     }
 }
@@ -324,6 +390,43 @@ fn variable_steps_and_status_queries() {
     }
     assert_eq!(last, 5.0);
     assert_eq!(term, 0);
+}
+
+/// `generationDateAndTime` is the commit date of `HEAD` in UTC (when built from a git
+/// checkout without `SOURCE_DATE_EPOCH`): the XML, and with it the GUID, is the same for
+/// every build of one commit. Checked against git's own date formatting.
+#[test]
+fn generation_date_is_the_commit_date() {
+    use relnav::fmi::description::GENERATION_DATE;
+    let date = GENERATION_DATE;
+    assert!(
+        model_description().contains(&format!(r#"generationDateAndTime="{date}""#)),
+        "{date}"
+    );
+    let b = date.as_bytes();
+    assert!(
+        b.len() == 20 && b[4] == b'-' && b[10] == b'T' && b[19] == b'Z',
+        "not an xs:dateTime in UTC: {date}"
+    );
+    if std::env::var_os("SOURCE_DATE_EPOCH").is_some() {
+        return;
+    }
+    let git = std::process::Command::new("git")
+        .args([
+            "log",
+            "-1",
+            "--format=%cd",
+            "--date=format-local:%Y-%m-%dT%H:%M:%SZ",
+        ])
+        .env("TZ", "UTC")
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output();
+    match git {
+        Ok(o) if o.status.success() => {
+            assert_eq!(String::from_utf8_lossy(&o.stdout).trim(), date)
+        }
+        _ => assert_eq!(date, "1970-01-01T00:00:00Z", "no git: the fixed date"),
+    }
 }
 
 /// The README's variable table is the generated one (regenerate with
@@ -543,10 +646,10 @@ fn ess_output_of_kalman_and_particle_filters() {
     assert!(e.is_nan(), "EKF ess {e}");
 }
 
-/// Bad particle-filter and noise parameters are refused: enumeration values outside their
-/// type at fmi2SetInteger, the rest at fmi2ExitInitializationMode with a message naming
-/// the parameter (the message the FMU logs under logStatusError comes from the C ABI's
-/// last error, checked here; the logging itself is checked by the fmpy suite).
+/// Bad particle-filter and noise parameters are refused when set (codes outside their
+/// lists, values invalid alone), a combination at fmi2ExitInitializationMode, with a
+/// message naming the parameter (the message the FMU logs under logStatusError comes from
+/// the C ABI's last error, checked here; the logging itself is checked by the fmpy suite).
 #[test]
 fn bad_particle_filter_parameters_are_refused() {
     let c = instantiate();
@@ -577,6 +680,7 @@ fn bad_particle_filter_parameters_are_refused() {
             (1, "particles", vr::PARTICLES, 0.0),
             (1, "noise_zeta", vr::NOISE_ZETA, 1.0),
         ] {
+            // invalid whatever the other parameters: refused when set
             assert_eq!(fmi2SetupExperiment(c, 0, 0.0, 0.0, 0, 0.0), OK);
             assert_eq!(set_int(c, vr::FILTER, filter), OK);
             let st = if r == vr::PARTICLES {
@@ -584,13 +688,7 @@ fn bad_particle_filter_parameters_are_refused() {
             } else {
                 set_real(c, r, v)
             };
-            assert_eq!(st, OK, "{name} = {v} (set)");
-            assert_eq!(fmi2EnterInitializationMode(c), OK);
-            assert_eq!(
-                fmi2ExitInitializationMode(c),
-                ERR,
-                "{name} = {v} accepted (filter {filter})"
-            );
+            assert_eq!(st, ERR, "{name} = {v} accepted (filter {filter})");
             let msg = last_error();
             assert!(msg.contains(name), "{name} = {v}: message {msg:?}");
             assert_eq!(fmi2Reset(c), OK);

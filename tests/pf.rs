@@ -13,12 +13,13 @@ use relnav::estimators::{Ekf, Estimator};
 use relnav::frames::Frame;
 use relnav::nav::NavConfig;
 use relnav::sensors::{CartesianSensor, MeasurementModel, RadioSensor};
-use relnav::types::{Mat6, State, Vec3};
+use relnav::types::{Mat3, Mat6, State, Vec3};
 
 /// Mean over time of |x_pf - x_kf| (position) on a linear-Gaussian problem where the KF
 /// is the exact posterior mean.
 fn pf_vs_kf(particles: usize, seed: u64) -> (f64, f64) {
-    let model = CwModel::new(1e-3).discretize(1.0, &Vec3::repeat(1e-2), Discretization::Exact);
+    let model =
+        CwModel::new(1e-3).discretize(1.0, &(Mat3::identity() * 1e-2), Discretization::Exact);
     let sensor = CartesianSensor {
         frame: Frame::RadialAlongNormal,
         sigma: 1.0,
@@ -83,7 +84,7 @@ fn paper000_pf(init: PfInit, kernel: Option<Kernel>, seed: u64) -> (f64, f64) {
     let cfg = NavConfig::default();
     let f = cfg.frame;
     let model = CwModel::new(cfg.mean_motion);
-    let mut d = model.discretize(1.0, &Vec3::zeros(), Discretization::Exact);
+    let mut d = model.discretize(1.0, &Mat3::zeros(), Discretization::Exact);
     d.q += f.cov_to_canonical(&Mat6::from_diagonal(&State::from_row_slice(&[
         0.09, 0.000625, 0.0025, 1e-6, 1e-6, 1e-6,
     ])));

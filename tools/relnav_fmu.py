@@ -11,6 +11,7 @@ outputs at every communication point, shape (N+1, 12) in the order of :data:`OUT
 from __future__ import annotations
 
 import os
+import re
 import shutil
 from ctypes import byref
 from pathlib import Path
@@ -38,6 +39,39 @@ INPUTS = REAL_INPUTS + BOOL_INPUTS
 FILTERS = {"ekf": 1, "ukf": 2}
 # the particle filters (filter codes 4-8)
 PARTICLE_FILTERS = {"pf": 4, "rpf": 5, "upf": 6, "gapf": 7, "cgapf": 8}
+
+
+_CODES = re.compile(r"\. Codes: (\d+ \w+(?:, \d+ \w+)*)$")
+
+
+def codes(md) -> dict[str, dict[str, int]]:
+    """The Integer parameters that select a method, from a modelDescription read by
+    fmpy: ``{"filter": {"ekf": 1, ...}, "frame": {...}, ...}``.
+
+    relnav declares them as FMI Integers (libcosim and Ecos cannot set Enumerations)
+    whose description ends in ``Codes: 1 ekf, 2 ukf, ...``.
+    """
+    out = {}
+    for v in md.modelVariables:
+        m = _CODES.search(v.description or "")
+        if v.type == "Integer" and m:
+            out[v.name] = {name: int(code) for code, name in (item.split(" ") for item in m.group(1).split(", "))}
+    return out
+
+
+def resolve(md, params: dict) -> dict:
+    """``params`` with item names (``{"filter": "ukf"}``) replaced by their codes
+    (``{"filter": 2}``): fmpy converts every Integer start value with ``int()`` and
+    knows no item names (neither did it for Enumerations), so names are mapped here."""
+    table = codes(md)
+    out = {}
+    for name, value in params.items():
+        if isinstance(value, str) and name in table:
+            if value not in table[name]:
+                raise ValueError(f"{name} = {value!r}: not one of {sorted(table[name], key=table[name].get)}")
+            value = table[name][value]
+        out[name] = value
+    return out
 
 
 def locate_fmu() -> Path:
@@ -134,7 +168,9 @@ class SlaveRunner:
         self.fmu.freeLibrary()
 
     def set_params(self, params: dict) -> None:
-        for name, value in params.items():
+        """Set parameters (and input start values) by name; code parameters also take
+        their item names (``{"filter": "ukf"}``)."""
+        for name, value in resolve(self.md, params).items():
             var = self.vars[name]
             if var.type == "Real":
                 self.fmu.setReal([var.valueReference], [float(value)])
@@ -215,7 +251,7 @@ def run_simulate_fmu(fmu, params: dict, times, thrust, meas, valid, output_inter
         stop_time=float(times[-1]),
         output_interval=output_interval,
         input=input_table(times, thrust, meas, valid),
-        start_values=dict(params),
+        start_values=resolve(read_model_description(str(fmu)), params) if any(isinstance(v, str) for v in params.values()) else dict(params),
         output=OUTPUTS,
         fmi_type="CoSimulation",
         **kw,

@@ -52,8 +52,9 @@
 
 use super::{Estimator, FilterError, Ukf, UkfParams, UpdateInfo};
 use crate::dynamics::{CwModel, DiscreteModel};
+use crate::numerics::state::{refuse, Persist, Reader, StateError, Writer};
 use crate::sensors::MeasurementModel;
-use crate::types::{Mat6, State, Vec3};
+use crate::types::{Mat3, Mat6, State, Vec3};
 use nalgebra::{SMatrix, SVector};
 
 /// Largest sliding-window width (capacity of the ring buffer).
@@ -340,9 +341,9 @@ impl AdaptiveUkf {
 }
 
 /// The AQUKF on the CW model (filter code 3): [`AdaptiveUkf`] whose adaptive density is
-/// discretised exactly for the CW model of mean motion `n` (the closed-form Van Loan
-/// integral [`CwModel::process_noise`]), `Qd(q_vv) = sum_i q_vv,i Qd(e_i)` (linear in
-/// `q_vv`; the three unit matrices are cached per step size, on the stack). The step's fixed noise is the model's
+/// discretised exactly by Van Loan for the CW model of mean motion `n`,
+/// `Qd(q_vv) = sum_i q_vv,i Qd_VanLoan(e_i e_i^T)` (linear in `q_vv`; the three unit
+/// matrices are cached per step size, on the stack). The step's fixed noise is the model's
 /// `q` ([`DiscreteModel::q`]).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Aqukf {
@@ -405,7 +406,11 @@ impl Aqukf {
 
     fn refresh_basis(&mut self, dt: f64) {
         if self.basis_dt != dt {
-            self.basis = self.cw.process_noise_axes(dt);
+            for (i, b) in self.basis.iter_mut().enumerate() {
+                let mut qc = Mat3::zeros();
+                qc[(i, i)] = 1.0;
+                *b = self.cw.van_loan_q(&qc, dt);
+            }
             self.basis_dt = dt;
         }
     }
@@ -441,6 +446,108 @@ impl Estimator for Aqukf {
 
     fn set_estimate(&mut self, x: State, p: Mat6) {
         self.core.ukf.set_estimate(x, p);
+    }
+}
+
+/// Saved state: `q_vv` (3), the ring's write position `head` and fill `len`, the window
+/// width `N` (u64 each; `N` must equal the configuration's), then the `N` slots of the ring
+/// (3 each). The settings are configuration.
+impl Persist for AdaptiveQ {
+    fn save_state(&self, w: &mut Writer<'_>) {
+        let Self {
+            params,
+            q,
+            ring,
+            head,
+            len,
+        } = self;
+        let n = params.window.clamp(1, MAX_WINDOW);
+        w.matrix(q);
+        w.usize(*head);
+        w.usize(*len);
+        w.usize(n);
+        for slot in ring.iter().take(n) {
+            for v in slot {
+                w.f64(*v);
+            }
+        }
+    }
+
+    fn load_state(&mut self, r: &mut Reader<'_>) -> Result<(), StateError> {
+        let Self {
+            params,
+            q,
+            ring,
+            head,
+            len,
+        } = self;
+        let n = params.window.clamp(1, MAX_WINDOW);
+        *q = r.finite_matrix("AQUKF q_vv")?;
+        *head = r.usize("AQUKF window position")?;
+        *len = r.usize("AQUKF window fill")?;
+        if *head >= n || *len > n {
+            return Err(refuse(format!(
+                "AQUKF window position {head} / fill {len} out of range for window {n}"
+            )));
+        }
+        r.count("AQUKF window width", n)?;
+        for slot in ring.iter_mut().take(n) {
+            for v in slot.iter_mut() {
+                *v = r.finite("AQUKF window entry")?;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Saved state: the UKF's, the adaptive estimate's, and the time predicted since the last
+/// update (8).
+impl Persist for AdaptiveUkf {
+    fn save_state(&self, w: &mut Writer<'_>) {
+        let Self {
+            ukf,
+            adapt,
+            elapsed,
+        } = self;
+        ukf.save_state(w);
+        adapt.save_state(w);
+        w.f64(*elapsed);
+    }
+
+    fn load_state(&mut self, r: &mut Reader<'_>) -> Result<(), StateError> {
+        let Self {
+            ukf,
+            adapt,
+            elapsed,
+        } = self;
+        ukf.load_state(r)?;
+        adapt.load_state(r)?;
+        *elapsed = r.finite("AQUKF time since the last update")?;
+        Ok(())
+    }
+}
+
+/// Saved state: the adaptive UKF's. The CW model is configuration; the Van Loan basis is a
+/// cache recomputed from it for the next step size (bit-identical: same inputs).
+impl Persist for Aqukf {
+    fn save_state(&self, w: &mut Writer<'_>) {
+        let Self {
+            core,
+            cw: _,
+            basis_dt: _,
+            basis: _,
+        } = self;
+        core.save_state(w);
+    }
+
+    fn load_state(&mut self, r: &mut Reader<'_>) -> Result<(), StateError> {
+        let Self {
+            core,
+            cw: _,
+            basis_dt: _,
+            basis: _,
+        } = self;
+        core.load_state(r)
     }
 }
 
@@ -523,7 +630,7 @@ mod tests {
         assert_eq!(a.filled(), n);
     }
 
-    /// The double-integrator noise is the CW noise in the limit `n -> 0`.
+    /// The double-integrator noise is Van Loan's for that model.
     #[test]
     fn double_integrator_noise_is_van_loan() {
         // CW with a tiny mean motion is the double integrator up to O(n t) coupling terms
@@ -531,7 +638,7 @@ mod tests {
         let cw = CwModel::new(1e-9);
         let q = Vec3::new(1e-4, 2e-4, 3e-4);
         let t = 600.0;
-        let vl = cw.process_noise(&q, t);
+        let vl = cw.van_loan_q(&Mat3::from_diagonal(&q), t);
         let di = double_integrator_q(&q, t);
         assert!((vl - di).norm() <= 1e-6 * di.norm(), "{vl} vs {di}");
     }

@@ -14,6 +14,7 @@
 
 use super::{finite, symmetrize, Estimator, FilterError, UpdateInfo};
 use crate::dynamics::DiscreteModel;
+use crate::numerics::state::{Persist, Reader, StateError, Writer};
 use crate::sensors::MeasurementModel;
 use crate::types::{Mat6, State, Vec3};
 
@@ -87,5 +88,21 @@ impl Estimator for Ekf {
     fn set_estimate(&mut self, x: State, p: Mat6) {
         self.x = x;
         self.p = p;
+    }
+}
+
+/// Saved state: `x` (6), `P` (36, column by column); see `docs/state-format.md`.
+impl Persist for Ekf {
+    fn save_state(&self, w: &mut Writer<'_>) {
+        let Self { x, p } = self;
+        w.matrix(x);
+        w.matrix(p);
+    }
+
+    fn load_state(&mut self, r: &mut Reader<'_>) -> Result<(), StateError> {
+        let Self { x, p } = self;
+        *x = r.finite_matrix("EKF state")?;
+        *p = r.finite_matrix("EKF covariance")?;
+        Ok(())
     }
 }

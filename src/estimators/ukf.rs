@@ -29,6 +29,7 @@
 
 use super::{finite, symmetrize, Estimator, FilterError, UpdateInfo};
 use crate::dynamics::DiscreteModel;
+use crate::numerics::state::{Persist, Reader, StateError, Writer};
 use crate::sensors::{GeometryError, MeasurementModel};
 use crate::types::{Mat3, Mat6, Mat63, State, Vec3};
 use nalgebra::{SMatrix, SVector};
@@ -293,5 +294,34 @@ impl Estimator for Ukf {
     fn set_estimate(&mut self, x: State, p: Mat6) {
         self.x = x;
         self.p = p;
+    }
+}
+
+/// Saved state: `x` (6), `P` (36, column by column). The sigma-point scale and weights are
+/// configuration (`UkfParams`), rebuilt by the restoring filter.
+impl Persist for Ukf {
+    fn save_state(&self, w: &mut Writer<'_>) {
+        let Self {
+            x,
+            p,
+            gamma: _,
+            wm: _,
+            wc: _,
+        } = self;
+        w.matrix(x);
+        w.matrix(p);
+    }
+
+    fn load_state(&mut self, r: &mut Reader<'_>) -> Result<(), StateError> {
+        let Self {
+            x,
+            p,
+            gamma: _,
+            wm: _,
+            wc: _,
+        } = self;
+        *x = r.finite_matrix("UKF state")?;
+        *p = r.finite_matrix("UKF covariance")?;
+        Ok(())
     }
 }

@@ -24,6 +24,13 @@ pub enum relnav_status {
     RELNAV_ERROR_PANIC = 5,
     /// The H-infinity design has no solution (the LMI is infeasible for these inputs).
     RELNAV_ERROR_INFEASIBLE = 6,
+    /// The caller's buffer is too small (`relnav_estimator_save`: the needed size is in
+    /// `*len`).
+    RELNAV_ERROR_BUFFER_TOO_SMALL = 7,
+    /// A saved state was refused (`relnav_estimator_restore`): truncated, corrupted,
+    /// another format version, or saved for another configuration; the estimator is
+    /// unchanged.
+    RELNAV_ERROR_INVALID_STATE = 8,
 }
 
 thread_local! {
@@ -45,6 +52,7 @@ impl From<NavError> for Failure {
             NavErrorKind::InvalidArgument => relnav_status::RELNAV_ERROR_INVALID_ARGUMENT,
             NavErrorKind::NotImplemented => relnav_status::RELNAV_ERROR_NOT_IMPLEMENTED,
             NavErrorKind::Numerical => relnav_status::RELNAV_ERROR_NUMERICAL,
+            NavErrorKind::InvalidState => relnav_status::RELNAV_ERROR_INVALID_STATE,
         };
         Failure(status, e.message)
     }
@@ -68,6 +76,8 @@ pub extern "C" fn relnav_status_string(status: c_int) -> *const c_char {
         4 => c"numerical failure",
         5 => c"internal panic",
         6 => c"infeasible design",
+        7 => c"buffer too small",
+        8 => c"invalid saved state",
         _ => c"unknown status",
     };
     s.as_ptr()

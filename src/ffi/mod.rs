@@ -19,7 +19,8 @@
 //! One module per domain, after rustls-ffi: [`error`] (status codes, last-error message),
 //! [`panic`] (the one panic boundary), [`ptr`] (null-checked array access), [`config`]
 //! (`relnav_config` and its enums), [`estimator`] (the estimator handle and its calls),
-//! [`hinf`] (the H-infinity design and the runtime filter).
+//! [`hinf`] (the H-infinity design and the runtime filter), [`state`] (saving and
+//! restoring an estimator's state).
 
 #![allow(non_camel_case_types)]
 
@@ -29,11 +30,13 @@ pub mod estimator;
 pub mod hinf;
 mod panic;
 mod ptr;
+pub mod state;
 
 pub use config::*;
 pub use error::*;
 pub use estimator::*;
 pub use hinf::*;
+pub use state::*;
 
 use std::ffi::{c_char, CStr};
 

@@ -2,9 +2,12 @@
 //!
 //! The GUID is a name-based UUID (version 5, SHA-1) of the XML text itself (with a
 //! placeholder where the GUID goes), as the FMI standard suggests: the binary computes the
-//! same value from the same table, so archive and binary cannot disagree.
+//! same value from the same table, so archive and binary cannot disagree. Nothing in the
+//! XML depends on the build machine or the build time: `generationDateAndTime` is the
+//! commit date of the source ([`GENERATION_DATE`], set by `build.rs`), so one commit gives
+//! one XML and one GUID.
 
-use super::variables::{Causality, VarType, Variability, ENUM_TYPES, UNITS, VARIABLES};
+use super::variables::{Causality, VarDef, VarType, Variability, UNITS, VARIABLES};
 use std::fmt::Write;
 use std::sync::OnceLock;
 
@@ -23,6 +26,28 @@ pub const LOG_CATEGORIES: [(&str, &str); 4] = [
 ];
 
 const GUID_PLACEHOLDER: &str = "@GUID@";
+
+/// `generationDateAndTime` (UTC, `xs:dateTime`): `SOURCE_DATE_EPOCH` when set at build
+/// time, else the commit date of `HEAD` (`git log -1 --format=%ct`), else
+/// 1970-01-01T00:00:00Z (a source tree without git); computed by `build.rs`.
+pub const GENERATION_DATE: &str = env!("RELNAV_GENERATION_DATE");
+
+/// The model's `description` attribute.
+pub const MODEL_DESCRIPTION: &str =
+    "Spacecraft relative navigation near a target on a circular orbit \
+(Clohessy-Wiltshire): estimate of the chaser's relative position and velocity, with 1-sigma \
+uncertainty, from its thrust and range/azimuth/elevation measurements, by a Kalman filter \
+(EKF, UKF, or the sliding-window adaptive AQUKF), a particle filter (SIR, regularised, \
+unscented, genetic or cloud-genetic) or the robust H-infinity filter designed by an LMI";
+
+/// A variable's description as published: for a code list, followed by
+/// `Codes: 1 ekf, 2 ukf, ...` (the item names stay documented in the XML itself).
+pub fn published_description(v: &VarDef) -> String {
+    match v.ty {
+        VarType::Code(t) => format!("{}. Codes: {}", v.description, t.codes()),
+        _ => v.description.to_string(),
+    }
+}
 
 fn escape(s: &str) -> String {
     let mut o = String::with_capacity(s.len());
@@ -61,13 +86,14 @@ fn body() -> String {
     let _ = writeln!(x, r#"<?xml version="1.0" encoding="UTF-8"?>"#);
     let _ = writeln!(
         x,
-        r#"<fmiModelDescription fmiVersion="2.0" modelName="relnav" guid="{GUID_PLACEHOLDER}" description="Spacecraft relative navigation: Kalman (EKF, UKF) or particle-filter estimate of the chaser's relative position and velocity near a target on a circular orbit (Clohessy-Wiltshire), from thrust and range/azimuth/elevation measurements" author="relnav developers" version="{}" generationTool="relnav {}" variableNamingConvention="flat">"#,
+        r#"<fmiModelDescription fmiVersion="2.0" modelName="relnav" guid="{GUID_PLACEHOLDER}" description="{}" author="relnav developers" version="{}" generationTool="relnav {}" generationDateAndTime="{GENERATION_DATE}" variableNamingConvention="flat">"#,
+        escape(MODEL_DESCRIPTION),
         crate::VERSION,
         crate::VERSION
     );
     let _ = writeln!(
         x,
-        r#"  <CoSimulation modelIdentifier="{MODEL_IDENTIFIER}" needsExecutionTool="false" canHandleVariableCommunicationStepSize="true" canInterpolateInputs="false" maxOutputDerivativeOrder="0" canRunAsynchronuously="false" canBeInstantiatedOnlyOncePerProcess="false" canNotUseMemoryManagementFunctions="true" canGetAndSetFMUstate="false" canSerializeFMUstate="false" providesDirectionalDerivative="false"/>"#
+        r#"  <CoSimulation modelIdentifier="{MODEL_IDENTIFIER}" needsExecutionTool="false" canHandleVariableCommunicationStepSize="true" canInterpolateInputs="false" maxOutputDerivativeOrder="0" canRunAsynchronuously="false" canBeInstantiatedOnlyOncePerProcess="false" canNotUseMemoryManagementFunctions="true" canGetAndSetFMUstate="true" canSerializeFMUstate="true" providesDirectionalDerivative="false"/>"#
     );
     let _ = writeln!(x, "  <UnitDefinitions>");
     for (name, [kg, m, s, rad]) in UNITS {
@@ -84,21 +110,6 @@ fn body() -> String {
         );
     }
     let _ = writeln!(x, "  </UnitDefinitions>");
-    let _ = writeln!(x, "  <TypeDefinitions>");
-    for t in ENUM_TYPES {
-        let _ = writeln!(x, r#"    <SimpleType name="{}">"#, t.name);
-        let _ = writeln!(x, "      <Enumeration>");
-        for (n, v, d) in t.items {
-            let _ = writeln!(
-                x,
-                r#"        <Item name="{n}" value="{v}" description="{}"/>"#,
-                escape(d)
-            );
-        }
-        let _ = writeln!(x, "      </Enumeration>");
-        let _ = writeln!(x, "    </SimpleType>");
-    }
-    let _ = writeln!(x, "  </TypeDefinitions>");
     let _ = writeln!(x, "  <LogCategories>");
     for (n, d) in LOG_CATEGORIES {
         let _ = writeln!(
@@ -120,7 +131,7 @@ fn body() -> String {
             v.vr + 1,
             v.name,
             v.vr,
-            escape(v.description),
+            escape(&published_description(v)),
             causality(v.causality),
             variability(v.variability)
         );
@@ -146,11 +157,13 @@ fn body() -> String {
                 "<Boolean{}/>",
                 start(if v.start != 0.0 { "true" } else { "false" }.to_string())
             ),
-            VarType::Enumeration(t) => format!(
-                r#"<Enumeration declaredType="{}"{}/>"#,
-                t.name,
-                start(format!("{}", v.start as i64))
-            ),
+            VarType::Code(t) => {
+                let (lo, hi) = t.range();
+                format!(
+                    r#"<Integer min="{lo}" max="{hi}"{}/>"#,
+                    start(format!("{}", v.start as i64))
+                )
+            }
         };
         let _ = writeln!(x, "      {elem}");
         let _ = writeln!(x, "    </ScalarVariable>");
@@ -220,15 +233,10 @@ pub fn variables_markdown() -> String {
                 String::new(),
                 if v.start != 0.0 { "true" } else { "false" }.to_string(),
             ),
-            VarType::Enumeration(t) => {
-                let item = t
-                    .items
-                    .iter()
-                    .find(|it| f64::from(it.1) == v.start)
-                    .map(|it| it.0)
-                    .unwrap_or("");
+            VarType::Code(t) => {
+                let item = t.item(v.start).map(|it| it.0).unwrap_or("");
                 (
-                    t.name,
+                    "Integer",
                     String::new(),
                     format!("{} ({item})", v.start as i64),
                 )
@@ -246,8 +254,23 @@ pub fn variables_markdown() -> String {
             v.vr,
             causality(v.causality),
             variability(v.variability),
-            v.description
+            published_description(v)
         );
+    }
+    let _ = writeln!(x);
+    let _ = writeln!(
+        x,
+        "Codes of the Integer parameters that select a method (the C ABI's enums; a code outside the list is refused at `fmi2SetInteger`):"
+    );
+    let _ = writeln!(x);
+    let _ = writeln!(x, "| parameter | code | name | meaning |");
+    let _ = writeln!(x, "|---|---:|---|---|");
+    for v in VARIABLES {
+        if let VarType::Code(t) = v.ty {
+            for (n, code, d) in t.items {
+                let _ = writeln!(x, "| `{}` | {code} | `{n}` | {d} |", v.name);
+            }
+        }
     }
     x
 }

@@ -27,12 +27,34 @@ fn panic_text(p: &(dyn std::any::Any + Send)) -> String {
 }
 
 /// Run `f` on the instance behind `c` if the call is allowed in its state; errors are
-/// logged and put the instance in the error state; panics never cross into C.
+/// logged and put the instance in the error state; panics never cross into C. The call
+/// is logged under `logCalls` as `func()`; [`guarded_with`] logs its arguments.
 ///
 /// # Safety
 /// `c` is null or a pointer returned by [`fmi2Instantiate`] and not yet freed.
 unsafe fn guarded<F>(c: fmi2Component, func: &str, allowed: u32, f: F) -> fmi2Status
 where
+    F: FnOnce(&mut Instance) -> Result<(), FmiFailure>,
+{
+    // SAFETY: forwarded contract.
+    unsafe { guarded_with(c, func, allowed, |_| Some(String::new()), f) }
+}
+
+/// [`guarded`], with the call logged under `logCalls` as `func(args)` where `args` is
+/// `describe(instance)`, evaluated only when that category is on (`None`: `f` logs the
+/// call itself, e.g. a getter once the values are known).
+///
+/// # Safety
+/// `c` is null or a pointer returned by [`fmi2Instantiate`] and not yet freed.
+unsafe fn guarded_with<D, F>(
+    c: fmi2Component,
+    func: &str,
+    allowed: u32,
+    describe: D,
+    f: F,
+) -> fmi2Status
+where
+    D: FnOnce(&Instance) -> Option<String>,
     F: FnOnce(&mut Instance) -> Result<(), FmiFailure>,
 {
     // SAFETY: by the caller's contract `c` is null or a live `Instance`.
@@ -41,7 +63,9 @@ where
     };
     let outcome = catch_unwind(AssertUnwindSafe(|| {
         if inst.logs_calls() {
-            inst.log(fmi2Status::fmi2OK, "logCalls", func);
+            if let Some(args) = describe(inst) {
+                inst.log(fmi2Status::fmi2OK, "logCalls", &format!("{func}({args})"));
+            }
         }
         inst.require(func, allowed)?;
         f(inst)
@@ -55,6 +79,7 @@ where
                 "logStatusWarning"
             };
             inst.log(e.status, category, &e.message);
+            inst.note_status(e.status);
             if e.status >= fmi2Status::fmi2Error {
                 inst.state = ErrorState;
             }
@@ -65,6 +90,7 @@ where
             let _ = catch_unwind(AssertUnwindSafe(|| {
                 inst.log(fmi2Status::fmi2Fatal, "logStatusError", &msg)
             }));
+            inst.note_status(fmi2Status::fmi2Fatal);
             inst.state = ErrorState;
             fmi2Status::fmi2Fatal
         }
@@ -116,11 +142,74 @@ unsafe fn slice_mut<'a, T>(p: *mut T, n: usize, what: &str) -> Result<&'a mut [T
     Ok(unsafe { std::slice::from_raw_parts_mut(p, n) })
 }
 
+/// A C string argument for a call log: `"text"` or `NULL`.
+///
+/// # Safety
+/// `p` is null or NUL-terminated.
+unsafe fn c_arg(p: fmi2String) -> String {
+    if p.is_null() {
+        "NULL".to_string()
+    } else {
+        // SAFETY: non-null, NUL-terminated by contract.
+        format!("\"{}\"", unsafe { CStr::from_ptr(p) }.to_string_lossy())
+    }
+}
+
+fn bool_arg(b: fmi2Boolean) -> &'static str {
+    if b != fmi2False {
+        "true"
+    } else {
+        "false"
+    }
+}
+
+/// `nvr = 2: x (vr 33) = 1.5, y (vr 34) = 2` for a call log (`vr = NULL` when a
+/// pointer is missing).
+///
+/// # Safety
+/// `vr` and `value` are null or hold `nvr` elements.
+unsafe fn values_arg<T: Copy>(
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *const T,
+    show: fn(T) -> String,
+) -> String {
+    // SAFETY: forwarded contract; null is checked in `slice`.
+    let (Ok(refs), Ok(vals)) = (unsafe { slice(vr, nvr, "vr") }, unsafe {
+        slice(value, nvr, "value")
+    }) else {
+        return format!("nvr = {nvr}, vr or value = NULL");
+    };
+    let parts: Vec<String> = refs
+        .iter()
+        .zip(vals)
+        .map(|(r, v)| format!("{} = {}", Instance::var_label(*r), show(*v)))
+        .collect();
+    format!("nvr = {nvr}: {}", parts.join(", "))
+}
+
+/// A Real for a call log: shortest round-trip decimal, in exponent form when very large
+/// or small (`1e-9`, not `0.000000001`).
+fn real_arg(v: fmi2Real) -> String {
+    let a = v.abs();
+    if v == 0.0 || !v.is_finite() || (1e-4..1e15).contains(&a) {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
+    }
+}
+fn integer_arg(v: fmi2Integer) -> String {
+    format!("{v}")
+}
+fn boolean_arg(v: fmi2Boolean) -> String {
+    bool_arg(v).to_string()
+}
+
 fn is_real(t: &VarType) -> bool {
     matches!(t, VarType::Real(_))
 }
 fn is_integer(t: &VarType) -> bool {
-    matches!(t, VarType::Integer | VarType::Enumeration(_))
+    matches!(t, VarType::Integer | VarType::Code(_))
 }
 fn is_boolean(t: &VarType) -> bool {
     matches!(t, VarType::Boolean)
@@ -152,9 +241,9 @@ pub unsafe extern "C" fn fmi2Instantiate(
     instanceName: fmi2String,
     fmuType: c_int,
     fmuGUID: fmi2String,
-    _fmuResourceLocation: fmi2String,
+    fmuResourceLocation: fmi2String,
     functions: *const fmi2CallbackFunctions,
-    _visible: fmi2Boolean,
+    visible: fmi2Boolean,
     loggingOn: fmi2Boolean,
 ) -> fmi2Component {
     let made = catch_unwind(AssertUnwindSafe(|| {
@@ -199,11 +288,18 @@ pub unsafe extern "C" fn fmi2Instantiate(
                 guid()
             ));
         }
-        Some(Box::into_raw(Box::new(Instance::new(
-            name,
-            logger,
-            loggingOn != fmi2False,
-        ))))
+        let inst = Instance::new(name, logger, loggingOn != fmi2False);
+        inst.log_call(|| {
+            format!(
+                "fmi2Instantiate(instanceName = \"{}\", fmuType = {fmuType}, fmuGUID = \"{given}\", fmuResourceLocation = {}, visible = {}, loggingOn = {})",
+                inst.name.to_string_lossy(),
+                // SAFETY: null or NUL-terminated by contract.
+                unsafe { c_arg(fmuResourceLocation) },
+                bool_arg(visible),
+                bool_arg(loggingOn)
+            )
+        });
+        Some(Box::into_raw(Box::new(inst)))
     }));
     match made {
         Ok(Some(p)) => p.cast(),
@@ -220,7 +316,9 @@ pub unsafe extern "C" fn fmi2FreeInstance(c: fmi2Component) {
     let _ = catch_unwind(AssertUnwindSafe(|| {
         if !c.is_null() {
             // SAFETY: from Box::into_raw in fmi2Instantiate; freed exactly once.
-            drop(unsafe { Box::from_raw(c as *mut Instance) });
+            let inst = unsafe { Box::from_raw(c as *mut Instance) };
+            inst.log_call(|| "fmi2FreeInstance()".to_string());
+            drop(inst);
         }
     }));
 }
@@ -238,7 +336,21 @@ pub unsafe extern "C" fn fmi2SetDebugLogging(
 ) -> fmi2Status {
     // SAFETY: contracts forwarded; pointers checked in `slice`.
     unsafe {
-        guarded(c, "fmi2SetDebugLogging", ANY_STATE, |inst| {
+        let describe = |_: &Instance| {
+            let names = match slice(categories, nCategories, "categories") {
+                Ok(cats) => cats
+                    .iter()
+                    .map(|p| c_arg(*p))
+                    .collect::<Vec<_>>()
+                    .join(", "),
+                Err(_) => "NULL".to_string(),
+            };
+            Some(format!(
+                "loggingOn = {}, nCategories = {nCategories}, categories = [{names}]",
+                bool_arg(loggingOn)
+            ))
+        };
+        guarded_with(c, "fmi2SetDebugLogging", ANY_STATE, describe, |inst| {
             let cats = slice(categories, nCategories, "categories")?;
             let mut names = Vec::with_capacity(cats.len());
             for p in cats {
@@ -260,15 +372,22 @@ pub unsafe extern "C" fn fmi2SetDebugLogging(
 #[no_mangle]
 pub unsafe extern "C" fn fmi2SetupExperiment(
     c: fmi2Component,
-    _toleranceDefined: fmi2Boolean,
-    _tolerance: fmi2Real,
+    toleranceDefined: fmi2Boolean,
+    tolerance: fmi2Real,
     startTime: fmi2Real,
     stopTimeDefined: fmi2Boolean,
     stopTime: fmi2Real,
 ) -> fmi2Status {
     // SAFETY: contract forwarded.
     unsafe {
-        guarded(c, "fmi2SetupExperiment", M_INSTANTIATED, |inst| {
+        let describe = |_: &Instance| {
+            Some(format!(
+                "toleranceDefined = {}, tolerance = {tolerance}, startTime = {startTime}, stopTimeDefined = {}, stopTime = {stopTime}",
+                bool_arg(toleranceDefined),
+                bool_arg(stopTimeDefined)
+            ))
+        };
+        guarded_with(c, "fmi2SetupExperiment", M_INSTANTIATED, describe, |inst| {
             inst.setup_experiment(
                 startTime,
                 (stopTimeDefined != fmi2False).then_some(stopTime),
@@ -342,27 +461,105 @@ pub unsafe extern "C" fn fmi2Reset(c: fmi2Component) -> fmi2Status {
 
 // ---------------------------------------------------------------- get / set
 
+/// How one FMI base type maps onto the stored `f64` values.
+struct Access<T> {
+    /// Function name (`fmi2GetReal` or `fmi2SetReal`, ...).
+    func: &'static str,
+    /// Which variable types it reads or writes.
+    want: fn(&VarType) -> bool,
+    /// Stored value -> FMI value.
+    get: fn(f64) -> T,
+    /// FMI value -> stored value.
+    set: fn(T) -> f64,
+    /// FMI value for the call log.
+    show: fn(T) -> String,
+}
+
+fn real_to_f64(v: fmi2Real) -> f64 {
+    v
+}
+fn integer_from_f64(v: f64) -> fmi2Integer {
+    v as fmi2Integer
+}
+fn boolean_from_f64(v: f64) -> fmi2Boolean {
+    if v != 0.0 {
+        fmi2True
+    } else {
+        fmi2False
+    }
+}
+fn boolean_to_f64(v: fmi2Boolean) -> f64 {
+    if v != fmi2False {
+        1.0
+    } else {
+        0.0
+    }
+}
+
+const fn real(func: &'static str) -> Access<fmi2Real> {
+    Access {
+        func,
+        want: is_real,
+        get: real_to_f64,
+        set: real_to_f64,
+        show: real_arg,
+    }
+}
+const fn integer(func: &'static str) -> Access<fmi2Integer> {
+    Access {
+        func,
+        want: is_integer,
+        get: integer_from_f64,
+        set: f64::from,
+        show: integer_arg,
+    }
+}
+const fn boolean(func: &'static str) -> Access<fmi2Boolean> {
+    Access {
+        func,
+        want: is_boolean,
+        get: boolean_from_f64,
+        set: boolean_to_f64,
+        show: boolean_arg,
+    }
+}
+
 /// # Safety
 /// `c` live or null; `vr` and `value` hold `nvr` elements.
-unsafe fn get_values<T>(
+unsafe fn get_values<T: Copy>(
     c: fmi2Component,
-    func: &str,
     vr: *const fmi2ValueReference,
     nvr: usize,
     value: *mut T,
-    want: fn(&VarType) -> bool,
-    conv: fn(f64) -> T,
+    a: Access<T>,
 ) -> fmi2Status {
+    let Access {
+        func,
+        want,
+        get: conv,
+        show,
+        ..
+    } = a;
     // SAFETY: contract forwarded; pointers checked.
     unsafe {
-        guarded(c, func, M_GET, |inst| {
-            let refs = slice(vr, nvr, "vr")?;
-            let out = slice_mut(value, nvr, "value")?;
-            for (r, o) in refs.iter().zip(out.iter_mut()) {
-                *o = conv(inst.get(*r, func, want)?);
-            }
-            Ok(())
-        })
+        guarded_with(
+            c,
+            func,
+            M_GET,
+            |_| None,
+            |inst| {
+                let refs = slice(vr, nvr, "vr")?;
+                let out = slice_mut(value, nvr, "value")?;
+                for (r, o) in refs.iter().zip(out.iter_mut()) {
+                    *o = conv(inst.get(*r, func, want)?);
+                }
+                // logged once the values are known
+                inst.log_call(|| {
+                    format!("{func}({})", values_arg(vr, nvr, value.cast_const(), show))
+                });
+                Ok(())
+            },
+        )
     }
 }
 
@@ -370,16 +567,22 @@ unsafe fn get_values<T>(
 /// `c` live or null; `vr` and `value` hold `nvr` elements.
 unsafe fn set_values<T: Copy>(
     c: fmi2Component,
-    func: &str,
     vr: *const fmi2ValueReference,
     nvr: usize,
     value: *const T,
-    want: fn(&VarType) -> bool,
-    conv: fn(T) -> f64,
+    a: Access<T>,
 ) -> fmi2Status {
+    let Access {
+        func,
+        want,
+        set: conv,
+        show,
+        ..
+    } = a;
     // SAFETY: contract forwarded; pointers checked.
     unsafe {
-        guarded(c, func, M_SET, |inst| {
+        let describe = |_: &Instance| Some(values_arg(vr, nvr, value, show));
+        guarded_with(c, func, M_SET, describe, |inst| {
             let refs = slice(vr, nvr, "vr")?;
             let vals = slice(value, nvr, "value")?;
             for (r, v) in refs.iter().zip(vals.iter()) {
@@ -402,10 +605,10 @@ pub unsafe extern "C" fn fmi2GetReal(
     value: *mut fmi2Real,
 ) -> fmi2Status {
     // SAFETY: contract forwarded.
-    unsafe { get_values(c, "fmi2GetReal", vr, nvr, value, is_real, |v| v) }
+    unsafe { get_values(c, vr, nvr, value, real("fmi2GetReal")) }
 }
 
-/// Read Integer and Enumeration variables.
+/// Read Integer variables (codes included).
 ///
 /// # Safety
 /// `c` live or null; `vr` and `value` hold `nvr` elements.
@@ -417,11 +620,7 @@ pub unsafe extern "C" fn fmi2GetInteger(
     value: *mut fmi2Integer,
 ) -> fmi2Status {
     // SAFETY: contract forwarded.
-    unsafe {
-        get_values(c, "fmi2GetInteger", vr, nvr, value, is_integer, |v| {
-            v as fmi2Integer
-        })
-    }
+    unsafe { get_values(c, vr, nvr, value, integer("fmi2GetInteger")) }
 }
 
 /// Read Boolean variables.
@@ -436,15 +635,7 @@ pub unsafe extern "C" fn fmi2GetBoolean(
     value: *mut fmi2Boolean,
 ) -> fmi2Status {
     // SAFETY: contract forwarded.
-    unsafe {
-        get_values(c, "fmi2GetBoolean", vr, nvr, value, is_boolean, |v| {
-            if v != 0.0 {
-                fmi2True
-            } else {
-                fmi2False
-            }
-        })
-    }
+    unsafe { get_values(c, vr, nvr, value, boolean("fmi2GetBoolean")) }
 }
 
 /// There are no String variables: any value reference is unknown.
@@ -460,7 +651,17 @@ pub unsafe extern "C" fn fmi2GetString(
 ) -> fmi2Status {
     // SAFETY: contract forwarded.
     unsafe {
-        guarded(c, "fmi2GetString", M_GET, |_| {
+        let describe = |_: &Instance| {
+            Some(match slice(vr, nvr, "vr") {
+                Ok(refs) => {
+                    let labels: Vec<String> =
+                        refs.iter().map(|r| Instance::var_label(*r)).collect();
+                    format!("nvr = {nvr}: {}", labels.join(", "))
+                }
+                Err(_) => format!("nvr = {nvr}, vr = NULL"),
+            })
+        };
+        guarded_with(c, "fmi2GetString", M_GET, describe, |_| {
             let refs = slice(vr, nvr, "vr")?;
             match refs.first() {
                 None => Ok(()),
@@ -484,10 +685,10 @@ pub unsafe extern "C" fn fmi2SetReal(
     value: *const fmi2Real,
 ) -> fmi2Status {
     // SAFETY: contract forwarded.
-    unsafe { set_values(c, "fmi2SetReal", vr, nvr, value, is_real, |v| v) }
+    unsafe { set_values(c, vr, nvr, value, real("fmi2SetReal")) }
 }
 
-/// Write Integer and Enumeration parameters.
+/// Write Integer parameters (codes included).
 ///
 /// # Safety
 /// `c` live or null; `vr` and `value` hold `nvr` elements.
@@ -499,7 +700,7 @@ pub unsafe extern "C" fn fmi2SetInteger(
     value: *const fmi2Integer,
 ) -> fmi2Status {
     // SAFETY: contract forwarded.
-    unsafe { set_values(c, "fmi2SetInteger", vr, nvr, value, is_integer, f64::from) }
+    unsafe { set_values(c, vr, nvr, value, integer("fmi2SetInteger")) }
 }
 
 /// Write Boolean inputs.
@@ -514,15 +715,7 @@ pub unsafe extern "C" fn fmi2SetBoolean(
     value: *const fmi2Boolean,
 ) -> fmi2Status {
     // SAFETY: contract forwarded.
-    unsafe {
-        set_values(c, "fmi2SetBoolean", vr, nvr, value, is_boolean, |v| {
-            if v != fmi2False {
-                1.0
-            } else {
-                0.0
-            }
-        })
-    }
+    unsafe { set_values(c, vr, nvr, value, boolean("fmi2SetBoolean")) }
 }
 
 /// There are no String variables: any value reference is unknown.
@@ -538,7 +731,17 @@ pub unsafe extern "C" fn fmi2SetString(
 ) -> fmi2Status {
     // SAFETY: contract forwarded.
     unsafe {
-        guarded(c, "fmi2SetString", M_SET, |_| {
+        let describe = |_: &Instance| {
+            Some(match slice(vr, nvr, "vr") {
+                Ok(refs) => {
+                    let labels: Vec<String> =
+                        refs.iter().map(|r| Instance::var_label(*r)).collect();
+                    format!("nvr = {nvr}: {}", labels.join(", "))
+                }
+                Err(_) => format!("nvr = {nvr}, vr = NULL"),
+            })
+        };
+        guarded_with(c, "fmi2SetString", M_SET, describe, |_| {
             let refs = slice(vr, nvr, "vr")?;
             match refs.first() {
                 None => Ok(()),
@@ -550,95 +753,155 @@ pub unsafe extern "C" fn fmi2SetString(
     }
 }
 
-// ---------------------------------------------------------------- unsupported: state, derivatives
+// ---------------------------------------------------------------- FMU state
 
-const NO_STATE: &str = "canGetAndSetFMUstate=\"false\"";
+/// Copy the instance's complete state (`canGetAndSetFMUstate="true"`; the bytes of
+/// [`super::state`]). `*FMUstate == NULL` allocates a new state; a state this instance
+/// made is overwritten in place. Allowed in every state (a state taken in the error state
+/// restores the error state).
+///
+/// # Safety
+/// `c` live or null; `FMUstate` null or writable.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetFMUstate(
+    c: fmi2Component,
+    FMUstate: *mut fmi2FMUstate,
+) -> fmi2Status {
+    // SAFETY: contract forwarded; `FMUstate` checked for null.
+    unsafe {
+        guarded(c, "fmi2GetFMUstate", ANY_STATE, |inst| {
+            let out = slice_mut(FMUstate, 1, "FMUstate")?;
+            let bytes = inst.save_state()?;
+            out[0] = inst.states.put(out[0], bytes);
+            Ok(())
+        })
+    }
+}
 
-/// Unsupported (`canGetAndSetFMUstate="false"`).
+/// Restore a state made by this instance (see [`super::state`] for what is restored and
+/// what is refused). A refused state leaves the instance's data unchanged.
 ///
 /// # Safety
 /// `c` live or null.
 #[no_mangle]
-pub unsafe extern "C" fn fmi2GetFMUstate(c: fmi2Component, _s: *mut fmi2FMUstate) -> fmi2Status {
-    // SAFETY: contract forwarded.
-    unsafe { unsupported(c, "fmi2GetFMUstate", NO_STATE) }
+pub unsafe extern "C" fn fmi2SetFMUstate(c: fmi2Component, FMUstate: fmi2FMUstate) -> fmi2Status {
+    const F: &str = "fmi2SetFMUstate";
+    // SAFETY: contract forwarded; the state pointer is only compared, never dereferenced.
+    unsafe {
+        guarded(c, F, ANY_STATE, |inst| {
+            let bytes = inst.states.get(FMUstate, F)?.bytes().to_vec();
+            inst.restore_state(&bytes, F)
+        })
+    }
 }
 
-/// Unsupported (`canGetAndSetFMUstate="false"`).
+/// Free a state (`*FMUstate == NULL` is ignored); `*FMUstate` is set to NULL.
 ///
 /// # Safety
-/// `c` live or null.
+/// `c` live or null; `FMUstate` null or writable.
 #[no_mangle]
-pub unsafe extern "C" fn fmi2SetFMUstate(c: fmi2Component, _s: fmi2FMUstate) -> fmi2Status {
-    // SAFETY: contract forwarded.
-    unsafe { unsupported(c, "fmi2SetFMUstate", NO_STATE) }
+pub unsafe extern "C" fn fmi2FreeFMUstate(
+    c: fmi2Component,
+    FMUstate: *mut fmi2FMUstate,
+) -> fmi2Status {
+    const F: &str = "fmi2FreeFMUstate";
+    // SAFETY: contract forwarded; `FMUstate` checked for null.
+    unsafe {
+        guarded(c, F, ANY_STATE, |inst| {
+            let s = slice_mut(FMUstate, 1, "FMUstate")?;
+            if !s[0].is_null() {
+                inst.states.free(s[0], F)?;
+                s[0] = std::ptr::null_mut();
+            }
+            Ok(())
+        })
+    }
 }
 
-/// Unsupported (`canGetAndSetFMUstate="false"`).
+/// Size in bytes of a state's serialised form (`canSerializeFMUstate="true"`).
 ///
 /// # Safety
-/// `c` live or null.
-#[no_mangle]
-pub unsafe extern "C" fn fmi2FreeFMUstate(c: fmi2Component, _s: *mut fmi2FMUstate) -> fmi2Status {
-    // SAFETY: contract forwarded.
-    unsafe { unsupported(c, "fmi2FreeFMUstate", NO_STATE) }
-}
-
-/// Unsupported (`canSerializeFMUstate="false"`).
-///
-/// # Safety
-/// `c` live or null.
+/// `c` live or null; `size` null or writable.
 #[no_mangle]
 pub unsafe extern "C" fn fmi2SerializedFMUstateSize(
     c: fmi2Component,
-    _s: fmi2FMUstate,
-    _size: *mut usize,
+    FMUstate: fmi2FMUstate,
+    size: *mut usize,
 ) -> fmi2Status {
-    // SAFETY: contract forwarded.
+    const F: &str = "fmi2SerializedFMUstateSize";
+    // SAFETY: contract forwarded; `size` checked for null.
     unsafe {
-        unsupported(
-            c,
-            "fmi2SerializedFMUstateSize",
-            "canSerializeFMUstate=\"false\"",
-        )
+        guarded(c, F, ANY_STATE, |inst| {
+            let out = slice_mut(size, 1, "size")?;
+            out[0] = inst.states.get(FMUstate, F)?.bytes().len();
+            Ok(())
+        })
     }
 }
 
-/// Unsupported (`canSerializeFMUstate="false"`).
+/// Copy a state's serialised form into `serializedState` (`size` bytes, at least
+/// [`fmi2SerializedFMUstateSize`]; the state fills the first that many).
 ///
 /// # Safety
-/// `c` live or null.
+/// `c` live or null; `serializedState` null or `size` writable bytes.
 #[no_mangle]
 pub unsafe extern "C" fn fmi2SerializeFMUstate(
     c: fmi2Component,
-    _s: fmi2FMUstate,
-    _bytes: *mut fmi2Byte,
-    _size: usize,
+    FMUstate: fmi2FMUstate,
+    serializedState: *mut fmi2Byte,
+    size: usize,
 ) -> fmi2Status {
-    // SAFETY: contract forwarded.
-    unsafe { unsupported(c, "fmi2SerializeFMUstate", "canSerializeFMUstate=\"false\"") }
+    const F: &str = "fmi2SerializeFMUstate";
+    // SAFETY: contract forwarded; pointers checked.
+    unsafe {
+        guarded(c, F, ANY_STATE, |inst| {
+            let b = inst.states.get(FMUstate, F)?.bytes();
+            if size < b.len() {
+                return Err(error(format!(
+                    "{F}: the state needs {} bytes (fmi2SerializedFMUstateSize), the buffer holds {size}",
+                    b.len()
+                )));
+            }
+            let out = slice_mut(serializedState.cast::<u8>(), b.len(), "serializedState")?;
+            out.copy_from_slice(b);
+            Ok(())
+        })
+    }
 }
 
-/// Unsupported (`canSerializeFMUstate="false"`).
+/// Make a state from serialised bytes (of this FMU, possibly of another instance or
+/// process). The bytes are checked here — length, CRC-32, magic, format version, GUID,
+/// structure — and refused with a logged reason; whether the state fits this instance's
+/// parameters is checked by [`fmi2SetFMUstate`]. `*FMUstate == NULL` allocates a new
+/// state; a state this instance made is overwritten.
 ///
 /// # Safety
-/// `c` live or null.
+/// `c` live or null; `serializedState` null or `size` readable bytes; `FMUstate` null or
+/// writable.
 #[no_mangle]
 pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
     c: fmi2Component,
-    _bytes: *const fmi2Byte,
-    _size: usize,
-    _s: *mut fmi2FMUstate,
+    serializedState: *const fmi2Byte,
+    size: usize,
+    FMUstate: *mut fmi2FMUstate,
 ) -> fmi2Status {
-    // SAFETY: contract forwarded.
+    const F: &str = "fmi2DeSerializeFMUstate";
+    // SAFETY: contract forwarded; pointers checked.
     unsafe {
-        unsupported(
-            c,
-            "fmi2DeSerializeFMUstate",
-            "canSerializeFMUstate=\"false\"",
-        )
+        guarded(c, F, ANY_STATE, |inst| {
+            let out = slice_mut(FMUstate, 1, "FMUstate")?;
+            if serializedState.is_null() {
+                return Err(error(format!("{F}: serializedState is null")));
+            }
+            let bytes = slice(serializedState.cast::<u8>(), size, "serializedState")?;
+            Instance::check_state(bytes, F)?;
+            out[0] = inst.states.put(out[0], bytes.to_vec());
+            Ok(())
+        })
     }
 }
+
+// ---------------------------------------------------------------- unsupported: derivatives
 
 /// Unsupported (`providesDirectionalDerivative="false"`).
 ///
@@ -721,11 +984,17 @@ pub unsafe extern "C" fn fmi2DoStep(
     c: fmi2Component,
     currentCommunicationPoint: fmi2Real,
     communicationStepSize: fmi2Real,
-    _noSetFMUStatePriorToCurrentPoint: fmi2Boolean,
+    noSetFMUStatePriorToCurrentPoint: fmi2Boolean,
 ) -> fmi2Status {
     // SAFETY: contract forwarded.
     unsafe {
-        guarded(c, "fmi2DoStep", M_STEP, |inst| {
+        let describe = |_: &Instance| {
+            Some(format!(
+                "currentCommunicationPoint = {currentCommunicationPoint}, communicationStepSize = {communicationStepSize}, noSetFMUStatePriorToCurrentPoint = {}",
+                bool_arg(noSetFMUStatePriorToCurrentPoint)
+            ))
+        };
+        guarded_with(c, "fmi2DoStep", M_STEP, describe, |inst| {
             inst.do_step(currentCommunicationPoint, communicationStepSize)
         })
     }
@@ -767,16 +1036,22 @@ pub unsafe extern "C" fn fmi2GetRealStatus(
 ) -> fmi2Status {
     // SAFETY: contract forwarded; pointer checked.
     unsafe {
-        guarded(c, "fmi2GetRealStatus", M_GET, |inst| {
-            if s != status_kind::LAST_SUCCESSFUL_TIME {
-                return Err(error(format!(
-                    "fmi2GetRealStatus: status kind {s} is not supported"
-                )));
-            }
-            let out = slice_mut(value, 1, "value")?;
-            out[0] = inst.time();
-            Ok(())
-        })
+        guarded_with(
+            c,
+            "fmi2GetRealStatus",
+            M_GET,
+            |_| Some(format!("s = {s}")),
+            |inst| {
+                if s != status_kind::LAST_SUCCESSFUL_TIME {
+                    return Err(error(format!(
+                        "fmi2GetRealStatus: status kind {s} is not supported"
+                    )));
+                }
+                let out = slice_mut(value, 1, "value")?;
+                out[0] = inst.time();
+                Ok(())
+            },
+        )
     }
 }
 
@@ -812,16 +1087,22 @@ pub unsafe extern "C" fn fmi2GetBooleanStatus(
 ) -> fmi2Status {
     // SAFETY: contract forwarded; pointer checked.
     unsafe {
-        guarded(c, "fmi2GetBooleanStatus", M_GET, |_| {
-            if s != status_kind::TERMINATED {
-                return Err(error(format!(
-                    "fmi2GetBooleanStatus: status kind {s} is not supported"
-                )));
-            }
-            let out = slice_mut(value, 1, "value")?;
-            out[0] = fmi2False;
-            Ok(())
-        })
+        guarded_with(
+            c,
+            "fmi2GetBooleanStatus",
+            M_GET,
+            |_| Some(format!("s = {s}")),
+            |_| {
+                if s != status_kind::TERMINATED {
+                    return Err(error(format!(
+                        "fmi2GetBooleanStatus: status kind {s} is not supported"
+                    )));
+                }
+                let out = slice_mut(value, 1, "value")?;
+                out[0] = fmi2False;
+                Ok(())
+            },
+        )
     }
 }
 

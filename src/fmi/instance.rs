@@ -58,33 +58,54 @@ impl Logger {
         Self { callback, env }
     }
 
-    /// Send one message. The text goes through `"%s"` so `%` is never interpreted;
-    /// `#` is FMI's escape character and is doubled.
+    /// Send one message. The logger's message is a `printf` format (FMI 2.0 sec. 2.1.5),
+    /// so the text itself is passed as the format with `%` escaped as `%%` and no
+    /// arguments: a master that formats shows the text, and one that prints the format
+    /// as it is still shows it (with `%%`). `#` is FMI's escape character (`#r12#` names a
+    /// variable) and is doubled. Messages are cut at [`MAX_LOG_CHARS`] characters (fmpy
+    /// formats into 2048 bytes), with ` ...` appended.
     pub fn log(&self, instance: &CStr, status: fmi2Status, category: &str, msg: &str) {
         let Some(cb) = self.callback else { return };
-        let escaped: String = msg
-            .replace('#', "##")
-            .chars()
-            .filter(|c| *c != '\0')
-            .take(1500)
-            .collect();
-        let (Ok(text), Ok(cat)) = (CString::new(escaped), CString::new(category)) else {
+        let Ok(cat) = CString::new(category) else {
+            return;
+        };
+        let Ok(text) = CString::new(escape_log_message(msg)) else {
             return;
         };
         // SAFETY: the master gave us this callback for the lifetime of the instance; all
-        // strings are NUL-terminated and live across the call; the format "%s" consumes
-        // exactly one `const char*` argument.
+        // strings are NUL-terminated and live across the call; the format contains no
+        // conversion (every `%` is doubled), so no variadic argument is read.
         unsafe {
             cb(
                 self.env,
                 instance.as_ptr(),
                 status as c_int,
                 cat.as_ptr(),
-                c"%s".as_ptr(),
                 text.as_ptr(),
             )
         };
     }
+}
+
+/// Longest message sent to the logger, in characters before escaping.
+pub const MAX_LOG_CHARS: usize = 1500;
+
+/// A log message as the logger's `printf` format: NULs dropped, cut at
+/// [`MAX_LOG_CHARS`] characters (` ...` appended), then `%` -> `%%` and `#` -> `##`.
+pub fn escape_log_message(msg: &str) -> String {
+    let mut out = String::with_capacity(msg.len() + 8);
+    for (i, c) in msg.chars().filter(|c| *c != '\0').enumerate() {
+        if i == MAX_LOG_CHARS {
+            out.push_str(" ...");
+            break;
+        }
+        match c {
+            '%' => out.push_str("%%"),
+            '#' => out.push_str("##"),
+            c => out.push(c),
+        }
+    }
+    out
 }
 
 /// All data of one instance.
@@ -101,6 +122,8 @@ pub struct Instance {
     time: f64,
     start_time: f64,
     stop_time: Option<f64>,
+    /// The FMU states handed out by `fmi2GetFMUstate` / `fmi2DeSerializeFMUstate`.
+    pub states: super::state::StateRegistry,
 }
 
 impl Drop for Instance {
@@ -120,7 +143,57 @@ fn settable(def: &VarDef, state: ModelState) -> bool {
     }
 }
 
-fn status_of(s: relnav_status) -> Result<(), FmiFailure> {
+/// Parameters whose valid values depend on another parameter, with that partner set to
+/// its most permissive value for [`check_alone`]:
+/// * `hinf_period` must satisfy `mean_motion * hinf_period <= 0.5`, and the smallest
+///   `mean_motion` the library accepts is 1e-9 rad/s (`nav::MEAN_MOTION_RANGE`, checked by
+///   a test), so only periods that no orbit admits are refused before
+///   fmi2ExitInitializationMode;
+/// * `hinf_b_pos` and `hinf_b_vel` are set together (both > 0) or derived together (both
+///   0): the partner takes the value's kind (1 for a positive value, else 0).
+fn permissive_partner(vr_: u32, value: f64) -> Option<(u32, f64)> {
+    let same_kind = if value > 0.0 { 1.0 } else { 0.0 };
+    match vr_ {
+        vr::HINF_PERIOD => Some((vr::MEAN_MOTION, 1e-9)),
+        vr::HINF_B_POS => Some((vr::HINF_B_VEL, same_kind)),
+        vr::HINF_B_VEL => Some((vr::HINF_B_POS, same_kind)),
+        _ => None,
+    }
+}
+
+/// Refuse a parameter value that is invalid whatever the other parameters are, at
+/// `fmi2Set*` time: the earliest point, where the error belongs to the call and value
+/// that caused it (fmpy raises there; libcosim, which sets initial values during its own
+/// initialisation, aborts either way; Ecos ignores both). The check is
+/// the library's own (`relnav_config_validate`) on the start values with this one value
+/// changed: every start value is valid and, apart from [`permissive_partner`], no check
+/// couples a parameter to one whose start value could make a valid value fail, so
+/// nothing valid is refused early. Combinations are checked at
+/// fmi2ExitInitializationMode.
+fn check_alone(def: &VarDef, value: f64) -> Result<(), FmiFailure> {
+    let mut values = [0.0; N_VARS];
+    for v in VARIABLES {
+        values[v.vr as usize] = v.start;
+    }
+    values[def.vr as usize] = value;
+    if let Some((partner, loose)) = permissive_partner(def.vr, value) {
+        values[partner as usize] = loose;
+    }
+    let cfg = config_of(&values);
+    // SAFETY: a valid local configuration.
+    status_of(unsafe { ffi::relnav_config_validate(&cfg) })
+}
+
+/// A value as the master gave it: an integer for Integer and code variables.
+fn show(def: &VarDef, value: f64) -> String {
+    match def.ty {
+        VarType::Real(_) => format!("{value}"),
+        VarType::Boolean => format!("{}", value != 0.0),
+        VarType::Integer | VarType::Code(_) => format!("{}", value as i64),
+    }
+}
+
+pub(super) fn status_of(s: relnav_status) -> Result<(), FmiFailure> {
     if s == relnav_status::RELNAV_OK {
         Ok(())
     } else {
@@ -147,6 +220,7 @@ impl Instance {
             time: 0.0,
             start_time: 0.0,
             stop_time: None,
+            states: Default::default(),
         };
         inst.set_start_values();
         inst
@@ -181,9 +255,22 @@ impl Instance {
         }
     }
 
+    /// Record a failed call's status in the `fmi_status` output (the worst so far).
+    pub fn note_status(&mut self, status: fmi2Status) {
+        let v = &mut self.values[vr::FMI_STATUS as usize];
+        *v = v.max(f64::from(status as i32));
+    }
+
     /// Whether `logCalls` messages would be sent (to avoid formatting them otherwise).
     pub fn logs_calls(&self) -> bool {
         self.logging_on && self.categories[3]
+    }
+
+    /// Log a call under `logCalls`, formatting the message only when it is sent.
+    pub fn log_call(&self, msg: impl FnOnce() -> String) {
+        if self.logs_calls() {
+            self.log(fmi2Status::fmi2OK, "logCalls", &msg());
+        }
     }
 
     /// `fmi2SetDebugLogging`.
@@ -248,7 +335,14 @@ impl Instance {
 
     /// The C-ABI configuration assembled from the parameter values.
     pub fn config(&self) -> relnav_config {
-        let v = |r: u32| self.values[r as usize];
+        config_of(&self.values)
+    }
+}
+
+/// The C-ABI configuration assembled from the parameter values of `values`.
+pub(super) fn config_of(values: &[f64; N_VARS]) -> relnav_config {
+    {
+        let v = |r: u32| values[r as usize];
         let mut c = ffi::relnav_config_default();
         c.filter = v(vr::FILTER) as i32;
         c.frame = v(vr::FRAME) as i32;
@@ -281,9 +375,14 @@ impl Instance {
         c.hinf_b_pos = v(vr::HINF_B_POS);
         c.hinf_b_vel = v(vr::HINF_B_VEL);
         c.hinf_d = v(vr::HINF_D);
+        c.hinf_design = v(vr::HINF_DESIGN) as i32;
+        c.hinf_gamma_factor = v(vr::HINF_GAMMA_FACTOR);
+        c.hinf_acquisition = i32::from(v(vr::HINF_ACQUISITION) != 0.0);
         c
     }
+}
 
+impl Instance {
     /// Whether the `filter` parameter selects a particle filter (codes 4-8).
     fn particle_filter_selected(&self) -> bool {
         (4.0..=8.0).contains(&self.values[vr::FILTER as usize])
@@ -302,6 +401,8 @@ impl Instance {
             self.write_outputs(&x0, &[sp, sp, sp, sv, sv, sv]);
         }
         self.values[vr::HINF_GAMMA as usize] = f64::NAN;
+        self.values[vr::HINF_H2_NORM as usize] = f64::NAN;
+        self.values[vr::HINF_CERTIFIED as usize] = 0.0;
         self.values[vr::ESS as usize] = if self.particle_filter_selected() {
             v[vr::PARTICLES as usize]
         } else {
@@ -355,12 +456,22 @@ impl Instance {
         let mut gamma = f64::NAN;
         // SAFETY: as above; `gamma` is a writable local.
         status_of(unsafe { ffi::relnav_estimator_get_hinf_gamma(self.estimator, &mut gamma) })?;
+        let mut h2 = f64::NAN;
+        // SAFETY: as above; `h2` is a writable local.
+        status_of(unsafe { ffi::relnav_estimator_get_hinf_h2_norm(self.estimator, &mut h2) })?;
+        let mut certified = -1;
+        // SAFETY: as above; `certified` is a writable local.
+        status_of(unsafe {
+            ffi::relnav_estimator_get_hinf_certified(self.estimator, &mut certified)
+        })?;
         self.write_outputs(&x, &s);
         self.values[vr::ESS as usize] = ess;
         self.values[vr::Q_VV_X as usize] = q[0];
         self.values[vr::Q_VV_Y as usize] = q[1];
         self.values[vr::Q_VV_Z as usize] = q[2];
         self.values[vr::HINF_GAMMA as usize] = gamma;
+        self.values[vr::HINF_H2_NORM as usize] = h2;
+        self.values[vr::HINF_CERTIFIED as usize] = f64::from(u8::from(certified == 1));
         Ok(())
     }
 
@@ -382,14 +493,25 @@ impl Instance {
                     cfg.particles, cfg.resampler, cfg.resample_threshold, cfg.seed
                 )
             } else if cfg.filter == 9 {
+                let noise = |v: f64| {
+                    if v == 0.0 {
+                        "derived".to_string()
+                    } else {
+                        v.to_string()
+                    }
+                };
                 format!(
-                    ", hinf: observer design for hinf_period {} s, delta_bar {}, b_pos {}, b_vel {}, d {}: gamma = {}",
+                    ", hinf: {} observer design (gamma_factor {}) for hinf_period {} s, delta_bar {}, b_pos {}, b_vel {}, d {}: gamma = {}, H2 norm = {}, acquisition {}",
+                    if cfg.hinf_design == 1 { "gamma-optimal" } else { "mixed H2/H-infinity" },
+                    cfg.hinf_gamma_factor,
                     cfg.hinf_period,
                     cfg.hinf_delta_bar,
-                    cfg.hinf_b_pos,
-                    cfg.hinf_b_vel,
-                    cfg.hinf_d,
-                    self.values[vr::HINF_GAMMA as usize]
+                    noise(cfg.hinf_b_pos),
+                    noise(cfg.hinf_b_vel),
+                    noise(cfg.hinf_d),
+                    self.values[vr::HINF_GAMMA as usize],
+                    self.values[vr::HINF_H2_NORM as usize],
+                    if cfg.hinf_acquisition != 0 { "on" } else { "off" }
                 )
             } else {
                 String::new()
@@ -460,6 +582,14 @@ impl Instance {
         self.time
     }
 
+    /// `name (vr N)` of a value reference, for call logs (`vr N (unknown)` if it is none).
+    pub fn var_label(r: fmi2ValueReference) -> String {
+        match lookup(r) {
+            Some(d) => format!("{} (vr {r})", d.name),
+            None => format!("vr {r} (unknown)"),
+        }
+    }
+
     fn def(&self, r: fmi2ValueReference, func: &str) -> Result<&'static VarDef, FmiFailure> {
         lookup(r).ok_or_else(|| error(format!("{func}: unknown value reference {r}")))
     }
@@ -502,20 +632,25 @@ impl Instance {
                 d.name, d.causality, self.state
             )));
         }
-        if let VarType::Enumeration(t) = d.ty {
-            if !t.items.iter().any(|it| f64::from(it.1) == value) {
-                let allowed: Vec<String> = t
-                    .items
-                    .iter()
-                    .map(|it| format!("{} {}", it.1, it.0))
-                    .collect();
+        if let VarType::Code(t) = d.ty {
+            if t.item(value).is_none() {
                 return Err(error(format!(
-                    "{func}: {} = {value} is not a valid {} (allowed: {})",
+                    "{func}: {} = {value} is not a {} code (allowed: {})",
                     d.name,
                     t.name,
-                    allowed.join(", ")
+                    t.codes()
                 )));
             }
+        }
+        if d.causality == Causality::Parameter {
+            check_alone(d, value).map_err(|e| {
+                error(format!(
+                    "{func}: {} = {} refused: {}",
+                    d.name,
+                    show(d, value),
+                    e.message
+                ))
+            })?;
         }
         self.values[r as usize] = value;
         if matches!(
@@ -525,5 +660,91 @@ impl Instance {
             self.publish_initial_outputs();
         }
         Ok(())
+    }
+}
+
+/// What the FMU state ([`super::state`]) reads and restores.
+impl Instance {
+    /// Every variable's value, by value reference.
+    pub(super) fn values(&self) -> &[f64; N_VARS] {
+        &self.values
+    }
+
+    /// `(time, start time, stop time)`.
+    pub(super) fn times(&self) -> (f64, f64, Option<f64>) {
+        (self.time, self.start_time, self.stop_time)
+    }
+
+    /// The estimator handle (null before `fmi2ExitInitializationMode`).
+    pub(super) fn estimator_ptr(&self) -> *mut relnav_estimator {
+        self.estimator
+    }
+
+    /// Take `e` (null or a live handle) as the estimator, freeing the previous one.
+    pub(super) fn replace_estimator(&mut self, e: *mut relnav_estimator) {
+        if e != self.estimator {
+            self.free_estimator();
+            self.estimator = e;
+        }
+    }
+
+    /// Everything but the estimator, as a restored state has it.
+    pub(super) fn set_restored(
+        &mut self,
+        mode: ModelState,
+        values: [f64; N_VARS],
+        time: f64,
+        start_time: f64,
+        stop_time: Option<f64>,
+    ) {
+        self.state = mode;
+        self.values = values;
+        self.time = time;
+        self.start_time = start_time;
+        self.stop_time = stop_time;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn log_messages_are_printf_formats() {
+        assert_eq!(escape_log_message("50% #r3# ok"), "50%% ##r3## ok");
+        assert_eq!(escape_log_message("a\0b"), "ab");
+        let long = "%".repeat(MAX_LOG_CHARS + 10);
+        let e = escape_log_message(&long);
+        assert_eq!(e, format!("{} ...", "%%".repeat(MAX_LOG_CHARS)));
+    }
+
+    /// The permissive partner of `hinf_period` is the smallest mean motion the library
+    /// accepts, so the early check refuses only periods no orbit admits.
+    #[test]
+    fn permissive_partner_is_the_library_bound() {
+        assert_eq!(
+            permissive_partner(vr::HINF_PERIOD, 1.0),
+            Some((vr::MEAN_MOTION, crate::nav::MEAN_MOTION_RANGE.0))
+        );
+        for (a, b) in [(vr::HINF_B_POS, 0.05), (vr::HINF_B_VEL, 0.001)] {
+            assert_eq!(lookup(a).map(|d| check_alone(d, b).is_ok()), Some(true));
+            assert_eq!(lookup(a).map(|d| check_alone(d, 0.0).is_ok()), Some(true));
+            assert_eq!(lookup(a).map(|d| check_alone(d, -1.0).is_err()), Some(true));
+        }
+        let hinf = lookup(vr::HINF_PERIOD).map(|d| check_alone(d, 5e8).is_ok());
+        assert_eq!(hinf, Some(true));
+        let hinf = lookup(vr::HINF_PERIOD).map(|d| check_alone(d, 5.1e8).is_err());
+        assert_eq!(hinf, Some(true));
+    }
+
+    /// Every start value passes the early check (nothing valid is refused early).
+    #[test]
+    fn start_values_pass_the_early_check() {
+        for v in VARIABLES
+            .iter()
+            .filter(|v| v.causality == Causality::Parameter)
+        {
+            assert!(check_alone(v, v.start).is_ok(), "{}", v.name);
+        }
     }
 }

@@ -27,13 +27,42 @@ pub enum Variability {
     Continuous,
 }
 
-/// An FMI enumeration type.
+/// A list of named integer codes (the C ABI's enums: filter, frame, ...).
+///
+/// Declared in `modelDescription.xml` as an FMI **Integer** with `min`/`max` and the
+/// codes with their names in the description, not as an FMI Enumeration: libcosim
+/// ignores Enumeration variables and Ecos drops them (`../shared/docs/fmi-masters.md`),
+/// so an Enumeration could be set from fmpy only. A code outside the list is refused at
+/// `fmi2SetInteger`.
 #[derive(Debug)]
 pub struct EnumType {
-    /// Type name used in `declaredType`.
+    /// Name of the list (the README's code table and error messages).
     pub name: &'static str,
-    /// Items: (name, value, description).
+    /// Items: (name, code, description).
     pub items: &'static [(&'static str, i32, &'static str)],
+}
+
+impl EnumType {
+    /// Smallest and largest code (the Integer's `min` and `max`).
+    pub fn range(&self) -> (i32, i32) {
+        let codes = self.items.iter().map(|it| it.1);
+        (codes.clone().min().unwrap_or(0), codes.max().unwrap_or(0))
+    }
+
+    /// The item whose code equals `value`, if any.
+    pub fn item(&self, value: f64) -> Option<&'static (&'static str, i32, &'static str)> {
+        self.items.iter().find(|it| f64::from(it.1) == value)
+    }
+
+    /// `1 ekf, 2 ukf, ...`: the codes with their names.
+    pub fn codes(&self) -> String {
+        let parts: Vec<String> = self
+            .items
+            .iter()
+            .map(|(n, v, _)| format!("{v} {n}"))
+            .collect();
+        parts.join(", ")
+    }
 }
 
 /// FMI base type of a variable.
@@ -45,8 +74,8 @@ pub enum VarType {
     Integer,
     /// Boolean.
     Boolean,
-    /// Enumeration of the given type.
-    Enumeration(&'static EnumType),
+    /// Integer restricted to the codes of a list (FMI Integer with `min`/`max`).
+    Code(&'static EnumType),
 }
 
 /// One FMU variable.
@@ -62,7 +91,7 @@ pub struct VarDef {
     pub variability: Variability,
     /// Type.
     pub ty: VarType,
-    /// Start value (Integer/Enumeration/Boolean stored exactly as f64); unused for outputs.
+    /// Start value (Integer/code/Boolean stored exactly as f64); unused for outputs.
     pub start: f64,
     /// Description.
     pub description: &'static str,
@@ -197,13 +226,32 @@ pub static NOISE_MODEL_TYPE: EnumType = EnumType {
     ],
 };
 
-/// All enumeration types, in declaration order.
-pub static ENUM_TYPES: [&EnumType; 5] = [
+/// `hinf_design` parameter values (the C ABI's `relnav_hinf_form` codes available to
+/// filter 9).
+pub static HINF_DESIGN_TYPE: EnumType = EnumType {
+    name: "HinfDesign",
+    items: &[
+        (
+            "gamma_optimal",
+            1,
+            "Observer with the least certified gamma (issue 5's design)",
+        ),
+        (
+            "mixed",
+            3,
+            "Mixed H2/H-infinity observer: least H2 norm (steady-state error) with gamma <= hinf_gamma_factor times the optimum",
+        ),
+    ],
+};
+
+/// All code lists, in declaration order.
+pub static ENUM_TYPES: [&EnumType; 6] = [
     &FILTER_TYPE,
     &FRAME_TYPE,
     &DISCRETIZATION_TYPE,
     &RESAMPLER_TYPE,
     &NOISE_MODEL_TYPE,
+    &HINF_DESIGN_TYPE,
 ];
 
 macro_rules! variables {
@@ -230,14 +278,14 @@ macro_rules! variables {
     };
 }
 
-use VarType::{Boolean, Enumeration, Integer, Real};
+use VarType::{Boolean, Code, Integer, Real};
 
 variables! {
-    FILTER = 0: "filter", Parameter, Fixed, Enumeration(&FILTER_TYPE), 1.0,
-        "Estimator (codes 1-9: 1-3 Kalman (EKF, UKF, AQUKF), 4-8 particle filters, 9 robust H-infinity)";
-    FRAME = 1: "frame", Parameter, Fixed, Enumeration(&FRAME_TYPE), 2.0,
+    FILTER = 0: "filter", Parameter, Fixed, Code(&FILTER_TYPE), 1.0,
+        "Estimator: 1-3 Kalman (EKF, UKF, AQUKF), 4-8 particle filters, 9 robust H-infinity";
+    FRAME = 1: "frame", Parameter, Fixed, Code(&FRAME_TYPE), 2.0,
         "Hill-frame convention of every input and output vector and angle";
-    DISCRETIZATION = 2: "discretization", Parameter, Fixed, Enumeration(&DISCRETIZATION_TYPE), 1.0,
+    DISCRETIZATION = 2: "discretization", Parameter, Fixed, Code(&DISCRETIZATION_TYPE), 1.0,
         "Discretisation of the CW model";
     MEAN_MOTION = 3: "mean_motion", Parameter, Fixed, Real("rad/s"), 2.0 * PI / 7200.0,
         "Mean motion of the target's circular orbit (> 0)";
@@ -301,11 +349,11 @@ variables! {
     SIGMA_VZ = 44: "sigma_vz", Output, Continuous, Real("m/s"), 0.0, "1-sigma uncertainty of vz";
     PARTICLES = 45: "particles", Parameter, Fixed, Integer, 1500.0,
         "Number of particles of the particle filters (codes 4-8; 1..2000000)";
-    RESAMPLER = 46: "resampler", Parameter, Fixed, Enumeration(&RESAMPLER_TYPE), 2.0,
+    RESAMPLER = 46: "resampler", Parameter, Fixed, Code(&RESAMPLER_TYPE), 2.0,
         "Resampling scheme of the particle filters";
     RESAMPLE_THRESHOLD = 47: "resample_threshold", Parameter, Fixed, Real(""), 2.0 / 3.0,
         "The particle filters resample when the effective sample size drops below resample_threshold * particles (in (0, 1]; paper 000: 2/3)";
-    NOISE_MODEL = 48: "noise_model", Parameter, Fixed, Enumeration(&NOISE_MODEL_TYPE), 1.0,
+    NOISE_MODEL = 48: "noise_model", Parameter, Fixed, Code(&NOISE_MODEL_TYPE), 1.0,
         "Measurement-noise density scaled by sigma_range and sigma_angle: the particle filters weigh with it, the Kalman filters assume the Gaussian of its variance";
     NOISE_ZETA = 49: "noise_zeta", Parameter, Fixed, Real(""), 0.2,
         "Mixture noise: weight of the wide component (in [0, 1))";
@@ -327,18 +375,30 @@ variables! {
         "H-infinity filter (code 9): sampling period of its discrete design; fmi2DoStep with another step size is refused (set it to the communication step)";
     HINF_DELTA_BAR = 58: "hinf_delta_bar", Parameter, Fixed, Real(""), 0.05,
         "H-infinity filter: bound of the orbit-rate uncertainty, w = w0 (1 + delta), |delta| <= hinf_delta_bar (paper 002: 0.05)";
-    HINF_B_POS = 59: "hinf_b_pos", Parameter, Fixed, Real("m"), 0.05,
-        "H-infinity filter: process-noise scaling on positions (paper 002 B: 0.05)";
-    HINF_B_VEL = 60: "hinf_b_vel", Parameter, Fixed, Real("m/s"), 0.001,
-        "H-infinity filter: process-noise scaling on velocities (paper 002 B: 0.001)";
-    HINF_D = 61: "hinf_d", Parameter, Fixed, Real("m"), 0.1,
-        "H-infinity filter: scaling of the indirect position measurement noise (paper 002 D: 0.1)";
+    HINF_B_POS = 59: "hinf_b_pos", Parameter, Fixed, Real("m"), 0.0,
+        "H-infinity filter: process-noise scaling on positions (paper 002 B: 0.05); 0 with hinf_b_vel = 0 (default): derived from accel_psd, q_pos_*, q_vel_* (the noise every other filter uses)";
+    HINF_B_VEL = 60: "hinf_b_vel", Parameter, Fixed, Real("m/s"), 0.0,
+        "H-infinity filter: process-noise scaling on velocities (paper 002 B: 0.001); 0 with hinf_b_pos = 0 (default): derived";
+    HINF_D = 61: "hinf_d", Parameter, Fixed, Real("m"), 0.0,
+        "H-infinity filter: scaling of the indirect position measurement noise (paper 002 D: 0.1); 0 (default): derived from sigma_range, sigma_angle and the noise model at the initial estimate's position";
     HINF_GAMMA = 62: "hinf_gamma", Output, Continuous, Real(""), 0.0,
         "H-infinity filter: the design's certified bound gamma on the worst-case gain from the scaled noises to the estimation error; NaN for the other filters";
+    FMI_STATUS = 63: "fmi_status", Output, Discrete, Integer, 0.0,
+        "Worst fmi2Status this instance has returned since fmi2Instantiate or fmi2Reset: 0 fmi2OK, 3 fmi2Error, 4 fmi2Fatal (the reason is logged under logStatusError). For masters that ignore fmi2Error (Ecos): 3 means a call was refused, and the other outputs no longer advance";
+    HINF_DESIGN = 64: "hinf_design", Parameter, Fixed, Code(&HINF_DESIGN_TYPE), 3.0,
+        "H-infinity filter: the LMI design (mixed H2/H-infinity by default; gamma_optimal is issue 5's filter)";
+    HINF_GAMMA_FACTOR = 65: "hinf_gamma_factor", Parameter, Fixed, Real(""), 1.5,
+        "H-infinity filter, mixed design: bound on the certified gamma (hinf_gamma) as a multiple of the gamma-optimal design's (> 1)";
+    HINF_ACQUISITION = 66: "hinf_acquisition", Parameter, Fixed, Boolean, 1.0,
+        "H-infinity filter: start with the Kalman gain of the design's noise model and hand over to the designed gain once that is no worse (track initiation); false: the designed gain from the first step";
+    HINF_H2_NORM = 67: "hinf_h2_norm", Output, Continuous, Real(""), 0.0,
+        "H-infinity filter: H2 norm of the design (from the unit white noises of its noise model to the error; with the derived noise model, the steady-state RMS error in m, velocity in m/s included); NaN for the other filters";
+    HINF_CERTIFIED = 68: "hinf_certified", Output, Discrete, Boolean, 0.0,
+        "H-infinity filter: true while the designed, certified gain runs (after the hand-over of hinf_acquisition, or always without it); false while acquiring and for the other filters";
 }
 
 /// Number of variables.
-pub const N_VARS: usize = 63;
+pub const N_VARS: usize = 69;
 
 /// The definition for a value reference, if it exists.
 pub fn lookup(vr: u32) -> Option<&'static VarDef> {
@@ -362,8 +422,11 @@ mod tests {
                     "unit {u}"
                 );
             }
-            if let VarType::Enumeration(t) = v.ty {
-                assert!(t.items.iter().any(|it| it.1 as f64 == v.start));
+            if let VarType::Code(t) = v.ty {
+                assert!(t.item(v.start).is_some(), "{}", v.name);
+                // ascending, distinct codes: min/max in the XML bound them; a gap
+                // (hinf_design has no code 2, the paper form) is refused at fmi2Set*
+                assert!(t.items.windows(2).all(|w| w[0].1 < w[1].1), "{}", t.name);
             }
         }
     }
@@ -405,11 +468,17 @@ mod tests {
         assert_eq!(s(vr::HINF_B_POS), c.hinf_b_pos);
         assert_eq!(s(vr::HINF_B_VEL), c.hinf_b_vel);
         assert_eq!(s(vr::HINF_D), c.hinf_d);
+        assert_eq!(s(vr::HINF_DESIGN), c.hinf_design as i32 as f64);
+        assert_eq!(s(vr::HINF_GAMMA_FACTOR), c.hinf_gamma_factor);
+        assert_eq!(
+            s(vr::HINF_ACQUISITION),
+            f64::from(u8::from(c.hinf_acquisition))
+        );
     }
 
-    /// The enumerations carry the library's codes and names.
+    /// The code lists carry the library's codes and names.
     #[test]
-    fn enumerations_match_library_codes() {
+    fn code_lists_match_library_codes() {
         use crate::estimators::pf::resample::Resampler;
         use crate::nav::{FilterKind, NoiseKind};
         let names = |t: &EnumType| -> Vec<(i32, &str)> {
@@ -430,5 +499,10 @@ mod tests {
             .map(|k| (*k as i32, k.name()))
             .collect();
         assert_eq!(names(&NOISE_MODEL_TYPE), noises);
+        let designs: Vec<(i32, &str)> = crate::nav::HinfDesignKind::ALL
+            .iter()
+            .map(|k| (*k as i32, k.name()))
+            .collect();
+        assert_eq!(names(&HINF_DESIGN_TYPE), designs);
     }
 }

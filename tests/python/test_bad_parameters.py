@@ -1,5 +1,6 @@
-"""Invalid parameters are rejected with fmi2Error (when set, or at
-fmi2ExitInitializationMode) and the logged reason names the parameter."""
+"""Invalid parameters are rejected with fmi2Error and the logged reason names the
+parameter: a value invalid whatever the other parameters are is refused when it is set
+(fmi2Set*), a combination at fmi2ExitInitializationMode."""
 
 import math
 
@@ -68,18 +69,28 @@ def test_bad_parameter_rejected_with_reason(runner, name, value):
     exc, stage, log = attempt(runner, {name: value})
     assert exc is not None, f"{name}={value} was accepted (log: {log!r})"
     assert exc.status == fmi2Error, f"{name}={value}: status {exc.status} at {stage}"
-    assert stage in ("set", "exit"), f"{name}={value}: failed at {stage}"
+    assert stage == "set", f"{name}={value}: refused at {stage}, not when set"
     assert name in log, f"{name}={value}: log does not name the parameter:\n{log}"
     # the same library still serves a good instance afterwards
     exc, stage, log = attempt(runner, {})
     assert exc is None, log
 
 
-@pytest.mark.parametrize("name,value", [("hinf_period", 0.0), ("hinf_delta_bar", -0.1)])
-def test_bad_hinf_parameters_are_refused_at_exit_initialization(runner, name, value):
+@pytest.mark.parametrize("name,value", [("hinf_period", 0.0), ("hinf_delta_bar", -0.1), ("hinf_period", 6e8)])
+def test_bad_hinf_parameters_are_refused_when_set(runner, name, value):
     exc, stage, log = attempt(runner, {"filter": 9, name: value})
-    assert exc is not None and stage == "exit", (stage, log)
-    assert name.removeprefix("hinf_") in log, log
+    assert exc is not None and stage == "set", (stage, log)
+    assert name in log and name.removeprefix("hinf_") in log.split("refused:")[-1], log
+
+
+def test_hinf_period_too_long_for_the_orbit_is_refused_at_exit_initialization(runner):
+    """hinf_period = 1000 s is valid alone (for mean_motion <= 5e-4 rad/s): accepted when
+    set, refused at fmi2ExitInitializationMode with the default orbit, accepted with a
+    slow one."""
+    exc, stage, log = attempt(runner, {"filter": 1, "hinf_period": 1000.0})
+    assert exc is not None and stage == "exit" and "w0 * period" in log, (stage, log)
+    exc, stage, log = attempt(runner, {"filter": 1, "hinf_period": 1000.0, "mean_motion": 7.3e-5})
+    assert exc is None, log
 
 
 @pytest.mark.parametrize("name,value", [("particles", 0), ("noise_zeta", 1.0)])
@@ -87,7 +98,7 @@ def test_particle_parameters_checked_whatever_the_filter(runner, name, value):
     """A bad particle-filter or noise parameter is refused with the EKF selected too, so it
     never hides until the filter changes."""
     exc, stage, log = attempt(runner, {"filter": 1, name: value})
-    assert exc is not None and stage == "exit" and name in log, (stage, log)
+    assert exc is not None and stage == "set" and name in log, (stage, log)
 
 
 def test_unscented_particle_filters_need_process_noise(runner):

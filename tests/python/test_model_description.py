@@ -2,12 +2,17 @@
 
 import ctypes
 import re
+import shutil
+import subprocess
+import sys
+import uuid
 import xml.etree.ElementTree as ET
 import zipfile
+from pathlib import Path
 
 import numpy as np
 import pytest
-from fmpy import read_model_description
+from fmpy import read_model_description, simulate_fmu
 from fmpy.validation import validate_fmu
 
 import cwtruth as cw
@@ -15,9 +20,10 @@ import relnav_fmu as rf
 
 # name -> (causality, variability, type, unit or None)
 EXPECTED = {
-    "filter": ("parameter", "fixed", "Enumeration", None),
-    "frame": ("parameter", "fixed", "Enumeration", None),
-    "discretization": ("parameter", "fixed", "Enumeration", None),
+    # Integer codes, not FMI Enumerations (libcosim and Ecos cannot set those)
+    "filter": ("parameter", "fixed", "Integer", None),
+    "frame": ("parameter", "fixed", "Integer", None),
+    "discretization": ("parameter", "fixed", "Integer", None),
     "mean_motion": ("parameter", "fixed", "Real", "rad/s"),
     "chaser_mass": ("parameter", "fixed", "Real", "kg"),
     "sigma_range": ("parameter", "fixed", "Real", "m"),
@@ -37,9 +43,9 @@ EXPECTED = {
     **{n: ("output", None, "Real", "m") for n in ["x", "y", "z", "sigma_x", "sigma_y", "sigma_z"]},
     **{n: ("output", None, "Real", "m/s") for n in ["vx", "vy", "vz", "sigma_vx", "sigma_vy", "sigma_vz"]},
     "particles": ("parameter", "fixed", "Integer", None),
-    "resampler": ("parameter", "fixed", "Enumeration", None),
+    "resampler": ("parameter", "fixed", "Integer", None),
     "resample_threshold": ("parameter", "fixed", "Real", None),
-    "noise_model": ("parameter", "fixed", "Enumeration", None),
+    "noise_model": ("parameter", "fixed", "Integer", None),
     **{n: ("parameter", "fixed", "Real", None) for n in ["noise_zeta", "noise_scale", "noise_dof"]},
     "ess": ("output", "continuous", "Real", None),
     "window": ("parameter", "fixed", "Integer", None),
@@ -50,6 +56,13 @@ EXPECTED = {
     "hinf_b_vel": ("parameter", "fixed", "Real", "m/s"),
     "hinf_d": ("parameter", "fixed", "Real", "m"),
     "hinf_gamma": ("output", "continuous", "Real", None),
+    "fmi_status": ("output", "discrete", "Integer", None),
+    # issue 12 (mixed H2/H-infinity design)
+    "hinf_design": ("parameter", "fixed", "Integer", None),
+    "hinf_gamma_factor": ("parameter", "fixed", "Real", None),
+    "hinf_acquisition": ("parameter", "fixed", "Boolean", None),
+    "hinf_h2_norm": ("output", "continuous", "Real", None),
+    "hinf_certified": ("output", "discrete", "Boolean", None),
 }
 
 DEFAULTS = {
@@ -87,6 +100,13 @@ DEFAULTS = {
     "noise_scale": 10.0,
     "noise_dof": 4.0,
     "window": 10,
+    # H-infinity: noise model derived (0), mixed design, track initiation
+    "hinf_b_pos": 0.0,
+    "hinf_b_vel": 0.0,
+    "hinf_d": 0.0,
+    "hinf_design": 3,
+    "hinf_gamma_factor": 1.5,
+    "hinf_acquisition": True,
 }
 
 FMI2_CS_FUNCTIONS = [
@@ -193,15 +213,69 @@ def test_start_values_are_paper000_defaults(md):
             assert float(start) == pytest.approx(value, rel=1e-12), name
 
 
-def test_enumerations(md):
-    types = {t.name: t for t in md.typeDefinitions}
-    got = {v.name: v for v in md.modelVariables}
-    items = lambda var: {int(i.value): i.name for i in types[got[var].declaredType.name].items}  # noqa: E731
+def test_codes(md, xml_root):
+    """The parameters that select a method are FMI Integers (no Enumeration: libcosim
+    and Ecos cannot set those) with min/max and their item names in the description."""
+    assert not md.typeDefinitions
+    assert not [v.name for v in md.modelVariables if v.type == "Enumeration"]
+    codes = rf.codes(md)
+    items = lambda var: {c: n for n, c in codes[var].items()}  # noqa: E731
     assert items("filter") == {1: "ekf", 2: "ukf", 3: "aqukf", 4: "pf", 5: "rpf", 6: "upf", 7: "gapf", 8: "cgapf", 9: "hinf"}
     assert items("frame") == {1: "radial_along_normal", 2: "along_radial_antinormal", 3: "along_antinormal_nadir"}
     assert items("discretization") == {1: "exact", 2: "euler"}
     assert items("resampler") == {1: "multinomial", 2: "systematic", 3: "stratified", 4: "residual"}
     assert items("noise_model") == {1: "gaussian", 2: "mixture", 3: "student_t"}
+    assert items("hinf_design") == {1: "gamma_optimal", 3: "mixed"}
+    elements = {sv.get("name"): sv.find("Integer") for sv in xml_root.find("ModelVariables")}
+    for var, table in codes.items():
+        e = elements[var]
+        assert (int(e.get("min")), int(e.get("max"))) == (min(table.values()), max(table.values())), var
+        assert int(e.get("start")) in table.values(), var
+    assert rf.resolve(md, {"filter": "cgapf", "frame": 3, "x0": 1.0}) == {"filter": 8, "frame": 3, "x0": 1.0}
+    with pytest.raises(ValueError, match="ekf"):
+        rf.resolve(md, {"filter": "kalman"})
+
+
+def test_fmpy_takes_codes_not_item_names(unzipdir):
+    """fmpy converts Integer (and Enumeration) start values with int(): it takes codes,
+    never item names (tools/relnav_fmu.resolve maps names for our drivers)."""
+    with pytest.raises(ValueError):
+        simulate_fmu(str(unzipdir), stop_time=1.0, output_interval=1.0, start_values={"filter": "ukf"})
+    res = simulate_fmu(str(unzipdir), stop_time=1.0, output_interval=1.0, start_values={"filter": 2, "frame": 3})
+    assert len(res) == 2
+
+
+def test_description_names_every_filter_family(xml_root):
+    text = xml_root.get("description")
+    for family in ("EKF", "UKF", "AQUKF", "particle filter", "H-infinity"):
+        assert family in text, family
+
+
+def test_guid_is_the_uuid5_of_the_xml_and_the_date_is_fixed(fmu_path):
+    """The GUID is the name-based UUID (v5, URL namespace) of the XML with "@GUID@" in its
+    place, computed here independently; the date is an xs:dateTime in UTC (the commit
+    date, never the build time: tests/fmu.rs checks it against git)."""
+    with zipfile.ZipFile(fmu_path) as zf:
+        xml = zf.read("modelDescription.xml").decode("utf-8")
+    guid = ET.fromstring(xml).get("guid")
+    body = xml.replace(f'guid="{guid}"', 'guid="@GUID@"', 1)
+    assert guid == "{" + str(uuid.uuid5(uuid.NAMESPACE_URL, body)) + "}"
+    date = ET.fromstring(xml).get("generationDateAndTime")
+    assert re.fullmatch(r"\d{4}-\d{2}-\d{2}T\d{2}:\d{2}:\d{2}Z", date), date
+
+
+def test_fmutool_check_is_clean(fmu_path):
+    """fmu-manipulation-toolbox's XSD and semantic checks (its exit code is 0 even with
+    errors: the report is read)."""
+    exe = Path(sys.executable).with_name("fmutool")
+    if not exe.exists():
+        exe = shutil.which("fmutool")
+    assert exe is not None, "fmutool missing: scripts/setup.sh installs fmu-manipulation-toolbox"
+    out = subprocess.run([str(exe), "-input", str(fmu_path), "-check"], capture_output=True, text=True, timeout=300)
+    report = out.stdout + out.stderr
+    assert "This FMU seems to be compliant with FMI-2.0." in report, report
+    assert "No semantic error against the FMI-2 standard." in report, report
+    assert not [line for line in report.splitlines() if line.startswith(("ERROR", "WARNING"))], report
 
 
 def test_outputs_have_no_direct_feedthrough_in_model_structure(xml_root, md):
@@ -215,7 +289,7 @@ def test_outputs_have_no_direct_feedthrough_in_model_structure(xml_root, md):
         assert variables[idx - 1].get("causality") == "output"
         assert u.get("dependencies") == "", f"output {variables[idx - 1].get('name')}: dependencies={u.get('dependencies')!r}"
     assert listed == output_indices
-    assert len(md.outputs) == 17
+    assert len(md.outputs) == 18 + 2  # issue 12: hinf_h2_norm, hinf_certified
 
 
 def test_binary_exports_fmi2_cosimulation_api(unzipdir):

@@ -85,6 +85,7 @@ use super::ukf::{Ukf, UkfParams};
 use super::{symmetrize, Estimator, FilterError, UpdateInfo};
 use crate::dynamics::DiscreteModel;
 use crate::noise::NoiseModel;
+use crate::numerics::state::{refuse, Persist, Reader, StateError, Writer};
 use crate::sensors::MeasurementModel;
 use crate::types::{Mat3, Mat6, State, Vec3};
 use genetic::{CloudParams, GeneticParams};
@@ -99,6 +100,39 @@ use std::cell::OnceCell;
 /// Monte Carlo and the stream is fixed by the crate's documented algorithm, so results
 /// are reproducible from the seed.
 pub type PfRng = Xoshiro256PlusPlus;
+
+/// The four 64-bit words of a [`PfRng`]'s state. rand_xoshiro exposes them only through its
+/// serde form (a struct of one `[u64; 4]`), read here without naming its field; the result
+/// is checked by rebuilding the generator from it. `None` if that ever fails (then the saved
+/// state carries zeros, which [`rng_from_state`] refuses, rather than a wrong stream).
+pub fn rng_state(rng: &PfRng) -> Option<[u64; 4]> {
+    fn words(v: &serde_json::Value, out: &mut Vec<u64>) {
+        match v {
+            serde_json::Value::Number(n) => out.extend(n.as_u64()),
+            serde_json::Value::Array(a) => a.iter().for_each(|x| words(x, out)),
+            serde_json::Value::Object(m) => m.values().for_each(|x| words(x, out)),
+            _ => {}
+        }
+    }
+    let v = serde_json::to_value(rng).ok()?;
+    let mut out = Vec::with_capacity(4);
+    words(&v, &mut out);
+    let s: [u64; 4] = out.try_into().ok()?;
+    (rng_from_state(s).as_ref() == Some(rng)).then_some(s)
+}
+
+/// The generator in state `s` (xoshiro256++ state words `s[0..4]`, as the reference
+/// implementation names them). `None` for the all-zero state, which xoshiro never reaches.
+pub fn rng_from_state(s: [u64; 4]) -> Option<PfRng> {
+    if s == [0; 4] {
+        return None;
+    }
+    let mut seed = [0u8; 32];
+    for (c, w) in seed.chunks_exact_mut(8).zip(s) {
+        c.copy_from_slice(&w.to_le_bytes());
+    }
+    Some(PfRng::from_seed(seed))
+}
 use resample::{effective_sample_size, normalize_log_weights, resample, Resampler};
 
 /// The particle-filter variants (FMU / C ABI filter codes 4-8).
@@ -1054,6 +1088,196 @@ impl Estimator for ParticleFilter {
     }
 }
 
+/// Saved state (see `docs/state-format.md`): the particle count `n` and the count `m` of
+/// per-particle proposal means and covariances (`n` for the unscented kinds, else 0), the
+/// prior `x0`, `P0`; per particle the state, proposal mean and covariance, log-weight,
+/// weight, log-likelihood and the pairing permutation (u32; the genetic moves shuffle it in
+/// place, so its order is state); then the weighted mean, the cached covariance (if
+/// computed), the ESS, the initialisation flags, the Gaussian prior and its factor, the
+/// move steps' predictive Gaussian, the generator's four state words, the cached `Q`, its
+/// square root and definiteness, and the counters. The settings and the unscented
+/// proposal's weights are configuration; the `*_tmp`, `logpi`, `idx` and `scratch`
+/// buffers are overwritten by every step before they are read.
+impl Persist for ParticleFilter {
+    fn save_state(&self, w: &mut Writer<'_>) {
+        let Self {
+            params: _,
+            x0,
+            p0,
+            x,
+            xbar,
+            pc,
+            x_tmp: _,
+            xbar_tmp: _,
+            pc_tmp: _,
+            logw,
+            logw_tmp: _,
+            w: weights,
+            loglik,
+            loglik_tmp: _,
+            logpi: _,
+            idx: _,
+            perm,
+            scratch: _,
+            mean,
+            cov,
+            ess,
+            awaiting_first,
+            prior_mode,
+            prior_mean,
+            prior_cov,
+            prior_l,
+            pred_mean,
+            pred_l,
+            rng,
+            q_key,
+            q_sqrt,
+            q_pd,
+            ukf: _,
+            resamples,
+            moves_tried,
+            moves_accepted,
+        } = self;
+        w.usize(x.len());
+        w.usize(pc.len());
+        w.matrix(x0);
+        w.matrix(p0);
+        x.iter().for_each(|v| w.matrix(v));
+        xbar.iter().for_each(|v| w.matrix(v));
+        pc.iter().for_each(|v| w.matrix(v));
+        logw.iter().for_each(|v| w.f64(*v));
+        weights.iter().for_each(|v| w.f64(*v));
+        loglik.iter().for_each(|v| w.f64(*v));
+        perm.iter().for_each(|v| w.u32(*v as u32));
+        w.matrix(mean);
+        w.opt_matrix(cov.get());
+        w.f64(*ess);
+        w.bool(*awaiting_first);
+        w.bool(*prior_mode);
+        w.matrix(prior_mean);
+        w.matrix(prior_cov);
+        w.matrix(prior_l);
+        w.matrix(pred_mean);
+        w.matrix(pred_l);
+        for word in rng_state(rng).unwrap_or([0; 4]) {
+            w.u64(word);
+        }
+        w.matrix(q_key);
+        w.matrix(q_sqrt);
+        w.bool(*q_pd);
+        w.u64(*resamples);
+        w.u64(*moves_tried);
+        w.u64(*moves_accepted);
+    }
+
+    fn load_state(&mut self, r: &mut Reader<'_>) -> Result<(), StateError> {
+        let Self {
+            params: _,
+            x0,
+            p0,
+            x,
+            xbar,
+            pc,
+            x_tmp: _,
+            xbar_tmp: _,
+            pc_tmp: _,
+            logw,
+            logw_tmp: _,
+            w: weights,
+            loglik,
+            loglik_tmp: _,
+            logpi: _,
+            idx: _,
+            perm,
+            scratch: _,
+            mean,
+            cov,
+            ess,
+            awaiting_first,
+            prior_mode,
+            prior_mean,
+            prior_cov,
+            prior_l,
+            pred_mean,
+            pred_l,
+            rng,
+            q_key,
+            q_sqrt,
+            q_pd,
+            ukf: _,
+            resamples,
+            moves_tried,
+            moves_accepted,
+        } = self;
+        let n = x.len();
+        r.count("particle count", n)?;
+        r.count("per-particle proposal count", pc.len())?;
+        *x0 = r.matrix("prior mean x0")?;
+        *p0 = r.matrix("prior covariance P0")?;
+        for v in x.iter_mut() {
+            *v = r.finite_matrix("particle")?;
+        }
+        for v in xbar.iter_mut() {
+            *v = r.matrix("particle proposal mean")?;
+        }
+        for v in pc.iter_mut() {
+            *v = r.matrix("particle proposal covariance")?;
+        }
+        for v in logw.iter_mut() {
+            *v = r.f64("log-weight")?;
+        }
+        for v in weights.iter_mut() {
+            *v = r.finite("weight")?;
+            if *v < 0.0 {
+                return Err(refuse(format!("a particle weight is negative ({v})")));
+            }
+        }
+        for v in loglik.iter_mut() {
+            *v = r.f64("log-likelihood")?;
+        }
+        let mut seen = vec![false; n];
+        for v in perm.iter_mut() {
+            let i = r.u32("pairing permutation")? as usize;
+            match seen.get_mut(i) {
+                Some(s) if !*s => *s = true,
+                _ => {
+                    return Err(refuse(format!(
+                        "the pairing permutation is not a permutation of 0..{n} (entry {i})"
+                    )))
+                }
+            }
+            *v = i;
+        }
+        *mean = r.matrix("weighted mean")?;
+        *cov = match r.opt_matrix("weighted covariance")? {
+            Some(c) => OnceCell::from(c),
+            None => OnceCell::new(),
+        };
+        *ess = r.f64("effective sample size")?;
+        *awaiting_first = r.bool("awaiting-first-measurement flag")?;
+        *prior_mode = r.bool("prior-mode flag")?;
+        *prior_mean = r.matrix("prior mean")?;
+        *prior_cov = r.matrix("prior covariance")?;
+        *prior_l = r.matrix("prior covariance factor")?;
+        *pred_mean = r.matrix("predictive mean")?;
+        *pred_l = r.matrix("predictive covariance factor")?;
+        let mut s = [0u64; 4];
+        for word in s.iter_mut() {
+            *word = r.u64("generator state")?;
+        }
+        *rng = rng_from_state(s).ok_or_else(|| {
+            refuse("the particle filter's generator state is all zero (not a xoshiro256++ state)")
+        })?;
+        *q_key = r.matrix("cached process noise")?;
+        *q_sqrt = r.matrix("cached square root of the process noise")?;
+        *q_pd = r.bool("process-noise definiteness flag")?;
+        *resamples = r.u64("resampling count")?;
+        *moves_tried = r.u64("moves tried")?;
+        *moves_accepted = r.u64("moves accepted")?;
+        Ok(())
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -1066,7 +1290,7 @@ mod tests {
         let m = CwModel::new(2.0 * std::f64::consts::PI / 5400.0);
         for dt in [0.1, 1.0, 600.0] {
             for disc in [Discretization::Exact, Discretization::Euler] {
-                let phi = m.discretize(dt, &Vec3::zeros(), disc).phi;
+                let phi = m.discretize(dt, &Mat3::zeros(), disc).phi;
                 let b = CwBlocks::of(&phi).expect("CW transition is block-structured");
                 for k in 0..20 {
                     let x = State::from_fn(|i, _| ((i * 7 + k * 3) as f64).sin() * 300.0);
@@ -1078,5 +1302,23 @@ mod tests {
         let mut coupled = Mat6::identity();
         coupled[(0, 2)] = 1e-3;
         assert!(CwBlocks::of(&coupled).is_none());
+    }
+
+    /// The generator's state words read through serde rebuild the same stream (and are
+    /// the reference implementation's: the first output is `rotl(s0 + s3, 23) + s0`).
+    #[test]
+    fn generator_state_round_trips() {
+        use rand::RngCore;
+        let mut rng = PfRng::seed_from_u64(42);
+        for _ in 0..1000 {
+            rng.next_u64();
+        }
+        let s = rng_state(&rng).expect("state words");
+        let want = s[0].wrapping_add(s[3]).rotate_left(23).wrapping_add(s[0]);
+        let mut copy = rng_from_state(s).expect("non-zero");
+        assert_eq!(copy, rng);
+        assert_eq!(copy.next_u64(), want);
+        assert_eq!(rng.next_u64(), want);
+        assert!(rng_from_state([0; 4]).is_none());
     }
 }
