@@ -21,7 +21,7 @@ if ! command -v cargo >/dev/null 2>&1 && [ -x "$HOME/.cargo/bin/cargo" ]; then
     PATH="$HOME/.cargo/bin:$PATH"
 fi
 mode="${1:-smoke}"
-TARGETS=(capi fmi)
+TARGETS=(capi fmi state)
 
 if ! cargo +nightly --version >/dev/null 2>&1 || ! cargo +nightly fuzz --version >/dev/null 2>&1; then
     echo "fuzz: nightly Rust or cargo-fuzz missing: skipped"

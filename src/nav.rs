@@ -1548,6 +1548,18 @@ impl Navigator {
         let mut filter = self.filter.clone();
         filter.load_state(&mut r)?;
         r.finish()?;
+        // a crafted state behind a valid checksum can carry fields a filter reads without
+        // a finiteness check (a particle filter's weighted mean): the estimate handed out
+        // must be numbers (fuzz finding, `tests/robustness.rs`). The covariance is not
+        // checked: a reachable state may hold an infinite one (particles spread beyond
+        // 1e154 m by absurd thrust), and it must restore.
+        if !filter.state().iter().all(|v| v.is_finite()) {
+            return Err(refuse(
+                "the state's estimate is not finite (a crafted or corrupted state behind a \
+                 valid checksum)",
+            )
+            .into());
+        }
         // commit: nothing below can fail
         self.filter = filter;
         self.last_update = last_update;

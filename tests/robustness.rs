@@ -426,3 +426,85 @@ fn fuzz_initial_estimate_near_the_largest_double() {
         });
     }
 }
+
+/// Fix the CRC-32 of an estimator state (32-byte header; docs/state-format.md) after an
+/// edit, as a crafted state would carry it.
+fn reseal_estimator_state(b: &mut [u8]) {
+    let mut h = crc32fast::Hasher::new();
+    h.update(&b[..28]);
+    h.update(&b[32..]);
+    let c = h.finalize();
+    b[28..32].copy_from_slice(&c.to_le_bytes());
+}
+
+/// Restore `b` into `nav`: refused with `InvalidState` and the estimate bit for bit
+/// unchanged, or accepted with a finite estimate.
+fn restore_contract(nav: &mut Navigator, b: &[u8], what: &str) {
+    let (x, p) = (nav.state(), nav.covariance());
+    match nav.restore_state(b) {
+        Ok(()) => assert!(
+            nav.state().iter().all(|v| v.is_finite()),
+            "{what}: accepted with estimate {:?}",
+            nav.state()
+        ),
+        Err(e) => {
+            assert_eq!(e.kind, NavErrorKind::InvalidState, "{what}: {}", e.message);
+            let same =
+                |a: &[f64], b: &[f64]| a.iter().zip(b).all(|(u, v)| u.to_bits() == v.to_bits());
+            assert!(
+                same(x.as_slice(), nav.state().as_slice())
+                    && same(p.as_slice(), nav.covariance().as_slice()),
+                "{what}: refused but changed"
+            );
+        }
+    }
+}
+
+/// Fuzz finding (target `state`): a CGA-PF state (2 particles) with three bytes of the
+/// weighted mean overwritten by 0xff and the checksum fixed was accepted, and the
+/// estimator's state became NaN. The reader took the weighted mean without a finiteness
+/// check; a restored state whose estimate is not finite is now refused. The exact
+/// artifact, then every filter with NaN and 0xff bytes written at every offset of its
+/// payload behind a valid checksum: refused unchanged, or a finite estimate.
+#[test]
+fn crafted_states_behind_a_valid_checksum_never_give_a_nan_estimate() {
+    let cfg = NavConfig {
+        filter: FilterKind::Cgapf,
+        particles: 2,
+        ..Default::default()
+    };
+    let mut nav = Navigator::new(&cfg).unwrap();
+    let mut b = Vec::new();
+    nav.save_state(&mut b);
+    let at = 65535 % b.len();
+    let n = 3.min(b.len() - at);
+    b[at..at + n].fill(0xff);
+    reseal_estimator_state(&mut b);
+    restore_contract(&mut nav, &b, "fuzz artifact");
+    assert!(
+        nav.restore_state(&b).is_err(),
+        "the artifact must be refused"
+    );
+    for base in configs() {
+        bounded(base.filter.name(), move || {
+            let cfg = NavConfig {
+                particles: 3,
+                ..base
+            };
+            let mut nav = Navigator::new(&cfg).unwrap();
+            nav.step(&[0.0; 3], Some(&Z), 1.0).unwrap();
+            let mut good = Vec::new();
+            nav.save_state(&mut good);
+            for at in 32..good.len() {
+                for patch in [&f64::NAN.to_le_bytes()[..], &[0xff; 3][..]] {
+                    let mut b = good.clone();
+                    let n = patch.len().min(b.len() - at);
+                    b[at..at + n].copy_from_slice(&patch[..n]);
+                    reseal_estimator_state(&mut b);
+                    restore_contract(&mut nav, &b, &format!("{} at {at}", cfg.filter.name()));
+                    nav.restore_state(&good).unwrap();
+                }
+            }
+        });
+    }
+}

@@ -1,6 +1,8 @@
 //! Fuzz target `capi`: the C ABI (`include/relnav.h`) under arbitrary configurations and
-//! arbitrary sequences of step / predict / update / reset with arbitrary numbers, and the
-//! runtime H-infinity filter (`relnav_hinf_filter_*`) with arbitrary matrices.
+//! arbitrary sequences of step / predict / update / reset / save / restore with arbitrary
+//! numbers (restoring saved states intact, truncated, corrupted, rewritten behind a valid
+//! checksum, or arbitrary bytes), and the runtime H-infinity filter
+//! (`relnav_hinf_filter_*`) with arbitrary matrices.
 //!
 //! Besides crashes, hangs (run with `-timeout=1`) and panics (libfuzzer-sys aborts on any
 //! panic, also one the C boundary would catch), every call is checked against the C ABI's
@@ -11,7 +13,13 @@
 //!   state and covariance bit for bit as they were (a particle filter's step may commit its
 //!   update before the prediction fails: documented, see `Navigator`);
 //! * after a successful call the state estimate is finite;
-//! * `relnav_estimator_get_config` returns the configuration the estimator was made from.
+//! * `relnav_estimator_get_config` returns the configuration the estimator was made from;
+//! * the state size (`relnav_estimator_save` with a null buffer) never changes for one
+//!   estimator; a buffer one byte short gives `RELNAV_ERROR_BUFFER_TOO_SMALL` and is not
+//!   written;
+//! * an intact saved state restores (`RELNAV_OK`) to the saved estimate bit for bit, and
+//!   saving it again gives the same bytes; a refused (damaged) state leaves the estimator
+//!   bit for bit unchanged; an accepted one leaves a finite estimate.
 //!
 //! Limits of the target (documented in fuzz/README.md): at most 16 particles and 64
 //! operations per input, so that one input runs in milliseconds; the H-infinity filter
@@ -22,7 +30,7 @@
 use arbitrary::Arbitrary;
 use libfuzzer_sys::fuzz_target;
 use relnav::ffi::*;
-use relnav_fuzz::{measure, same_bits, values3, Num};
+use relnav_fuzz::{damage, measure, same_bits, values3, Damage, Num, ESTIMATOR_HEADER};
 use std::cell::Cell;
 use std::ffi::CStr;
 
@@ -51,18 +59,28 @@ enum Meas {
 
 #[derive(Arbitrary, Debug)]
 enum Op {
-    Step { thrust: [Num; 3], z: Meas, dt: Num },
-    Predict { thrust: [Num; 3], dt: Num },
-    Update { z: Meas },
+    Step {
+        thrust: [Num; 3],
+        z: Meas,
+        dt: Num,
+    },
+    Predict {
+        thrust: [Num; 3],
+        dt: Num,
+    },
+    Update {
+        z: Meas,
+    },
     Reset,
-    // EXTENSION POINT (issue 11, item 2; added at merge of the state branch):
-    //   Save { cap: u16 }      -> relnav_estimator_save(est, buf, cap, &len), also the
-    //                             size query (null buffer) and a too-small buffer;
-    //   Restore { corrupt: Option<(u16, u8)>, truncate: Option<u16> }
-    //                          -> relnav_estimator_restore(est, buf, len) of the last
-    //                             saved blob, intact (then the estimate must equal the
-    //                             saved one bit for bit) or corrupted / truncated (then
-    //                             an error status and an unchanged estimator).
+    /// `relnav_estimator_save`: the size query, a buffer one byte short when `short`,
+    /// then the state (kept as the last saved one).
+    Save {
+        short: bool,
+    },
+    /// `relnav_estimator_restore` of the last saved state after `damage`.
+    Restore {
+        damage: Damage,
+    },
 }
 
 #[derive(Arbitrary, Debug)]
@@ -302,9 +320,65 @@ fn run_estimator(config: &Config, ops: &[Op]) {
         e
     };
     let particle = (4..=8).contains(&cfg.filter);
+    let mut size = None;
+    let mut saved: Option<(Vec<u8>, [f64; 6], [f64; 36])> = None;
     for op in ops.iter().take(MAX_OPS) {
         let (x, p) = observe(est);
         let (st, transactional, what) = match op {
+            Op::Save { short } => {
+                let mut len = 0usize;
+                // SAFETY: live handle; a null buffer is the size query.
+                let st = unsafe { relnav_estimator_save(est, std::ptr::null_mut(), 0, &mut len) };
+                assert_eq!(st, relnav_status::RELNAV_OK, "size query: {}", last_error());
+                assert_eq!(*size.get_or_insert(len), len, "the state size changed");
+                let mut buf = vec![0xA5u8; len];
+                if *short && len > 0 {
+                    let mut l2 = 0usize;
+                    // SAFETY: `buf` holds len - 1 writable bytes.
+                    let st =
+                        unsafe { relnav_estimator_save(est, buf.as_mut_ptr(), len - 1, &mut l2) };
+                    assert_eq!(st, relnav_status::RELNAV_ERROR_BUFFER_TOO_SMALL);
+                    assert_eq!(l2, len);
+                    assert!(buf.iter().all(|b| *b == 0xA5), "a short buffer was written");
+                }
+                let mut l3 = 0usize;
+                // SAFETY: `buf` holds len writable bytes.
+                let st = unsafe { relnav_estimator_save(est, buf.as_mut_ptr(), len, &mut l3) };
+                assert_eq!(st, relnav_status::RELNAV_OK, "save: {}", last_error());
+                assert_eq!(l3, len);
+                saved = Some((buf, x, p));
+                (st, true, "save")
+            }
+            Op::Restore { damage: d } => {
+                let blob = saved.as_ref().map_or(&[][..], |s| s.0.as_slice());
+                let b = damage(blob, d, ESTIMATOR_HEADER);
+                // SAFETY: live handle; `b` holds b.len() readable bytes (a dangling but
+                // non-null pointer for an empty blob).
+                let st = unsafe { relnav_estimator_restore(est, b.as_ptr(), b.len()) };
+                check(st, "restore");
+                if let (true, Some((bytes, sx, sp))) = (d.is_none(), &saved) {
+                    assert_eq!(
+                        st,
+                        relnav_status::RELNAV_OK,
+                        "intact state refused: {}",
+                        last_error()
+                    );
+                    let (x2, p2) = observe(est);
+                    assert!(
+                        same_bits(sx, &x2) && same_bits(sp, &p2),
+                        "restore is not the saved estimate"
+                    );
+                    let mut again = vec![0u8; bytes.len()];
+                    let mut l = 0usize;
+                    // SAFETY: `again` holds bytes.len() writable bytes.
+                    let st2 = unsafe {
+                        relnav_estimator_save(est, again.as_mut_ptr(), again.len(), &mut l)
+                    };
+                    assert_eq!(st2, relnav_status::RELNAV_OK);
+                    assert!(again == *bytes, "save after restore gives other bytes");
+                }
+                (st, true, "restore")
+            }
             Op::Step { thrust, z, dt } => {
                 let u = values3(thrust, [0.0; 3]);
                 let zm = measurement(z, &x);

@@ -24,9 +24,9 @@ use relnav::fmi::description::guid;
 use relnav::fmi::functions::*;
 use relnav::fmi::types::*;
 use relnav::fmi::variables::{VarType, VARIABLES};
-use relnav_fuzz::{measure, values3, Num};
+use relnav_fuzz::{damage, log_text, measure, same_bits, values3, Damage, Num, FMU_HEADER};
 use std::cell::Cell;
-use std::ffi::{c_char, c_int, CStr, CString};
+use std::ffi::{c_int, CStr, CString};
 
 thread_local! {
     /// Error messages logged since the last reset of the counter.
@@ -34,27 +34,26 @@ thread_local! {
     static CALLS_LOGGED: Cell<u64> = const { Cell::new(0) };
 }
 
-/// The master's logger: checks its arguments and reads the one `%s` argument.
+/// The master's logger: checks its arguments; the message is a `printf` format without
+/// conversions (`log_text`: every `%` and `#` doubled), so no variadic argument is read.
 unsafe extern "C" fn logger(
     _env: fmi2ComponentEnvironment,
     name: fmi2String,
     status: c_int,
     category: fmi2String,
     message: fmi2String,
-    mut args: ...
+    _args: ...
 ) {
     assert!(!name.is_null() && !category.is_null() && !message.is_null());
     // SAFETY: the FMU promises NUL-terminated strings (ASan checks the reads).
     let (cat, fmt) = unsafe { (CStr::from_ptr(category), CStr::from_ptr(message)) };
     // SAFETY: as above.
     let _ = unsafe { CStr::from_ptr(name) };
-    assert_eq!(fmt.to_bytes(), b"%s", "the FMU formats through \"%s\"");
-    // SAFETY: the format "%s" announces one `const char*` argument.
-    let text = unsafe { CStr::from_ptr(args.next_arg::<*const c_char>()) };
+    let text = log_text(fmt.to_bytes());
     assert!((0..=5).contains(&status), "status {status}");
     if status >= fmi2Status::fmi2Error as c_int {
         assert_eq!(cat.to_bytes(), b"logStatusError");
-        assert!(!text.to_bytes().is_empty(), "empty error message");
+        assert!(!text.is_empty(), "empty error message");
         ERRORS_LOGGED.with(|c| c.set(c.get() + 1));
     }
     CALLS_LOGGED.with(|c| c.set(c.get() + 1));
@@ -135,15 +134,43 @@ enum Op {
         function: u8,
         kind: i8,
     },
-    /// A function this FMU does not support (state, derivatives, cancel).
+    /// A function this FMU does not support (derivatives, cancel).
     Unsupported(u8),
-    // EXTENSION POINT (issue 11, item 2; added at merge of the state branch):
-    //   GetState / SetState { slot } / FreeState { slot } / SerializeState { slot } /
-    //   DeSerializeState { corrupt: Option<(u16, u8)>, truncate: Option<u16> }:
-    //   fmi2GetFMUstate, fmi2SetFMUstate, fmi2FreeFMUstate, fmi2SerializedFMUstateSize,
-    //   fmi2SerializeFMUstate, fmi2DeSerializeFMUstate on a few state slots, intact blobs
-    //   (outputs after a restore must equal those when the state was taken) and damaged
-    //   ones (fmi2Error with a logged reason, the instance unchanged).
+    /// `fmi2GetFMUstate` into one of [`SLOTS`] state slots (a held state is overwritten).
+    GetState {
+        slot: u8,
+    },
+    /// `fmi2SetFMUstate` of a slot (null when empty).
+    SetState {
+        slot: u8,
+    },
+    /// `fmi2FreeFMUstate` of a slot.
+    FreeState {
+        slot: u8,
+    },
+    /// `fmi2SerializedFMUstateSize` and `fmi2SerializeFMUstate` of a slot (a buffer one
+    /// byte short first when `short`); the bytes are kept.
+    Serialize {
+        slot: u8,
+        short: bool,
+    },
+    /// `fmi2DeSerializeFMUstate` of the last serialised bytes after `damage` into a slot.
+    DeSerialize {
+        slot: u8,
+        damage: Damage,
+    },
+}
+
+/// Number of FMU state slots a run juggles.
+const SLOTS: usize = 3;
+
+/// One slot: the state and, when it was taken by `fmi2GetFMUstate` or deserialised from
+/// intact bytes of such a state, every Real value at that moment (what a restore must
+/// give back).
+#[derive(Clone)]
+struct Slot {
+    state: fmi2FMUstate,
+    reals: Option<Vec<f64>>,
 }
 
 #[derive(Arbitrary, Debug)]
@@ -235,6 +262,20 @@ fn run(input: &Input) {
         .filter_map(|n| var_index(n))
         .collect();
     let valid = var_index("measurement_valid");
+    let real_vrs: Vec<u32> = VARIABLES
+        .iter()
+        .filter(|v| matches!(v.ty, VarType::Real(_)))
+        .map(|v| v.vr)
+        .collect();
+    let mut slots = vec![
+        Slot {
+            state: std::ptr::null_mut(),
+            reals: None
+        };
+        SLOTS
+    ];
+    // the last serialised bytes and the Reals of the state they hold
+    let mut serialized: (Vec<u8>, Option<Vec<f64>>) = (Vec::new(), None);
     if let Some(r) = particles {
         // the start value, 1500, would make a particle filter's step take milliseconds
         // SAFETY: live instance; one element.
@@ -311,7 +352,11 @@ fn run(input: &Input) {
                 Op::GetAll => {
                     // one call per base type, as a master reads its outputs
                     let of = |f: fn(&VarType) -> bool| -> Vec<u32> {
-                        VARIABLES.iter().filter(|v| f(&v.ty)).map(|v| v.vr).collect()
+                        VARIABLES
+                            .iter()
+                            .filter(|v| f(&v.ty))
+                            .map(|v| v.vr)
+                            .collect()
                     };
                     get_reals(c, &of(|t| matches!(t, VarType::Real(_))));
                     let ints = of(|t| !matches!(t, VarType::Real(_) | VarType::Boolean));
@@ -406,15 +451,84 @@ fn run(input: &Input) {
                         }
                     }
                 }
-                Op::Unsupported(which) => {
-                    let mut s: fmi2FMUstate = std::ptr::null_mut();
+                Op::GetState { slot } => {
+                    let k = usize::from(*slot) % SLOTS;
+                    let st = call(|| fmi2GetFMUstate(c, &mut slots[k].state));
+                    if st == fmi2Status::fmi2OK {
+                        assert!(!slots[k].state.is_null());
+                        let (gst, r) = get_reals(c, &real_vrs);
+                        slots[k].reals = (gst == fmi2Status::fmi2OK).then_some(r);
+                    }
+                }
+                Op::SetState { slot } => {
+                    let k = usize::from(*slot) % SLOTS;
+                    let (b0, before) = get_reals(c, &real_vrs);
+                    let st = call(|| fmi2SetFMUstate(c, slots[k].state));
+                    let (b1, after) = get_reals(c, &real_vrs);
+                    if st == fmi2Status::fmi2OK {
+                        if let (Some(r), fmi2Status::fmi2OK) = (&slots[k].reals, b1) {
+                            assert!(same_bits(r, &after), "fmi2SetFMUstate: other values");
+                        }
+                    } else if b0 == fmi2Status::fmi2OK && b1 == fmi2Status::fmi2OK {
+                        assert!(
+                            same_bits(&before, &after),
+                            "a refused fmi2SetFMUstate changed values"
+                        );
+                    }
+                }
+                Op::FreeState { slot } => {
+                    let k = usize::from(*slot) % SLOTS;
+                    let st = call(|| fmi2FreeFMUstate(c, &mut slots[k].state));
+                    if st == fmi2Status::fmi2OK {
+                        assert!(slots[k].state.is_null());
+                        slots[k].reals = None;
+                    }
+                }
+                Op::Serialize { slot, short } => {
+                    let k = usize::from(*slot) % SLOTS;
                     let mut size = 0usize;
-                    let st = match which % 8 {
-                        0 => call(|| fmi2GetFMUstate(c, &mut s)),
-                        1 => call(|| fmi2SetFMUstate(c, s)),
-                        2 => call(|| fmi2FreeFMUstate(c, &mut s)),
-                        3 => call(|| fmi2SerializedFMUstateSize(c, s, &mut size)),
-                        4 => call(|| {
+                    let st = call(|| fmi2SerializedFMUstateSize(c, slots[k].state, &mut size));
+                    if st == fmi2Status::fmi2OK {
+                        let mut buf = vec![0x5Au8; size];
+                        if *short && size > 0 {
+                            let st = call(|| {
+                                fmi2SerializeFMUstate(
+                                    c,
+                                    slots[k].state,
+                                    buf.as_mut_ptr().cast(),
+                                    size - 1,
+                                )
+                            });
+                            assert_eq!(st, fmi2Status::fmi2Error);
+                            assert!(buf.iter().all(|b| *b == 0x5A), "a short buffer was written");
+                        }
+                        let st = call(|| {
+                            fmi2SerializeFMUstate(c, slots[k].state, buf.as_mut_ptr().cast(), size)
+                        });
+                        assert_eq!(st, fmi2Status::fmi2OK, "fmi2SerializeFMUstate");
+                        serialized = (buf, slots[k].reals.clone());
+                    }
+                }
+                Op::DeSerialize { slot, damage: d } => {
+                    let k = usize::from(*slot) % SLOTS;
+                    let b = damage(&serialized.0, d, FMU_HEADER);
+                    let st = call(|| {
+                        fmi2DeSerializeFMUstate(c, b.as_ptr().cast(), b.len(), &mut slots[k].state)
+                    });
+                    if d.is_none() && !serialized.0.is_empty() {
+                        assert_eq!(st, fmi2Status::fmi2OK, "intact bytes refused");
+                    }
+                    if st == fmi2Status::fmi2OK {
+                        slots[k].reals = if d.is_none() {
+                            serialized.1.clone()
+                        } else {
+                            None
+                        };
+                    }
+                }
+                Op::Unsupported(which) => {
+                    let st = match which % 4 {
+                        0 => call(|| {
                             fmi2GetDirectionalDerivative(
                                 c,
                                 std::ptr::null(),
@@ -425,7 +539,7 @@ fn run(input: &Input) {
                                 std::ptr::null_mut(),
                             )
                         }),
-                        5 => call(|| {
+                        1 => call(|| {
                             fmi2SetRealInputDerivatives(
                                 c,
                                 std::ptr::null(),
@@ -434,7 +548,7 @@ fn run(input: &Input) {
                                 std::ptr::null(),
                             )
                         }),
-                        6 => call(|| {
+                        2 => call(|| {
                             fmi2GetRealOutputDerivatives(
                                 c,
                                 std::ptr::null(),
@@ -450,8 +564,12 @@ fn run(input: &Input) {
             }
         }
     }
-    // SAFETY: from fmi2Instantiate, freed once; null is accepted too.
+    // SAFETY: from fmi2Instantiate, freed once; null is accepted too. The states still held
+    // are freed half by fmi2FreeFMUstate, half with the instance.
     unsafe {
+        for s in slots.iter_mut().step_by(2) {
+            call(|| fmi2FreeFMUstate(c, &mut s.state));
+        }
         fmi2FreeInstance(c);
         fmi2FreeInstance(std::ptr::null_mut());
     }
