@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Fuzz the C ABI and the FMU with cargo-fuzz (fuzz/README.md).
 #
-#   bash scripts/fuzz.sh smoke            # each target for RELNAV_FUZZ_SMOKE_SECONDS (30) s
+#   bash scripts/fuzz.sh smoke            # each target for RELNAV_FUZZ_SMOKE_SECONDS (20) s
 #   bash scripts/fuzz.sh long RUNS        # each target for RUNS executions (10^7: hours)
 #
 # RELNAV_FUZZ_SANITIZER=none builds without AddressSanitizer (about three times the
@@ -41,7 +41,7 @@ rc=0
 for t in "${TARGETS[@]}"; do
     mkdir -p "$scratch/$t" "fuzz/corpus/$t"
     case "$mode" in
-        smoke) limit=(-max_total_time="${RELNAV_FUZZ_SMOKE_SECONDS:-30}") ;;
+        smoke) limit=(-max_total_time="${RELNAV_FUZZ_SMOKE_SECONDS:-20}") ;;
         long) limit=(-runs="${2:-10000000}") ;;
         *) echo "usage: $0 smoke|long [RUNS]" >&2; exit 2 ;;
     esac

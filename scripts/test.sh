@@ -5,7 +5,7 @@
 #   -> cargo build --release -> FMU (cargo run --release --bin relnav-fmu)
 #   -> pytest tests/python (in .venv) -> C++ harness (cmake, build, ctest; valgrind)
 #   -> C++ harness under ASan+UBSan (second build dir) -> fuzz smoke run (scripts/fuzz.sh
-#   smoke, 30 s per target, only when nightly Rust and cargo-fuzz are installed)
+#   smoke, 20 s per target, only when nightly Rust and cargo-fuzz are installed)
 #
 # Every stage is run and reported; a stage that later ones need (setup, release build,
 # FMU) stops the run when it fails. Exits non-zero if any stage failed; the last line is
