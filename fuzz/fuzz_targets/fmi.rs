@@ -9,8 +9,13 @@
 //! * a call that returns `fmi2Error` has logged a non-empty message under
 //!   `logStatusError` during that call;
 //! * every logger call gets a non-null instance name, category and message, NUL-terminated
-//!   (the logger reads them; AddressSanitizer checks the reads);
-//! * after a successful `fmi2DoStep` the estimate outputs are finite.
+//!   (the logger reads them; AddressSanitizer checks the reads), the message a `printf`
+//!   format without conversions;
+//! * after a successful `fmi2DoStep` the estimate outputs are finite;
+//! * FMU states (three slots): `fmi2SetFMUstate` of a state taken by `fmi2GetFMUstate`, or
+//!   deserialised from its intact bytes, gives back every Real value bit for bit; a refused
+//!   one changes none; intact serialised bytes deserialise; a serialisation buffer one
+//!   byte short is refused and not written.
 //!
 //! Limits (fuzz/README.md): at most 16 particles (8 unless an input sets `particles`; larger
 //! values are folded into 1..=16) and 64 calls per input; the H-infinity filter (code 9) is not selected here
