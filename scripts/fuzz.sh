@@ -23,8 +23,10 @@ fi
 mode="${1:-smoke}"
 TARGETS=(capi fmi state)
 
-if ! cargo +nightly --version >/dev/null 2>&1 || ! cargo +nightly fuzz --version >/dev/null 2>&1; then
-    echo "fuzz: nightly Rust or cargo-fuzz missing: skipped"
+if ! rustup toolchain list 2>/dev/null | grep -q '^nightly' \
+    || ! cargo +nightly --version >/dev/null 2>&1 \
+    || ! cargo +nightly fuzz --version >/dev/null 2>&1; then
+    echo "fuzz: SKIPPED: nightly Rust (rustup toolchain 'nightly') or cargo-fuzz is not installed"
     exit 0
 fi
 export CARGO_BUILD_JOBS="${RELNAV_JOBS:-2}"

@@ -91,7 +91,10 @@ fi
 if ! command -v cargo >/dev/null 2>&1 && [ -x "$HOME/.cargo/bin/cargo" ]; then
     PATH="$HOME/.cargo/bin:$PATH"
 fi
+# (nightly is looked up in `rustup toolchain list` first, so that no rustup ever tries to
+# download a missing toolchain)
 if [ "${RELNAV_NO_FUZZ:-0}" != 1 ] && command -v cargo >/dev/null 2>&1 \
+    && rustup toolchain list 2>/dev/null | grep -q '^nightly' \
     && cargo +nightly --version >/dev/null 2>&1 \
     && ! cargo +nightly fuzz --version >/dev/null 2>&1; then
     log "installing cargo-fuzz (nightly Rust is present)"

@@ -97,10 +97,12 @@ run_cpp_harness_sanitized() {
 # A short run of each cargo-fuzz target (fuzz/README.md), only when nightly Rust and
 # cargo-fuzz are installed (scripts/setup.sh installs cargo-fuzz when nightly exists).
 run_fuzz_smoke() {
-    if cargo +nightly --version >/dev/null 2>&1 && cargo +nightly fuzz --version >/dev/null 2>&1; then
+    if rustup toolchain list 2>/dev/null | grep -q '^nightly' \
+        && cargo +nightly --version >/dev/null 2>&1 \
+        && cargo +nightly fuzz --version >/dev/null 2>&1; then
         bash scripts/fuzz.sh smoke
     else
-        echo "nightly Rust or cargo-fuzz not installed: fuzz smoke run skipped"
+        echo "fuzz smoke run SKIPPED: nightly Rust (rustup toolchain 'nightly') or cargo-fuzz is not installed"
     fi
 }
 
