@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # relnav's single test command (CI runs it through .ci/run):
 #
-#   setup (scripts/setup.sh) -> cargo fmt --check -> cargo clippy -D warnings -> cargo test
+#   setup (scripts/setup.sh, also builds and installs the Python package relnav)
+#   -> cargo fmt --check -> cargo clippy -D warnings (workspace) -> cargo test
 #   -> cargo build --release -> FMU (cargo run --release --bin relnav-fmu)
 #   -> pytest tests/python (in .venv) -> C++ harness (cmake, build, ctest; valgrind)
 #   -> C++ harness under ASan+UBSan (second build dir) -> fuzz smoke run (scripts/fuzz.sh
@@ -21,6 +22,8 @@ if ! command -v cargo >/dev/null 2>&1 && [ -x "$HOME/.cargo/bin/cargo" ]; then
 fi
 export CARGO_TERM_COLOR="${CARGO_TERM_COLOR:-never}"
 JOBS="${RELNAV_JOBS:-2}"
+# the Python extension (python/, in the workspace) is checked against the venv's Python
+export PYO3_PYTHON="${PYO3_PYTHON:-$ROOT/.venv/bin/python}"
 
 declare -a STAGE_NAMES=() STAGE_RESULTS=()
 T_START=$SECONDS
@@ -108,7 +111,7 @@ run_fuzz_smoke() {
 
 stage "setup" required bash scripts/setup.sh
 stage "cargo fmt --check" optional cargo fmt --all -- --check
-stage "cargo clippy" optional cargo clippy --all-targets -j"$JOBS" -- -D warnings
+stage "cargo clippy" optional cargo clippy --workspace --all-targets -j"$JOBS" -- -D warnings
 stage "cargo test" optional cargo test --all-targets -j"$JOBS"
 stage "cargo test --doc" optional cargo test --doc -j"$JOBS"
 stage "cargo build --release" required cargo build --release -j"$JOBS"

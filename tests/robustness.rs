@@ -385,6 +385,9 @@ fn hinf_design_at_the_edges_returns() {
 fn fuzz_initial_estimate_near_the_largest_double() {
     for base in configs() {
         bounded(base.filter.name(), move || {
+            // the whole configuration moved in (a closure capturing only `base.filter`
+            // next to `..base` crashes rustc 1.95: broken MIR on the IMM array lengths)
+            let base = base;
             let mut x0 = base.x0;
             x0[2] = f64::MAX;
             let bad = NavConfig { x0, ..base };
@@ -487,6 +490,9 @@ fn crafted_states_behind_a_valid_checksum_never_give_a_nan_estimate() {
     );
     for base in configs() {
         bounded(base.filter.name(), move || {
+            // the whole configuration moved in (a closure capturing only `base.filter`
+            // next to `..base` crashes rustc 1.95: broken MIR on the IMM array lengths)
+            let base = base;
             let cfg = NavConfig {
                 particles: 3,
                 ..base

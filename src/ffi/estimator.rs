@@ -212,16 +212,8 @@ pub unsafe extern "C" fn relnav_estimator_get_sigma(
     boundary(F, || {
         // SAFETY: pointer contracts are the caller's, checked for null.
         let nav = unsafe { estimator_ref(estimator, F) }?;
-        let p = nav.covariance();
         // a NaN or negative variance (a failed filter) reports NaN, never a reassuring 0
-        let s: [f64; 6] = std::array::from_fn(|i| {
-            let v = p[(i, i)];
-            if v >= 0.0 {
-                v.sqrt()
-            } else {
-                f64::NAN
-            }
-        });
+        let s = nav.sigma();
         // SAFETY: as above.
         unsafe { write_array(out, &s, "out", F) }
     })
@@ -403,5 +395,27 @@ pub unsafe extern "C" fn relnav_estimator_get_hinf_certified(
         let o = unsafe { out.as_mut() }.ok_or_else(|| null("out", F))?;
         *o = nav.hinf_certified().map_or(-1, i32::from);
         Ok(())
+    })
+}
+
+/// The IMM's (code 10) mode probabilities after the last step, 3 doubles: mode 1 (the
+/// configured process noise), mode 2, mode 3 (`imm_accel_psd` added); they sum to 1 over
+/// the `imm_modes` modes, and an unused third mode is NaN. Every other filter has no modes:
+/// `out` is filled with NaN (status `RELNAV_OK`).
+///
+/// # Safety
+/// `estimator` is a live handle or null; `out` is null or 3 writable doubles.
+#[no_mangle]
+pub unsafe extern "C" fn relnav_estimator_get_mode_probabilities(
+    estimator: *const relnav_estimator,
+    out: *mut f64,
+) -> relnav_status {
+    const F: &str = "relnav_estimator_get_mode_probabilities";
+    boundary(F, || {
+        // SAFETY: pointer contracts are the caller's, checked for null.
+        let nav = unsafe { estimator_ref(estimator, F) }?;
+        let mu = nav.mode_probabilities().unwrap_or([f64::NAN; 3]);
+        // SAFETY: as above; `write_array` checks `out` for null.
+        unsafe { write_array(out, &mu, "out", F) }
     })
 }

@@ -378,11 +378,32 @@ pub(super) fn config_of(values: &[f64; N_VARS]) -> relnav_config {
         c.hinf_design = v(vr::HINF_DESIGN) as i32;
         c.hinf_gamma_factor = v(vr::HINF_GAMMA_FACTOR);
         c.hinf_acquisition = i32::from(v(vr::HINF_ACQUISITION) != 0.0);
+        c.aq_law = v(vr::AQ_LAW) as i32;
+        c.aq_gate_window = v(vr::AQ_GATE_WINDOW) as i32;
+        c.aq_gate_quantile = v(vr::AQ_GATE_QUANTILE);
+        c.imm_modes = v(vr::IMM_MODES) as i32;
+        c.imm_accel_psd = [
+            vr::IMM_ACCEL_PSD_1,
+            vr::IMM_ACCEL_PSD_2,
+            vr::IMM_ACCEL_PSD_3,
+        ]
+        .map(v);
+        c.imm_p_stay = [vr::IMM_P_STAY_1, vr::IMM_P_STAY_2, vr::IMM_P_STAY_3].map(v);
         c
     }
 }
 
 impl Instance {
+    /// The C-ABI configuration from the values of the variable table (indexed by value
+    /// reference; parameters are read, other variables ignored): the one mapping from FMU
+    /// parameters to a `relnav_config`, shared with the front ends that take parameters
+    /// by their FMU names (the Python package). Fields that are not FMU parameters keep
+    /// [`ffi::relnav_config_default`]'s values; codes and Integers are the integers their
+    /// `f64` holds.
+    pub fn config_from_values(values: &[f64; N_VARS]) -> relnav_config {
+        config_of(values)
+    }
+
     /// Whether the `filter` parameter selects a particle filter (codes 4-8).
     fn particle_filter_selected(&self) -> bool {
         (4.0..=8.0).contains(&self.values[vr::FILTER as usize])
@@ -418,6 +439,25 @@ impl Instance {
         ] {
             self.values[out as usize] = if aqukf {
                 v[q as usize].clamp(def.q_vv_floor, def.q_vv_ceiling.max(def.q_vv_floor))
+            } else {
+                f64::NAN
+            };
+        }
+        // the IMM starts at the stationary distribution of its mode chain, mu_j ~ 1 / (1 - p_j)
+        let imm = v[vr::FILTER as usize] == 10.0;
+        let modes = v[vr::IMM_MODES as usize];
+        let stay = [vr::IMM_P_STAY_1, vr::IMM_P_STAY_2, vr::IMM_P_STAY_3].map(|r| v[r as usize]);
+        let used = |j: usize| (j as f64) < modes;
+        let total: f64 = (0..3)
+            .filter(|j| used(*j))
+            .map(|j| 1.0 / (1.0 - stay[j]))
+            .sum();
+        for (j, out) in [vr::IMM_MU_1, vr::IMM_MU_2, vr::IMM_MU_3]
+            .iter()
+            .enumerate()
+        {
+            self.values[*out as usize] = if imm && used(j) {
+                1.0 / (1.0 - stay[j]) / total
             } else {
                 f64::NAN
             };
@@ -464,6 +504,14 @@ impl Instance {
         status_of(unsafe {
             ffi::relnav_estimator_get_hinf_certified(self.estimator, &mut certified)
         })?;
+        let mut mu = [f64::NAN; 3];
+        // SAFETY: as above; `mu` holds 3 doubles.
+        status_of(unsafe {
+            ffi::relnav_estimator_get_mode_probabilities(self.estimator, mu.as_mut_ptr())
+        })?;
+        self.values[vr::IMM_MU_1 as usize] = mu[0];
+        self.values[vr::IMM_MU_2 as usize] = mu[1];
+        self.values[vr::IMM_MU_3 as usize] = mu[2];
         self.write_outputs(&x, &s);
         self.values[vr::ESS as usize] = ess;
         self.values[vr::Q_VV_X as usize] = q[0];
