@@ -195,7 +195,8 @@ typedef struct relnav_config {
   double sigma_range;
   // Azimuth and elevation noise scale [rad], > 0 (as `sigma_range`).
   double sigma_angle;
-  // Initial estimate (x, y, z [m], vx, vy, vz [m/s]).
+  // Initial estimate (x, y, z [m], vx, vy, vz [m/s]); `|x0_i| + 100 sigma` (sigma of
+  // its group, `sigma_pos0` or `sigma_vel0`) must not exceed 1e150.
   double x0[6];
   // Initial position 1 sigma per axis [m], > 0.
   double sigma_pos0;
@@ -427,7 +428,9 @@ enum relnav_status relnav_estimator_new(const struct relnav_config *config,
 void relnav_estimator_free(struct relnav_estimator *estimator);
 
 // Time update over `dt` seconds with `thrust` (3 doubles, [N], configured frame) held
-// constant.
+// constant. `dt` must be > 0 and at most 1000 orbital periods (`2 pi / mean_motion`);
+// a longer step is refused with `RELNAV_ERROR_INVALID_ARGUMENT`. Every call returns in
+// bounded time, whatever the numbers.
 //
 // # Safety
 // `estimator` is a live handle or null; `thrust` is null or points to 3 doubles.
@@ -443,7 +446,8 @@ enum relnav_status relnav_estimator_update(struct relnav_estimator *estimator, c
 
 // One step at time t: update with `z` (the measurement taken at t; pass null when there
 // is none), then predict over `dt` with `thrust` held. Afterwards the estimate is at
-// `t + dt`. On error nothing changes.
+// `t + dt`. On error nothing changes. `dt` as in [`relnav_estimator_predict`] (at most
+// 1000 orbital periods).
 //
 // # Safety
 // `estimator` is a live handle or null; `thrust` is null or 3 doubles; `z` is null or 3

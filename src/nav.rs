@@ -54,6 +54,21 @@ use crate::types::{Mat3, Mat6, State, Vec3};
 /// CW model has no physical meaning and `1 / n^2` terms of the discretisation overflow.
 pub const MEAN_MOTION_RANGE: (f64, f64) = (1e-9, 0.1);
 
+/// Longest accepted step, in orbital periods `2 pi / n` of the target: a prediction over
+/// more than 1000 orbits (for a 90-minute orbit, two months; geostationary, three years) is
+/// far outside the linearised CW model and is almost certainly a units or time-base error
+/// (a step of 1e45 s was seen from a co-simulation master). [`Navigator::predict`] and
+/// [`Navigator::step`] refuse it with a message naming the limit; below it every step
+/// returns a value or an error in bounded time (the discretisation is closed-form).
+pub const MAX_STEP_PERIODS: f64 = 1000.0;
+
+/// Bound on `|x0_i| + 100 sigma_i` of the initial estimate [m, m/s]: a numerical limit,
+/// not a physical one. Covariances are squares of state differences, and a particle
+/// filter's weighted mean is only as exact as the ulp of the state (`1e-16 |x|`): beyond
+/// ~1e154 those squares overflow. 1e150 keeps the initial distribution and the first
+/// steps' arithmetic inside double precision.
+pub const MAX_INITIAL_MAGNITUDE: f64 = 1e150;
+
 /// Filter codes, shared by the C ABI and the FMU (`filter` parameter).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[repr(i32)]
@@ -558,6 +573,21 @@ impl NavConfig {
                 return Err(NavError::invalid(format!(
                     "{n} must be finite (got {})",
                     self.x0[i]
+                )));
+            }
+            // headroom in double precision for the initial distribution (a particle
+            // filter draws x0 + sigma eps) and the first steps' arithmetic
+            let sigma = if i < 3 {
+                self.sigma_pos0
+            } else {
+                self.sigma_vel0
+            };
+            if !(self.x0[i].abs() + 100.0 * sigma <= MAX_INITIAL_MAGNITUDE) {
+                return Err(NavError::invalid(format!(
+                    "|{n}| + 100 sigma must not exceed {MAX_INITIAL_MAGNITUDE:e} (got {n} = {}, \
+                     sigma {}): the initial estimate would overflow double precision",
+                    num(self.x0[i]),
+                    num(sigma)
                 )));
             }
         }
@@ -1226,6 +1256,21 @@ impl Navigator {
             failed: false,
         };
         nav.discrete(1.0);
+        // every field is finite, but x0 near the largest double with its uncertainty can
+        // still overflow (a particle filter's initial draw x0 + L eps): refuse it here rather
+        // than hand out an estimator whose estimate is not a number
+        let cov_ok = matches!(nav.filter, AnyFilter::Hinf(_))
+            || nav.filter.covariance().iter().all(|v| v.is_finite());
+        if !(nav.filter.state().iter().all(|v| v.is_finite()) && cov_ok) {
+            return Err(NavError::invalid(format!(
+                "the initial estimate x0 = {:?} with sigma_pos0 = {}, sigma_vel0 = {} overflows \
+                 double precision in the {} filter's initial state",
+                cfg.x0,
+                num(cfg.sigma_pos0),
+                num(cfg.sigma_vel0),
+                cfg.filter.name()
+            )));
+        }
         Ok(nav)
     }
 
@@ -1259,8 +1304,23 @@ impl Navigator {
         self.step_cache
     }
 
+    /// The longest accepted step [s]: [`MAX_STEP_PERIODS`] orbital periods.
+    pub fn max_step(&self) -> f64 {
+        MAX_STEP_PERIODS * std::f64::consts::TAU / self.cfg.mean_motion
+    }
+
     fn check_dt(&self, dt: f64) -> Result<(), NavError> {
         positive("step size h", dt)?;
+        if dt > self.max_step() {
+            return Err(NavError::invalid(format!(
+                "step size h = {} s is longer than {MAX_STEP_PERIODS} orbital periods ({} s at \
+                 mean_motion {} rad/s), where the linearised CW model means nothing: split \
+                 the interval, or check the time unit",
+                num(dt),
+                num(self.max_step()),
+                num(self.cfg.mean_motion)
+            )));
+        }
         if let AnyFilter::Hinf(f) = &self.filter {
             let t = f.period();
             if (dt - t).abs() > 1e-9 * t {
@@ -1639,6 +1699,18 @@ impl Navigator {
         let mut filter = self.filter.clone();
         filter.load_state(&mut r)?;
         r.finish()?;
+        // a crafted state behind a valid checksum can carry fields a filter reads without
+        // a finiteness check (a particle filter's weighted mean): the estimate handed out
+        // must be numbers (fuzz finding, `tests/robustness.rs`). The covariance is not
+        // checked: a reachable state may hold an infinite one (particles spread beyond
+        // 1e154 m by absurd thrust), and it must restore.
+        if !filter.state().iter().all(|v| v.is_finite()) {
+            return Err(refuse(
+                "the state's estimate is not finite (a crafted or corrupted state behind a \
+                 valid checksum)",
+            )
+            .into());
+        }
         // commit: nothing below can fail
         self.filter = filter;
         self.last_update = last_update;

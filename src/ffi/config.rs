@@ -128,7 +128,8 @@ pub struct relnav_config {
     pub sigma_range: f64,
     /// Azimuth and elevation noise scale [rad], > 0 (as `sigma_range`).
     pub sigma_angle: f64,
-    /// Initial estimate (x, y, z [m], vx, vy, vz [m/s]).
+    /// Initial estimate (x, y, z [m], vx, vy, vz [m/s]); `|x0_i| + 100 sigma` (sigma of
+    /// its group, `sigma_pos0` or `sigma_vel0`) must not exceed 1e150.
     pub x0: [f64; 6],
     /// Initial position 1 sigma per axis [m], > 0.
     pub sigma_pos0: f64,

@@ -418,6 +418,7 @@ fn log_gauss(x: &State, m: &State, l: &Mat6) -> f64 {
 /// `s1 = sum w_i d_i`, `s2 = sum w_i d_i d_i^T`, `d_i = x_i - c`, `W = sum w_i`. Shifting
 /// to a point inside the cloud avoids the cancellation of the textbook one-pass formula.
 /// Partial sums about the same reference [`Moments::merge`] exactly (the parallel path).
+/// A variance that still rounds below zero is set to zero.
 #[derive(Debug, Clone, Copy)]
 struct Moments {
     reference: State,
@@ -472,7 +473,13 @@ impl Moments {
         let mut k = 0;
         for c in 0..N {
             for r in 0..=c {
-                let v = self.s2.get(k).copied().unwrap_or(f64::NAN) / self.wsum - md[r] * md[c];
+                let mut v = self.s2.get(k).copied().unwrap_or(f64::NAN) / self.wsum - md[r] * md[c];
+                if r == c && v < 0.0 {
+                    // `s2/W >= md^2` in exact arithmetic (Cauchy-Schwarz); a collapsed cloud
+                    // can round it to -1e-20, which would read as a failed filter (NaN
+                    // sigma). NaN stays NaN.
+                    v = 0.0;
+                }
                 p[(r, c)] = v;
                 p[(c, r)] = v;
                 k += 1;
@@ -730,11 +737,12 @@ fn gauss6<R: Rng + ?Sized>(rng: &mut R) -> State {
     State::from(e)
 }
 
-/// Symmetric square root of a PSD matrix (negative rounding eigenvalues clipped).
-fn psd_sqrt(q: &Mat6) -> Mat6 {
-    let e = nalgebra::SymmetricEigen::new(symmetrize(q));
+/// Symmetric square root of a PSD matrix (negative rounding eigenvalues clipped); `None`
+/// when `q` is not finite or the (iteration-capped) eigensolver does not converge.
+fn psd_sqrt(q: &Mat6) -> Option<Mat6> {
+    let e = crate::numerics::eigen::symmetric_eigen(symmetrize(q))?;
     let d = e.eigenvalues.map(|v| v.max(0.0).sqrt());
-    e.eigenvectors * Mat6::from_diagonal(&d) * e.eigenvectors.transpose()
+    Some(e.eigenvectors * Mat6::from_diagonal(&d) * e.eigenvectors.transpose())
 }
 
 impl ParticleFilter {
@@ -798,7 +806,10 @@ impl ParticleFilter {
     }
 
     fn draw_prior(&mut self) {
-        let l = psd_sqrt(&self.p0);
+        // the prior is validated (diagonal, finite); a matrix set through `set_estimate`
+        // that has no square root falls back to the square roots of its diagonal
+        let l = psd_sqrt(&self.p0)
+            .unwrap_or_else(|| Mat6::from_diagonal(&self.p0.diagonal().map(|v| v.max(0.0).sqrt())));
         for xi in self.x.iter_mut() {
             *xi = self.x0 + l * gauss6(&mut self.rng);
         }
@@ -899,7 +910,7 @@ impl ParticleFilter {
         scales: &[f64; 3],
     ) -> Result<(), FilterError> {
         // the velocity rows of a square root of the prior draw from its velocity marginal
-        let l = psd_sqrt(&self.prior_cov);
+        let l = psd_sqrt(&self.prior_cov).ok_or(FilterError::NonFinite("prior covariance"))?;
         for i in 0..self.x.len() {
             let mut zi = *z;
             let mut st = 0.0;
@@ -1329,7 +1340,10 @@ impl Estimator for ParticleFilter {
         } else {
             match chol(&model.q) {
                 Some(l) => (l, true),
-                None => (psd_sqrt(&model.q), false),
+                None => (
+                    psd_sqrt(&model.q).ok_or(FilterError::NonFinite("process noise Q"))?,
+                    false,
+                ),
             }
         };
         let phi = model.phi;
@@ -1360,10 +1374,23 @@ impl Estimator for ParticleFilter {
         } else {
             tr.run(&self.x, &mut self.x_tmp, &mut self.xbar_tmp, &mut self.rng)
         };
-        if !check.is_finite() || !mean.iter().all(|v| v.is_finite()) {
+        // the Gaussian prior before the first weighting update moves with the particles
+        let prior = self.prior_mode.then(|| {
+            (
+                phi * self.prior_mean + tr.u,
+                symmetrize(&(phi * self.prior_cov * phi.transpose() + model.q)),
+            )
+        });
+        let finite = |m: &[f64]| m.iter().all(|v| v.is_finite());
+        let prior_bad = prior.is_some_and(|(m, p)| !finite(m.as_slice()) || !finite(p.as_slice()));
+        if !check.is_finite() || !finite(mean.as_slice()) || prior_bad {
             self.rng = rng_saved;
             self.restore_chunk_rngs();
-            return Err(FilterError::NonFinite("predicted particles"));
+            return Err(FilterError::NonFinite(if prior_bad {
+                "predicted prior"
+            } else {
+                "predicted particles"
+            }));
         }
         std::mem::swap(&mut self.x, &mut self.x_tmp);
         std::mem::swap(&mut self.xbar, &mut self.xbar_tmp);
@@ -1373,9 +1400,8 @@ impl Estimator for ParticleFilter {
         for p in self.pc.iter_mut() {
             *p = symmetrize(&(phi * *p * phi.transpose() + model.q));
         }
-        if self.prior_mode {
-            self.prior_mean = phi * self.prior_mean + tr.u;
-            self.prior_cov = symmetrize(&(phi * self.prior_cov * phi.transpose() + model.q));
+        if let Some((m, p)) = prior {
+            (self.prior_mean, self.prior_cov) = (m, p);
         }
         Ok(())
     }

@@ -295,8 +295,12 @@ impl ParticleFilter {
         cov_before: &Mat6,
     ) {
         let kernel = self.params.kernel;
+        // a non-finite particle covariance (particles near overflow) has no kernel: no jitter
+        let Some(sqrt) = psd_sqrt(cov_before) else {
+            return;
+        };
         let jitter = Jitter {
-            d: psd_sqrt(cov_before) * bandwidth(kernel, self.x.len()),
+            d: sqrt * bandwidth(kernel, self.x.len()),
             kernel,
             beta: Beta::new(6.0 / 2.0, 2.0).ok(),
         };
@@ -341,8 +345,12 @@ impl ParticleFilter {
 
     /// The plain RPF (without moves): every particle jittered by `h D eps`, kept.
     pub(super) fn regularise(&mut self, kernel: Kernel, cov_before: &Mat6) {
+        // a non-finite particle covariance (particles near overflow) has no kernel: no jitter
+        let Some(sqrt) = psd_sqrt(cov_before) else {
+            return;
+        };
         let jitter = Jitter {
-            d: psd_sqrt(cov_before) * bandwidth(kernel, self.x.len()),
+            d: sqrt * bandwidth(kernel, self.x.len()),
             kernel,
             beta: Beta::new(6.0 / 2.0, 2.0).ok(),
         };
