@@ -466,9 +466,12 @@ fn restore_contract(nav: &mut Navigator, b: &[u8], what: &str) {
 /// Fuzz finding (target `state`): a CGA-PF state (2 particles) with three bytes of the
 /// weighted mean overwritten by 0xff and the checksum fixed was accepted, and the
 /// estimator's state became NaN. The reader took the weighted mean without a finiteness
-/// check; a restored state whose estimate is not finite is now refused. The exact
-/// artifact, then every filter with NaN and 0xff bytes written at every offset of its
-/// payload behind a valid checksum: refused unchanged, or a finite estimate.
+/// check; a restored state whose estimate is not finite is now refused. The artifact's
+/// bytes (offset 65535 modulo the state length), then every filter with NaN and 0xff
+/// bytes written at every offset of its payload behind a valid checksum: refused
+/// unchanged, or a finite estimate. (The particle filters' state has grown since the
+/// finding, so the artifact's offset no longer lands in the weighted mean; the sweep over
+/// every offset is what covers it.)
 #[test]
 fn crafted_states_behind_a_valid_checksum_never_give_a_nan_estimate() {
     let cfg = NavConfig {
@@ -484,10 +487,6 @@ fn crafted_states_behind_a_valid_checksum_never_give_a_nan_estimate() {
     b[at..at + n].fill(0xff);
     reseal_estimator_state(&mut b);
     restore_contract(&mut nav, &b, "fuzz artifact");
-    assert!(
-        nav.restore_state(&b).is_err(),
-        "the artifact must be refused"
-    );
     for base in configs() {
         bounded(base.filter.name(), move || {
             // the whole configuration moved in (a closure capturing only `base.filter`
