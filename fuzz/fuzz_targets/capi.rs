@@ -122,7 +122,7 @@ fn hinf_estimator() -> *mut relnav_estimator {
 fn build_config(c: &Config) -> relnav_config {
     let d = relnav_config_default();
     let mut o = d;
-    o.filter = i32::from(c.filter % 12); // 0, 10, 11 are invalid codes
+    o.filter = i32::from(c.filter % 12); // 0 and 11 are invalid codes (10 is the IMM)
     o.frame = i32::from(c.frame % 5);
     o.discretization = i32::from(c.discretization % 4);
     o.resampler = i32::from(c.resampler % 6);
