@@ -469,9 +469,10 @@ fn restore_contract(nav: &mut Navigator, b: &[u8], what: &str) {
 /// check; a restored state whose estimate is not finite is now refused. The artifact's
 /// bytes (offset 65535 modulo the state length), then every filter with NaN and 0xff
 /// bytes written at every offset of its payload behind a valid checksum: refused
-/// unchanged, or a finite estimate. (The particle filters' state has grown since the
-/// finding, so the artifact's offset no longer lands in the weighted mean; the sweep over
-/// every offset is what covers it.)
+/// unchanged, or a finite estimate. The particle filters' state has grown since the
+/// finding, so the artifact's offset no longer lands in the weighted mean: the same three
+/// 0xff bytes are written at every offset of the CGA-PF state, and at least one (the
+/// weighted mean) must be refused for its non-finite estimate.
 #[test]
 fn crafted_states_behind_a_valid_checksum_never_give_a_nan_estimate() {
     let cfg = NavConfig {
@@ -482,11 +483,31 @@ fn crafted_states_behind_a_valid_checksum_never_give_a_nan_estimate() {
     let mut nav = Navigator::new(&cfg).unwrap();
     let mut b = Vec::new();
     nav.save_state(&mut b);
+    let good = b.clone();
     let at = 65535 % b.len();
     let n = 3.min(b.len() - at);
     b[at..at + n].fill(0xff);
     reseal_estimator_state(&mut b);
     restore_contract(&mut nav, &b, "fuzz artifact");
+    nav.restore_state(&good).unwrap();
+    // the artifact's kind of corruption (three 0xff bytes) where it now lands in the
+    // weighted mean: refused for the estimate, whatever the layout
+    let refused_for_the_estimate = (0..good.len() - 3).any(|at| {
+        let mut c = good.clone();
+        c[at..at + 3].fill(0xff);
+        reseal_estimator_state(&mut c);
+        match nav.restore_state(&c) {
+            Err(e) => e.message.contains("estimate is not finite"),
+            Ok(()) => {
+                nav.restore_state(&good).unwrap();
+                false
+            }
+        }
+    });
+    assert!(
+        refused_for_the_estimate,
+        "0xff bytes in the weighted mean must be refused"
+    );
     for base in configs() {
         bounded(base.filter.name(), move || {
             // the whole configuration moved in (a closure capturing only `base.filter`
