@@ -339,8 +339,13 @@ impl Instance {
     }
 }
 
-/// The C-ABI configuration assembled from the parameter values of `values`.
-pub(super) fn config_of(values: &[f64; N_VARS]) -> relnav_config {
+/// The C-ABI configuration from the values of the variable table (indexed by value
+/// reference; parameters are read, other variables ignored): the one mapping from FMU
+/// parameters to a `relnav_config`, shared with the front ends that take parameters by
+/// their FMU names (the Python package). Fields that are not FMU parameters keep
+/// [`ffi::relnav_config_default`]'s values; codes and Integers are the integers their
+/// `f64` holds.
+pub fn config_of(values: &[f64; N_VARS]) -> relnav_config {
     {
         let v = |r: u32| values[r as usize];
         let mut c = ffi::relnav_config_default();
@@ -396,16 +401,6 @@ pub(super) fn config_of(values: &[f64; N_VARS]) -> relnav_config {
 }
 
 impl Instance {
-    /// The C-ABI configuration from the values of the variable table (indexed by value
-    /// reference; parameters are read, other variables ignored): the one mapping from FMU
-    /// parameters to a `relnav_config`, shared with the front ends that take parameters
-    /// by their FMU names (the Python package). Fields that are not FMU parameters keep
-    /// [`ffi::relnav_config_default`]'s values; codes and Integers are the integers their
-    /// `f64` holds.
-    pub fn config_from_values(values: &[f64; N_VARS]) -> relnav_config {
-        config_of(values)
-    }
-
     /// Whether the `filter` parameter selects a particle filter (codes 4-8).
     fn particle_filter_selected(&self) -> bool {
         (4.0..=8.0).contains(&self.values[vr::FILTER as usize])
