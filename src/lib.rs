@@ -13,10 +13,13 @@ pub mod estimators;
 /// cbindgen:ignore
 pub mod eval;
 pub mod frames;
+pub mod guidance;
 pub mod hinf;
 pub mod nav;
 pub mod noise;
 pub mod numerics;
+pub mod orbit;
+pub mod plant;
 pub mod sensors;
 pub mod types;
 

@@ -1,0 +1,24 @@
+#!/usr/bin/env bash
+# Builds and packs every FMU of relnav and the system kit, in target/fmu/:
+#
+#   relnav.fmu           the navigation estimator (librelnav.so: the C ABI and its fmi2* exports)
+#   relnav_plant.fmu     the truth plant (fmu/plant: relnav without default features)
+#   relnav_guidance.fmu  the hold-point guidance law (fmu/guidance: likewise)
+#   relnav_system.ssp    the closed GNC loop of the three (fmu/ssp/*.ssd)
+#
+# (and each FMU unpacked in target/fmu/<id>/). The kit's cdylibs are built in their own
+# cargo invocation: cargo unifies a package's features within one invocation, and
+# relnav's default features (its own fmi2* exports, the H-infinity design) must stay out
+# of them. Extra arguments go to cargo (e.g. -j2). Release profile; set CARGO_TARGET_DIR
+# as usual.
+set -euo pipefail
+
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "$ROOT"
+if ! command -v cargo >/dev/null 2>&1 && [ -x "$HOME/.cargo/bin/cargo" ]; then
+    PATH="$HOME/.cargo/bin:$PATH"
+fi
+
+cargo build --release --lib "$@"
+cargo build --release -p relnav_plant -p relnav_guidance "$@"
+cargo run --release "$@" --bin relnav-fmu -- --all
