@@ -26,6 +26,10 @@
 // coupling) [s]; the paper does not state it.
 #define PAPER_PERIOD 0.1
 
+// Margin of the switch from acquisition to the certified gain ([`HinfAcquisition`]): the
+// fixed gain takes over when the covariance is below `(1 + ACQUISITION_MARGIN) X_G`.
+#define ACQUISITION_MARGIN 0.25
+
 // Result of every fallible call. Values are stable.
 typedef enum relnav_status {
   // Success.
@@ -50,6 +54,28 @@ typedef enum relnav_status {
   // unchanged.
   RELNAV_ERROR_INVALID_STATE = 8,
 } relnav_status;
+
+// H-infinity design codes for [`NavConfig::hinf_design`], the same as the C ABI's
+// `relnav_hinf_form` (whose code 2, the paper form, needs the closed loop `u = K x` and is
+// not available to the navigator).
+enum HinfDesignKind
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : int32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+  // The gamma-optimal observer ([`crate::hinf::design::design_observer`]; issue 5).
+  GammaOptimal = 1,
+  // The mixed H2/H-infinity observer: least H2 norm with `gamma <= hinf_gamma_factor *
+  // gamma_opt` ([`crate::hinf::design::design_mixed`]).
+  Mixed = 3,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum HinfDesignKind HinfDesignKind;
+#else
+typedef int32_t HinfDesignKind;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
 
 // Filter codes for `relnav_config.filter` (same as the FMU's `filter` parameter).
 typedef enum relnav_filter {
@@ -129,7 +155,7 @@ typedef struct relnav_hinf_filter relnav_hinf_filter;
 // [`relnav_config_default`], then change what you need. Enum fields are plain integers so
 // that an unknown value is reported, not undefined behaviour.
 typedef struct relnav_config {
-  // A `relnav_filter` code (1 EKF, 2 UKF, 3 AQUKF, 4-8 particle filters; 9 is reserved).
+  // A `relnav_filter` code (1 EKF, 2 UKF, 3 AQUKF, 4-8 particle filters, 9 H-infinity).
   int32_t filter;
   // A `relnav_frame` code: the frame of every vector and angle passed in and out.
   int32_t frame;
@@ -195,12 +221,29 @@ typedef struct relnav_config {
   double hinf_period;
   // H-infinity filter: orbit-rate uncertainty bound `delta_bar`, >= 0 (default 0.05).
   double hinf_delta_bar;
-  // H-infinity filter: process-noise scaling on positions [m] (default 0.05).
+  // H-infinity filter: process-noise scaling on positions [m], >= 0 (paper 002: 0.05).
+  // Default 0 together with `hinf_b_vel = 0`: the design's process noise is derived
+  // from `accel_psd`, `q_pos`, `q_vel` (what the other filters use); both > 0: `B =
+  // diag(b_pos I3, b_vel I3)`.
   double hinf_b_pos;
-  // H-infinity filter: process-noise scaling on velocities [m/s] (default 0.001).
+  // H-infinity filter: process-noise scaling on velocities [m/s], >= 0 (paper 002:
+  // 0.001; default 0 = derived, see `hinf_b_pos`).
   double hinf_b_vel;
-  // H-infinity filter: indirect-position measurement-noise scaling [m] (default 0.1).
+  // H-infinity filter: indirect-position measurement-noise scaling [m], >= 0 (paper
+  // 002: 0.1). Default 0: derived from `sigma_range`, `sigma_angle` and the noise model
+  // at the initial estimate's position.
   double hinf_d;
+  // H-infinity filter: the design, a `relnav_hinf_form` code: 3 mixed H2/H-infinity
+  // (default; least H2 norm under `gamma <= hinf_gamma_factor * gamma_opt`) or 1 the
+  // gamma-optimal observer.
+  int32_t hinf_design;
+  // H-infinity filter, mixed design: bound on the certified gamma as a multiple of the
+  // gamma-optimal design's, finite and > 1 (default 1.5).
+  double hinf_gamma_factor;
+  // H-infinity filter: 1 (default) to start with the Kalman gain of the design's noise
+  // model and hand over to the designed gain when that is no worse (track initiation),
+  // 0 to run the designed gain from the first step.
+  int32_t hinf_acquisition;
 } relnav_config;
 
 // Inputs of an H-infinity design (canonical frame = paper 002's, SI units).
@@ -213,12 +256,22 @@ typedef struct relnav_hinf_spec {
   double delta_bar;
   // Sampling period [s].
   double period;
-  // Process-noise scaling on positions [m].
+  // Process-noise scaling on positions [m] (> 0, or 0 with `b_vel = 0`: `b_matrix`).
   double b_pos;
-  // Process-noise scaling on velocities [m/s].
+  // Process-noise scaling on velocities [m/s] (> 0, or 0 with `b_pos = 0`).
   double b_vel;
-  // Measurement-noise scaling [m].
+  // Measurement-noise scaling [m] (> 0, or 0: `d_matrix`).
   double d;
+  // `RELNAV_HINF_MIXED`: the bound on gamma as a multiple of the gamma-optimal
+  // observer's, finite and > 1 (filter 9's default: 1.5); ignored by the other forms.
+  double gamma_factor;
+  // The process-noise input `B` (6x6, row-major, canonical frame) used when `b_pos =
+  // b_vel = 0`, e.g. the square root of a process covariance (`relnav_config_hinf_spec`
+  // fills it as filter 9 derives it).
+  double b_matrix[36];
+  // The measurement-noise input `D` (3x3, row-major, canonical, invertible) used when
+  // `d = 0`.
+  double d_matrix[9];
 } relnav_hinf_spec;
 
 // A designed H-infinity filter: `x_f(k+1) = A_F x_f + B_F y + E_F a`, `z_f = C_F x_f`
@@ -249,6 +302,13 @@ typedef struct relnav_hinf_result {
   int32_t iterations;
   // Wall time of assembly and solve [s].
   double solve_time;
+  // H2 norm of the filter's nominal error system from the unit white noises `(w, v)`
+  // (computed without the solver; with `B`, `D` square roots of the noise covariances,
+  // its square is the steady-state mean-square error).
+  double h2_norm;
+  // `RELNAV_HINF_MIXED`: the gamma of the gamma-optimal observer the bound is relative
+  // to (its design's iterations and time are included above); NaN for the other forms.
+  double gamma_opt;
 } relnav_hinf_result;
 
 
@@ -270,6 +330,9 @@ typedef struct relnav_hinf_result {
 
 
 
+
+// All codes, in order.
+#define HinfDesignKind_ALL { GammaOptimal, Mixed, }
 
 #ifdef __cplusplus
 extern "C" {
@@ -412,6 +475,25 @@ enum relnav_status relnav_estimator_get_q_vv(const struct relnav_estimator *esti
 enum relnav_status relnav_estimator_get_hinf_gamma(const struct relnav_estimator *estimator,
                                                    double *out);
 
+// The H2 norm of the H-infinity design of an estimator created with filter 9 (from the
+// unit white noises of its noise model to the prediction error; computed without the
+// solver — with the derived noise model its square is the steady-state mean-square error
+// [m^2 + m^2/s^2]); NaN for every other filter (status `RELNAV_OK`).
+//
+// # Safety
+// `estimator` is a live handle or null; `out` is null or writable.
+enum relnav_status relnav_estimator_get_hinf_h2_norm(const struct relnav_estimator *estimator,
+                                                     double *out);
+
+// Whether the H-infinity filter (filter 9) runs its designed, certified gain: 1 after
+// the hand-over of track initiation (`hinf_acquisition`) or always without it, 0 while it
+// still acquires with the Kalman gain, -1 for every other filter (status `RELNAV_OK`).
+//
+// # Safety
+// `estimator` is a live handle or null; `out` is null or writable.
+enum relnav_status relnav_estimator_get_hinf_certified(const struct relnav_estimator *estimator,
+                                                       int32_t *out);
+
 // Design an H-infinity filter (LMI solved with Clarabel; see `relnav::hinf`). On
 // success `*out` holds the matrices and the report; an infeasible request returns
 // `RELNAV_ERROR_INFEASIBLE` with a readable reason (`relnav_last_error`) and leaves `*out`
@@ -421,6 +503,19 @@ enum relnav_status relnav_estimator_get_hinf_gamma(const struct relnav_estimator
 // `spec` is null or readable; `out` is null or writable.
 enum relnav_status relnav_hinf_design(const struct relnav_hinf_spec *spec,
                                       struct relnav_hinf_result *out);
+
+// Fill `*out` with the H-infinity design request that filter 9 makes for `config`: the
+// form from `hinf_design`, its `gamma_factor`, and the noise inputs — the scalings where
+// `hinf_b_*`/`hinf_d` are set, else the matrices derived from the configuration's own
+// noise (process covariance square root for `hinf_period`, indirect-position covariance
+// square root at the initial estimate; see `relnav_config`), in the canonical frame.
+// `relnav_hinf_design(out, ...)` then returns the filter the estimator runs (before its
+// track initiation, `hinf_acquisition`). Works whatever `config.filter` is.
+//
+// # Safety
+// `config` is null or readable; `out` is null or writable.
+enum relnav_status relnav_config_hinf_spec(const struct relnav_config *config,
+                                           struct relnav_hinf_spec *out);
 
 // Create a runtime filter from designed matrices; its estimate `C_F x_f` starts at `x0`
 // (6 doubles, canonical frame). Free with `relnav_hinf_filter_free`.

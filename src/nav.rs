@@ -158,6 +158,37 @@ impl NoiseKind {
     }
 }
 
+/// H-infinity design codes for [`NavConfig::hinf_design`], the same as the C ABI's
+/// `relnav_hinf_form` (whose code 2, the paper form, needs the closed loop `u = K x` and is
+/// not available to the navigator).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[repr(i32)]
+pub enum HinfDesignKind {
+    /// The gamma-optimal observer ([`crate::hinf::design::design_observer`]; issue 5).
+    GammaOptimal = 1,
+    /// The mixed H2/H-infinity observer: least H2 norm with `gamma <= hinf_gamma_factor *
+    /// gamma_opt` ([`crate::hinf::design::design_mixed`]).
+    Mixed = 3,
+}
+
+impl HinfDesignKind {
+    /// All codes, in order.
+    pub const ALL: [HinfDesignKind; 2] = [HinfDesignKind::GammaOptimal, HinfDesignKind::Mixed];
+
+    /// From the stable code (1 or 3).
+    pub fn from_code(code: i32) -> Option<Self> {
+        Self::ALL.into_iter().find(|k| *k as i32 == code)
+    }
+
+    /// Short name (`gamma_optimal`, `mixed`).
+    pub fn name(self) -> &'static str {
+        match self {
+            HinfDesignKind::GammaOptimal => "gamma_optimal",
+            HinfDesignKind::Mixed => "mixed",
+        }
+    }
+}
+
 /// Everything that defines a navigator. [`Default`] is paper 000's numerical example
 /// (digest, paper 000 "Example", with its covariance-name erratum applied).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -225,13 +256,28 @@ pub struct NavConfig {
     /// H-infinity filter: bound of the orbit-rate uncertainty, `w = w0 (1 + delta)`,
     /// `|delta| <= hinf_delta_bar`, >= 0 (paper 002: 0.05).
     pub hinf_delta_bar: f64,
-    /// H-infinity filter: process-noise scaling on positions [m] (paper 002 `B`: 0.05).
+    /// H-infinity filter: process-noise scaling on positions [m] (paper 002 `B`: 0.05), not
+    /// negative. With `hinf_b_pos = hinf_b_vel = 0` (the default) `B` is derived from the
+    /// navigator's own process noise (`accel_psd`, `q_pos`, `q_vel`; see
+    /// [`NavConfig::hinf_spec`]); otherwise both must be positive and `B = diag(b_pos I3,
+    /// b_vel I3)`.
     pub hinf_b_pos: f64,
-    /// H-infinity filter: process-noise scaling on velocities [m/s] (paper 002 `B`: 0.001).
+    /// H-infinity filter: process-noise scaling on velocities [m/s] (paper 002 `B`: 0.001),
+    /// >= 0 (0 with `hinf_b_pos = 0`: derived).
     pub hinf_b_vel: f64,
     /// H-infinity filter: scaling of the indirect position measurement noise [m]
-    /// (paper 002 `D`: 0.1).
+    /// (paper 002 `D`: 0.1), >= 0; 0 (the default): `D` is derived from `sigma_range`,
+    /// `sigma_angle` and the noise model at the initial estimate's position.
     pub hinf_d: f64,
+    /// H-infinity filter: which design (default: mixed H2/H-infinity).
+    pub hinf_design: HinfDesignKind,
+    /// H-infinity filter, mixed design: the bound on the certified gamma as a multiple of
+    /// the gamma-optimal design's, finite and > 1 (default 1.5).
+    pub hinf_gamma_factor: f64,
+    /// H-infinity filter: start with the Kalman gain of the design's noise model and hand
+    /// over to the designed gain when it is no worse ([`crate::hinf::HinfAcquisition`];
+    /// default true). False: the designed gain from the first step (issue 5's filter).
+    pub hinf_acquisition: bool,
 }
 
 impl Default for NavConfig {
@@ -266,9 +312,12 @@ impl Default for NavConfig {
             q_vv_ceiling: 1.0,
             hinf_period: 1.0,
             hinf_delta_bar: 0.05,
-            hinf_b_pos: 0.05,
-            hinf_b_vel: 0.001,
-            hinf_d: 0.1,
+            hinf_b_pos: 0.0,
+            hinf_b_vel: 0.0,
+            hinf_d: 0.0,
+            hinf_design: HinfDesignKind::Mixed,
+            hinf_gamma_factor: 1.5,
+            hinf_acquisition: true,
         }
     }
 }
@@ -528,9 +577,7 @@ impl NavConfig {
             p.validate().map_err(NavError::invalid)?;
         }
         self.aq_params().validate().map_err(NavError::invalid)?;
-        let spec = self.hinf_spec();
-        spec.validate()
-            .map_err(|e| NavError::invalid(format!("hinf_*: {}", e.message)))?;
+        self.validate_hinf()?;
         Ok(())
     }
 
@@ -570,6 +617,9 @@ impl NavConfig {
             hinf_b_pos,
             hinf_b_vel,
             hinf_d,
+            hinf_design,
+            hinf_gamma_factor,
+            hinf_acquisition,
         } = *self;
         let UkfParams { alpha, beta, kappa } = ukf;
         vec![
@@ -614,6 +664,9 @@ impl NavConfig {
             ("hinf_b_pos", Real(hinf_b_pos)),
             ("hinf_b_vel", Real(hinf_b_vel)),
             ("hinf_d", Real(hinf_d)),
+            ("hinf_design", Int(hinf_design as i64)),
+            ("hinf_gamma_factor", Real(hinf_gamma_factor)),
+            ("hinf_acquisition", Int(i64::from(hinf_acquisition))),
         ]
     }
 
@@ -635,8 +688,41 @@ impl NavConfig {
         crc32(&b)
     }
 
-    /// The H-infinity design inputs of this configuration (`w0` = `mean_motion`).
-    pub fn hinf_spec(&self) -> crate::hinf::HinfSpec {
+    /// The H-infinity parameters: their domains whatever the filter; the derived noise
+    /// model (which needs a usable initial position) only for filter 9.
+    fn validate_hinf(&self) -> Result<(), NavError> {
+        non_negative("hinf_b_pos", self.hinf_b_pos)?;
+        non_negative("hinf_b_vel", self.hinf_b_vel)?;
+        non_negative("hinf_d", self.hinf_d)?;
+        if (self.hinf_b_pos == 0.0) != (self.hinf_b_vel == 0.0) {
+            return Err(NavError::invalid(format!(
+                "hinf_b_pos and hinf_b_vel are set together (both > 0) or derived together \
+                 (both 0) (got {} and {})",
+                num(self.hinf_b_pos),
+                num(self.hinf_b_vel)
+            )));
+        }
+        if !(self.hinf_gamma_factor.is_finite() && self.hinf_gamma_factor > 1.0) {
+            return Err(NavError::invalid(format!(
+                "hinf_gamma_factor must be finite and > 1 (got {}): the mixed design's bound on \
+                 gamma as a multiple of the gamma-optimal design's",
+                num(self.hinf_gamma_factor)
+            )));
+        }
+        let hinf = |e: crate::hinf::HinfError| NavError::invalid(format!("hinf_*: {}", e.message));
+        let mut spec = self.hinf_spec_scalars();
+        // scalars 0 mean "derived": the placeholders only let the shared checks run
+        spec.b_pos = if spec.b_pos > 0.0 { spec.b_pos } else { 1.0 };
+        spec.b_vel = if spec.b_vel > 0.0 { spec.b_vel } else { 1.0 };
+        spec.d = if spec.d > 0.0 { spec.d } else { 1.0 };
+        spec.validate().map_err(hinf)?;
+        if self.filter == FilterKind::Hinf {
+            self.hinf_spec()?.validate().map_err(hinf)?;
+        }
+        Ok(())
+    }
+
+    fn hinf_spec_scalars(&self) -> crate::hinf::HinfSpec {
         crate::hinf::HinfSpec {
             w0: self.mean_motion,
             delta_bar: self.hinf_delta_bar,
@@ -644,7 +730,70 @@ impl NavConfig {
             b_pos: self.hinf_b_pos,
             b_vel: self.hinf_b_vel,
             d: self.hinf_d,
+            b_matrix: None,
+            d_matrix: None,
         }
+    }
+
+    /// The H-infinity design inputs of this configuration (`w0` = `mean_motion`, canonical
+    /// frame). Set scalings are used as given; zero ones are derived from the noise every
+    /// other filter uses (issue 12):
+    ///
+    /// * `B = Qd^(1/2)` ([`crate::hinf::noise_inputs`]) with `Qd` the process-noise
+    ///   covariance of one step `T = hinf_period`, exactly as the navigator builds it:
+    ///   `Qd_VanLoan(accel_psd I3, T) + T6^T diag(q_pos T, q_vel T) T6` (the `q_*` are per
+    ///   I/O axis, rotated to the canonical frame);
+    /// * `D = R^(1/2)` with `R` the covariance of the indirect Cartesian position
+    ///   ([`RadioSensor::position_covariance`]) at the initial estimate's position, of the
+    ///   radio noise the Kalman filters assume (`sigma^2` times the noise model's variance
+    ///   factor): `sigma_range` along the line of sight, `range * sigma_angle` across it.
+    ///
+    /// Errors: a zero initial range when `D` is derived; a derived `B` of zero (no process
+    /// noise at all) for the mixed design, whose H2 criterion needs one.
+    pub fn hinf_spec(&self) -> Result<crate::hinf::HinfSpec, NavError> {
+        let mut spec = self.hinf_spec_scalars();
+        let t = self.hinf_period;
+        if self.hinf_b_pos == 0.0 && self.hinf_b_vel == 0.0 {
+            positive("hinf_period", t)?;
+            let qc = Mat3::identity() * self.accel_psd;
+            let mut qd = CwModel::new(self.mean_motion).van_loan_q(&qc, t);
+            let qio = State::from_row_slice(&[
+                self.q_pos[0],
+                self.q_pos[1],
+                self.q_pos[2],
+                self.q_vel[0],
+                self.q_vel[1],
+                self.q_vel[2],
+            ]) * t;
+            qd += self.frame.cov_to_canonical(&Mat6::from_diagonal(&qio));
+            if self.hinf_design == HinfDesignKind::Mixed && qd.abs().max() == 0.0 {
+                return Err(NavError::invalid(
+                    "hinf: the mixed design's process noise is derived from accel_psd, q_pos_* \
+                     and q_vel_*, which are all 0: set one of them (or hinf_b_pos and \
+                     hinf_b_vel)"
+                        .to_string(),
+                ));
+            }
+            spec.b_matrix = Some(crate::hinf::psd_sqrt(&qd));
+        }
+        if self.hinf_d == 0.0 {
+            let inflate = self.noise().variance_factor().sqrt();
+            let sensor = RadioSensor::new(
+                self.frame,
+                self.sigma_range * inflate,
+                self.sigma_angle * inflate,
+            );
+            let r0 = self.initial_state().fixed_rows::<3>(0).into_owned();
+            let r = sensor.position_covariance(&r0).ok_or_else(|| {
+                NavError::invalid(
+                    "hinf: the measurement noise is derived at the initial estimate's \
+                     position, which is at zero range: set x0, y0, z0 (or hinf_d)"
+                        .to_string(),
+                )
+            })?;
+            spec.d_matrix = Some(crate::hinf::psd_sqrt(&r));
+        }
+        Ok(spec)
     }
 
     /// The measurement-noise density (scales `sigma_range`, `sigma_angle`).
@@ -904,16 +1053,28 @@ fn build_filter(cfg: &NavConfig) -> Result<AnyFilter, NavError> {
         ))),
         #[cfg(feature = "hinf")]
         FilterKind::Hinf => {
-            use crate::hinf::design::{design_open_loop, DesignOptions};
-            let d = design_open_loop(&cfg.hinf_spec(), &DesignOptions::default()).map_err(|e| {
-                NavError {
-                    kind: NavErrorKind::InvalidArgument,
-                    message: format!("hinf design failed: {e}"),
+            use crate::hinf::design::{design_open_loop, design_open_loop_mixed, DesignOptions};
+            let spec = cfg.hinf_spec()?;
+            let opts = DesignOptions::default();
+            let d = match cfg.hinf_design {
+                HinfDesignKind::GammaOptimal => design_open_loop(&spec, &opts),
+                HinfDesignKind::Mixed => {
+                    design_open_loop_mixed(&spec, cfg.hinf_gamma_factor, &opts).map(|m| m.mixed)
                 }
+            }
+            .map_err(|e| NavError {
+                kind: NavErrorKind::InvalidArgument,
+                message: format!("hinf design ({}) failed: {e}", cfg.hinf_design.name()),
             })?;
-            HinfEstimator::new(d.matrices, d.gamma, x0)
-                .map(AnyFilter::Hinf)
-                .map_err(|e| NavError::invalid(format!("hinf: {e}")))
+            let invalid = |e: crate::hinf::HinfError| NavError::invalid(format!("hinf: {e}"));
+            let mut f = HinfEstimator::new(d.matrices, d.gamma, x0)
+                .map_err(invalid)?
+                .with_h2_norm(d.h2_norm);
+            if cfg.hinf_acquisition {
+                let plant = crate::hinf::HinfPlant::open_loop(&spec);
+                f = f.with_acquisition(&plant, p0).map_err(invalid)?;
+            }
+            Ok(AnyFilter::Hinf(f))
         }
         other => Err(NavError {
             kind: NavErrorKind::NotImplemented,
@@ -1166,6 +1327,25 @@ impl Navigator {
     pub fn hinf_gamma(&self) -> Option<f64> {
         match &self.filter {
             AnyFilter::Hinf(f) => Some(f.gamma()),
+            _ => None,
+        }
+    }
+
+    /// The H2 norm of the H-infinity design (filter code 9; see
+    /// [`crate::hinf::design::HinfDesign::h2_norm`]), `None` otherwise.
+    pub fn hinf_h2_norm(&self) -> Option<f64> {
+        match &self.filter {
+            AnyFilter::Hinf(f) => Some(f.h2_norm()),
+            _ => None,
+        }
+    }
+
+    /// Whether the H-infinity filter (code 9) runs its designed, certified gain (true
+    /// after the hand-over of track initiation, or always without it); `None` for the
+    /// other filters.
+    pub fn hinf_certified(&self) -> Option<bool> {
+        match &self.filter {
+            AnyFilter::Hinf(f) => Some(f.certified()),
             _ => None,
         }
     }

@@ -330,6 +330,30 @@ impl RadioSensor {
         })
     }
 
+    /// Covariance of the indirect Cartesian position `p(z) = rho (cos el cos az, cos el sin
+    /// az, sin el)` (paper 002 sec. 1.2 eq. 7; [`MeasurementModel::invert`]) of a
+    /// measurement of the canonical position `r`, to first order: `J R J^T` with the
+    /// Jacobian of `p(z)` in the sensor frame,
+    ///
+    /// ```text
+    /// J = [ u,  rho cos el (-sin az, cos az, 0),  rho (-sin el cos az, -sin el sin az, cos el) ]
+    /// ```
+    ///
+    /// (`u` the line of sight), rotated to the canonical frame (`T^T J R J^T T`): `sigma_range^2`
+    /// along the line of sight and `(rho sigma_angle)^2` across it in elevation, `(rho cos el
+    /// sigma_angle)^2` in azimuth. `None` below [`MIN_RANGE`].
+    pub fn position_covariance(&self, r: &Vec3) -> Option<Mat3> {
+        let z = self.h(r)?;
+        let (rho, (sa, ca), (se, ce)) = (z.x, z.y.sin_cos(), z.z.sin_cos());
+        let j = Mat3::from_columns(&[
+            Vec3::new(ce * ca, ce * sa, se),
+            Vec3::new(-rho * ce * sa, rho * ce * ca, 0.0),
+            Vec3::new(-rho * se * ca, -rho * se * sa, rho * ce),
+        ]);
+        let t = self.frame.rotation();
+        Some(t.transpose() * j * self.r() * j.transpose() * t)
+    }
+
     /// Residual `z - z_hat` with the azimuth difference wrapped to `(-pi, pi]`.
     pub fn residual(z: &Vec3, z_hat: &Vec3) -> Vec3 {
         Vec3::new(z.x - z_hat.x, wrap_pi(z.y - z_hat.y), z.z - z_hat.z)

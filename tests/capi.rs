@@ -111,6 +111,7 @@ fn defaults_of_the_new_fields() {
     // the AQUKF, every particle filter code and hinf are accepted with the defaults (9
     // needs the default `hinf` feature)
     assert_eq!((c.window, c.q_vv_floor, c.q_vv_ceiling), (10, 0.0, 1.0));
+    // the H-infinity noise inputs are derived (0) and the design is the mixed one
     assert_eq!(
         (
             c.hinf_period,
@@ -119,7 +120,11 @@ fn defaults_of_the_new_fields() {
             c.hinf_b_vel,
             c.hinf_d
         ),
-        (1.0, 0.05, 0.05, 0.001, 0.1)
+        (1.0, 0.05, 0.0, 0.0, 0.0)
+    );
+    assert_eq!(
+        (c.hinf_design, c.hinf_gamma_factor, c.hinf_acquisition),
+        (relnav_hinf_form::RELNAV_HINF_MIXED as i32, 1.5, 1)
     );
     for f in (3..=8).chain(cfg!(feature = "hinf").then_some(9)) {
         let c = relnav_config {
@@ -481,6 +486,9 @@ fn hinf_design_and_estimator() {
         b_pos: 0.05,
         b_vel: 0.001,
         d: 0.1,
+        gamma_factor: 1.5,
+        b_matrix: [0.0; 36],
+        d_matrix: [0.0; 9],
     };
     // SAFETY: all-zero bytes are a valid relnav_hinf_result (plain doubles and ints).
     let mut out: relnav_hinf_result = unsafe { std::mem::zeroed() };
@@ -535,4 +543,134 @@ fn hinf_design_and_estimator() {
     }
     assert!(gamma.is_finite() && gamma > 0.0);
     assert!(sig.iter().all(|s| s.is_nan()));
+}
+
+/// The mixed H2/H-infinity design through the C ABI: `relnav_config_hinf_spec` gives the
+/// request filter 9 makes (derived noise matrices), `relnav_hinf_design` with it returns
+/// the gamma and H2 norm the estimator reports; unknown codes and bad factors are refused.
+#[cfg(feature = "hinf")]
+#[test]
+fn hinf_mixed_design_matches_the_estimator() {
+    let c = relnav_config {
+        filter: relnav_filter::RELNAV_FILTER_EKF as i32,
+        accel_psd: 1e-10,
+        q_pos: [0.0; 3],
+        q_vel: [0.0; 3],
+        ..relnav_config_default()
+    };
+    // SAFETY: all-zero bytes are a valid relnav_hinf_spec (plain doubles and ints).
+    let mut spec: relnav_hinf_spec = unsafe { std::mem::zeroed() };
+    // SAFETY: valid pointers.
+    assert_eq!(
+        unsafe { relnav_config_hinf_spec(&c, &mut spec) },
+        OK,
+        "{}",
+        last_error()
+    );
+    assert_eq!(spec.form, relnav_hinf_form::RELNAV_HINF_MIXED as i32);
+    assert_eq!(
+        (spec.b_pos, spec.b_vel, spec.d, spec.gamma_factor),
+        (0.0, 0.0, 0.0, 1.5)
+    );
+    // B B^T: the position variance of a white acceleration of 1e-10 over 1 s is q/3
+    let b = spec.b_matrix;
+    let bbt00: f64 = (0..6).map(|k| b[k] * b[k]).sum();
+    assert!((bbt00 - 1e-10 / 3.0).abs() < 1e-3 * 1e-10, "{bbt00}");
+    // SAFETY: all-zero bytes are a valid relnav_hinf_result.
+    let mut out: relnav_hinf_result = unsafe { std::mem::zeroed() };
+    // SAFETY: valid pointers.
+    assert_eq!(
+        unsafe { relnav_hinf_design(&spec, &mut out) },
+        OK,
+        "{}",
+        last_error()
+    );
+    assert!(out.lmi_max_eig < 0.0);
+    assert!((out.gamma - 1.5 * out.gamma_opt).abs() < 1e-12 * out.gamma);
+    assert!(out.h2_norm > 0.0 && out.h2_norm < 0.2, "{}", out.h2_norm);
+    assert!(out.iterations > 0 && out.solve_time > 0.0);
+
+    let c9 = relnav_config {
+        filter: relnav_filter::RELNAV_FILTER_HINF as i32,
+        ..c
+    };
+    let mut est = std::ptr::null_mut();
+    // SAFETY: valid pointers.
+    assert_eq!(
+        unsafe { relnav_estimator_new(&c9, &mut est) },
+        OK,
+        "{}",
+        last_error()
+    );
+    let (mut gamma, mut h2, mut certified) = (f64::NAN, f64::NAN, -2);
+    // SAFETY: live handle, writable locals.
+    unsafe {
+        assert_eq!(relnav_estimator_get_hinf_gamma(est, &mut gamma), OK);
+        assert_eq!(relnav_estimator_get_hinf_h2_norm(est, &mut h2), OK);
+        assert_eq!(relnav_estimator_get_hinf_certified(est, &mut certified), OK);
+        relnav_estimator_free(est);
+    }
+    assert!(
+        (gamma - out.gamma).abs() < 1e-9 * gamma,
+        "{gamma} vs {}",
+        out.gamma
+    );
+    assert!(
+        (h2 - out.h2_norm).abs() < 1e-9 * h2,
+        "{h2} vs {}",
+        out.h2_norm
+    );
+    assert_eq!(certified, 0, "track initiation first");
+    // other filters: NaN and -1
+    let mut ekf = std::ptr::null_mut();
+    // SAFETY: valid pointers, live handle.
+    unsafe {
+        assert_eq!(relnav_estimator_new(&c, &mut ekf), OK);
+        assert_eq!(relnav_estimator_get_hinf_h2_norm(ekf, &mut h2), OK);
+        assert_eq!(relnav_estimator_get_hinf_certified(ekf, &mut certified), OK);
+        relnav_estimator_free(ekf);
+    }
+    assert!(h2.is_nan());
+    assert_eq!(certified, -1);
+
+    for (field, bad) in [
+        (
+            "hinf_design",
+            relnav_config {
+                hinf_design: 2,
+                ..c9
+            },
+        ),
+        (
+            "hinf_acquisition",
+            relnav_config {
+                hinf_acquisition: 2,
+                ..c9
+            },
+        ),
+        (
+            "hinf_gamma_factor",
+            relnav_config {
+                hinf_gamma_factor: 0.5,
+                ..c9
+            },
+        ),
+    ] {
+        // SAFETY: valid pointer.
+        assert_eq!(
+            unsafe { relnav_config_validate(&bad) },
+            relnav_status::RELNAV_ERROR_INVALID_ARGUMENT
+        );
+        assert!(last_error().contains(field), "{field}: {}", last_error());
+    }
+    let bad = relnav_hinf_spec {
+        gamma_factor: 1.0,
+        ..spec
+    };
+    // SAFETY: valid pointers.
+    assert_eq!(
+        unsafe { relnav_hinf_design(&bad, &mut out) },
+        relnav_status::RELNAV_ERROR_INVALID_ARGUMENT
+    );
+    assert!(last_error().contains("gamma_factor"), "{}", last_error());
 }

@@ -2,13 +2,22 @@
 //! of the solver — the assembled LMI with nalgebra, stability and the H-infinity norm of the
 //! filter-error system over a grid of the true orbit-rate error — for the paper's case, two
 //! other orbits, an infeasible request, the paper's published matrices and the open-loop
-//! observer design.
+//! observer design; the mixed H2/H-infinity observer (issue 12) against the same checks,
+//! its H2 norm against a Lyapunov-free computation and the Kalman bound, and the track
+//! initiation of the runtime filter.
 #![cfg(feature = "hinf")]
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)] // test code
 
-use relnav::hinf::design::{design_observer, design_open_loop, design_paper, DesignOptions};
-use relnav::hinf::verify::{delta_grid, observer_error_norm, spectral_radius, verify_filter};
+use relnav::hinf::design::{
+    design_observer, design_open_loop, design_open_loop_mixed, design_paper, DesignOptions,
+    HinfDesign,
+};
+use relnav::hinf::verify::{
+    delta_grid, dlyap, h2_norm, observer_certified_norm, observer_error_covariance,
+    observer_error_norm, observer_h2_norm, spectral_radius, verify_filter,
+};
 use relnav::hinf::*;
+use relnav::nav::{FilterKind, HinfDesignKind, NavConfig, Navigator};
 use relnav::types::{Mat6, State, Vec3};
 
 fn closed_loop(spec: &HinfSpec) -> (HinfPlant, impl Fn(f64) -> Mat6 + '_) {
@@ -72,6 +81,8 @@ fn check_paper_case(spec: &HinfSpec) -> (f64, f64) {
 fn paper_case_is_feasible_and_verified_and_beats_the_published_filter() {
     let spec = HinfSpec::paper();
     let (gamma, ours) = check_paper_case(&spec);
+    // pinned (docs/evaluation.md; cvxpy + Clarabel on the same SDP: 0.35879)
+    assert!((gamma - 0.35879).abs() < 2e-5, "gamma {gamma}");
     let (plant, a_of) = closed_loop(&spec);
     let published = HinfMatrices::paper_published();
     let v = verify_filter(&plant, &published, &delta_grid(spec.delta_bar, 11), &a_of);
@@ -144,6 +155,8 @@ fn open_loop_needs_the_observer_form() {
     let d = design_observer(&plant, spec.period, &DesignOptions::default())
         .unwrap_or_else(|e| panic!("{e}"));
     assert!(d.lmi_max_eig < 0.0);
+    // pinned (docs/evaluation.md): the mixed design's bound is relative to it
+    assert!((d.gamma - 0.50003).abs() < 2e-5, "gamma {}", d.gamma);
     let g = d.matrices.b_f;
     let v = observer_error_norm(&plant, &g, &delta_grid(spec.delta_bar, 11), |dl| {
         HinfPlant::open_loop_at(&spec, dl)
@@ -195,4 +208,397 @@ fn runtime_observer_tracks_a_thrusting_chaser() {
     }
     let e = f.state() - x;
     assert!(e.norm() < 1e-6, "error {e}");
+}
+
+/// The H2-optimal (Kalman, predictor form) gain of the observer plant by iterating the
+/// Riccati recursion to its fixed point: the lower bound of every observer's H2 norm.
+fn kalman_gain(plant: &HinfPlant) -> relnav::types::Mat63 {
+    let (a, c) = (plant.a, plant.c);
+    let q = plant.b * plant.b.transpose();
+    let r = plant.d * plant.d.transpose();
+    let mut p = Mat6::identity();
+    let mut k = relnav::types::Mat63::zeros();
+    for _ in 0..100_000 {
+        let s = c * p * c.transpose() + r;
+        k = a * p * c.transpose() * s.try_inverse().unwrap();
+        let ae = a - k * c;
+        let next = ae * p * ae.transpose() + q + k * r * k.transpose();
+        let done = (next - p).abs().max() <= 1e-14 * p.abs().max();
+        p = next;
+        if done {
+            break;
+        }
+    }
+    k
+}
+
+/// Every check of a mixed design that needs no solver: the assembled LMIs (in the design),
+/// the certified channel's H-infinity norm by frequency sweep, stability and the (w, v)
+/// norm over the delta grid against the bound, the H2 norm against the solver's bound,
+/// the gamma-optimal design's and the Kalman bound.
+fn check_mixed(name: &str, spec: &HinfSpec, factor: f64) -> (HinfDesign, HinfDesign) {
+    let m = design_open_loop_mixed(spec, factor, &DesignOptions::default())
+        .unwrap_or_else(|e| panic!("{name}: {e}"));
+    let (pure, mixed) = (m.pure, m.mixed);
+    let plant = HinfPlant::open_loop(spec);
+    let g = mixed.matrices.b_f;
+    let certified = observer_certified_norm(&plant, &g);
+    let grid = observer_error_norm(&plant, &g, &delta_grid(spec.delta_bar, 11), |d| {
+        HinfPlant::open_loop_at(spec, d)
+    });
+    let kalman = observer_h2_norm(&plant, &kalman_gain(&plant));
+    eprintln!(
+        "{name}, factor {factor}: pure gamma {:.5} H2 {:.5} ({} it, {:.3} s) | mixed gamma \
+         {:.5} H2 {:.5} (bound {:.5}, Kalman {kalman:.5}; {} it, {:.3} s, max eig {:e}) | \
+         certified-channel norm {certified:.5}, worst (w, v) norm over delta {:.5}",
+        pure.gamma,
+        pure.h2_norm,
+        pure.iterations,
+        pure.solve_time,
+        mixed.gamma,
+        mixed.h2_norm,
+        mixed.h2_bound,
+        mixed.iterations,
+        mixed.solve_time,
+        mixed.lmi_max_eig,
+        grid.worst_norm
+    );
+    assert!(mixed.lmi_max_eig < 0.0, "{name}");
+    assert!((mixed.gamma - factor * pure.gamma).abs() <= 1e-12 * mixed.gamma);
+    // the certificate: gamma bounds the gain of (w, v, d) at the nominal plant, and that of
+    // (w, v) for every true orbit rate on the grid
+    assert!(
+        certified <= mixed.gamma,
+        "{name}: {certified} > {}",
+        mixed.gamma
+    );
+    assert!(grid.max_spectral_radius < 1.0, "{name}: {grid:?}");
+    assert!(grid.worst_norm <= mixed.gamma, "{name}: {grid:?}");
+    // the H2 norm: below the solver's bound, the gamma-optimal design's, above Kalman's
+    assert!(mixed.h2_norm <= mixed.h2_bound, "{name}");
+    assert!(mixed.h2_norm <= pure.h2_norm, "{name}");
+    assert!(
+        mixed.h2_norm >= kalman * (1.0 - 1e-9),
+        "{name}: below the Kalman bound"
+    );
+    (pure, mixed)
+}
+
+/// The discrete Lyapunov solve behind every H2 norm agrees with the definition it
+/// replaces: the sum of the squared impulse response, `sum_k |C A^k B|_F^2`.
+#[test]
+fn h2_norm_is_the_impulse_response_energy() {
+    let plant = HinfPlant::open_loop(&HinfSpec::paper());
+    let d = design_open_loop(&HinfSpec::paper(), &DesignOptions::default()).unwrap();
+    let g = d.matrices.b_f;
+    let dm =
+        |m: &dyn Fn(usize, usize) -> f64, r: usize, c: usize| nalgebra::DMatrix::from_fn(r, c, m);
+    let ae = plant.a - g * plant.c;
+    let a = dm(&|i, j| ae[(i, j)], 6, 6);
+    let gd = g * plant.d;
+    let b = dm(
+        &|i, j| {
+            if j < 6 {
+                plant.b[(i, j)]
+            } else {
+                -gd[(i, j - 6)]
+            }
+        },
+        6,
+        9,
+    );
+    let c = dm(&|i, j| plant.l[(i, j)], 6, 6);
+    let (mut sum, mut ak) = (0.0, nalgebra::DMatrix::<f64>::identity(6, 6));
+    for _ in 0..200_000 {
+        sum += (&c * &ak * &b).norm_squared();
+        ak = &a * ak;
+    }
+    let h2 = h2_norm(&a, &b, &c);
+    assert!(
+        (h2 - sum.sqrt()).abs() < 1e-9 * h2,
+        "{h2} vs {}",
+        sum.sqrt()
+    );
+    assert!((h2 - d.h2_norm).abs() < 1e-12 * h2);
+    // and the Gramian solves its equation
+    let q = &b * b.transpose();
+    let x = dlyap(&a, &q).unwrap();
+    let res = &x - &a * &x * a.transpose() - q;
+    assert!(res.abs().max() < 1e-12 * x.abs().max());
+}
+
+/// Paper 002's noise (B, D as printed, T = 0.1 s): the mixed design at the default factor
+/// 1.5 is within 1 % of the Kalman filter's H2 norm, six times below the gamma-optimal
+/// observer's, and a larger factor never costs H2.
+#[test]
+fn mixed_design_paper_noise() {
+    let spec = HinfSpec::paper();
+    let (pure, m15) = check_mixed("paper", &spec, 1.5);
+    assert!(m15.h2_norm < pure.h2_norm / 5.0);
+    let kalman = observer_h2_norm(
+        &HinfPlant::open_loop(&spec),
+        &kalman_gain(&HinfPlant::open_loop(&spec)),
+    );
+    assert!(m15.h2_norm < 1.01 * kalman, "{} vs {kalman}", m15.h2_norm);
+    let (_, m11) = check_mixed("paper", &spec, 1.1);
+    let (_, m30) = check_mixed("paper", &spec, 3.0);
+    // H2 is non-increasing in the bound (up to the solver's accuracy)
+    assert!(m30.h2_norm <= m15.h2_norm * (1.0 + 1e-4));
+    assert!(m15.h2_norm <= m11.h2_norm * (1.0 + 1e-4));
+}
+
+fn quiet_config(frame: relnav::frames::Frame, x0: [f64; 6]) -> NavConfig {
+    NavConfig {
+        filter: FilterKind::Hinf,
+        frame,
+        accel_psd: 1e-10,
+        q_pos: [0.0; 3],
+        q_vel: [0.0; 3],
+        x0,
+        ..NavConfig::default()
+    }
+}
+
+/// The FMU's case with the noise model derived from its own parameters (paper 000's orbit
+/// and geometry, a quiet truth: white acceleration of 1e-10 m^2/s^3, 0.5 m / 0.01 deg radio
+/// noise at 670 m, T = 1 s): the derived B, D reproduce the navigator's process covariance
+/// and the indirect position's covariance; the mixed design meets every check. Robustness
+/// to a 5 % orbit-rate error costs H2 (measured: 0.0720 against the Kalman filter's 0.0437
+/// m; 0.0455 with delta_bar = 0).
+#[test]
+fn mixed_design_derived_quiet_noise() {
+    use relnav::frames::Frame;
+    let cfg = quiet_config(
+        Frame::AlongRadialAntinormal,
+        [405.0, 505.0, 205.0, 0.1, 0.1, 0.1],
+    );
+    let spec = cfg.hinf_spec().unwrap();
+    // B B^T = Van Loan Qd of the acceleration density (q_* = 0 here), D D^T = J R J^T
+    let b = spec.b();
+    let qd = relnav::dynamics::CwModel::new(cfg.mean_motion)
+        .van_loan_q(&(relnav::types::Mat3::identity() * 1e-10), 1.0);
+    assert!((b * b.transpose() - qd).abs().max() < 1e-9 * qd.abs().max());
+    let d = spec.d();
+    let sensor = relnav::sensors::RadioSensor::new(cfg.frame, cfg.sigma_range, cfg.sigma_angle);
+    let r = sensor
+        .position_covariance(&cfg.initial_state().fixed_rows::<3>(0).into_owned())
+        .unwrap();
+    assert!((d * d.transpose() - r).abs().max() < 1e-12 * r.abs().max());
+    // range 0.5 m along the line of sight; across it rho sigma_angle in elevation and
+    // rho cos(el) sigma_angle in azimuth (~0.12 m at 670 m)
+    let rho = (405.0f64.powi(2) + 505.0f64.powi(2) + 205.0f64.powi(2)).sqrt();
+    let u = cfg.initial_state().fixed_rows::<3>(0).into_owned() / rho;
+    assert!(((u.transpose() * r * u)[0] - 0.25).abs() < 1e-9);
+    let cos_el2 = 1.0 - (205.0 / rho).powi(2);
+    let across = (rho * cfg.sigma_angle).powi(2) * (1.0 + cos_el2);
+    assert!((r.trace() - 0.25 - across).abs() < 1e-9);
+
+    let (pure, mixed) = check_mixed("quiet", &spec, 1.5);
+    assert!(mixed.h2_norm < pure.h2_norm / 5.0);
+    let kalman = observer_h2_norm(
+        &HinfPlant::open_loop(&spec),
+        &kalman_gain(&HinfPlant::open_loop(&spec)),
+    );
+    // the price of the 5 % robustness at factor 1.5 (measured 1.65x); without the
+    // uncertainty channel the design reaches the Kalman bound within a few per cent
+    assert!(
+        mixed.h2_norm < 1.8 * kalman,
+        "{} vs {kalman}",
+        mixed.h2_norm
+    );
+    let (_, nominal) = check_mixed(
+        "quiet, delta_bar 0",
+        &HinfSpec {
+            delta_bar: 0.0,
+            ..spec
+        },
+        1.5,
+    );
+    assert!(
+        nominal.h2_norm < 1.1 * kalman,
+        "{} vs {kalman}",
+        nominal.h2_norm
+    );
+}
+
+/// The navigator builds what its configuration asks for: the mixed design by default, the
+/// gamma-optimal one on request (the same gamma as the standalone design), the scalings
+/// when set; bad H-infinity parameters are refused with their name.
+#[test]
+fn navigator_design_selection_and_parameters() {
+    use relnav::frames::Frame;
+    let cfg = quiet_config(
+        Frame::RadialAlongNormal,
+        [-2000.0, 4500.0, 1000.0, 0.0, 0.0, 0.0],
+    );
+    assert_eq!(cfg.hinf_design, HinfDesignKind::Mixed);
+    let nav = Navigator::new(&cfg).unwrap();
+    let spec = cfg.hinf_spec().unwrap();
+    let pure = design_open_loop(&spec, &DesignOptions::default()).unwrap();
+    let (gamma, h2) = (nav.hinf_gamma().unwrap(), nav.hinf_h2_norm().unwrap());
+    assert!(
+        (gamma - 1.5 * pure.gamma).abs() < 1e-9 * gamma,
+        "{gamma} vs {}",
+        pure.gamma
+    );
+    assert!(h2 < pure.h2_norm);
+    assert_eq!(nav.hinf_certified(), Some(false), "acquisition first");
+    let g = NavConfig {
+        hinf_design: HinfDesignKind::GammaOptimal,
+        hinf_acquisition: false,
+        ..cfg
+    };
+    let nav = Navigator::new(&g).unwrap();
+    assert!((nav.hinf_gamma().unwrap() - pure.gamma).abs() < 1e-12);
+    assert!((nav.hinf_h2_norm().unwrap() - pure.h2_norm).abs() < 1e-12);
+    assert_eq!(nav.hinf_certified(), Some(true));
+    // explicit scalings: paper 002's B, D whatever the noise parameters
+    let explicit = NavConfig {
+        hinf_b_pos: 0.05,
+        hinf_b_vel: 0.001,
+        hinf_d: 0.1,
+        ..g
+    };
+    let s = explicit.hinf_spec().unwrap();
+    assert!(s.b_matrix.is_none() && s.d_matrix.is_none());
+    let bad = |c: NavConfig, what: &str| {
+        let e = Navigator::new(&c)
+            .err()
+            .unwrap_or_else(|| panic!("{what} accepted"));
+        assert!(e.message.contains(what), "{what}: {}", e.message);
+    };
+    bad(
+        NavConfig {
+            hinf_b_pos: 0.05,
+            ..cfg
+        },
+        "hinf_b_vel",
+    );
+    bad(
+        NavConfig {
+            hinf_d: -1.0,
+            ..cfg
+        },
+        "hinf_d",
+    );
+    bad(
+        NavConfig {
+            hinf_gamma_factor: 1.0,
+            ..cfg
+        },
+        "hinf_gamma_factor",
+    );
+    bad(
+        NavConfig {
+            hinf_gamma_factor: f64::NAN,
+            ..cfg
+        },
+        "hinf_gamma_factor",
+    );
+    bad(
+        NavConfig {
+            accel_psd: 0.0,
+            ..cfg
+        },
+        "accel_psd",
+    );
+    bad(
+        NavConfig {
+            x0: [0.0; 6],
+            ..cfg
+        },
+        "zero range",
+    );
+    // derivation problems concern filter 9 only
+    assert!(NavConfig {
+        filter: FilterKind::Ekf,
+        x0: [0.0; 6],
+        ..cfg
+    }
+    .validate()
+    .is_ok());
+}
+
+/// Track initiation: from a large initial error the Kalman gain runs first, the certified
+/// gain takes over once the covariance is below `(1 + m) X_G` and keeps running while
+/// measurements come (the covariance stays in that set); a long dropout grows it out of
+/// the set and the next measurements re-acquire; a reset starts over.
+#[test]
+fn acquisition_hands_over_keeps_and_reacquires() {
+    use relnav::estimators::Estimator;
+    use relnav::sensors::CartesianSensor;
+    let spec = HinfSpec::paper();
+    let m = design_open_loop_mixed(&spec, 1.5, &DesignOptions::default()).unwrap();
+    let plant = HinfPlant::open_loop(&spec);
+    let p0 = Mat6::from_diagonal(&State::from_row_slice(&[
+        2500.0, 2500.0, 2500.0, 0.01, 0.01, 0.01,
+    ]));
+    let x0 = State::from_row_slice(&[630.0, 520.0, 1000.0, 0.0, 0.0, 0.0]);
+    let mut f = HinfEstimator::new(m.mixed.matrices, m.mixed.gamma, x0)
+        .unwrap()
+        .with_acquisition(&plant, p0)
+        .unwrap();
+    let robust = {
+        let hd = plant.ha * plant.ea.norm();
+        let mut r = plant;
+        r.b = psd_sqrt(&(plant.b * plant.b.transpose() + hd * hd.transpose()));
+        r
+    };
+    let bound = observer_error_covariance(&robust, &m.mixed.matrices.b_f).unwrap()
+        * (1.0 + ACQUISITION_MARGIN);
+    let in_set = |p: &Mat6| nalgebra::Cholesky::new(bound - p).is_some();
+    let sensor = CartesianSensor {
+        frame: relnav::frames::Frame::RadialAlongNormal,
+        sigma: 0.1,
+    };
+    let model = relnav::dynamics::CwModel::new(spec.w0).discretize(
+        spec.period,
+        &relnav::types::Mat3::zeros(),
+        relnav::dynamics::Discretization::Exact,
+    );
+    let mut x = State::from_row_slice(&[600.0, 550.0, 1040.0, 0.02, -0.08, 0.03]);
+    let cw = relnav::dynamics::CwModel::new(spec.w0);
+    let mut handover = None;
+    for k in 0..20_000 {
+        let dropout = (10_000..10_600).contains(&k);
+        if !dropout {
+            f.update(&sensor, &x.fixed_rows::<3>(0).into_owned())
+                .unwrap();
+        }
+        f.predict(&model, &Vec3::zeros()).unwrap();
+        x = cw.propagate(&x, &Vec3::zeros(), spec.period);
+        let acq = f.acquisition().unwrap();
+        if handover.is_none() && acq.certified() {
+            handover = Some(k);
+        }
+        if let Some(h) = handover {
+            if k > h && k < 10_000 {
+                assert!(acq.certified(), "step {k}: left the certified gain");
+                assert!(
+                    in_set(acq.covariance()),
+                    "step {k}: covariance left the set"
+                );
+            }
+        }
+        if k == 10_600 {
+            assert!(
+                !in_set(acq.covariance()),
+                "a 60 s dropout should grow P out of the set"
+            );
+        }
+        if k == 10_601 {
+            assert!(
+                !acq.certified(),
+                "the first update after the dropout re-acquires"
+            );
+        }
+    }
+    let h = handover.expect("never handed over");
+    eprintln!("hand-over after {h} steps ({} s)", h as f64 * spec.period);
+    assert!(h > 0 && h < 2000, "hand-over at step {h}");
+    assert!(f.certified(), "certified again after the dropout");
+    // noise-free: the estimate converges to the truth
+    assert!((f.state() - x).norm() < 1e-6, "{}", f.state() - x);
+    f.set_estimate(x0, p0);
+    assert!(!f.certified());
 }

@@ -415,7 +415,7 @@ fn sizes_follow_the_documented_layout() {
         STATE_FORMAT_VERSION, 1,
         "update docs/state-format.md and this table"
     );
-    let conf = 4 + 4 + 41 * 8;
+    let conf = 4 + 4 + 44 * 8;
     // failure flag, last-update flag, innovation, NIS, azimuth flag (zeros when absent)
     let navg = 4 + 1 + 1 + 3 * 8 + 8 + 1;
     let m6 = 36 * 8;
@@ -429,7 +429,10 @@ fn sizes_follow_the_documented_layout() {
             FilterKind::Aqukf => kalman + 24 + 3 * 8 + cfg.window * 24 + 8,
             FilterKind::Pf | FilterKind::Rpf | FilterKind::Gapf => pf_len(n, 0),
             FilterKind::Upf | FilterKind::Cgapf => pf_len(n, n),
-            FilterKind::Hinf => m6 + 144 + m6 + 144 + 8 + m6 + v6 + v6 + 1 + 24 + 8,
+            // + H2 norm, track-initiation flag, its covariance and hand-over flag (on by default)
+            FilterKind::Hinf => {
+                m6 + 144 + m6 + 144 + 8 + m6 + v6 + v6 + 1 + 24 + 8 + 8 + 1 + m6 + 1
+            }
         };
         let mut nav = Navigator::new(&cfg).unwrap();
         println!(

@@ -49,6 +49,16 @@ pub const BUILTIN: &[(&str, &str, &str)] = &[
         include_str!("../../scenarios/paper002_stress_ar1.toml"),
     ),
     (
+        "002",
+        "paper002_quiet_radio",
+        include_str!("../../scenarios/paper002_quiet_radio.toml"),
+    ),
+    (
+        "002",
+        "paper002_quiet_radio_delta",
+        include_str!("../../scenarios/paper002_quiet_radio_delta.toml"),
+    ),
+    (
         "003",
         "paper003",
         include_str!("../../scenarios/paper003.toml"),

@@ -335,17 +335,31 @@ pub struct FilterSpec {
     pub q_vv_ceiling: f64,
     /// H-infinity (`kind = "hinf"`): `paper` (Theorem 1 / Corollary 1 on the closed loop
     /// `u = K x`, Euler as the paper; needs `thrust.kind = "feedback"`), `published` (the
-    /// paper's printed `A_F, B_F, C_F`, T = 0.1 s) or `observer` (open-loop observer form,
-    /// the known thrust as feed-forward). Default `paper`.
+    /// paper's printed `A_F, B_F, C_F`, T = 0.1 s), `observer` (open-loop observer form,
+    /// the known thrust as feed-forward, gamma-optimal) or `mixed` (the same observer form,
+    /// least H2 norm under `gamma <= hinf_gamma_factor * gamma_opt`; filter code 9's
+    /// default). Default `paper`.
     #[serde(default)]
     pub hinf_design: Option<String>,
     /// H-infinity: uncertainty bound `delta_bar` of the design (default 0.05).
     #[serde(default)]
     pub hinf_delta_bar: Option<f64>,
     /// H-infinity: noise scalings `(b_pos, b_vel, d)` of the design (default the paper's
-    /// 0.05, 0.001, 0.1).
+    /// 0.05, 0.001, 0.1). Zeros are derived as filter code 9 derives them: `b_pos = b_vel
+    /// = 0` gives `B = Qd^(1/2)` of this filter's `accel_psd` and `process_noise`, `d = 0`
+    /// gives `D = R^(1/2)` of the sensor noise this filter assumes (radio: the indirect
+    /// position's covariance at its initial estimate).
     #[serde(default)]
     pub hinf_scalings: Option<[f64; 3]>,
+    /// H-infinity, `mixed`: bound on gamma as a multiple of the gamma-optimal observer's
+    /// (default 1.5).
+    #[serde(default)]
+    pub hinf_gamma_factor: Option<f64>,
+    /// H-infinity, `observer` and `mixed`: start with the Kalman gain of the design's noise
+    /// model and hand over to the designed gain ([`crate::hinf::HinfAcquisition`]). Default
+    /// false here (issue 5's rows); filter code 9's default is true.
+    #[serde(default)]
+    pub hinf_acquisition: bool,
 }
 
 fn default_window() -> usize {

@@ -160,17 +160,34 @@ pub struct Prepared {
 }
 
 /// The H-infinity filter of a scenario's `[[filter]]` with `kind = "hinf"` (designed once
-/// per scenario; see [`super::scenario::FilterSpec::hinf_design`]). Returns the filter and
-/// whether the feedback thrust is fed forward.
+/// per scenario; see [`super::scenario::FilterSpec::hinf_design`]). `qd` is the filter's
+/// own process-noise covariance per step and `sensor` its measurement model (for derived
+/// noise inputs, zero `hinf_scalings`). Returns the filter and whether the feedback thrust
+/// is fed forward.
+#[allow(clippy::too_many_arguments)]
 fn prepare_hinf(
     f: &super::scenario::FilterSpec,
     n0: f64,
     dt: f64,
     feedback: Option<&SMatrix<f64, 3, 6>>,
     x0: State,
+    p0: Mat6,
+    qd: &Mat6,
+    sensor: &AnySensor,
 ) -> Result<(crate::hinf::HinfEstimator, bool), String> {
-    use crate::hinf::{HinfEstimator, HinfMatrices, HinfSpec};
+    use crate::hinf::{psd_sqrt, HinfEstimator, HinfMatrices, HinfSpec};
     let sc = f.hinf_scalings.unwrap_or([0.05, 0.001, 0.1]);
+    let d_matrix = if sc[2] == 0.0 {
+        let r = match sensor {
+            AnySensor::Radio(s) => s
+                .position_covariance(&x0.fixed_rows::<3>(0).into_owned())
+                .ok_or("hinf_scalings: d = 0 needs an initial estimate off zero range")?,
+            AnySensor::Cartesian(s) => Mat3::identity() * (s.sigma * s.sigma),
+        };
+        Some(psd_sqrt(&r))
+    } else {
+        None
+    };
     let spec = HinfSpec {
         w0: n0,
         delta_bar: f.hinf_delta_bar.unwrap_or(0.05),
@@ -178,8 +195,15 @@ fn prepare_hinf(
         b_pos: sc[0],
         b_vel: sc[1],
         d: sc[2],
+        b_matrix: (sc[0] == 0.0 && sc[1] == 0.0).then(|| psd_sqrt(qd)),
+        d_matrix,
     };
     let design = f.hinf_design.as_deref().unwrap_or("paper");
+    if f.hinf_acquisition && !matches!(design, "observer" | "mixed") {
+        return Err(format!(
+            "hinf_acquisition needs an observer-form design (observer, mixed), not \"{design}\""
+        ));
+    }
     if design == "published" {
         if (dt - crate::hinf::PAPER_PERIOD).abs() > 1e-12 {
             return Err(format!(
@@ -193,7 +217,9 @@ fn prepare_hinf(
     }
     #[cfg(feature = "hinf")]
     {
-        use crate::hinf::design::{design_observer, design_paper, DesignOptions};
+        use crate::hinf::design::{
+            design_observer, design_open_loop_mixed, design_paper, DesignOptions,
+        };
         use crate::hinf::HinfPlant;
         let opts = DesignOptions::default();
         let (d, ff) = match design {
@@ -212,20 +238,31 @@ fn prepare_hinf(
                     feedback.is_some(),
                 )
             }
+            "mixed" => (
+                design_open_loop_mixed(&spec, f.hinf_gamma_factor.unwrap_or(1.5), &opts)
+                    .map(|m| m.mixed),
+                feedback.is_some(),
+            ),
             other => {
                 return Err(format!(
-                    "unknown hinf_design \"{other}\" (paper, published, observer)"
+                    "unknown hinf_design \"{other}\" (paper, published, observer, mixed)"
                 ))
             }
         };
         let d = d.map_err(|e| format!("H-infinity design: {e}"))?;
-        HinfEstimator::new(d.matrices, d.gamma, x0)
-            .map(|h| (h, ff))
-            .map_err(|e| e.to_string())
+        let mut h = HinfEstimator::new(d.matrices, d.gamma, x0)
+            .map_err(|e| e.to_string())?
+            .with_h2_norm(d.h2_norm);
+        if f.hinf_acquisition {
+            h = h
+                .with_acquisition(&HinfPlant::open_loop(&spec), p0)
+                .map_err(|e| e.to_string())?;
+        }
+        Ok((h, ff))
     }
     #[cfg(not(feature = "hinf"))]
     {
-        let _ = (feedback, spec);
+        let _ = (feedback, spec, p0);
         Err(format!(
             "hinf_design = \"{design}\" needs the `hinf` cargo feature (the LMI solver)"
         ))
@@ -337,9 +374,19 @@ impl Prepared {
             }
             let (p, v) = (f.sigma_pos0.powi(2), f.sigma_vel0.powi(2));
             let x0 = frame.state_to_canonical(&State::from_row_slice(&f.initial_state));
+            let p0 = Mat6::from_diagonal(&State::from_row_slice(&[p, p, p, v, v, v]));
             let (hinf, feedforward_feedback) = if f.kind == "hinf" {
-                let (h, ff) = prepare_hinf(f, n0, dt, feedback.as_ref(), x0)
-                    .map_err(|e| format!("filter \"{}\": {e}", f.label))?;
+                let (h, ff) = prepare_hinf(
+                    f,
+                    n0,
+                    dt,
+                    feedback.as_ref(),
+                    x0,
+                    p0,
+                    &model.q,
+                    &filter_sensor,
+                )
+                .map_err(|e| format!("filter \"{}\": {e}", f.label))?;
                 (Some(h), ff)
             } else {
                 (None, false)

@@ -6,7 +6,7 @@ use crate::dynamics::Discretization;
 use crate::estimators::pf::resample::Resampler;
 use crate::estimators::UkfParams;
 use crate::frames::Frame;
-use crate::nav::{FilterKind, NavConfig, NavError, NavErrorKind, NoiseKind};
+use crate::nav::{FilterKind, HinfDesignKind, NavConfig, NavError, NavErrorKind, NoiseKind};
 
 /// Filter codes for `relnav_config.filter` (same as the FMU's `filter` parameter).
 #[repr(C)]
@@ -92,7 +92,7 @@ pub enum relnav_noise_model {
 #[repr(C)]
 #[derive(Debug, Clone, Copy)]
 pub struct relnav_config {
-    /// A `relnav_filter` code (1 EKF, 2 UKF, 3 AQUKF, 4-8 particle filters; 9 is reserved).
+    /// A `relnav_filter` code (1 EKF, 2 UKF, 3 AQUKF, 4-8 particle filters, 9 H-infinity).
     pub filter: i32,
     /// A `relnav_frame` code: the frame of every vector and angle passed in and out.
     pub frame: i32,
@@ -158,12 +158,29 @@ pub struct relnav_config {
     pub hinf_period: f64,
     /// H-infinity filter: orbit-rate uncertainty bound `delta_bar`, >= 0 (default 0.05).
     pub hinf_delta_bar: f64,
-    /// H-infinity filter: process-noise scaling on positions [m] (default 0.05).
+    /// H-infinity filter: process-noise scaling on positions [m], >= 0 (paper 002: 0.05).
+    /// Default 0 together with `hinf_b_vel = 0`: the design's process noise is derived
+    /// from `accel_psd`, `q_pos`, `q_vel` (what the other filters use); both > 0: `B =
+    /// diag(b_pos I3, b_vel I3)`.
     pub hinf_b_pos: f64,
-    /// H-infinity filter: process-noise scaling on velocities [m/s] (default 0.001).
+    /// H-infinity filter: process-noise scaling on velocities [m/s], >= 0 (paper 002:
+    /// 0.001; default 0 = derived, see `hinf_b_pos`).
     pub hinf_b_vel: f64,
-    /// H-infinity filter: indirect-position measurement-noise scaling [m] (default 0.1).
+    /// H-infinity filter: indirect-position measurement-noise scaling [m], >= 0 (paper
+    /// 002: 0.1). Default 0: derived from `sigma_range`, `sigma_angle` and the noise model
+    /// at the initial estimate's position.
     pub hinf_d: f64,
+    /// H-infinity filter: the design, a `relnav_hinf_form` code: 3 mixed H2/H-infinity
+    /// (default; least H2 norm under `gamma <= hinf_gamma_factor * gamma_opt`) or 1 the
+    /// gamma-optimal observer.
+    pub hinf_design: i32,
+    /// H-infinity filter, mixed design: bound on the certified gamma as a multiple of the
+    /// gamma-optimal design's, finite and > 1 (default 1.5).
+    pub hinf_gamma_factor: f64,
+    /// H-infinity filter: 1 (default) to start with the Kalman gain of the design's noise
+    /// model and hand over to the designed gain when that is no worse (track initiation),
+    /// 0 to run the designed gain from the first step.
+    pub hinf_acquisition: i32,
 }
 
 impl From<&NavConfig> for relnav_config {
@@ -201,6 +218,9 @@ impl From<&NavConfig> for relnav_config {
             hinf_b_pos: c.hinf_b_pos,
             hinf_b_vel: c.hinf_b_vel,
             hinf_d: c.hinf_d,
+            hinf_design: c.hinf_design as i32,
+            hinf_gamma_factor: c.hinf_gamma_factor,
+            hinf_acquisition: i32::from(c.hinf_acquisition),
         }
     }
 }
@@ -288,6 +308,21 @@ impl TryFrom<&relnav_config> for NavConfig {
             hinf_b_pos: c.hinf_b_pos,
             hinf_b_vel: c.hinf_b_vel,
             hinf_d: c.hinf_d,
+            hinf_design: HinfDesignKind::from_code(c.hinf_design).ok_or_else(|| {
+                bad(
+                    "hinf_design",
+                    c.hinf_design,
+                    "1 gamma_optimal (RELNAV_HINF_OBSERVER), 3 mixed (RELNAV_HINF_MIXED); the \
+                     paper form (2) needs the closed loop u = K x and is for \
+                     relnav_hinf_design only",
+                )
+            })?,
+            hinf_gamma_factor: c.hinf_gamma_factor,
+            hinf_acquisition: match c.hinf_acquisition {
+                0 => false,
+                1 => true,
+                other => return Err(bad("hinf_acquisition", other, "0 off, 1 on")),
+            },
         };
         cfg.validate()?;
         Ok(cfg)

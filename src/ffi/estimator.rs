@@ -357,3 +357,48 @@ pub unsafe extern "C" fn relnav_estimator_get_hinf_gamma(
         Ok(())
     })
 }
+
+/// The H2 norm of the H-infinity design of an estimator created with filter 9 (from the
+/// unit white noises of its noise model to the prediction error; computed without the
+/// solver — with the derived noise model its square is the steady-state mean-square error
+/// [m^2 + m^2/s^2]); NaN for every other filter (status `RELNAV_OK`).
+///
+/// # Safety
+/// `estimator` is a live handle or null; `out` is null or writable.
+#[no_mangle]
+pub unsafe extern "C" fn relnav_estimator_get_hinf_h2_norm(
+    estimator: *const relnav_estimator,
+    out: *mut f64,
+) -> relnav_status {
+    const F: &str = "relnav_estimator_get_hinf_h2_norm";
+    boundary(F, || {
+        // SAFETY: pointer contracts are the caller's, checked for null.
+        let nav = unsafe { estimator_ref(estimator, F) }?;
+        // SAFETY: as above.
+        let o = unsafe { out.as_mut() }.ok_or_else(|| null("out", F))?;
+        *o = nav.hinf_h2_norm().unwrap_or(f64::NAN);
+        Ok(())
+    })
+}
+
+/// Whether the H-infinity filter (filter 9) runs its designed, certified gain: 1 after
+/// the hand-over of track initiation (`hinf_acquisition`) or always without it, 0 while it
+/// still acquires with the Kalman gain, -1 for every other filter (status `RELNAV_OK`).
+///
+/// # Safety
+/// `estimator` is a live handle or null; `out` is null or writable.
+#[no_mangle]
+pub unsafe extern "C" fn relnav_estimator_get_hinf_certified(
+    estimator: *const relnav_estimator,
+    out: *mut i32,
+) -> relnav_status {
+    const F: &str = "relnav_estimator_get_hinf_certified";
+    boundary(F, || {
+        // SAFETY: pointer contracts are the caller's, checked for null.
+        let nav = unsafe { estimator_ref(estimator, F) }?;
+        // SAFETY: as above.
+        let o = unsafe { out.as_mut() }.ok_or_else(|| null("out", F))?;
+        *o = nav.hinf_certified().map_or(-1, i32::from);
+        Ok(())
+    })
+}

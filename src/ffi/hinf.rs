@@ -16,6 +16,10 @@ pub enum relnav_hinf_form {
     /// Paper 002's Theorem 1 / Corollary 1 on its closed loop `u = K x` (its `K` and
     /// 1000 kg chaser; Euler `A = I + T (A1 + G0 K)`).
     RELNAV_HINF_PAPER = 2,
+    /// Mixed H2/H-infinity observer for the open-loop CW plant (the default of filter code
+    /// 9): first the gamma-optimal observer, then the least H2 norm under `gamma <=
+    /// gamma_factor * gamma_opt`.
+    RELNAV_HINF_MIXED = 3,
 }
 
 /// Inputs of an H-infinity design (canonical frame = paper 002's, SI units).
@@ -30,12 +34,22 @@ pub struct relnav_hinf_spec {
     pub delta_bar: f64,
     /// Sampling period [s].
     pub period: f64,
-    /// Process-noise scaling on positions [m].
+    /// Process-noise scaling on positions [m] (> 0, or 0 with `b_vel = 0`: `b_matrix`).
     pub b_pos: f64,
-    /// Process-noise scaling on velocities [m/s].
+    /// Process-noise scaling on velocities [m/s] (> 0, or 0 with `b_pos = 0`).
     pub b_vel: f64,
-    /// Measurement-noise scaling [m].
+    /// Measurement-noise scaling [m] (> 0, or 0: `d_matrix`).
     pub d: f64,
+    /// `RELNAV_HINF_MIXED`: the bound on gamma as a multiple of the gamma-optimal
+    /// observer's, finite and > 1 (filter 9's default: 1.5); ignored by the other forms.
+    pub gamma_factor: f64,
+    /// The process-noise input `B` (6x6, row-major, canonical frame) used when `b_pos =
+    /// b_vel = 0`, e.g. the square root of a process covariance (`relnav_config_hinf_spec`
+    /// fills it as filter 9 derives it).
+    pub b_matrix: [f64; 36],
+    /// The measurement-noise input `D` (3x3, row-major, canonical, invertible) used when
+    /// `d = 0`.
+    pub d_matrix: [f64; 9],
 }
 
 /// A designed H-infinity filter: `x_f(k+1) = A_F x_f + B_F y + E_F a`, `z_f = C_F x_f`
@@ -70,6 +84,13 @@ pub struct relnav_hinf_result {
     pub iterations: i32,
     /// Wall time of assembly and solve [s].
     pub solve_time: f64,
+    /// H2 norm of the filter's nominal error system from the unit white noises `(w, v)`
+    /// (computed without the solver; with `B`, `D` square roots of the noise covariances,
+    /// its square is the steady-state mean-square error).
+    pub h2_norm: f64,
+    /// `RELNAV_HINF_MIXED`: the gamma of the gamma-optimal observer the bound is relative
+    /// to (its design's iterations and time are included above); NaN for the other forms.
+    pub gamma_opt: f64,
 }
 
 #[cfg(feature = "hinf")]
@@ -140,24 +161,50 @@ pub unsafe extern "C" fn relnav_hinf_design(
 }
 
 #[cfg(feature = "hinf")]
-fn hinf_design(s: &relnav_hinf_spec, o: &mut relnav_hinf_result) -> Result<(), Failure> {
-    use crate::hinf::design::{design_open_loop, design_paper_spec, DesignOptions};
-    let spec = crate::hinf::HinfSpec {
+/// The Rust spec of a C spec: the scalings, or the full matrices where they are zero.
+fn spec_from_c(s: &relnav_hinf_spec) -> Result<crate::hinf::HinfSpec, Failure> {
+    use crate::types::{Mat3, Mat6};
+    let invalid = |m: String| Failure(relnav_status::RELNAV_ERROR_INVALID_ARGUMENT, m);
+    if (s.b_pos == 0.0) != (s.b_vel == 0.0) {
+        return Err(invalid(format!(
+            "b_pos and b_vel are both > 0 (diagonal B) or both 0 (b_matrix) (got {} and {})",
+            s.b_pos, s.b_vel
+        )));
+    }
+    Ok(crate::hinf::HinfSpec {
         w0: s.mean_motion,
         delta_bar: s.delta_bar,
         period: s.period,
         b_pos: s.b_pos,
         b_vel: s.b_vel,
         d: s.d,
+        b_matrix: (s.b_pos == 0.0).then(|| Mat6::from_fn(|i, j| s.b_matrix[6 * i + j])),
+        d_matrix: (s.d == 0.0).then(|| Mat3::from_fn(|i, j| s.d_matrix[3 * i + j])),
+    })
+}
+
+#[cfg(feature = "hinf")]
+fn hinf_design(s: &relnav_hinf_spec, o: &mut relnav_hinf_result) -> Result<(), Failure> {
+    use crate::hinf::design::{
+        design_open_loop, design_open_loop_mixed, design_paper_spec, DesignOptions,
     };
+    let spec = spec_from_c(s)?;
     let opts = DesignOptions::default();
-    let d = match s.form {
-        1 => design_open_loop(&spec, &opts)?,
-        2 => design_paper_spec(&spec, &opts)?,
+    let (d, gamma_opt, extra) = match s.form {
+        1 => (design_open_loop(&spec, &opts)?, f64::NAN, (0, 0.0)),
+        2 => (design_paper_spec(&spec, &opts)?, f64::NAN, (0, 0.0)),
+        3 => {
+            let m = design_open_loop_mixed(&spec, s.gamma_factor, &opts)?;
+            (
+                m.mixed,
+                m.pure.gamma,
+                (m.pure.iterations, m.pure.solve_time),
+            )
+        }
         other => {
             return Err(Failure(
                 relnav_status::RELNAV_ERROR_INVALID_ARGUMENT,
-                format!("unknown hinf form code {other} (allowed: 1 observer, 2 paper)"),
+                format!("unknown hinf form code {other} (allowed: 1 observer, 2 paper, 3 mixed)"),
             ))
         }
     };
@@ -165,10 +212,75 @@ fn hinf_design(s: &relnav_hinf_spec, o: &mut relnav_hinf_result) -> Result<(), F
         matrices: to_c_matrices(&d.matrices),
         gamma: d.gamma,
         lmi_max_eig: d.lmi_max_eig,
-        iterations: i32::try_from(d.iterations).unwrap_or(i32::MAX),
-        solve_time: d.solve_time,
+        iterations: i32::try_from(d.iterations + extra.0).unwrap_or(i32::MAX),
+        solve_time: d.solve_time + extra.1,
+        h2_norm: d.h2_norm,
+        gamma_opt,
     };
     Ok(())
+}
+
+/// Fill `*out` with the H-infinity design request that filter 9 makes for `config`: the
+/// form from `hinf_design`, its `gamma_factor`, and the noise inputs — the scalings where
+/// `hinf_b_*`/`hinf_d` are set, else the matrices derived from the configuration's own
+/// noise (process covariance square root for `hinf_period`, indirect-position covariance
+/// square root at the initial estimate; see `relnav_config`), in the canonical frame.
+/// `relnav_hinf_design(out, ...)` then returns the filter the estimator runs (before its
+/// track initiation, `hinf_acquisition`). Works whatever `config.filter` is.
+///
+/// # Safety
+/// `config` is null or readable; `out` is null or writable.
+#[no_mangle]
+pub unsafe extern "C" fn relnav_config_hinf_spec(
+    config: *const super::config::relnav_config,
+    out: *mut relnav_hinf_spec,
+) -> relnav_status {
+    const F: &str = "relnav_config_hinf_spec";
+    boundary(F, || {
+        // SAFETY: pointer contracts are the caller's, checked for null.
+        let c = unsafe { config.as_ref() }.ok_or_else(|| null("config", F))?;
+        // SAFETY: as above.
+        let o = unsafe { out.as_mut() }.ok_or_else(|| null("out", F))?;
+        // validate as filter 9, whatever the configured filter
+        let mut c9 = *c;
+        c9.filter = crate::nav::FilterKind::Hinf as i32;
+        let cfg = crate::nav::NavConfig::try_from(&c9)?;
+        let spec = cfg.hinf_spec()?;
+        let mut b_matrix = [0.0; 36];
+        let mut d_matrix = [0.0; 9];
+        let (b, d) = (spec.b(), spec.d());
+        for i in 0..6 {
+            for j in 0..6 {
+                b_matrix[6 * i + j] = b[(i, j)];
+            }
+        }
+        for i in 0..3 {
+            for j in 0..3 {
+                d_matrix[3 * i + j] = d[(i, j)];
+            }
+        }
+        *o = relnav_hinf_spec {
+            form: cfg.hinf_design as i32,
+            mean_motion: spec.w0,
+            delta_bar: spec.delta_bar,
+            period: spec.period,
+            b_pos: if spec.b_matrix.is_some() {
+                0.0
+            } else {
+                spec.b_pos
+            },
+            b_vel: if spec.b_matrix.is_some() {
+                0.0
+            } else {
+                spec.b_vel
+            },
+            d: if spec.d_matrix.is_some() { 0.0 } else { spec.d },
+            gamma_factor: cfg.hinf_gamma_factor,
+            b_matrix,
+            d_matrix,
+        };
+        Ok(())
+    })
 }
 
 #[cfg(not(feature = "hinf"))]

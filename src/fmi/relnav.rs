@@ -40,11 +40,22 @@ impl Drop for RelnavFmu {
 }
 
 /// Parameters whose valid values depend on another parameter, with that partner set to
-/// its most permissive value for [`RelnavFmu::check_alone`]: `hinf_period` must satisfy
-/// `mean_motion * hinf_period <= 0.5`, and the smallest `mean_motion` the library
-/// accepts is 1e-9 rad/s (`nav::MEAN_MOTION_RANGE`, checked by a test), so only periods
-/// that no orbit admits are refused before fmi2ExitInitializationMode.
-const PERMISSIVE_PARTNERS: [(u32, u32, f64); 1] = [(vr::HINF_PERIOD, vr::MEAN_MOTION, 1e-9)];
+/// its most permissive value for [`RelnavFmu::check_alone`]:
+/// * `hinf_period` must satisfy `mean_motion * hinf_period <= 0.5`, and the smallest
+///   `mean_motion` the library accepts is 1e-9 rad/s (`nav::MEAN_MOTION_RANGE`, checked by
+///   a test), so only periods that no orbit admits are refused before
+///   fmi2ExitInitializationMode;
+/// * `hinf_b_pos` and `hinf_b_vel` are set together (both > 0) or derived together (both
+///   0): the partner takes the value's kind (1 for a positive value, else 0).
+fn permissive_partner(vr_: u32, value: f64) -> Option<(u32, f64)> {
+    let same_kind = if value > 0.0 { 1.0 } else { 0.0 };
+    match vr_ {
+        vr::HINF_PERIOD => Some((vr::MEAN_MOTION, 1e-9)),
+        vr::HINF_B_POS => Some((vr::HINF_B_VEL, same_kind)),
+        vr::HINF_B_VEL => Some((vr::HINF_B_POS, same_kind)),
+        _ => None,
+    }
+}
 
 /// The C ABI's last error message if `s` is not `RELNAV_OK`.
 pub(super) fn status_of(s: relnav_status) -> Result<(), String> {
@@ -92,6 +103,9 @@ pub(super) fn config_of(values: &[f64]) -> relnav_config {
     c.hinf_b_pos = v(vr::HINF_B_POS);
     c.hinf_b_vel = v(vr::HINF_B_VEL);
     c.hinf_d = v(vr::HINF_D);
+    c.hinf_design = v(vr::HINF_DESIGN) as i32;
+    c.hinf_gamma_factor = v(vr::HINF_GAMMA_FACTOR);
+    c.hinf_acquisition = i32::from(v(vr::HINF_ACQUISITION) != 0.0);
     c
 }
 
@@ -141,12 +155,22 @@ impl RelnavFmu {
         let mut gamma = f64::NAN;
         // SAFETY: as above; `gamma` is a writable local.
         status_of(unsafe { ffi::relnav_estimator_get_hinf_gamma(self.estimator, &mut gamma) })?;
+        let mut h2 = f64::NAN;
+        // SAFETY: as above; `h2` is a writable local.
+        status_of(unsafe { ffi::relnav_estimator_get_hinf_h2_norm(self.estimator, &mut h2) })?;
+        let mut certified = -1;
+        // SAFETY: as above; `certified` is a writable local.
+        status_of(unsafe {
+            ffi::relnav_estimator_get_hinf_certified(self.estimator, &mut certified)
+        })?;
         write_outputs(values, &x, &s);
         values[vr::ESS as usize] = ess;
         values[vr::Q_VV_X as usize] = q[0];
         values[vr::Q_VV_Y as usize] = q[1];
         values[vr::Q_VV_Z as usize] = q[2];
         values[vr::HINF_GAMMA as usize] = gamma;
+        values[vr::HINF_H2_NORM as usize] = h2;
+        values[vr::HINF_CERTIFIED as usize] = f64::from(u8::from(certified == 1));
         Ok(())
     }
 
@@ -185,7 +209,7 @@ impl Model for RelnavFmu {
     /// that caused it (fmpy raises there; libcosim, which sets initial values during its own
     /// initialisation, aborts either way; Ecos ignores both). The check is
     /// the library's own (`relnav_config_validate`) on the start values with this one value
-    /// changed: every start value is valid and, apart from [`PERMISSIVE_PARTNERS`], no check
+    /// changed: every start value is valid and, apart from [`permissive_partner`], no check
     /// couples a parameter to one whose start value could make a valid value fail, so
     /// nothing valid is refused early. Combinations are checked at
     /// fmi2ExitInitializationMode.
@@ -195,10 +219,8 @@ impl Model for RelnavFmu {
             values[v.vr as usize] = v.start;
         }
         values[def.vr as usize] = value;
-        for (var, partner, loose) in PERMISSIVE_PARTNERS {
-            if var == def.vr {
-                values[partner as usize] = loose;
-            }
+        if let Some((partner, loose)) = permissive_partner(def.vr, value) {
+            values[partner as usize] = loose;
         }
         let cfg = config_of(&values);
         // SAFETY: a valid local configuration.
@@ -221,6 +243,8 @@ impl Model for RelnavFmu {
             write_outputs(values, &x0, &[sp, sp, sp, sv, sv, sv]);
         }
         values[vr::HINF_GAMMA as usize] = f64::NAN;
+        values[vr::HINF_H2_NORM as usize] = f64::NAN;
+        values[vr::HINF_CERTIFIED as usize] = 0.0;
         values[vr::ESS as usize] = if particle_filter_selected(values) {
             particles
         } else {
@@ -254,14 +278,25 @@ impl Model for RelnavFmu {
                 cfg.particles, cfg.resampler, cfg.resample_threshold, cfg.seed
             )
         } else if cfg.filter == 9 {
+            let noise = |v: f64| {
+                if v == 0.0 {
+                    "derived".to_string()
+                } else {
+                    v.to_string()
+                }
+            };
             format!(
-                ", hinf: observer design for hinf_period {} s, delta_bar {}, b_pos {}, b_vel {}, d {}: gamma = {}",
+                ", hinf: {} observer design (gamma_factor {}) for hinf_period {} s, delta_bar {}, b_pos {}, b_vel {}, d {}: gamma = {}, H2 norm = {}, acquisition {}",
+                if cfg.hinf_design == 1 { "gamma-optimal" } else { "mixed H2/H-infinity" },
+                cfg.hinf_gamma_factor,
                 cfg.hinf_period,
                 cfg.hinf_delta_bar,
-                cfg.hinf_b_pos,
-                cfg.hinf_b_vel,
-                cfg.hinf_d,
-                values[vr::HINF_GAMMA as usize]
+                noise(cfg.hinf_b_pos),
+                noise(cfg.hinf_b_vel),
+                noise(cfg.hinf_d),
+                values[vr::HINF_GAMMA as usize],
+                values[vr::HINF_H2_NORM as usize],
+                if cfg.hinf_acquisition != 0 { "on" } else { "off" }
             )
         } else {
             String::new()
@@ -334,14 +369,24 @@ mod tests {
     #[test]
     fn permissive_partner_is_the_library_bound() {
         assert_eq!(
-            PERMISSIVE_PARTNERS,
-            [(
-                vr::HINF_PERIOD,
-                vr::MEAN_MOTION,
-                crate::nav::MEAN_MOTION_RANGE.0
-            )]
+            permissive_partner(vr::HINF_PERIOD, 1.0),
+            Some((vr::MEAN_MOTION, crate::nav::MEAN_MOTION_RANGE.0))
         );
         let lookup = |r: u32| VARIABLES.get(r as usize);
+        for (a, b) in [(vr::HINF_B_POS, 0.05), (vr::HINF_B_VEL, 0.001)] {
+            assert_eq!(
+                lookup(a).map(|d| RelnavFmu::check_alone(d, b).is_ok()),
+                Some(true)
+            );
+            assert_eq!(
+                lookup(a).map(|d| RelnavFmu::check_alone(d, 0.0).is_ok()),
+                Some(true)
+            );
+            assert_eq!(
+                lookup(a).map(|d| RelnavFmu::check_alone(d, -1.0).is_err()),
+                Some(true)
+            );
+        }
         let hinf = lookup(vr::HINF_PERIOD).map(|d| RelnavFmu::check_alone(d, 5e8).is_ok());
         assert_eq!(hinf, Some(true));
         let hinf = lookup(vr::HINF_PERIOD).map(|d| RelnavFmu::check_alone(d, 5.1e8).is_err());

@@ -230,13 +230,32 @@ pub static NOISE_MODEL_TYPE: EnumType = EnumType {
     ],
 };
 
+/// `hinf_design` parameter values (the C ABI's `relnav_hinf_form` codes available to
+/// filter 9).
+pub static HINF_DESIGN_TYPE: EnumType = EnumType {
+    name: "HinfDesign",
+    items: &[
+        (
+            "gamma_optimal",
+            1,
+            "Observer with the least certified gamma (issue 5's design)",
+        ),
+        (
+            "mixed",
+            3,
+            "Mixed H2/H-infinity observer: least H2 norm (steady-state error) with gamma <= hinf_gamma_factor times the optimum",
+        ),
+    ],
+};
+
 /// All code lists, in declaration order.
-pub static ENUM_TYPES: [&EnumType; 5] = [
+pub static ENUM_TYPES: [&EnumType; 6] = [
     &FILTER_TYPE,
     &FRAME_TYPE,
     &DISCRETIZATION_TYPE,
     &RESAMPLER_TYPE,
     &NOISE_MODEL_TYPE,
+    &HINF_DESIGN_TYPE,
 ];
 
 macro_rules! variables {
@@ -361,20 +380,30 @@ variables! {
         "H-infinity filter (code 9): sampling period of its discrete design; fmi2DoStep with another step size is refused (set it to the communication step)";
     HINF_DELTA_BAR = 58: "hinf_delta_bar", Parameter, Fixed, Real(""), 0.05,
         "H-infinity filter: bound of the orbit-rate uncertainty, w = w0 (1 + delta), |delta| <= hinf_delta_bar (paper 002: 0.05)";
-    HINF_B_POS = 59: "hinf_b_pos", Parameter, Fixed, Real("m"), 0.05,
-        "H-infinity filter: process-noise scaling on positions (paper 002 B: 0.05)";
-    HINF_B_VEL = 60: "hinf_b_vel", Parameter, Fixed, Real("m/s"), 0.001,
-        "H-infinity filter: process-noise scaling on velocities (paper 002 B: 0.001)";
-    HINF_D = 61: "hinf_d", Parameter, Fixed, Real("m"), 0.1,
-        "H-infinity filter: scaling of the indirect position measurement noise (paper 002 D: 0.1)";
+    HINF_B_POS = 59: "hinf_b_pos", Parameter, Fixed, Real("m"), 0.0,
+        "H-infinity filter: process-noise scaling on positions (paper 002 B: 0.05); 0 with hinf_b_vel = 0 (default): derived from accel_psd, q_pos_*, q_vel_* (the noise every other filter uses)";
+    HINF_B_VEL = 60: "hinf_b_vel", Parameter, Fixed, Real("m/s"), 0.0,
+        "H-infinity filter: process-noise scaling on velocities (paper 002 B: 0.001); 0 with hinf_b_pos = 0 (default): derived";
+    HINF_D = 61: "hinf_d", Parameter, Fixed, Real("m"), 0.0,
+        "H-infinity filter: scaling of the indirect position measurement noise (paper 002 D: 0.1); 0 (default): derived from sigma_range, sigma_angle and the noise model at the initial estimate's position";
     HINF_GAMMA = 62: "hinf_gamma", Output, Continuous, Real(""), 0.0,
         "H-infinity filter: the design's certified bound gamma on the worst-case gain from the scaled noises to the estimation error; NaN for the other filters";
     FMI_STATUS = 63: "fmi_status", Output, Discrete, Integer, 0.0,
         "Worst fmi2Status this instance has returned since fmi2Instantiate or fmi2Reset: 0 fmi2OK, 3 fmi2Error, 4 fmi2Fatal (the reason is logged under logStatusError). For masters that ignore fmi2Error (Ecos): 3 means a call was refused, and the other outputs no longer advance";
+    HINF_DESIGN = 64: "hinf_design", Parameter, Fixed, Code(&HINF_DESIGN_TYPE), 3.0,
+        "H-infinity filter: the LMI design (mixed H2/H-infinity by default; gamma_optimal is issue 5's filter)";
+    HINF_GAMMA_FACTOR = 65: "hinf_gamma_factor", Parameter, Fixed, Real(""), 1.5,
+        "H-infinity filter, mixed design: bound on the certified gamma (hinf_gamma) as a multiple of the gamma-optimal design's (> 1)";
+    HINF_ACQUISITION = 66: "hinf_acquisition", Parameter, Fixed, Boolean, 1.0,
+        "H-infinity filter: start with the Kalman gain of the design's noise model and hand over to the designed gain once that is no worse (track initiation); false: the designed gain from the first step";
+    HINF_H2_NORM = 67: "hinf_h2_norm", Output, Continuous, Real(""), 0.0,
+        "H-infinity filter: H2 norm of the design (from the unit white noises of its noise model to the error; with the derived noise model, the steady-state RMS error in m, velocity in m/s included); NaN for the other filters";
+    HINF_CERTIFIED = 68: "hinf_certified", Output, Discrete, Boolean, 0.0,
+        "H-infinity filter: true while the designed, certified gain runs (after the hand-over of hinf_acquisition, or always without it); false while acquiring and for the other filters";
 }
 
 /// Number of variables.
-pub const N_VARS: usize = 64;
+pub const N_VARS: usize = 69;
 
 /// The definition for a value reference, if it exists.
 pub fn lookup(vr: u32) -> Option<&'static VarDef> {
@@ -431,9 +460,9 @@ mod tests {
             }
             if let VarType::Code(t) = v.ty {
                 assert!(t.item(v.start).is_some(), "{}", v.name);
-                // contiguous codes: min/max in the XML say exactly which are valid
-                let (lo, hi) = t.range();
-                assert_eq!((hi - lo + 1) as usize, t.items.len(), "{}", t.name);
+                // ascending, distinct codes: min/max in the XML bound them; a gap
+                // (hinf_design has no code 2, the paper form) is refused at fmi2Set*
+                assert!(t.items.windows(2).all(|w| w[0].1 < w[1].1), "{}", t.name);
             }
         }
     }
@@ -475,6 +504,12 @@ mod tests {
         assert_eq!(s(vr::HINF_B_POS), c.hinf_b_pos);
         assert_eq!(s(vr::HINF_B_VEL), c.hinf_b_vel);
         assert_eq!(s(vr::HINF_D), c.hinf_d);
+        assert_eq!(s(vr::HINF_DESIGN), c.hinf_design as i32 as f64);
+        assert_eq!(s(vr::HINF_GAMMA_FACTOR), c.hinf_gamma_factor);
+        assert_eq!(
+            s(vr::HINF_ACQUISITION),
+            f64::from(u8::from(c.hinf_acquisition))
+        );
     }
 
     /// The code lists carry the library's codes and names.
@@ -500,5 +535,10 @@ mod tests {
             .map(|k| (*k as i32, k.name()))
             .collect();
         assert_eq!(names(&NOISE_MODEL_TYPE), noises);
+        let designs: Vec<(i32, &str)> = crate::nav::HinfDesignKind::ALL
+            .iter()
+            .map(|k| (*k as i32, k.name()))
+            .collect();
+        assert_eq!(names(&HINF_DESIGN_TYPE), designs);
     }
 }

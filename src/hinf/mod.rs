@@ -140,8 +140,13 @@ impl HinfError {
     }
 }
 
-/// Design inputs shared by both designs: the orbit, the uncertainty bound, the period and
-/// the noise scalings `B = diag(b_pos I3, b_vel I3)`, `D = d I3`, `L = I6`.
+/// Design inputs shared by every design: the orbit, the uncertainty bound, the period and
+/// the noise inputs — `B = diag(b_pos I3, b_vel I3)` or a full [`HinfSpec::b_matrix`],
+/// `D = d I3` or a full [`HinfSpec::d_matrix`] — and `L = I6`.
+///
+/// With `B`, `D` square roots of the true process and measurement covariances per step
+/// (see [`noise_inputs`]), `w` and `v` are unit white noises and the H2 norm of a design is
+/// its steady-state root-mean-square error.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct HinfSpec {
     /// Nominal mean motion `w0` [rad/s].
@@ -156,6 +161,11 @@ pub struct HinfSpec {
     pub b_vel: f64,
     /// Measurement-noise scaling on the indirect position measurement [m] (paper: 0.1).
     pub d: f64,
+    /// Full process-noise input `B` (6x6, canonical); when set, `b_pos` and `b_vel` are
+    /// not used.
+    pub b_matrix: Option<Mat6>,
+    /// Full measurement-noise input `D` (3x3, canonical); when set, `d` is not used.
+    pub d_matrix: Option<Mat3>,
 }
 
 impl HinfSpec {
@@ -168,7 +178,22 @@ impl HinfSpec {
             b_pos: 0.05,
             b_vel: 0.001,
             d: 0.1,
+            b_matrix: None,
+            d_matrix: None,
         }
+    }
+
+    /// `B`: [`HinfSpec::b_matrix`], else `diag(b_pos I3, b_vel I3)`.
+    pub fn b(&self) -> Mat6 {
+        let (bp, bv) = (self.b_pos, self.b_vel);
+        self.b_matrix.unwrap_or_else(|| {
+            Mat6::from_diagonal(&State::from_row_slice(&[bp, bp, bp, bv, bv, bv]))
+        })
+    }
+
+    /// `D`: [`HinfSpec::d_matrix`], else `d I3`.
+    pub fn d(&self) -> Mat3 {
+        self.d_matrix.unwrap_or_else(|| Mat3::identity() * self.d)
     }
 
     /// Check the domain of every field.
@@ -184,9 +209,27 @@ impl HinfSpec {
         };
         pos("w0 (mean motion)", self.w0)?;
         pos("period", self.period)?;
-        pos("b_pos", self.b_pos)?;
-        pos("b_vel", self.b_vel)?;
-        pos("d", self.d)?;
+        match &self.b_matrix {
+            None => {
+                pos("b_pos", self.b_pos)?;
+                pos("b_vel", self.b_vel)?;
+            }
+            Some(b) if !b.iter().all(|v| v.is_finite()) => {
+                return Err(HinfError::invalid(
+                    "the process-noise input B must be finite".to_string(),
+                ))
+            }
+            Some(_) => {}
+        }
+        match &self.d_matrix {
+            None => pos("d", self.d)?,
+            Some(d) if !(d.iter().all(|v| v.is_finite()) && d.determinant() != 0.0) => {
+                return Err(HinfError::invalid(
+                    "the measurement-noise input D must be finite and invertible".to_string(),
+                ))
+            }
+            Some(_) => {}
+        }
         if !(self.delta_bar.is_finite() && self.delta_bar >= 0.0) {
             return Err(HinfError::invalid(format!(
                 "delta_bar must be finite and >= 0 (got {})",
@@ -201,6 +244,24 @@ impl HinfSpec {
         }
         Ok(())
     }
+}
+
+/// Symmetric square root of a positive semidefinite matrix (eigen-decomposition; rounding
+/// below zero clipped).
+pub fn psd_sqrt<const N: usize>(m: &nalgebra::SMatrix<f64, N, N>) -> nalgebra::SMatrix<f64, N, N> {
+    let sym = nalgebra::DMatrix::from_fn(N, N, |i, j| 0.5 * (m[(i, j)] + m[(j, i)]));
+    let e = sym.symmetric_eigen();
+    let d = e.eigenvalues.map(|v| v.max(0.0).sqrt());
+    let r = &e.eigenvectors * nalgebra::DMatrix::from_diagonal(&d) * e.eigenvectors.transpose();
+    nalgebra::SMatrix::<f64, N, N>::from_fn(|i, j| r[(i, j)])
+}
+
+/// Noise inputs `(B, D)` from covariances: `B = Qd^(1/2)` for the process-noise
+/// covariance `Qd` of one design period and `D = R^(1/2)` for the covariance `R` of the
+/// indirect position measurement (both canonical, symmetric square roots), so that `B w`
+/// and `D v` with unit white `w`, `v` have exactly these covariances.
+pub fn noise_inputs(qd: &Mat6, r: &Mat3) -> (Mat6, Mat3) {
+    (psd_sqrt(qd), psd_sqrt(r))
 }
 
 /// The uncertain discrete plant of paper 002 eq. (9), with the discrete uncertainty
@@ -268,11 +329,7 @@ type SMatrixK = nalgebra::SMatrix<f64, 3, 6>;
 
 impl HinfPlant {
     fn noise(spec: &HinfSpec) -> (Mat6, Mat3) {
-        let (bp, bv) = (spec.b_pos, spec.b_vel);
-        (
-            Mat6::from_diagonal(&State::from_row_slice(&[bp, bp, bp, bv, bv, bv])),
-            Mat3::identity() * spec.d,
-        )
+        (spec.b(), spec.d())
     }
 
     /// The paper's closed loop (sec. 1.1 eq. 6): `A = I + T (A1(w0) + G0 K)` with
@@ -447,6 +504,112 @@ impl HinfFilter {
     }
 }
 
+/// Margin of the switch from acquisition to the certified gain ([`HinfAcquisition`]): the
+/// fixed gain takes over when the covariance is below `(1 + ACQUISITION_MARGIN) X_G`.
+pub const ACQUISITION_MARGIN: f64 = 0.25;
+
+/// Track initiation of an observer-form H-infinity filter (as fixed-gain alpha-beta
+/// trackers are started with expanding-memory gains): a designed gain `G` is a
+/// *steady-state* gain, and from
+/// a large initial error it converges at its own, slow, rate (a gain designed for a quiet
+/// truth has time constants of minutes). So the filter starts with the time-varying
+/// Kalman gain of the design's own noise model and hands over to `G` once that is no
+/// worse:
+///
+/// ```text
+/// acquisition:  K = A P C^T (C P C^T + R)^-1,   P <- (A - K C) P (A - K C)^T + Q + K R K^T
+/// certified:    K = G,                          P <- (A - G C) P (A - G C)^T + Q + G R G^T
+/// no measurement:                               P <- A P A^T + Q
+/// ```
+///
+/// with `Q = B B^T + H H^T`, `R = D D^T` and `P(0)` the initial covariance; the estimate is
+/// `x <- A x + Gamma a + K (y - C x)`. `B`, `D` are the design's noise inputs and `H = |Ea|
+/// Ha` its robustness input (the orbit-rate uncertainty), taken as one more unit white
+/// noise, as the H-infinity criterion weighs it like the others: without it the acquiring
+/// Kalman filter trusts the nominal orbit rate as much as an EKF does (issue 12: 8.2 m
+/// instead of 2.0 m with a 5 % rate error at 5 km). At each measurement the
+/// certified gain is used iff `P <= (1 + m) X_G` (Loewner order; `m` =
+/// [`ACQUISITION_MARGIN`]), `X_G` the steady-state error covariance of `G` under the same
+/// `Q`, `R` ([`verify::observer_error_covariance`]). Since `P -> (A - G C) P (A - G C)^T + Q
+/// + G R G^T` is monotone and maps `(1 + m) X_G` to `(1 + m) X_G - m (Q + G R G^T)`, once
+/// the certified gain runs it keeps running while measurements come (no chattering), and
+/// `P` stays below `(1 + m) X_G`: under the design's noise model, never more than `1 + m`
+/// times the steady-state mean-square error. A dropout grows `P` (prediction only); if it
+/// leaves that set, the next measurements re-acquire with the Kalman gain. The Kalman `P`
+/// tends to the Riccati solution, which is `<= X_G`, so the hand-over always comes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HinfAcquisition {
+    a: Mat6,
+    q: Mat6,
+    r: Mat3,
+    g: Mat63,
+    bound: Mat6,
+    p: Mat6,
+    certified: bool,
+}
+
+impl HinfAcquisition {
+    /// For the observer gain `g` of `plant`, starting at covariance `p0`; `None` when `A -
+    /// G C` is not stable (no steady state to hand over to).
+    pub fn new(plant: &HinfPlant, g: &Mat63, p0: Mat6) -> Option<Self> {
+        // the robustness input d of the observer design, weighted like the unit noises
+        let hd = plant.ha * plant.ea.norm();
+        let q = plant.b * plant.b.transpose() + hd * hd.transpose();
+        let mut robust = *plant;
+        robust.b = psd_sqrt(&q);
+        let x_g = verify::observer_error_covariance(&robust, g)?;
+        Some(Self {
+            a: plant.a,
+            q,
+            r: plant.d * plant.d.transpose(),
+            g: *g,
+            bound: x_g * (1.0 + ACQUISITION_MARGIN),
+            p: p0,
+            certified: false,
+        })
+    }
+
+    /// The gain for this step's measurement (zero without one) and the covariance update.
+    fn gain(&mut self, measured: bool) -> Mat63 {
+        if !measured {
+            self.p = self.a * self.p * self.a.transpose() + self.q;
+            return Mat63::zeros();
+        }
+        let slack = self.bound - self.p;
+        self.certified = nalgebra::Cholesky::new((slack + slack.transpose()) * 0.5).is_some();
+        let c = c_pos();
+        let k = if self.certified {
+            self.g
+        } else {
+            let pc = self.p * c.transpose();
+            match (c * pc + self.r).try_inverse() {
+                Some(s_inv) => self.a * pc * s_inv,
+                None => self.g,
+            }
+        };
+        let ae = self.a - k * c;
+        let p = ae * self.p * ae.transpose() + self.q + k * self.r * k.transpose();
+        self.p = (p + p.transpose()) * 0.5;
+        k
+    }
+
+    /// Whether the certified gain made the last measurement update.
+    pub fn certified(&self) -> bool {
+        self.certified
+    }
+
+    /// The covariance of the prediction under the design's noise model.
+    pub fn covariance(&self) -> &Mat6 {
+        &self.p
+    }
+
+    /// Restart at covariance `p0`.
+    pub fn reset(&mut self, p0: Mat6) {
+        self.p = p0;
+        self.certified = false;
+    }
+}
+
 /// The runtime filter behind the [`crate::estimators::Estimator`] trait, as the navigator
 /// (filter code 9) runs it: [`Estimator::update`](crate::estimators::Estimator::update)
 /// turns the radio measurement into the indirect Cartesian position of paper 002 (sec. 1.2
@@ -454,12 +617,15 @@ impl HinfFilter {
 /// the canonical frame) and holds it; the following
 /// [`Estimator::predict`](crate::estimators::Estimator::predict) makes the one filter step
 /// `x_f <- A_F x_f + B_F y + E_F a` with it (or with the prediction when no measurement
-/// came). There is no Gaussian covariance: [`HinfEstimator::covariance`] is NaN.
+/// came), or, with an [`HinfAcquisition`] (observer form only), the acquisition step.
+/// There is no Gaussian covariance: [`HinfEstimator::covariance`] is NaN.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct HinfEstimator {
     filter: HinfFilter,
     pending: Option<Vec3>,
     gamma: f64,
+    h2_norm: f64,
+    acquisition: Option<HinfAcquisition>,
     nan: Mat6,
 }
 
@@ -470,12 +636,51 @@ impl HinfEstimator {
             filter: HinfFilter::new(m, x0)?,
             pending: None,
             gamma,
+            h2_norm: f64::NAN,
+            acquisition: None,
             nan: Mat6::from_element(f64::NAN),
         })
+    }
+    /// Record the design's H2 norm (reported by [`HinfEstimator::h2_norm`]).
+    pub fn with_h2_norm(mut self, h2_norm: f64) -> Self {
+        self.h2_norm = h2_norm;
+        self
+    }
+    /// Start with track initiation ([`HinfAcquisition`]) from covariance `p0`. The
+    /// matrices must be an observer design for `plant` (`C_F = I`, `A_F = A - B_F C`,
+    /// `E_F = Gamma`).
+    pub fn with_acquisition(mut self, plant: &HinfPlant, p0: Mat6) -> Result<Self, HinfError> {
+        let m = self.filter.matrices();
+        let tol = 1e-9 * (1.0 + plant.a.abs().max());
+        if (m.c_f - Mat6::identity()).abs().max() > 0.0
+            || (m.a_f + m.b_f * plant.c - plant.a).abs().max() > tol
+            || (m.e_f - plant.g).abs().max() > tol
+        {
+            return Err(HinfError::invalid(
+                "track initiation needs an observer-form filter of the same plant".to_string(),
+            ));
+        }
+        self.acquisition = Some(HinfAcquisition::new(plant, &m.b_f, p0).ok_or_else(|| {
+            HinfError::invalid("the observer gain is not stabilising".to_string())
+        })?);
+        Ok(self)
     }
     /// The design's `gamma`.
     pub fn gamma(&self) -> f64 {
         self.gamma
+    }
+    /// The design's H2 norm (NaN when not recorded).
+    pub fn h2_norm(&self) -> f64 {
+        self.h2_norm
+    }
+    /// Track initiation, if any.
+    pub fn acquisition(&self) -> Option<&HinfAcquisition> {
+        self.acquisition.as_ref()
+    }
+    /// Whether the designed (certified) gain runs: always without track initiation, after
+    /// the hand-over with it.
+    pub fn certified(&self) -> bool {
+        self.acquisition.as_ref().map_or(true, |a| a.certified())
     }
     /// The period the matrices hold for [s].
     pub fn period(&self) -> f64 {
@@ -493,11 +698,26 @@ impl crate::estimators::Estimator for HinfEstimator {
         _model: &crate::dynamics::DiscreteModel,
         accel: &Vec3,
     ) -> Result<(), crate::estimators::FilterError> {
-        let saved = self.filter;
-        self.filter.step(self.pending.as_ref(), accel);
+        let (saved, saved_acq) = (self.filter, self.acquisition);
+        match &mut self.acquisition {
+            None => self.filter.step(self.pending.as_ref(), accel),
+            Some(acq) => {
+                // observer form: the estimate is the state, A = A_F + B_F C, Gamma = E_F
+                let x = *self.filter.state();
+                let k = acq.gain(self.pending.is_some());
+                let m = self.filter.matrices();
+                let a = m.a_f + m.b_f * c_pos();
+                let mut next = a * x + m.e_f * accel;
+                if let Some(y) = &self.pending {
+                    next += k * (y - x.fixed_rows::<3>(0));
+                }
+                self.filter.set_estimate(next);
+            }
+        }
         self.pending = None;
         if !self.filter.state().iter().all(|v| v.is_finite()) {
             self.filter = saved;
+            self.acquisition = saved_acq;
             return Err(crate::estimators::FilterError::NonFinite(
                 "H-infinity estimate",
             ));
@@ -532,9 +752,12 @@ impl crate::estimators::Estimator for HinfEstimator {
     fn covariance(&self) -> &Mat6 {
         &self.nan
     }
-    fn set_estimate(&mut self, x: State, _p: Mat6) {
+    fn set_estimate(&mut self, x: State, p: Mat6) {
         self.filter.set_estimate(x);
         self.pending = None;
+        if let Some(acq) = &mut self.acquisition {
+            acq.reset(p);
+        }
     }
 }
 
@@ -599,18 +822,29 @@ impl Persist for HinfFilter {
 }
 
 /// Saved state: the runtime filter's, the held indirect position of a measurement not
-/// yet used by a step (flag, then 3), and the design's `gamma` (8).
+/// yet used by a step (flag, then 3), the design's `gamma` and H2 norm (8 each), and the
+/// track initiation (flag; when present its covariance (36) and hand-over flag).
 impl Persist for HinfEstimator {
     fn save_state(&self, w: &mut Writer<'_>) {
         let Self {
             filter,
             pending,
             gamma,
+            h2_norm,
+            acquisition,
             nan: _,
         } = self;
         filter.save_state(w);
         w.opt_matrix(pending.as_ref());
         w.f64(*gamma);
+        w.f64(*h2_norm);
+        // track initiation: its model (a, q, r, g, bound) follows from the design; the
+        // covariance and the hand-over flag are state
+        w.bool(acquisition.is_some());
+        if let Some(a) = acquisition {
+            w.matrix(&a.p);
+            w.bool(a.certified);
+        }
     }
 
     fn load_state(&mut self, r: &mut Reader<'_>) -> Result<(), StateError> {
@@ -618,11 +852,28 @@ impl Persist for HinfEstimator {
             filter,
             pending,
             gamma,
+            h2_norm,
+            acquisition,
             nan: _,
         } = self;
         filter.load_state(r)?;
         *pending = r.opt_matrix("H-infinity held measurement")?;
         *gamma = r.f64("H-infinity gamma")?;
+        *h2_norm = r.f64("H-infinity H2 norm")?;
+        let acquiring = r.bool("H-infinity track initiation flag")?;
+        match acquisition {
+            Some(a) if acquiring => {
+                a.p = r.finite_matrix("H-infinity track-initiation covariance")?;
+                a.certified = r.bool("H-infinity hand-over flag")?;
+            }
+            None if !acquiring => {}
+            _ => {
+                return Err(refuse(
+                    "H-infinity track initiation (hinf_acquisition) differs between the state \
+                     and this estimator",
+                ))
+            }
+        }
         Ok(())
     }
 }

@@ -20,6 +20,12 @@
 //! (`e(k+1) = (A(delta) - G C) e + ... + (A(delta) - A) x`) is what matters, and
 //! [`observer_error_norm`] reports the norm from `(w, v)` to `e` at `delta = 0` plus the
 //! spectral radius of `A(delta) - G C` over the grid.
+//!
+//! **H2 norm** (the mixed design, see [`crate::hinf::design`]): for a stable `(A, B, C)`,
+//! `|T|_2^2 = trace(C X C^T)` with the controllability Gramian `X = A X A^T + B B^T` — the
+//! steady-state covariance of the output when the inputs are unit white noise. [`dlyap`]
+//! solves the Stein equation directly (Kronecker form, `(I - A (x) A) vec X = vec(B B^T)`,
+//! one LU of an `n^2 x n^2` matrix), without iterating and without the solver's variables.
 
 use super::{HinfMatrices, HinfPlant};
 use crate::types::{Mat6, Mat63};
@@ -128,6 +134,132 @@ pub fn lmi_observer(plant: &HinfPlant, p: &DMatrix<f64>, g: &Mat63, gamma2: f64)
     put(&mut m, o[4], o[4], &(-i(6) * gamma2), true);
     put(&mut m, o[5], o[5], &(-i(6)), true);
     m
+}
+
+/// The three LMIs of the mixed H2/H-infinity observer design (see [`crate::hinf::design`]
+/// module docs) assembled at the recovered slack `X`, gain `G` (`Y = X G`), certificates
+/// `P_inf`, `P_2`, the H2 bound `Z` and the fixed `gamma^2`: `(H-infinity, H2 Lyapunov, H2
+/// input)`; each must be negative definite.
+pub fn lmi_mixed(
+    plant: &HinfPlant,
+    x: &DMatrix<f64>,
+    g: &Mat63,
+    p_inf: &DMatrix<f64>,
+    p2: &DMatrix<f64>,
+    z: &DMatrix<f64>,
+    gamma2: f64,
+) -> [DMatrix<f64>; 3] {
+    let ae = dm(&(plant.a - g * plant.c));
+    let gd = dm(&(g * plant.d));
+    let hae = dm(&(plant.ha * plant.ea.norm()));
+    let (b, l) = (dm(&plant.b), dm(&plant.l));
+    let i = |k: usize| DMatrix::<f64>::identity(k, k);
+    let xs = x + x.transpose();
+    // H-infinity, extended form: blocks n, n, p, q, h, l
+    let o = [0, 6, 12, 18, 21, 27];
+    let mut hinf = DMatrix::zeros(33, 33);
+    put(&mut hinf, o[0], o[0], &(p_inf - &xs), true);
+    put(&mut hinf, o[0], o[1], &(x * &ae), true);
+    put(&mut hinf, o[0], o[2], &(x * &b), true);
+    put(&mut hinf, o[0], o[3], &(-(x * &gd)), true);
+    put(&mut hinf, o[0], o[4], &(x * &hae), true);
+    put(&mut hinf, o[1], o[1], &(-p_inf), true);
+    put(&mut hinf, o[1], o[5], &l.transpose(), true);
+    put(&mut hinf, o[2], o[2], &(-i(6) * gamma2), true);
+    put(&mut hinf, o[3], o[3], &(-i(3) * gamma2), true);
+    put(&mut hinf, o[4], o[4], &(-i(6) * gamma2), true);
+    put(&mut hinf, o[5], o[5], &(-i(6)), true);
+    // H2 Lyapunov: blocks n, n, l
+    let mut lyap = DMatrix::zeros(18, 18);
+    put(&mut lyap, 0, 0, &(p2 - &xs), true);
+    put(&mut lyap, 0, 6, &(x * &ae), true);
+    put(&mut lyap, 6, 6, &(-p2), true);
+    put(&mut lyap, 6, 12, &l.transpose(), true);
+    put(&mut lyap, 12, 12, &(-i(6)), true);
+    // H2 input: blocks n, p + q
+    let mut input = DMatrix::zeros(15, 15);
+    put(&mut input, 0, 0, &(p2 - &xs), true);
+    put(&mut input, 0, 6, &(x * &b), true);
+    put(&mut input, 0, 12, &(-(x * &gd)), true);
+    put(&mut input, 6, 6, &(-z), true);
+    [hinf, lyap, input]
+}
+
+/// Solution `X` of the discrete Lyapunov (Stein) equation `X = A X A^T + Q` for a stable
+/// `A` (n x n), from the Kronecker form `(I - A (x) A) vec X = vec Q`; `None` when that
+/// system is singular (`A` has a pair of eigenvalues with `l_i l_j = 1`). The result is
+/// symmetrised.
+pub fn dlyap(a: &DMatrix<f64>, q: &DMatrix<f64>) -> Option<DMatrix<f64>> {
+    let n = a.nrows();
+    let mut m = DMatrix::<f64>::identity(n * n, n * n);
+    // vec (A X A^T) = (A (x) A) vec X, column-major vec
+    m -= a.kronecker(a);
+    let rhs = DMatrix::from_column_slice(n * n, 1, q.as_slice());
+    let v = m.lu().solve(&rhs)?;
+    let x = DMatrix::from_column_slice(n, n, v.as_slice());
+    Some((&x + x.transpose()) * 0.5)
+}
+
+/// H2 norm of the discrete system `(A, B, C)` (no feedthrough): `sqrt(trace(C X C^T))`,
+/// `X` = [`dlyap`]`(A, B B^T)`. Infinite when `A` is not stable.
+pub fn h2_norm(a: &DMatrix<f64>, b: &DMatrix<f64>, c: &DMatrix<f64>) -> f64 {
+    if !(spectral_radius(a) < 1.0) {
+        return f64::INFINITY;
+    }
+    match dlyap(a, &(b * b.transpose())) {
+        Some(x) => (c * x * c.transpose()).trace().max(0.0).sqrt(),
+        None => f64::INFINITY,
+    }
+}
+
+/// The observer's nominal error system `e(k+1) = (A - G C) e + [B, -G D] (w, v)`,
+/// `z_e = L e` as `(A, B, C)`.
+pub fn observer_error_system(
+    plant: &HinfPlant,
+    g: &Mat63,
+) -> (DMatrix<f64>, DMatrix<f64>, DMatrix<f64>) {
+    let mut b = DMatrix::zeros(6, 9);
+    put(&mut b, 0, 0, &dm(&plant.b), false);
+    put(&mut b, 0, 6, &dm(&(-(g * plant.d))), false);
+    (dm(&(plant.a - g * plant.c)), b, dm(&plant.l))
+}
+
+/// H2 norm of the observer's nominal error system from the unit white noises `(w, v)` to
+/// `z_e = L e`: with `B`, `D` the square roots of the process and measurement covariances
+/// and `L = I`, its square is the steady-state mean-square error of the one-step
+/// prediction (position [m^2] plus velocity [m^2/s^2]).
+pub fn observer_h2_norm(plant: &HinfPlant, g: &Mat63) -> f64 {
+    let (a, b, c) = observer_error_system(plant, g);
+    h2_norm(&a, &b, &c)
+}
+
+/// Steady-state error covariance `X = (A - G C) X (A - G C)^T + B B^T + G D D^T G^T` of
+/// the observer (the H2 Gramian; `None` if `A - G C` is not stable).
+pub fn observer_error_covariance(plant: &HinfPlant, g: &Mat63) -> Option<crate::types::Mat6> {
+    let (a, b, _) = observer_error_system(plant, g);
+    if !(spectral_radius(&a) < 1.0) {
+        return None;
+    }
+    let x = dlyap(&a, &(&b * b.transpose()))?;
+    Some(crate::types::Mat6::from_fn(|i, j| x[(i, j)]))
+}
+
+/// H-infinity norm (frequency sweep) of the channel the observer design certifies: from
+/// `(w, v, d)` to `z_e` at the nominal plant, with the robustness input `|Ea| Ha`
+/// ([`crate::hinf::design`] module docs). The design's `gamma` must bound it.
+pub fn observer_certified_norm(plant: &HinfPlant, g: &Mat63) -> f64 {
+    let (a, b, c) = observer_error_system(plant, g);
+    let mut bf = DMatrix::zeros(6, 15);
+    put(&mut bf, 0, 0, &b, false);
+    put(&mut bf, 0, 9, &dm(&(plant.ha * plant.ea.norm())), false);
+    hinf_norm(&a, &bf, &c)
+}
+
+/// H2 norm of the paper's filter-error system (eq. 14) at the nominal transition
+/// `plant.a`, from the unit white noises `(w, v)` to `e = L x - C_F x_f`.
+pub fn filter_h2_norm(plant: &HinfPlant, f: &HinfMatrices) -> f64 {
+    let (a, b, c) = error_system(plant, f, &plant.a);
+    h2_norm(&a, &b, &c)
 }
 
 /// Spectral radius of a real square matrix.

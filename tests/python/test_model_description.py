@@ -57,6 +57,12 @@ EXPECTED = {
     "hinf_d": ("parameter", "fixed", "Real", "m"),
     "hinf_gamma": ("output", "continuous", "Real", None),
     "fmi_status": ("output", "discrete", "Integer", None),
+    # issue 12 (mixed H2/H-infinity design)
+    "hinf_design": ("parameter", "fixed", "Integer", None),
+    "hinf_gamma_factor": ("parameter", "fixed", "Real", None),
+    "hinf_acquisition": ("parameter", "fixed", "Boolean", None),
+    "hinf_h2_norm": ("output", "continuous", "Real", None),
+    "hinf_certified": ("output", "discrete", "Boolean", None),
 }
 
 DEFAULTS = {
@@ -94,6 +100,13 @@ DEFAULTS = {
     "noise_scale": 10.0,
     "noise_dof": 4.0,
     "window": 10,
+    # H-infinity: noise model derived (0), mixed design, track initiation
+    "hinf_b_pos": 0.0,
+    "hinf_b_vel": 0.0,
+    "hinf_d": 0.0,
+    "hinf_design": 3,
+    "hinf_gamma_factor": 1.5,
+    "hinf_acquisition": True,
 }
 
 FMI2_CS_FUNCTIONS = [
@@ -212,6 +225,7 @@ def test_codes(md, xml_root):
     assert items("discretization") == {1: "exact", 2: "euler"}
     assert items("resampler") == {1: "multinomial", 2: "systematic", 3: "stratified", 4: "residual"}
     assert items("noise_model") == {1: "gaussian", 2: "mixture", 3: "student_t"}
+    assert items("hinf_design") == {1: "gamma_optimal", 3: "mixed"}
     elements = {sv.get("name"): sv.find("Integer") for sv in xml_root.find("ModelVariables")}
     for var, table in codes.items():
         e = elements[var]
@@ -275,7 +289,7 @@ def test_outputs_have_no_direct_feedthrough_in_model_structure(xml_root, md):
         assert variables[idx - 1].get("causality") == "output"
         assert u.get("dependencies") == "", f"output {variables[idx - 1].get('name')}: dependencies={u.get('dependencies')!r}"
     assert listed == output_indices
-    assert len(md.outputs) == 18
+    assert len(md.outputs) == 18 + 2  # issue 12: hinf_h2_norm, hinf_certified
 
 
 def test_binary_exports_fmi2_cosimulation_api(unzipdir):

@@ -22,7 +22,7 @@ STEPS = 40
 SAVE_AT = 15
 CODES = list(range(1, 10))
 # documented sizes with the default parameters (1500 particles, window 10)
-FMU_STATE_BYTES = {1: 1371, 2: 1371, 3: 1667, 4: 117327, 5: 117327, 6: 621327, 7: 117327, 8: 621327, 9: 2324}
+FMU_STATE_BYTES = {1: 1443, 2: 1443, 3: 1739, 4: 117399, 5: 117399, 6: 621399, 7: 117399, 8: 621399, 9: 2694}
 FMU_HEADER = 70
 EST_HEADER = 32
 
@@ -94,7 +94,7 @@ def parse_estimator_state(e: bytes) -> dict:
     assert crc == zlib.crc32(e[:28] + e[EST_HEADER:])
     assert e[32:36] == b"CONF"
     (count,) = struct.unpack_from("<I", e, 36)
-    assert count == 41
+    assert count == 44
     conf = e[36 : 40 + 8 * count]
     assert fingerprint == zlib.crc32(conf)
     settings = e[40 : 40 + 8 * count]
