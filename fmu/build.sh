@@ -19,6 +19,9 @@ if ! command -v cargo >/dev/null 2>&1 && [ -x "$HOME/.cargo/bin/cargo" ]; then
     PATH="$HOME/.cargo/bin:$PATH"
 fi
 
-cargo build --release --lib "$@"
+# the library and the packer in one invocation: built with `--lib` alone, the library is
+# compiled with other LTO settings than when a binary of the package links it, and the
+# packer's build (or `cargo build --release` before this script) would compile it again
+cargo build --release --lib --bin relnav-fmu "$@"
 cargo build --release -p relnav_plant -p relnav_guidance "$@"
 cargo run --release "$@" --bin relnav-fmu -- --all

@@ -2,7 +2,8 @@
 # relnav's single test command (CI runs it through .ci/run):
 #
 #   setup (scripts/setup.sh) -> cargo fmt --check -> cargo clippy -D warnings -> cargo test
-#   -> cargo build --release -> FMU (cargo run --release --bin relnav-fmu)
+#   -> cargo build --release -> FMUs and SSP (fmu/build.sh: relnav.fmu, the system kit's
+#   relnav_plant.fmu, relnav_guidance.fmu, relnav_system.ssp)
 #   -> pytest tests/python (in .venv) -> C++ harness (cmake, build, ctest)
 #
 # Every stage is run and reported; a stage that later ones need (setup, release build,
@@ -84,11 +85,11 @@ run_cpp_harness() {
 
 stage "setup" required bash scripts/setup.sh
 stage "cargo fmt --check" optional cargo fmt --all -- --check
-stage "cargo clippy" optional cargo clippy --all-targets -j"$JOBS" -- -D warnings
+stage "cargo clippy" optional cargo clippy --workspace --all-targets -j"$JOBS" -- -D warnings
 stage "cargo test" optional cargo test --all-targets -j"$JOBS"
 stage "cargo test --doc" optional cargo test --doc -j"$JOBS"
 stage "cargo build --release" required cargo build --release -j"$JOBS"
-stage "build FMU" required cargo run --release -j"$JOBS" --bin relnav-fmu
+stage "build FMUs" required bash fmu/build.sh -j"$JOBS"
 stage "pytest tests/python" optional run_pytest
 stage "C++ harness" optional run_cpp_harness
 

@@ -197,9 +197,11 @@ def _empty(n: int) -> dict:
 
 
 # ------------------------------------------------------------------------------- fmpy
-def run_fmpy(ssp: Path, variant: str = "paper000", steps: int | None = None) -> Run:
+def run_fmpy(ssp: Path, variant: str = "paper000", steps: int | None = None, overrides: dict | None = None) -> Run:
     """The system run by this module's master over fmpy's ``FMU2Slave`` (Jacobi, as the
-    engines: see the module documentation)."""
+    engines: see the module documentation). ``overrides`` maps ``(component, variable)``
+    to a value set after the SSD's parameter set (e.g. ``{("relnav", "filter"): 1}`` to
+    run the same loop with the EKF)."""
     from fmpy import extract, read_model_description
     from fmpy.fmi2 import FMU2Slave
 
@@ -249,6 +251,8 @@ def run_fmpy(ssp: Path, variant: str = "paper000", steps: int | None = None) -> 
         for c in sysm.components.values():
             for name, (_, value) in c.params.items():
                 setv(c.name, name, value)
+        for (comp, name), value in (overrides or {}).items():
+            setv(comp, name, value)
         for s in slaves.values():
             s.enterInitializationMode()
 
@@ -551,7 +555,23 @@ def main(argv=None) -> int:
     ap.add_argument("--master", choices=[*MASTERS, "all"], default="all")
     ap.add_argument("--steps", type=int, default=None, help="communication steps (default: the SSD's stop time)")
     ap.add_argument("--plot-dir", type=Path, default=REPO_ROOT / "results", help="where relnav_system_<variant>.png goes")
+    ap.add_argument(
+        "--set",
+        action="append",
+        default=[],
+        metavar="COMPONENT.VARIABLE=VALUE",
+        help="fmpy only: override a parameter after the SSD's set (e.g. relnav.filter=1); no plot is written",
+    )
     args = ap.parse_args(argv)
+    overrides = {}
+    for item in args.set:
+        key, _, value = item.partition("=")
+        comp, _, name = key.partition(".")
+        if not (comp and name and value):
+            ap.error(f"--set {item!r}: expected COMPONENT.VARIABLE=VALUE")
+        overrides[(comp, name)] = float(value)
+    if overrides and args.master != "fmpy":
+        ap.error("--set needs --master fmpy (libcosim and Ecos run the SSD as it is)")
     if not args.ssp.is_file():
         print(f"error: {args.ssp} not found; build it with fmu/build.sh", file=sys.stderr)
         return 2
@@ -559,7 +579,10 @@ def main(argv=None) -> int:
     masters = list(MASTERS) if args.master == "all" else [args.master]
     status = 0
     for variant in variants:
-        runs = [MASTERS[m](args.ssp, variant, args.steps) for m in masters]
+        if overrides:
+            runs = [run_fmpy(args.ssp, variant, args.steps, overrides)]
+        else:
+            runs = [MASTERS[m](args.ssp, variant, args.steps) for m in masters]
         sysm = runs[0].system
         print(f"\n### relnav_system.ssp, variant {variant} ({sysm.ssd}, parameter set \"{sysm.set_name}\"): "
               f"{len(runs[0].times) - 1} steps of {sysm.step} s")
@@ -578,6 +601,9 @@ def main(argv=None) -> int:
             else:
                 status = 1
                 print(f"\n{r.master} differs from {runs[0].master}: {d}")
+        if overrides:
+            print(f"\n(fmpy with overrides {overrides}: no plot)")
+            continue
         ref = next((r for r in runs if r.master != "libcosim"), runs[0])
         out = plot(ref, args.plot_dir / f"relnav_system_{variant}.png")
         print(f"\nplot: {out}")
