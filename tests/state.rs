@@ -347,13 +347,15 @@ fn bad_states_are_refused_and_change_nothing() {
 /// Malformed fields under a valid checksum (a crafted state): refused, no panic.
 #[test]
 fn malformed_fields_are_refused() {
+    // the configuration record: tag, length, 44 settings (as in sizes_follow_the_documented_layout)
+    const CONF: usize = 4 + 4 + 44 * 8;
     // AQUKF: the window position past the window
     let cfg = config(FilterKind::Aqukf);
     let mut nav = Navigator::new(&cfg).unwrap();
     let mut b = Vec::new();
     nav.save_state(&mut b);
-    // payload: CONF (4 + 4 + 41*8), NAVG (4 + 1 + 1 + 33), tag (4), UKF (48 + 288), q (24)
-    let head = EST_HEADER + 336 + 39 + 4 + 336 + 24;
+    // payload: CONF (4 + 4 + 44*8), NAVG (4 + 1 + 1 + 33), tag (4), UKF (48 + 288), q (24)
+    let head = EST_HEADER + CONF + 39 + 4 + 336 + 24;
     assert_eq!(&b[head - 24 - 336 - 4..head - 24 - 336], b"AQUK");
     b[head..head + 8].copy_from_slice(&10u64.to_le_bytes());
     reseal(&mut b, EST_HEADER);
@@ -368,7 +370,7 @@ fn malformed_fields_are_refused() {
     nav.save_state(&mut b);
     let n = 10;
     // PART: n, m, x0, P0, x (n*48), logw, w, loglik (n*8 each), perm (n*4)
-    let perm = EST_HEADER + 336 + 39 + 4 + 16 + 48 + 288 + n * 48 + 3 * n * 8;
+    let perm = EST_HEADER + CONF + 39 + 4 + 16 + 48 + 288 + n * 48 + 3 * n * 8;
     assert_eq!(
         u32::from_le_bytes(b[perm + 4..perm + 8].try_into().unwrap()),
         1
@@ -384,7 +386,7 @@ fn malformed_fields_are_refused() {
     // a non-finite particle
     let mut b = Vec::new();
     nav.save_state(&mut b);
-    let x = EST_HEADER + 336 + 39 + 4 + 16 + 48 + 288;
+    let x = EST_HEADER + CONF + 39 + 4 + 16 + 48 + 288;
     b[x..x + 8].copy_from_slice(&f64::NAN.to_le_bytes());
     reseal(&mut b, EST_HEADER);
     refusal(&mut nav, &b, "particle must be finite", "NaN particle");
@@ -400,7 +402,7 @@ fn malformed_fields_are_refused() {
     // a bool that is neither 0 nor 1 (the navigator's failure flag)
     let mut b = Vec::new();
     nav.save_state(&mut b);
-    let failed = EST_HEADER + 336 + 4;
+    let failed = EST_HEADER + CONF + 4;
     assert_eq!(&b[failed - 4..failed], b"NAVG");
     b[failed] = 7;
     reseal(&mut b, EST_HEADER);

@@ -411,7 +411,8 @@ pub fn lookup(vr: u32) -> Option<&'static VarDef> {
 }
 
 /// Check a variable table: value reference = index, unique names, declared units, start
-/// values of code parameters in their list, contiguous codes (used by each model's tests).
+/// values of code parameters in their list (used by each model's tests; codes need not be
+/// contiguous: `hinf_design` has 1 and 3).
 #[cfg(test)]
 pub(crate) fn check_table(vars: &[VarDef]) {
     for (i, v) in vars.iter().enumerate() {
@@ -425,8 +426,6 @@ pub(crate) fn check_table(vars: &[VarDef]) {
         }
         if let VarType::Code(t) = v.ty {
             assert!(t.item(v.start).is_some(), "{}", v.name);
-            let (lo, hi) = t.range();
-            assert_eq!((hi - lo + 1) as usize, t.items.len(), "{}", t.name);
         }
         // outputs change only in fmi2DoStep; inputs need a start value
         if v.causality == Causality::Parameter {
