@@ -7,7 +7,7 @@
 use criterion::{criterion_group, criterion_main, Criterion};
 use rand::SeedableRng;
 use relnav::dynamics::{CwModel, Discretization};
-use relnav::estimators::{Ekf, Estimator, Ukf, UkfParams};
+use relnav::estimators::{Aqukf, Ekf, Estimator, Imm, Ukf, UkfParams};
 use relnav::ffi;
 use relnav::fmi::description::guid;
 use relnav::fmi::functions::*;
@@ -80,6 +80,19 @@ fn filters(c: &mut Criterion) {
     let p0 = cfg.initial_covariance();
     bare(c, "ekf_step", || Ekf::new(x0, p0));
     bare(c, "ukf_step", || Ukf::new(x0, p0, UkfParams::default()));
+    // issue 12: the AQUKF with the NIS-gated law (the default) and the three-mode IMM
+    bare(c, "aqukf_gated_step", || {
+        Aqukf::new(
+            x0,
+            p0,
+            UkfParams::default(),
+            cfg.aq_params(),
+            cfg.mean_motion,
+        )
+    });
+    bare(c, "imm_step", || {
+        Imm::new(x0, p0, cfg.imm_params(), cfg.mean_motion)
+    });
 
     for kind in [FilterKind::Ekf, FilterKind::Ukf] {
         let zs = measurements();

@@ -9,6 +9,12 @@
 // Largest sliding-window width (capacity of the ring buffer).
 #define MAX_WINDOW 512
 
+// Largest NIS-gate window (capacity of its ring buffer).
+#define MAX_GATE_WINDOW 128
+
+// Largest number of modes.
+#define MAX_MODES 3
+
 // Dimensions: state `n = 6`, measurement `m = 3`, process noise `p = 6`, measurement
 // noise `q = 3`, estimated signal `l = 6`, uncertainty channel `h = 6`.
 #define N 6
@@ -101,6 +107,11 @@ typedef enum relnav_filter {
   // when the estimator is created, for the open-loop CW plant and `hinf_period`; its
   // covariance and sigma are NaN (no Gaussian covariance exists).
   RELNAV_FILTER_HINF = 9,
+  // Interacting multiple-model filter (Blom & Bar-Shalom 1988): `imm_modes` EKFs on the
+  // CW model, mode `j` with the configured process noise plus a white acceleration of
+  // density `imm_accel_psd[j]`, Markov switching with per-second staying probabilities
+  // `imm_p_stay`; `relnav_estimator_get_mode_probabilities` reports the modes.
+  RELNAV_FILTER_IMM = 10,
 } relnav_filter;
 
 // Frame codes for `relnav_config.frame` (see ARCHITECTURE.md, "Frames").
@@ -145,6 +156,18 @@ typedef enum relnav_noise_model {
   RELNAV_NOISE_STUDENT_T = 3,
 } relnav_noise_model;
 
+// Adaptation laws of the AQUKF for `relnav_config.aq_law` (same codes as the FMU's
+// `aq_law` parameter).
+typedef enum relnav_adaptation {
+  // Paper 001 literally: the sliding-window estimate of `q_vv` at every update.
+  RELNAV_ADAPTATION_WINDOW = 1,
+  // The default: `q_vv` stays at `q_vel` while the windowed normalised innovation
+  // squared (`aq_gate_window` updates) is below its chi-square quantile
+  // `aq_gate_quantile`, and follows the sliding window (never below `q_vel`) while it
+  // is above.
+  RELNAV_ADAPTATION_GATED = 2,
+} relnav_adaptation;
+
 // Opaque estimator handle.
 typedef struct relnav_estimator relnav_estimator;
 
@@ -155,7 +178,8 @@ typedef struct relnav_hinf_filter relnav_hinf_filter;
 // [`relnav_config_default`], then change what you need. Enum fields are plain integers so
 // that an unknown value is reported, not undefined behaviour.
 typedef struct relnav_config {
-  // A `relnav_filter` code (1 EKF, 2 UKF, 3 AQUKF, 4-8 particle filters, 9 H-infinity).
+  // A `relnav_filter` code (1 EKF, 2 UKF, 3 AQUKF, 4-8 particle filters, 9 H-infinity,
+  // 10 IMM).
   int32_t filter;
   // A `relnav_frame` code: the frame of every vector and angle passed in and out.
   int32_t frame;
@@ -244,6 +268,21 @@ typedef struct relnav_config {
   // model and hand over to the designed gain when that is no worse (track initiation),
   // 0 to run the designed gain from the first step.
   int32_t hinf_acquisition;
+  // AQUKF (code 3): a `relnav_adaptation` code (default 2, gated; 1 is paper 001's
+  // window at every update).
+  int32_t aq_law;
+  // AQUKF, gated law: updates in the windowed NIS, 1..=128 (default 10).
+  int32_t aq_gate_window;
+  // AQUKF, gated law: chi-square probability of the NIS gate, in (0, 1) (default 0.999).
+  double aq_gate_quantile;
+  // IMM (code 10): number of modes, 2 or 3 (default 3).
+  int32_t imm_modes;
+  // IMM: white-acceleration density added to the process noise in each mode
+  // [m^2/s^3], >= 0 (default 0, 1e-6, 1e-3; the third is unused with 2 modes).
+  double imm_accel_psd[3];
+  // IMM: probability of staying in each mode over one second, in (0, 1)
+  // (default 0.99999, 0.9, 0.9).
+  double imm_p_stay[3];
 } relnav_config;
 
 // Inputs of an H-infinity design (canonical frame = paper 002's, SI units).
@@ -310,6 +349,8 @@ typedef struct relnav_hinf_result {
   // to (its design's iterations and time are included above); NaN for the other forms.
   double gamma_opt;
 } relnav_hinf_result;
+
+
 
 
 
@@ -493,6 +534,16 @@ enum relnav_status relnav_estimator_get_hinf_h2_norm(const struct relnav_estimat
 // `estimator` is a live handle or null; `out` is null or writable.
 enum relnav_status relnav_estimator_get_hinf_certified(const struct relnav_estimator *estimator,
                                                        int32_t *out);
+
+// The IMM's (code 10) mode probabilities after the last step, 3 doubles: mode 1 (the
+// configured process noise), mode 2, mode 3 (`imm_accel_psd` added); they sum to 1 over
+// the `imm_modes` modes, and an unused third mode is NaN. Every other filter has no modes:
+// `out` is filled with NaN (status `RELNAV_OK`).
+//
+// # Safety
+// `estimator` is a live handle or null; `out` is null or 3 writable doubles.
+enum relnav_status relnav_estimator_get_mode_probabilities(const struct relnav_estimator *estimator,
+                                                           double *out);
 
 // Design an H-infinity filter (LMI solved with Clarabel; see `relnav::hinf`). On
 // success `*out` holds the matrices and the report; an infeasible request returns

@@ -16,7 +16,13 @@
 //! For the **AQUKF** (code 3) the velocity part is adaptive: `q_vel` is the initial
 //! adaptive density `q_vv`, and each step adds `Qd_VanLoan(diag(q_vv_k), h)` (canonical)
 //! instead of `q_vel h`; `window`, `q_vv_floor`, `q_vv_ceiling` set the adaptation
-//! ([`crate::estimators::aqukf`]), [`Navigator::q_vv`] reports it.
+//! ([`crate::estimators::aqukf`]), [`Navigator::q_vv`] reports it. `aq_law` chooses how:
+//! paper 001's window at every update, or (the default) only while the windowed NIS
+//! exceeds its chi-square bound (`aq_gate_window`, `aq_gate_quantile`).
+//! The **IMM** (code 10) runs 2 or 3 EKFs on the CW model whose process noise is this `Q`
+//! plus `Qd_VanLoan(imm_accel_psd[j] I3, h)` (mode `j`), switching as a Markov chain with
+//! per-second staying probabilities `imm_p_stay` ([`crate::estimators::imm`]);
+//! [`Navigator::mode_probabilities`] reports the mode probabilities.
 //!
 //! **Measurement noise.** `sigma_range` and `sigma_angle` are the scales of the noise
 //! density [`NavConfig::noise_model`] (Gaussian by default; a contaminated Gaussian or a
@@ -30,7 +36,10 @@ use crate::dynamics::{CwModel, DiscreteModel, Discretization};
 use crate::estimators::aqukf::AqukfSnapshot;
 use crate::estimators::pf::resample::Resampler;
 use crate::estimators::pf::{ParticleFilter, PfKind, PfParams, MAX_PARTICLES};
-use crate::estimators::{AqParams, Aqukf, Ekf, Estimator, FilterError, Ukf, UkfParams, UpdateInfo};
+use crate::estimators::{
+    AdaptationLaw, AqParams, Aqukf, Ekf, Estimator, FilterError, Imm, ImmParams, Ukf, UkfParams,
+    UpdateInfo, MAX_MODES,
+};
 use crate::frames::Frame;
 use crate::hinf::HinfEstimator;
 use crate::noise::NoiseModel;
@@ -68,11 +77,14 @@ pub enum FilterKind {
     /// Robust H-infinity filter (paper 002), observer form designed at construction for
     /// the open-loop CW plant (needs the `hinf` cargo feature; see [`crate::hinf`]).
     Hinf = 9,
+    /// Interacting multiple-model filter over CW models with a quiet and one or two
+    /// manoeuvring process noises ([`crate::estimators::imm`]).
+    Imm = 10,
 }
 
 impl FilterKind {
     /// All codes, in order.
-    pub const ALL: [FilterKind; 9] = [
+    pub const ALL: [FilterKind; 10] = [
         FilterKind::Ekf,
         FilterKind::Ukf,
         FilterKind::Aqukf,
@@ -82,9 +94,10 @@ impl FilterKind {
         FilterKind::Gapf,
         FilterKind::Cgapf,
         FilterKind::Hinf,
+        FilterKind::Imm,
     ];
 
-    /// From the stable code 1..=9.
+    /// From the stable code 1..=10.
     pub fn from_code(code: i32) -> Option<Self> {
         Self::ALL.into_iter().find(|k| *k as i32 == code)
     }
@@ -101,6 +114,7 @@ impl FilterKind {
             FilterKind::Gapf => "gapf",
             FilterKind::Cgapf => "cgapf",
             FilterKind::Hinf => "hinf",
+            FilterKind::Imm => "imm",
         }
     }
 
@@ -278,6 +292,22 @@ pub struct NavConfig {
     /// over to the designed gain when it is no worse ([`crate::hinf::HinfAcquisition`];
     /// default true). False: the designed gain from the first step (issue 5's filter).
     pub hinf_acquisition: bool,
+    /// AQUKF: adaptation law (default [`AdaptationLaw::Gated`]; `Window` is paper 001
+    /// literally).
+    pub aq_law: AdaptationLaw,
+    /// AQUKF, gated law: number of updates in the windowed NIS,
+    /// `1..=MAX_GATE_WINDOW` (default 10).
+    pub aq_gate_window: usize,
+    /// AQUKF, gated law: chi-square probability of the NIS gate, in (0, 1) (default 0.999).
+    pub aq_gate_quantile: f64,
+    /// IMM (code 10): number of modes, 2 or 3 (default 3).
+    pub imm_modes: usize,
+    /// IMM: white-acceleration density added to the nominal process noise in each mode
+    /// [m^2/s^3], >= 0 (default 0, 1e-6, 1e-3; the third is unused with 2 modes).
+    pub imm_accel_psd: [f64; MAX_MODES],
+    /// IMM: probability of staying in each mode over one second, in (0, 1)
+    /// (default 0.99999, 0.9, 0.9).
+    pub imm_p_stay: [f64; MAX_MODES],
 }
 
 impl Default for NavConfig {
@@ -318,6 +348,12 @@ impl Default for NavConfig {
             hinf_design: HinfDesignKind::Mixed,
             hinf_gamma_factor: 1.5,
             hinf_acquisition: true,
+            aq_law: AdaptationLaw::Gated,
+            aq_gate_window: 10,
+            aq_gate_quantile: 0.999,
+            imm_modes: ImmParams::default().modes,
+            imm_accel_psd: ImmParams::default().accel_psd,
+            imm_p_stay: ImmParams::default().p_stay,
         }
     }
 }
@@ -578,6 +614,7 @@ impl NavConfig {
         }
         self.aq_params().validate().map_err(NavError::invalid)?;
         self.validate_hinf()?;
+        self.imm_params().validate().map_err(NavError::invalid)?;
         Ok(())
     }
 
@@ -620,6 +657,12 @@ impl NavConfig {
             hinf_design,
             hinf_gamma_factor,
             hinf_acquisition,
+            aq_law,
+            aq_gate_window,
+            aq_gate_quantile,
+            imm_modes,
+            imm_accel_psd,
+            imm_p_stay,
         } = *self;
         let UkfParams { alpha, beta, kappa } = ukf;
         vec![
@@ -667,6 +710,16 @@ impl NavConfig {
             ("hinf_design", Int(hinf_design as i64)),
             ("hinf_gamma_factor", Real(hinf_gamma_factor)),
             ("hinf_acquisition", Int(i64::from(hinf_acquisition))),
+            ("aq_law", Int(aq_law as i64)),
+            ("aq_gate_window", Int(aq_gate_window as i64)),
+            ("aq_gate_quantile", Real(aq_gate_quantile)),
+            ("imm_modes", Int(imm_modes as i64)),
+            ("imm_accel_psd[0]", Real(imm_accel_psd[0])),
+            ("imm_accel_psd[1]", Real(imm_accel_psd[1])),
+            ("imm_accel_psd[2]", Real(imm_accel_psd[2])),
+            ("imm_p_stay[0]", Real(imm_p_stay[0])),
+            ("imm_p_stay[1]", Real(imm_p_stay[1])),
+            ("imm_p_stay[2]", Real(imm_p_stay[2])),
         ]
     }
 
@@ -846,6 +899,19 @@ impl NavConfig {
             q_vv0: Vec3::new(qv[(3, 3)], qv[(4, 4)], qv[(5, 5)]),
             floor: self.q_vv_floor,
             ceiling: self.q_vv_ceiling,
+            law: self.aq_law,
+            gate_window: self.aq_gate_window,
+            gate_quantile: self.aq_gate_quantile,
+        }
+    }
+
+    /// The IMM's settings: `imm_modes`, `imm_accel_psd`, `imm_p_stay` (the densities are
+    /// isotropic, so frame-independent).
+    pub fn imm_params(&self) -> ImmParams {
+        ImmParams {
+            modes: self.imm_modes,
+            accel_psd: self.imm_accel_psd,
+            p_stay: self.imm_p_stay,
         }
     }
 
@@ -875,6 +941,8 @@ pub enum AnyFilter {
     Pf(ParticleFilter),
     /// Robust H-infinity filter (code 9).
     Hinf(HinfEstimator),
+    /// Interacting multiple-model filter (code 10).
+    Imm(Imm),
 }
 
 /// What a step of a Kalman-type filter can change, to restore after a failed step. Small
@@ -886,6 +954,7 @@ enum Snapshot {
     Ukf(Ukf),
     Aqukf(AqukfSnapshot),
     Hinf(HinfEstimator),
+    Imm(Imm),
     /// particle filters are transactional themselves (see [`Navigator`])
     None,
 }
@@ -897,6 +966,7 @@ impl AnyFilter {
             AnyFilter::Ukf(f) => Snapshot::Ukf(f.clone()),
             AnyFilter::Aqukf(f) => Snapshot::Aqukf(f.snapshot()),
             AnyFilter::Hinf(f) => Snapshot::Hinf(*f),
+            AnyFilter::Imm(f) => Snapshot::Imm(f.clone()),
             AnyFilter::Pf(_) => Snapshot::None,
         }
     }
@@ -908,6 +978,7 @@ impl AnyFilter {
             (AnyFilter::Ukf(f), Snapshot::Ukf(g)) => f.clone_from(g),
             (AnyFilter::Aqukf(f), Snapshot::Aqukf(g)) => f.restore(g),
             (AnyFilter::Hinf(f), Snapshot::Hinf(g)) => *f = *g,
+            (AnyFilter::Imm(f), Snapshot::Imm(g)) => f.clone_from(g),
             _ => {}
         }
     }
@@ -922,6 +993,7 @@ impl AnyFilter {
             AnyFilter::Aqukf(_) => b"AQUK",
             AnyFilter::Pf(_) => b"PART",
             AnyFilter::Hinf(_) => b"HINF",
+            AnyFilter::Imm(_) => b"IMM ",
         }
     }
 }
@@ -937,6 +1009,7 @@ impl Persist for AnyFilter {
             AnyFilter::Aqukf(f) => f.save_state(w),
             AnyFilter::Pf(f) => f.save_state(w),
             AnyFilter::Hinf(f) => f.save_state(w),
+            AnyFilter::Imm(f) => f.save_state(w),
         }
     }
 
@@ -948,6 +1021,7 @@ impl Persist for AnyFilter {
             AnyFilter::Aqukf(f) => f.load_state(r),
             AnyFilter::Pf(f) => f.load_state(r),
             AnyFilter::Hinf(f) => f.load_state(r),
+            AnyFilter::Imm(f) => f.load_state(r),
         }
     }
 }
@@ -960,6 +1034,7 @@ impl Estimator for AnyFilter {
             AnyFilter::Aqukf(f) => f.predict(model, accel),
             AnyFilter::Pf(f) => f.predict(model, accel),
             AnyFilter::Hinf(f) => f.predict(model, accel),
+            AnyFilter::Imm(f) => f.predict(model, accel),
         }
     }
     fn update<M: MeasurementModel>(
@@ -973,6 +1048,7 @@ impl Estimator for AnyFilter {
             AnyFilter::Aqukf(f) => f.update(sensor, z),
             AnyFilter::Pf(f) => f.update(sensor, z),
             AnyFilter::Hinf(f) => f.update(sensor, z),
+            AnyFilter::Imm(f) => f.update(sensor, z),
         }
     }
     fn state(&self) -> &State {
@@ -982,6 +1058,7 @@ impl Estimator for AnyFilter {
             AnyFilter::Aqukf(f) => f.state(),
             AnyFilter::Pf(f) => f.state(),
             AnyFilter::Hinf(f) => f.state(),
+            AnyFilter::Imm(f) => f.state(),
         }
     }
     fn covariance(&self) -> &Mat6 {
@@ -991,6 +1068,7 @@ impl Estimator for AnyFilter {
             AnyFilter::Aqukf(f) => f.covariance(),
             AnyFilter::Pf(f) => f.covariance(),
             AnyFilter::Hinf(f) => f.covariance(),
+            AnyFilter::Imm(f) => f.covariance(),
         }
     }
     fn set_estimate(&mut self, x: State, p: Mat6) {
@@ -1000,6 +1078,7 @@ impl Estimator for AnyFilter {
             AnyFilter::Aqukf(f) => f.set_estimate(x, p),
             AnyFilter::Pf(f) => f.set_estimate(x, p),
             AnyFilter::Hinf(f) => f.set_estimate(x, p),
+            AnyFilter::Imm(f) => f.set_estimate(x, p),
         }
     }
 }
@@ -1049,6 +1128,12 @@ fn build_filter(cfg: &NavConfig) -> Result<AnyFilter, NavError> {
             p0,
             cfg.ukf,
             cfg.aq_params(),
+            cfg.mean_motion,
+        ))),
+        FilterKind::Imm => Ok(AnyFilter::Imm(Imm::new(
+            x0,
+            p0,
+            cfg.imm_params(),
             cfg.mean_motion,
         ))),
         #[cfg(feature = "hinf")]
@@ -1273,6 +1358,7 @@ impl Navigator {
         match &mut self.filter {
             AnyFilter::Pf(pf) => *pf = ParticleFilter::new(x0, p0, *pf.params()),
             AnyFilter::Aqukf(f) => f.reset(x0, p0),
+            AnyFilter::Imm(f) => f.reset(x0, p0),
             other => other.set_estimate(x0, p0),
         }
         self.last_update = None;
@@ -1318,6 +1404,27 @@ impl Navigator {
                     Mat6::from_diagonal(&State::from_row_slice(&[0.0, 0.0, 0.0, q[0], q[1], q[2]]));
                 let io = self.cfg.frame.cov_from_canonical(&c);
                 Some([io[(3, 3)], io[(4, 4)], io[(5, 5)]])
+            }
+            _ => None,
+        }
+    }
+
+    /// The IMM's (filter code 10) mode probabilities after the last step, NaN past
+    /// `imm_modes`; `None` for the other filters.
+    pub fn mode_probabilities(&self) -> Option<[f64; MAX_MODES]> {
+        match &self.filter {
+            AnyFilter::Imm(f) => {
+                let mu = f.mode_probabilities();
+                let r = f.params().modes;
+                Some(std::array::from_fn(
+                    |j| {
+                        if j < r {
+                            mu[j]
+                        } else {
+                            f64::NAN
+                        }
+                    },
+                ))
             }
             _ => None,
         }

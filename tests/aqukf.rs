@@ -1,4 +1,6 @@
-//! The sliding-window adaptive UKF (paper 001, filter code 3) through the library API.
+//! The adaptive filters of the library through its API: the sliding-window adaptive UKF
+//! (paper 001, filter code 3) with paper 001's window law (`AdaptationLaw::Window`) and the
+//! NIS-gated default, and the interacting multiple-model filter (code 10).
 //!
 //! Truth here is independent of relnav's model: the CW equations integrated by RK4 at
 //! 0.1 s with a piecewise-constant random acceleration (variance `q / dt` per 1 s step,
@@ -12,7 +14,7 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::StandardNormal;
 use relnav::dynamics::CwModel;
-use relnav::estimators::{Estimator, Ukf, UkfParams};
+use relnav::estimators::{AdaptationLaw, Estimator, Ukf, UkfParams};
 use relnav::frames::Frame;
 use relnav::nav::{FilterKind, NavConfig, Navigator};
 use relnav::sensors::RadioSensor;
@@ -92,7 +94,8 @@ fn radio(x: &[f64; 6], rng: &mut ChaCha8Rng) -> [f64; 3] {
 
 const X0: [f64; 6] = [500.0, 400.0, -200.0, 0.0, -0.87, 0.0];
 
-/// The UKF with the fixed density `q` (accel_psd), or the AQUKF starting from it.
+/// The UKF (or the IMM) with the fixed density `q` (accel_psd), or the AQUKF starting
+/// from it (the gated law, the default).
 fn config(filter: FilterKind, q: f64, window: usize) -> NavConfig {
     let aq = filter == FilterKind::Aqukf;
     NavConfig {
@@ -110,6 +113,14 @@ fn config(filter: FilterKind, q: f64, window: usize) -> NavConfig {
         q_vel: if aq { [q; 3] } else { [0.0; 3] },
         window,
         ..Default::default()
+    }
+}
+
+/// The AQUKF with paper 001's window law.
+fn paper_config(q: f64, window: usize) -> NavConfig {
+    NavConfig {
+        aq_law: AdaptationLaw::Window,
+        ..config(FilterKind::Aqukf, q, window)
     }
 }
 
@@ -155,63 +166,106 @@ fn time_rmse(m: &[[f64; 2]], from: usize) -> (f64, f64) {
 }
 
 /// Without model error (the truth's white acceleration is exactly the UKF's `Q`), the
-/// AQUKF, started from the same `Q`, is no worse than the UKF within the stated margins:
-/// position RMSE within 40 %, velocity RMSE within a factor 2. The margins are wide on
-/// purpose: Maybeck's observation `Q*_k - Qhat_k-1 = dX dX^T + P_k - P_k|k-1` is a
-/// chi-square-like quantity with a standard deviation of the order of `Q` itself, and the
-/// window recursion integrates it, so `q_vv` wanders around the true value (a random walk
-/// pulled back only weakly in the velocity, which radio measures only through the
-/// position); measured here +34 % / +53 % at N = 10 (the evaluation engine's 30-run
-/// campaign: +14 % / +70 %; docs/evaluation.md). This is the price of adapting; the
-/// margins would catch a broken adaptation (a q_vv that runs to the ceiling gives metres).
+/// AQUKF, started from the same `Q`, is no worse than the UKF within the stated margins.
+///
+/// *Paper 001's window law*: position RMSE within 40 %, velocity RMSE within a factor 2.
+/// The margins are wide on purpose: Maybeck's observation
+/// `Q*_k - Qhat_k-1 = dX dX^T + P_k - P_k|k-1` is a chi-square-like quantity with a standard
+/// deviation of the order of `Q` itself, and the window recursion integrates it, so `q_vv`
+/// wanders around the true value
+/// (a random walk pulled back only weakly in the velocity, which radio measures only
+/// through the position); measured here +34 % / +53 % at N = 10 (the evaluation engine's
+/// 30-run campaign: +14 % / +70 %; docs/evaluation.md). The margins would catch a broken
+/// adaptation (a q_vv that runs to the ceiling gives metres).
+///
+/// *The gated law* is the UKF except after a false alarm of its chi-square gate (one test
+/// in 1000): issue 12's bar, within 1.2x the UKF in position and velocity (measured here
+/// +0.1 % / +0.0 %).
+///
+/// *The IMM* mixes in its manoeuvring modes with their (small) probabilities: the same bar
+/// (measured here: equal to the UKF to 4 digits).
 #[test]
 fn no_worse_than_the_ukf_without_model_error() {
     let q = 1e-6;
     let cfgs = [
         config(FilterKind::Ukf, q, 10),
+        paper_config(q, 10),
         config(FilterKind::Aqukf, q, 10),
+        config(FilterKind::Imm, q, 10),
     ];
     let mse = campaign(&cfgs, 20, 1200, q, &[]);
     let (up, uv) = time_rmse(&mse[0], 100);
     let (ap, av) = time_rmse(&mse[1], 100);
-    eprintln!("UKF {up:.4} m {uv:.5} m/s; AQUKF {ap:.4} m {av:.5} m/s");
+    let (gp, gv) = time_rmse(&mse[2], 100);
+    let (ip, iv) = time_rmse(&mse[3], 100);
+    eprintln!(
+        "UKF {up:.4} m {uv:.5} m/s; AQUKF window {ap:.4} m {av:.5} m/s; gated {gp:.4} m \
+         {gv:.5} m/s; IMM {ip:.4} m {iv:.5} m/s"
+    );
+    assert!(ip <= 1.2 * up, "position: IMM {ip} vs UKF {up}");
+    assert!(iv <= 1.2 * uv, "velocity: IMM {iv} vs UKF {uv}");
     assert!(ap <= 1.4 * up, "position: AQUKF {ap} vs UKF {up}");
     assert!(av <= 2.0 * uv, "velocity: AQUKF {av} vs UKF {uv}");
+    assert!(gp <= 1.2 * up, "position: gated AQUKF {gp} vs UKF {up}");
+    assert!(gv <= 1.2 * uv, "velocity: gated AQUKF {gv} vs UKF {uv}");
 }
 
-/// An unreported burn of 30 s (0.35 m/s) on a quiet truth: 60 s after the burn the AQUKF's
-/// position RMSE is back below 1 m (twice the range noise), while the UKF tuned for the
-/// quiet phase is still above 3 m and stays above 1 m for at least 200 s after the burn.
+/// An unreported burn of 30 s (0.35 m/s) on a quiet truth: 60 s after the burn both
+/// AQUKFs' and the IMM's position RMSE is back below 1 m (twice the range noise), while the
+/// UKF tuned for the quiet phase is still above 3 m and stays above 1 m for at least 200 s
+/// after the burn. The gated law, whose fading factor answers the first inconsistent
+/// innovations, and the IMM, whose burn mode takes over, never leave 1 m during the burn
+/// either (measured peaks 0.48 m and 0.31 m; the window law's 1.45 m).
 #[test]
 fn recovers_from_an_unreported_burn_where_the_ukf_does_not() {
     let q = 1e-9;
     let burns = [(300.0, 330.0, [0.5, -1.0, 0.3])];
     let cfgs = [
         config(FilterKind::Ukf, q, 10),
+        paper_config(q, 10),
         config(FilterKind::Aqukf, q, 10),
+        config(FilterKind::Imm, q, 10),
     ];
     let mse = campaign(&cfgs, 20, 700, q, &burns);
     let at = |f: usize, t: usize| mse[f][t][0].sqrt();
+    let peak = |f: usize| (300..400).map(|t| at(f, t)).fold(0.0, f64::max);
     eprintln!(
-        "t = 390 s: UKF {:.3} m, AQUKF {:.3} m; t = 530 s: UKF {:.3} m",
+        "t = 390 s: UKF {:.3} m, AQUKF window {:.3} m, gated {:.3} m, IMM {:.3} m; t = 530 s: \
+         UKF {:.3} m; peak 300-400 s: window {:.3} m, gated {:.3} m, IMM {:.3} m",
         at(0, 390),
         at(1, 390),
-        at(0, 530)
+        at(2, 390),
+        at(3, 390),
+        at(0, 530),
+        peak(1),
+        peak(2),
+        peak(3)
     );
-    // before the burn both are converged and equal in quality
-    assert!(at(0, 290) < 0.5 && at(1, 290) < 0.5);
-    assert!(at(1, 390) < 1.0, "AQUKF at 390 s: {}", at(1, 390));
+    // before the burn all are converged and equal in quality
+    assert!((0..4).all(|f| at(f, 290) < 0.5));
+    assert!(at(1, 390) < 1.0, "AQUKF window at 390 s: {}", at(1, 390));
+    assert!(at(2, 390) < 1.0, "AQUKF gated at 390 s: {}", at(2, 390));
+    assert!(at(3, 390) < 1.0, "IMM at 390 s: {}", at(3, 390));
+    assert!(peak(2) < 1.0, "AQUKF gated peak: {}", peak(2));
+    assert!(peak(3) < 1.0, "IMM peak: {}", peak(3));
     for t in 390..=(390 + 140) {
         assert!(at(0, t) > 1.0, "UKF recovered at {t} s: {}", at(0, t));
     }
     assert!(at(0, 390) > 3.0, "UKF at 390 s: {}", at(0, 390));
 }
 
-/// 10^5 steps with random unreported thrust bursts: `q_vv` stays in [floor, ceiling]
-/// (so `Qhat = blockdiag(0, diag(q_vv))` is PSD) and finite, the covariance stays positive
+/// 10^5 steps with random unreported thrust bursts, for both laws: `q_vv` stays in
+/// [floor, ceiling] (the gated law: [max(floor, q_vel), ceiling]), so
+/// `Qhat = blockdiag(0, diag(q_vv))` is PSD, and finite; the covariance stays positive
 /// definite, no step fails.
 #[test]
 fn q_estimate_stays_psd_over_1e5_steps() {
+    for law in AdaptationLaw::ALL {
+        q_estimate_stays_psd(law);
+    }
+}
+
+fn q_estimate_stays_psd(law: AdaptationLaw) {
     let mut rng = ChaCha8Rng::seed_from_u64(99);
     let steps = 100_000;
     let mut burns = Vec::new();
@@ -227,7 +281,12 @@ fn q_estimate_stays_psd_over_1e5_steps() {
         x0,
         q_vv_floor: 1e-10,
         q_vv_ceiling: 1e-2,
+        aq_law: law,
         ..config(FilterKind::Aqukf, 1e-8, 10)
+    };
+    let lo = match law {
+        AdaptationLaw::Window => 1e-10,
+        AdaptationLaw::Gated => 1e-8,
     };
     let mut nav = Navigator::new(&cfg).unwrap();
     let mut worst_low = f64::INFINITY;
@@ -239,8 +298,8 @@ fn q_estimate_stays_psd_over_1e5_steps() {
         let q = nav.q_vv().unwrap();
         for v in q {
             assert!(
-                v.is_finite() && (1e-10..=1e-2).contains(&v),
-                "step {k}: q_vv {q:?}"
+                v.is_finite() && (lo..=1e-2).contains(&v),
+                "{law:?} step {k}: q_vv {q:?}"
             );
             worst_low = worst_low.min(v);
             worst_high = worst_high.max(v);
@@ -249,9 +308,12 @@ fn q_estimate_stays_psd_over_1e5_steps() {
             assert!(nav.covariance().cholesky().is_some(), "step {k}: P not PD");
         }
     }
-    eprintln!("q_vv range over 1e5 steps: [{worst_low:e}, {worst_high:e}]");
-    // it did adapt: it left its initial value in both directions
-    assert!(worst_high > 1e-6 && worst_low < 1e-8);
+    eprintln!("{law:?}: q_vv range over 1e5 steps: [{worst_low:e}, {worst_high:e}]");
+    // it did adapt: it left its initial value (the window law in both directions)
+    assert!(worst_high > 1e-6, "{law:?}: {worst_high}");
+    if law == AdaptationLaw::Window {
+        assert!(worst_low < 1e-8);
+    }
     let e = nav.state() - State::from_row_slice(&xs[steps]);
     assert!(e.fixed_rows::<3>(0).norm() < 50.0, "final error {e}");
 }
@@ -268,7 +330,7 @@ fn window_one_equals_the_undamped_maybeck_update() {
     let xs = truth(X0, 150, 1e-7, &burns, &mut rng);
     let cfg = NavConfig {
         q_vv_ceiling: 1e3,
-        ..config(FilterKind::Aqukf, q0, 1)
+        ..paper_config(q0, 1)
     };
     let mut nav = Navigator::new(&cfg).unwrap();
     let frame = Frame::RadialAlongNormal;
@@ -321,16 +383,31 @@ fn window_one_equals_the_undamped_maybeck_update() {
 }
 
 /// A step whose prediction fails after its update (a thrust that overflows the state) is
-/// undone completely — estimate, adaptive `q_vv` and the window — so the filter goes on bit
-/// for bit like a twin that never saw that step.
+/// undone completely — estimate, adaptive `q_vv`, the window, the NIS gate and its fading
+/// factor — so the filter goes on bit for bit like a twin that never saw that step. For
+/// the gated law the range jumps by 30 m at step 9, so the gate is open and the fading
+/// factor set at the failing step 10.
 #[test]
 fn failed_step_is_undone_window_included() {
-    let cfg = config(FilterKind::Aqukf, 1e-6, 3);
+    for law in AdaptationLaw::ALL {
+        failed_step_is_undone(law);
+    }
+}
+
+fn failed_step_is_undone(law: AdaptationLaw) {
+    let cfg = NavConfig {
+        aq_law: law,
+        ..config(FilterKind::Aqukf, 1e-6, 3)
+    };
     let mut rng = ChaCha8Rng::seed_from_u64(41);
     let truth = State::from_row_slice(&X0);
     let z = |k: usize, rng: &mut ChaCha8Rng| {
         let r = CwModel::new(N).phi(k as f64) * truth;
-        radio(&[r[0], r[1], r[2], r[3], r[4], r[5]], rng)
+        let mut z = radio(&[r[0], r[1], r[2], r[3], r[4], r[5]], rng);
+        if law == AdaptationLaw::Gated && k >= 9 {
+            z[0] += 30.0;
+        }
+        z
     };
     let zs: Vec<[f64; 3]> = (0..40).map(|k| z(k, &mut rng)).collect();
     let mut a = Navigator::new(&cfg).unwrap();
@@ -338,6 +415,21 @@ fn failed_step_is_undone_window_included() {
     for zk in zs.iter().take(10) {
         a.step(&[0.0; 3], Some(zk), 1.0).unwrap();
         b.step(&[0.0; 3], Some(zk), 1.0).unwrap();
+    }
+    // what the failing step's update does (on a copy): the gated law opens its gate and
+    // sets a fading factor > 1 for the prediction that will fail
+    let mut probe = a.clone();
+    probe.update(&zs[10]).unwrap();
+    if let relnav::nav::AnyFilter::Aqukf(f) = probe.filter() {
+        let ad = f.core().adaptive();
+        eprintln!(
+            "{law:?} in the failing step: gate open {}, inflation {}",
+            ad.gate_open(),
+            ad.inflation()
+        );
+        if law == AdaptationLaw::Gated {
+            assert!(ad.gate_open() && ad.inflation() > 1.0);
+        }
     }
     // the update succeeds (and writes the window), the prediction overflows
     assert!(a.step(&[1e308; 3], Some(&zs[10]), 1e4).is_err());
@@ -350,4 +442,43 @@ fn failed_step_is_undone_window_included() {
         assert_eq!(a.state(), b.state());
         assert_eq!(a.q_vv(), b.q_vv());
     }
+}
+
+/// The IMM's failed step (update committed, prediction overflowing) is undone: estimate,
+/// covariance and mode probabilities go on bit for bit like a twin that never saw it; a
+/// reset returns to the stationary mode probabilities and reproduces a new navigator.
+#[test]
+fn imm_failed_step_is_undone_and_reset_reproduces() {
+    let cfg = config(FilterKind::Imm, 1e-9, 10);
+    let mut rng = ChaCha8Rng::seed_from_u64(43);
+    let burns = [(12.0, 20.0, [1.0, 0.5, 0.0])];
+    let xs = truth(X0, 40, 1e-9, &burns, &mut rng);
+    let zs: Vec<[f64; 3]> = xs.iter().map(|x| radio(x, &mut rng)).collect();
+    let mut a = Navigator::new(&cfg).unwrap();
+    let mut b = Navigator::new(&cfg).unwrap();
+    let fresh = a.mode_probabilities().unwrap();
+    for zk in zs.iter().take(15) {
+        a.step(&[0.0; 3], Some(zk), 1.0).unwrap();
+        b.step(&[0.0; 3], Some(zk), 1.0).unwrap();
+    }
+    assert!(a.step(&[1e308; 3], Some(&zs[15]), 1e4).is_err());
+    assert_eq!(a.state(), b.state());
+    assert_eq!(a.covariance(), b.covariance());
+    assert_eq!(a.mode_probabilities(), b.mode_probabilities());
+    for zk in zs.iter().skip(15) {
+        a.step(&[0.0; 3], Some(zk), 1.0).unwrap();
+        b.step(&[0.0; 3], Some(zk), 1.0).unwrap();
+        assert_eq!(a.state(), b.state());
+        assert_eq!(a.mode_probabilities(), b.mode_probabilities());
+    }
+    // the burn moved probability to the manoeuvring modes at some point; reset restores
+    a.reset();
+    assert_eq!(a.mode_probabilities().unwrap(), fresh);
+    let mut c = Navigator::new(&cfg).unwrap();
+    for zk in zs.iter().take(10) {
+        a.step(&[0.0; 3], Some(zk), 1.0).unwrap();
+        c.step(&[0.0; 3], Some(zk), 1.0).unwrap();
+    }
+    assert_eq!(a.state(), c.state());
+    assert_eq!(a.mode_probabilities(), c.mode_probabilities());
 }

@@ -2,7 +2,8 @@
 //! noise-model fields of `relnav_config` (defaults, validation with a message naming the
 //! field, round trip), `relnav_estimator_get_ess`, seeded reproducibility, the noise
 //! model's variance in the Kalman filters, a failed particle-filter step changing nothing
-//! (or, after a committed update, refusing to go on until reset).
+//! (or, after a committed update, refusing to go on until reset), the AQUKF's adaptation
+//! law and the IMM (code 10) with `relnav_estimator_get_mode_probabilities`.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)] // test code
 
 use relnav::ffi::*;
@@ -126,7 +127,16 @@ fn defaults_of_the_new_fields() {
         (c.hinf_design, c.hinf_gamma_factor, c.hinf_acquisition),
         (relnav_hinf_form::RELNAV_HINF_MIXED as i32, 1.5, 1)
     );
-    for f in (3..=8).chain(cfg!(feature = "hinf").then_some(9)) {
+    // issue 12: the gated adaptation law by default, the IMM's three modes
+    assert_eq!(c.aq_law, relnav_adaptation::RELNAV_ADAPTATION_GATED as i32);
+    assert_eq!((c.aq_gate_window, c.aq_gate_quantile), (10, 0.999));
+    assert_eq!(c.imm_modes, 3);
+    assert_eq!(c.imm_accel_psd, [0.0, 1e-6, 1e-3]);
+    assert_eq!(c.imm_p_stay, [0.99999, 0.9, 0.9]);
+    for f in (3..=8)
+        .chain(cfg!(feature = "hinf").then_some(9))
+        .chain([10])
+    {
         let c = relnav_config {
             filter: f,
             ..relnav_config_default()
@@ -183,6 +193,21 @@ fn bad_new_fields_are_refused_with_their_name() {
             c.q_vv_floor = 1e-3;
             c.q_vv_ceiling = 1e-4;
         }),
+        ("aq_law", |c| c.aq_law = 0),
+        ("aq_law", |c| c.aq_law = 3),
+        ("aq_gate_window", |c| c.aq_gate_window = 0),
+        ("aq_gate_window", |c| c.aq_gate_window = -1),
+        ("aq_gate_window", |c| c.aq_gate_window = 129),
+        ("aq_gate_quantile", |c| c.aq_gate_quantile = 0.0),
+        ("aq_gate_quantile", |c| c.aq_gate_quantile = 1.0),
+        ("aq_gate_quantile", |c| c.aq_gate_quantile = f64::NAN),
+        ("imm_modes", |c| c.imm_modes = 1),
+        ("imm_modes", |c| c.imm_modes = 4),
+        ("imm_modes", |c| c.imm_modes = -2),
+        ("imm_accel_psd_2", |c| c.imm_accel_psd[1] = -1e-6),
+        ("imm_accel_psd_3", |c| c.imm_accel_psd[2] = f64::NAN),
+        ("imm_p_stay_1", |c| c.imm_p_stay[0] = 1.0),
+        ("imm_p_stay_3", |c| c.imm_p_stay[2] = 0.0),
     ];
     // refused for a particle filter and for a Kalman filter alike (no value hides until
     // the filter changes)
@@ -673,4 +698,74 @@ fn hinf_mixed_design_matches_the_estimator() {
         relnav_status::RELNAV_ERROR_INVALID_ARGUMENT
     );
     assert!(last_error().contains("gamma_factor"), "{}", last_error());
+}
+
+/// The IMM (code 10) through the C ABI: its mode probabilities sum to 1 from creation on,
+/// the unused third mode of a 2-mode IMM is NaN, every other filter reports NaN; the
+/// getter checks its pointers; the configuration round-trips.
+#[test]
+fn imm_mode_probabilities() {
+    let probs = |e: &Est| {
+        let mut mu = [0.0; 3];
+        // SAFETY: live handle, 3 doubles.
+        assert_eq!(
+            unsafe { relnav_estimator_get_mode_probabilities(e.0, mu.as_mut_ptr()) },
+            OK
+        );
+        mu
+    };
+    let mut c = relnav_config_default();
+    c.filter = relnav_filter::RELNAV_FILTER_IMM as i32;
+    let e = Est::new(&c);
+    // the stationary distribution of the chain, mu_j ~ 1 / (1 - p_j)
+    let w = c.imm_p_stay.map(|p| 1.0 / (1.0 - p));
+    let total: f64 = w.iter().sum();
+    let mu0 = probs(&e);
+    for j in 0..3 {
+        assert!((mu0[j] - w[j] / total).abs() < 1e-12, "{mu0:?}");
+    }
+    for k in 0..50 {
+        assert_eq!(e.step(Some(&z(k))), OK, "{}", last_error());
+        let mu = probs(&e);
+        assert!((mu.iter().sum::<f64>() - 1.0).abs() < 1e-12, "{mu:?}");
+        assert!(mu.iter().all(|m| (0.0..=1.0).contains(m)), "{mu:?}");
+    }
+    let mut back = relnav_config_default();
+    // SAFETY: live handle, writable config.
+    assert_eq!(unsafe { relnav_estimator_get_config(e.0, &mut back) }, OK);
+    assert_eq!(
+        (
+            back.filter,
+            back.imm_modes,
+            back.imm_accel_psd,
+            back.imm_p_stay
+        ),
+        (10, 3, c.imm_accel_psd, c.imm_p_stay)
+    );
+    // two modes: the third is NaN
+    c.imm_modes = 2;
+    c.imm_accel_psd[1] = 1e-4;
+    let e2 = Est::new(&c);
+    assert_eq!(e2.step(Some(&z(0))), OK);
+    let mu = probs(&e2);
+    assert!(
+        (mu[0] + mu[1] - 1.0).abs() < 1e-12 && mu[2].is_nan(),
+        "{mu:?}"
+    );
+    // other filters: NaN
+    let ekf = Est::new(&relnav_config_default());
+    assert!(probs(&ekf).iter().all(|m| m.is_nan()));
+    // pointers are checked
+    // SAFETY: null pointers are the cases under test.
+    unsafe {
+        assert_eq!(
+            relnav_estimator_get_mode_probabilities(e.0, std::ptr::null_mut()),
+            relnav_status::RELNAV_ERROR_NULL_POINTER
+        );
+        let mut mu = [0.0; 3];
+        assert_eq!(
+            relnav_estimator_get_mode_probabilities(std::ptr::null(), mu.as_mut_ptr()),
+            relnav_status::RELNAV_ERROR_NULL_POINTER
+        );
+    }
 }

@@ -65,6 +65,10 @@ fn reproduce_paper_001_prints_the_tables() {
         "| AQUKF N = 300 |",
         "model_error_burns",
         "model_error_j2",
+        "model_error_quiet",
+        "| AQUKF, NIS-gated (library default) |",
+        "| IMM (3 modes) |",
+        "quiet ÷ UKF pos / vel",
     ] {
         assert!(t.contains(want), "missing {want}:\n{t}");
     }

@@ -110,7 +110,7 @@ fn platform_strings_and_description() {
         );
     }
     assert!(model_description().contains(guid()));
-    assert_eq!(VARIABLES.len(), vr::HINF_CERTIFIED as usize + 1);
+    assert_eq!(VARIABLES.len(), vr::IMM_MU_3 as usize + 1);
 }
 
 #[test]

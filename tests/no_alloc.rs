@@ -1,9 +1,10 @@
 //! No heap allocation per step after construction: a counting global allocator (per
-//! thread, so parallel tests do not interfere) around EKF/UKF and particle-filter steps
-//! through the library, the C ABI and the FMU's `fmi2DoStep` / `fmi2SetReal` /
-//! `fmi2GetReal`.
+//! thread, so parallel tests do not interfere) around EKF/UKF/AQUKF (both adaptation
+//! laws)/IMM and particle-filter steps through the library, the C ABI and the FMU's
+//! `fmi2DoStep` / `fmi2SetReal` / `fmi2GetReal`.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)] // test code
 
+use relnav::estimators::AdaptationLaw;
 use relnav::ffi;
 use relnav::fmi::description::guid;
 use relnav::fmi::functions::*;
@@ -58,9 +59,17 @@ fn library_and_c_abi_steps_do_not_allocate() {
         allocations(|| drop(std::hint::black_box(Box::new(1u64)))),
         1
     );
-    for filter in [FilterKind::Ekf, FilterKind::Ukf, FilterKind::Aqukf] {
+    // the AQUKF with both laws, the IMM
+    for (filter, law) in [
+        (FilterKind::Ekf, AdaptationLaw::Gated),
+        (FilterKind::Ukf, AdaptationLaw::Gated),
+        (FilterKind::Aqukf, AdaptationLaw::Gated),
+        (FilterKind::Aqukf, AdaptationLaw::Window),
+        (FilterKind::Imm, AdaptationLaw::Gated),
+    ] {
         let cfg = NavConfig {
             filter,
+            aq_law: law,
             accel_psd: 1e-9,
             ..Default::default()
         };
@@ -79,6 +88,7 @@ fn library_and_c_abi_steps_do_not_allocate() {
 
         let mut c = ffi::relnav_config_default();
         c.filter = filter as i32;
+        c.aq_law = law as i32;
         let mut est = std::ptr::null_mut();
         // SAFETY: valid pointers.
         unsafe { ffi::relnav_estimator_new(&c, &mut est) };
@@ -86,6 +96,7 @@ fn library_and_c_abi_steps_do_not_allocate() {
         let thrust = [0.0; 3];
         let mut x = [0.0; 6];
         let mut q = [0.0; 3];
+        let mut mu = [0.0; 3];
         let n = allocations(|| {
             for k in 0..200 {
                 let z = measurement(k);
@@ -97,12 +108,16 @@ fn library_and_c_abi_steps_do_not_allocate() {
                     );
                     ffi::relnav_estimator_get_state(est, x.as_mut_ptr());
                     ffi::relnav_estimator_get_q_vv(est, q.as_mut_ptr());
+                    ffi::relnav_estimator_get_mode_probabilities(est, mu.as_mut_ptr());
                 }
             }
         });
         // SAFETY: live handle, freed once.
         unsafe { ffi::relnav_estimator_free(est) };
         assert_eq!(n, 0, "{filter:?}: {n} allocations in C-ABI steps");
+        if filter == FilterKind::Imm {
+            assert!((mu.iter().sum::<f64>() - 1.0).abs() < 1e-12, "{mu:?}");
+        }
     }
 }
 
@@ -179,17 +194,17 @@ fn hinf_steps_do_not_allocate() {
     assert_eq!(n, 0, "{n} allocations in runtime hinf filter steps");
 }
 
-/// `fmi2DoStep` cycles (set inputs, step, get the 12 estimate outputs, `ess`, `q_vv_*`
-/// and `hinf_gamma`) for the EKF, the AQUKF, two particle filters and the H-infinity
-/// filter.
+/// `fmi2DoStep` cycles (set inputs, step, get the 12 estimate outputs, `ess`, `q_vv_*`,
+/// `hinf_gamma` and `imm_mu_*`) for the EKF, the AQUKF (both laws), two particle filters,
+/// the H-infinity filter and the IMM.
 #[test]
 fn fmu_do_step_does_not_allocate() {
-    for filter in [1, 3, 5, 8, 9] {
-        fmu_cycles_do_not_allocate(filter);
+    for (filter, law) in [(1, 2), (3, 2), (3, 1), (5, 2), (8, 2), (9, 2), (10, 2)] {
+        fmu_cycles_do_not_allocate(filter, law);
     }
 }
 
-fn fmu_cycles_do_not_allocate(filter: i32) {
+fn fmu_cycles_do_not_allocate(filter: i32, law: i32) {
     let g = std::ffi::CString::new(guid()).unwrap();
     let cb = fmi2CallbackFunctions {
         logger: None,
@@ -220,9 +235,9 @@ fn fmu_cycles_do_not_allocate(filter: i32) {
         assert_eq!(
             fmi2SetInteger(
                 c,
-                [vr::FILTER, vr::PARTICLES, vr::WINDOW].as_ptr(),
-                3,
-                [filter, 300, 5].as_ptr()
+                [vr::FILTER, vr::PARTICLES, vr::WINDOW, vr::AQ_LAW].as_ptr(),
+                4,
+                [filter, 300, 5, law].as_ptr()
             ),
             fmi2Status::fmi2OK
         );
@@ -248,9 +263,12 @@ fn fmu_cycles_do_not_allocate(filter: i32) {
         vr::Q_VV_Y,
         vr::Q_VV_Z,
         vr::HINF_GAMMA,
+        vr::IMM_MU_1,
+        vr::IMM_MU_2,
+        vr::IMM_MU_3,
     ];
     let valid = [vr::MEASUREMENT_VALID];
-    let mut y = [0.0; 17];
+    let mut y = [0.0; 20];
     let n = allocations(|| {
         for k in 0..200 {
             let z = measurement(k);
@@ -266,7 +284,7 @@ fn fmu_cycles_do_not_allocate(filter: i32) {
                 );
                 assert_eq!(fmi2DoStep(c, k as f64, 1.0, 1), fmi2Status::fmi2OK);
                 assert_eq!(
-                    fmi2GetReal(c, outs.as_ptr(), 17, y.as_mut_ptr()),
+                    fmi2GetReal(c, outs.as_ptr(), 20, y.as_mut_ptr()),
                     fmi2Status::fmi2OK
                 );
             }
@@ -276,7 +294,7 @@ fn fmu_cycles_do_not_allocate(filter: i32) {
     unsafe { fmi2FreeInstance(c) };
     assert_eq!(
         n, 0,
-        "filter {filter}: {n} allocations in 200 fmi2DoStep cycles"
+        "filter {filter} (aq_law {law}): {n} allocations in 200 fmi2DoStep cycles"
     );
 }
 

@@ -81,6 +81,7 @@ fn outputs(nav: &Navigator) -> Vec<u64> {
     o.push(nav.ess().unwrap_or(-1.0));
     o.extend(nav.q_vv().unwrap_or([-1.0; 3]));
     o.push(nav.hinf_gamma().unwrap_or(-1.0));
+    o.extend(nav.mode_probabilities().unwrap_or([-1.0; 3]));
     match nav.last_update() {
         Some(u) => {
             o.extend(u.innovation.iter());
@@ -344,18 +345,22 @@ fn bad_states_are_refused_and_change_nothing() {
     }
 }
 
+/// Bytes of the CONF section: tag, count, 8 bytes per setting.
+fn conf_len() -> usize {
+    4 + 4 + 8 * NavConfig::default().settings().len()
+}
+
 /// Malformed fields under a valid checksum (a crafted state): refused, no panic.
 #[test]
 fn malformed_fields_are_refused() {
-    // the configuration record: tag, length, 44 settings (as in sizes_follow_the_documented_layout)
-    const CONF: usize = 4 + 4 + 44 * 8;
     // AQUKF: the window position past the window
     let cfg = config(FilterKind::Aqukf);
     let mut nav = Navigator::new(&cfg).unwrap();
     let mut b = Vec::new();
     nav.save_state(&mut b);
-    // payload: CONF (4 + 4 + 44*8), NAVG (4 + 1 + 1 + 33), tag (4), UKF (48 + 288), q (24)
-    let head = EST_HEADER + CONF + 39 + 4 + 336 + 24;
+    // payload: CONF (4 + 4 + 8 per setting), NAVG (4 + 1 + 1 + 33), tag (4), UKF (48 + 288),
+    // q (24)
+    let head = EST_HEADER + conf_len() + 39 + 4 + 336 + 24;
     assert_eq!(&b[head - 24 - 336 - 4..head - 24 - 336], b"AQUK");
     b[head..head + 8].copy_from_slice(&10u64.to_le_bytes());
     reseal(&mut b, EST_HEADER);
@@ -370,7 +375,7 @@ fn malformed_fields_are_refused() {
     nav.save_state(&mut b);
     let n = 10;
     // PART: n, m, x0, P0, x (n*48), logw, w, loglik (n*8 each), perm (n*4)
-    let perm = EST_HEADER + CONF + 39 + 4 + 16 + 48 + 288 + n * 48 + 3 * n * 8;
+    let perm = EST_HEADER + conf_len() + 39 + 4 + 16 + 48 + 288 + n * 48 + 3 * n * 8;
     assert_eq!(
         u32::from_le_bytes(b[perm + 4..perm + 8].try_into().unwrap()),
         1
@@ -386,7 +391,7 @@ fn malformed_fields_are_refused() {
     // a non-finite particle
     let mut b = Vec::new();
     nav.save_state(&mut b);
-    let x = EST_HEADER + CONF + 39 + 4 + 16 + 48 + 288;
+    let x = EST_HEADER + conf_len() + 39 + 4 + 16 + 48 + 288;
     b[x..x + 8].copy_from_slice(&f64::NAN.to_le_bytes());
     reseal(&mut b, EST_HEADER);
     refusal(&mut nav, &b, "particle must be finite", "NaN particle");
@@ -402,7 +407,7 @@ fn malformed_fields_are_refused() {
     // a bool that is neither 0 nor 1 (the navigator's failure flag)
     let mut b = Vec::new();
     nav.save_state(&mut b);
-    let failed = EST_HEADER + CONF + 4;
+    let failed = EST_HEADER + conf_len() + 4;
     assert_eq!(&b[failed - 4..failed], b"NAVG");
     b[failed] = 7;
     reseal(&mut b, EST_HEADER);
@@ -417,7 +422,7 @@ fn sizes_follow_the_documented_layout() {
         STATE_FORMAT_VERSION, 1,
         "update docs/state-format.md and this table"
     );
-    let conf = 4 + 4 + 44 * 8;
+    let conf = 4 + 4 + 54 * 8;
     // failure flag, last-update flag, innovation, NIS, azimuth flag (zeros when absent)
     let navg = 4 + 1 + 1 + 3 * 8 + 8 + 1;
     let m6 = 36 * 8;
@@ -428,13 +433,19 @@ fn sizes_follow_the_documented_layout() {
         let n = cfg.particles;
         let filter = 4 + match kind {
             FilterKind::Ekf | FilterKind::Ukf => kalman,
-            FilterKind::Aqukf => kalman + 24 + 3 * 8 + cfg.window * 24 + 8,
+            // q_vv, window position/fill/width and entries, then the gated law's NIS ring
+            // (position/fill/width and (NIS, dof) entries), gate flag and inflation
+            FilterKind::Aqukf => {
+                kalman + 24 + 3 * 8 + cfg.window * 24 + 3 * 8 + cfg.aq_gate_window * 16 + 1 + 8 + 8
+            }
             FilterKind::Pf | FilterKind::Rpf | FilterKind::Gapf => pf_len(n, 0),
             FilterKind::Upf | FilterKind::Cgapf => pf_len(n, n),
             // + H2 norm, track-initiation flag, its covariance and hand-over flag (on by default)
             FilterKind::Hinf => {
                 m6 + 144 + m6 + 144 + 8 + m6 + v6 + v6 + 1 + 24 + 8 + 8 + 1 + m6 + 1
             }
+            // mode count, each mode's EKF, the mode probabilities, the combined estimate
+            FilterKind::Imm => 8 + cfg.imm_modes * (kalman + 8) + kalman,
         };
         let mut nav = Navigator::new(&cfg).unwrap();
         println!(

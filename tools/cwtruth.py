@@ -175,6 +175,45 @@ def truth_trajectory(n: float, x0_c, times, accel_c=None) -> np.ndarray:
     return out
 
 
+def van_loan_q(n: float, psd: float, h: float) -> np.ndarray:
+    """Discrete covariance (6x6, canonical) over ``h`` of a white acceleration of spectral
+    density ``psd`` [m^2/s^3] on every axis, by Van Loan's method (1978):
+    ``expm([[-A, B psd B^T], [0, A^T]] h) = [[., M12], [0, M22]]``, ``Qd = M22^T M12``."""
+    a = cw_a(n)
+    b = cw_b()
+    m = np.zeros((12, 12))
+    m[:6, :6] = -a
+    m[:6, 6:] = psd * (b @ b.T)
+    m[6:, 6:] = a.T
+    e = expm(m * h)
+    qd = e[6:, 6:].T @ e[:6, 6:]
+    return 0.5 * (qd + qd.T)
+
+
+def noisy_trajectory(n: float, x0_c, times, psd: float, rng: np.random.Generator, accel_c=None) -> np.ndarray:
+    """Truth states (canonical) at ``times`` under a white acceleration of density ``psd``
+    on every axis (exact discrete noise ``w_k ~ N(0, van_loan_q(n, psd, h))`` added to the
+    exact zero-order-hold step), plus the thrust ``accel_c`` (N, 3) held over each step."""
+    times = np.asarray(times, dtype=float)
+    n_steps = len(times) - 1
+    accel_c = np.zeros((n_steps, 3)) if accel_c is None else np.asarray(accel_c, dtype=float)
+    out = np.empty((n_steps + 1, 6))
+    out[0] = np.asarray(x0_c, dtype=float)
+    cache: dict[float, tuple[np.ndarray, np.ndarray]] = {}
+    z = np.zeros(9)
+    z[:6] = out[0]
+    for k in range(n_steps):
+        h = float(times[k + 1] - times[k])
+        if h not in cache:
+            cache[h] = (zoh_step_matrix(n, h), np.linalg.cholesky(van_loan_q(n, psd, h)))
+        e, l = cache[h]
+        z[6:] = accel_c[k]
+        z = e @ z
+        z[:6] += l @ rng.standard_normal(6)
+        out[k + 1] = z[:6]
+    return out
+
+
 def rk4_trajectory(n: float, x0_c, times, accel_c=None, substeps: int = 50) -> np.ndarray:
     """Same as :func:`truth_trajectory` by classical RK4 (a cross-check of the exact
     models, not used as truth)."""
@@ -331,6 +370,68 @@ def paper000_scenario(
         valid=np.asarray(valid, dtype=bool),
         params=params,
     )
+
+
+def noisy_scenario(
+    frame: int,
+    psd: float,
+    seed: int,
+    thrust_io=None,
+    thrust_known: bool = True,
+    chaser_mass: float = 1000.0,
+    times=None,
+) -> Scenario:
+    """Paper 000's geometry and sensor in I/O frame ``frame`` with an honest process noise:
+    the truth is driven by a white acceleration of density ``psd`` [m^2/s^3] (drawn with
+    ``seed``; :func:`noisy_trajectory`) and every filter is told exactly that
+    (``accel_psd = psd``, no ``q_pos``/``q_vel``). Thrust as in :func:`paper000_scenario`."""
+    sc = paper000_scenario(frame, times=times, thrust_io=thrust_io, chaser_mass=chaser_mass, thrust_known=thrust_known)
+    rng = np.random.default_rng(10_000 + seed)
+    x0_c = state_to_canonical(PAPER000_TRUTH0, 2)
+    thrust_all = np.zeros((sc.steps, 3)) if thrust_io is None else np.asarray(thrust_io, dtype=float)
+    accel_c = vec_to_canonical(thrust_all, frame) / chaser_mass
+    truth_c = noisy_trajectory(PAPER000_N, x0_c, sc.times, psd, rng, accel_c)
+    sc.truth_io = state_to_frame(truth_c, frame)
+    sc.params["accel_psd"] = psd
+    for axis in "xyz":
+        sc.params[f"q_pos_{axis}"] = 0.0
+        sc.params[f"q_vel_{axis}"] = 0.0
+    return sc
+
+
+def rmse_between(est, truth, times, t_from: float, t_to: float = np.inf) -> tuple[float, float]:
+    """Position and velocity RMSE over runs and ``t_from <= t < t_to``; ``est`` (runs, N+1,
+    >= 6) or a list of per-run arrays, ``truth`` (N+1, 6) or (runs, N+1, 6)."""
+    est = np.asarray(est, dtype=float)[..., :6]
+    truth = np.asarray(truth, dtype=float)
+    if truth.ndim == 2:
+        truth = truth[None]
+    times = np.asarray(times, dtype=float)
+    sel = (times >= t_from - 1e-9) & (times < t_to - 1e-9)
+    err = est[:, sel] - truth[:, sel]
+    return (
+        float(np.sqrt(np.mean(np.sum(err[..., :3] ** 2, axis=-1)))),
+        float(np.sqrt(np.mean(np.sum(err[..., 3:] ** 2, axis=-1)))),
+    )
+
+
+def recovery_time(est, truth, times, burn_stop: float, threshold: float, until: float = np.inf) -> float:
+    """Time from ``burn_stop`` until the position RMSE over runs stays below ``threshold``
+    up to ``until`` (NaN if it never does; 0 if it never left)."""
+    est = np.asarray(est, dtype=float)[..., :3]
+    truth = np.asarray(truth, dtype=float)[..., :3]
+    if truth.ndim == 2:
+        truth = truth[None]
+    times = np.asarray(times, dtype=float)
+    rmse = np.sqrt(np.mean(np.sum((est - truth) ** 2, axis=-1), axis=0))
+    sel = np.flatnonzero((times >= burn_stop - 1e-9) & (times < until - 1e-9))
+    above = sel[rmse[sel] >= threshold]
+    if len(above) == 0:
+        return 0.0
+    last = above[-1]
+    if last == sel[-1]:
+        return float("nan")
+    return float(times[last + 1] - burn_stop)
 
 
 def burn_thrust(times, start: float, stop: float, thrust) -> np.ndarray:

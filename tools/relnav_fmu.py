@@ -129,9 +129,11 @@ class LogCapture:
 
 
 class SlaveRunner:
-    """Run scenarios through one loaded FMU2Slave; each run is a fresh fmi2Instantiate."""
+    """Run scenarios through one loaded FMU2Slave; each run is a fresh fmi2Instantiate.
 
-    def __init__(self, unzipdir: Path, logging_on: bool = False) -> None:
+    ``outputs`` (default :data:`OUTPUTS`) are the Real variables read after each step."""
+
+    def __init__(self, unzipdir: Path, logging_on: bool = False, outputs: list[str] | None = None) -> None:
         self.unzipdir = Path(unzipdir)
         self.md = read_model_description(str(self.unzipdir))
         self.vars = {v.name: v for v in self.md.modelVariables}
@@ -146,7 +148,8 @@ class SlaveRunner:
         )
         self._in_real = [self.vr[n] for n in REAL_INPUTS]
         self._in_bool = [self.vr[n] for n in BOOL_INPUTS]
-        self._out = [self.vr[n] for n in OUTPUTS]
+        self.output_names = list(OUTPUTS if outputs is None else outputs)
+        self._out = [self.vr[n] for n in self.output_names]
         self.instantiated = False
 
     # -- life cycle -----------------------------------------------------------------
@@ -191,10 +194,10 @@ class SlaveRunner:
         return np.array(self.fmu.getReal(self._out))
 
     def simulate(self, times, thrust, meas, valid) -> np.ndarray:
-        """Step the initialised instance over ``times``; returns (N+1, 12)."""
+        """Step the initialised instance over ``times``; returns (N+1, len(outputs))."""
         times = np.asarray(times, dtype=float)
         n_steps = len(times) - 1
-        out = np.empty((n_steps + 1, len(OUTPUTS)))
+        out = np.empty((n_steps + 1, len(self._out)))
         out[0] = self.outputs()
         set_real, set_bool, do_step, get_real = (
             self.fmu.setReal,

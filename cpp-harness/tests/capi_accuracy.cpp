@@ -1,6 +1,8 @@
 // Test (a): paper 000's example through the relnav C ABI, EKF and UKF, without and with a
 // 60 s burn. Truth: our own closed-form CW solution (cross-checked with RK4 here). Asserts
 // the paper's accuracy bar over `--runs` seeded runs (default 20; memcheck runs use fewer).
+// Issue 12: the same burn NOT told to the filters, which are tuned for the quiet phase: the
+// gated AQUKF and the IMM (code 10, with its mode probabilities) against the UKF.
 
 #include "capi_runner.hpp"
 #include "check.hpp"
@@ -268,6 +270,118 @@ void run_pf_case(const Paper000& p, int runs, int particles) {
     CHECK_MSG(reproducible, name + ": two estimators with the same seed differ");
 }
 
+// Issue 12: the 60 s burn of paper000_with_burn() is NOT told to the filters (zero thrust
+// in), and every filter is tuned for the quiet phase (no position noise, a velocity noise
+// of 1e-8 m^2/s^3; the AQUKF starts its q_vv there). After the burn's start, the gated
+// AQUKF's, the window AQUKF's and the IMM's position RMSE must be at most half the UKF's
+// (issue 12's bar); the IMM's mode probabilities must sum to one at every step, stay on the
+// quiet mode before the burn (> 0.9) and, during it, lift the manoeuvring modes at least a
+// hundredfold above their stationary probability (2e-4 with the defaults; this 2.3 mm/s^2
+// burn is small beside the burn mode's 1e-3 m^2/s^3, so they need not dominate: measured
+// 0.12 at the peak of the mean over runs). Recovery: first time after the burn's end from
+// which the position RMSE over runs stays below 1 m.
+void run_unreported_burn_case(int runs) {
+    const Paper000 p = paper000_with_burn();
+    const auto truth = truth_trajectory(p);
+    struct Filter {
+        const char* name;
+        int code;
+        int law;
+    };
+    const Filter filters[] = {{"UKF", RELNAV_FILTER_UKF, RELNAV_ADAPTATION_GATED},
+                              {"AQUKF gated", RELNAV_FILTER_AQUKF, RELNAV_ADAPTATION_GATED},
+                              {"AQUKF window", RELNAV_FILTER_AQUKF, RELNAV_ADAPTATION_WINDOW},
+                              {"IMM", RELNAV_FILTER_IMM, RELNAV_ADAPTATION_GATED}};
+    const size_t n = static_cast<size_t>(p.steps);
+    double ukf_after = 0.0;
+    std::printf("\nunreported burn (2, -1, 0.5) N, 100-160 s; filters tuned for the quiet phase\n");
+    for (const Filter& f : filters) {
+        std::vector<double> sq(n, 0.0);  // sum over runs of |dr|^2 at estimate time k + 1
+        double mu_sum_err = 0.0, manoeuvre_peak = 0.0, quiet_mode_before = 0.0;
+        int quiet_count = 0;
+        for (int seed = 0; seed < runs; ++seed) {
+            const auto z = noisy_measurements(p, truth, static_cast<std::uint64_t>(seed));
+            relnav_config c = relnav_config_default();
+            c.filter = f.code;
+            c.aq_law = f.law;
+            for (int i = 0; i < 3; ++i) {
+                c.q_pos[i] = 0.0;
+                c.q_vel[i] = 1e-8;
+            }
+            relnav_estimator* e = nullptr;
+            CHECK(relnav_estimator_new(&c, &e) == RELNAV_OK);
+            if (!e) return;
+            const double u[3] = {0.0, 0.0, 0.0};
+            std::vector<double> manoeuvre(n, 0.0);
+            for (size_t k = 0; k < n; ++k) {
+                if (relnav_estimator_step(e, u, z[k].data(), p.dt) != RELNAV_OK) {
+                    record_failure(__FILE__, __LINE__, std::string(f.name) + ": step failed: " + relnav_last_error());
+                    break;
+                }
+                Vec6 x{};
+                double mu[3] = {0.0, 0.0, 0.0};
+                CHECK(relnav_estimator_get_state(e, x.data()) == RELNAV_OK);
+                CHECK(relnav_estimator_get_mode_probabilities(e, mu) == RELNAV_OK);
+                for (size_t i = 0; i < 3; ++i) sq[k] += (x[i] - truth[k + 1][i]) * (x[i] - truth[k + 1][i]);
+                if (f.code == RELNAV_FILTER_IMM) {
+                    mu_sum_err = std::max(mu_sum_err, std::fabs(mu[0] + mu[1] + mu[2] - 1.0));
+                    manoeuvre[k] = mu[1] + mu[2];
+                    if (k + 1 >= 50 && k + 1 < 100) {
+                        quiet_mode_before += mu[0];
+                        ++quiet_count;
+                    }
+                } else {
+                    CHECK(std::isnan(mu[0]) && std::isnan(mu[1]) && std::isnan(mu[2]));
+                }
+            }
+            relnav_estimator_free(e);
+            for (size_t k = 100; k < 160; ++k) manoeuvre_peak = std::max(manoeuvre_peak, manoeuvre[k] / runs);
+        }
+        // position RMSE over runs and estimate times t >= 100 s (from the burn's start)
+        double sum = 0.0;
+        long cnt = 0;
+        for (size_t k = 99; k < n; ++k) {
+            sum += sq[k];
+            cnt += runs;
+        }
+        const double after = std::sqrt(sum / static_cast<double>(cnt));
+        // recovery below 1 m after the burn's end (estimate times t >= 160 s)
+        double recovery = -1.0;  // never
+        for (size_t k = n; k-- > 159;) {
+            if (std::sqrt(sq[k] / runs) >= 1.0) {
+                if (k + 1 < n) recovery = static_cast<double>(k + 2) - 160.0;
+                break;
+            }
+            if (k == 159) recovery = 0.0;
+        }
+        if (f.code == RELNAV_FILTER_UKF) ukf_after = after;
+        char rec[32];
+        if (recovery < 0.0)
+            std::snprintf(rec, sizeof rec, "never");
+        else
+            std::snprintf(rec, sizeof rec, "%.0f s", recovery);
+        std::printf("  %-13s position RMSE from 100 s: %.3f m (%.3f of the UKF's); recovery below 1 m: %s\n", f.name,
+                    after, after / ukf_after, rec);
+        if (f.code != RELNAV_FILTER_UKF)
+            CHECK_MSG(after <= 0.5 * ukf_after, std::string(f.name) + ": " + std::to_string(after) +
+                                                     " m is not at most half the UKF's " + std::to_string(ukf_after));
+        if (f.code == RELNAV_FILTER_IMM) {
+            std::printf("  IMM: mean mode-1 probability 50-100 s %.4f, peak mean manoeuvre probability in the burn "
+                        "%.3f, worst |sum - 1| %.2g\n",
+                        quiet_mode_before / quiet_count, manoeuvre_peak, mu_sum_err);
+            CHECK(mu_sum_err < 1e-12);
+            CHECK(quiet_mode_before / quiet_count > 0.9);
+            relnav_config d = relnav_config_default();
+            double w[3], total = 0.0;
+            for (int j = 0; j < 3; ++j) total += (w[j] = 1.0 / (1.0 - d.imm_p_stay[j]));
+            const double stationary = (w[1] + w[2]) / total;
+            CHECK_MSG(manoeuvre_peak > 100.0 * stationary,
+                      "IMM: manoeuvre probability " + std::to_string(manoeuvre_peak) + " vs stationary " +
+                          std::to_string(stationary));
+        }
+    }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -286,7 +400,10 @@ int main(int argc, char** argv) {
     run_case("UKF", plain, RELNAV_FILTER_UKF, runs);
     run_case("EKF burn 100-160s", burn, RELNAV_FILTER_EKF, runs);
     run_case("UKF burn 100-160s", burn, RELNAV_FILTER_UKF, runs);
+    run_case("AQUKF (gated)", plain, RELNAV_FILTER_AQUKF, runs);
+    run_case("IMM", plain, RELNAV_FILTER_IMM, runs);
     std::printf("bar: every per-time RMS < 0.5 m (pos) / 0.02 m/s (vel); position RMSE < 0.4 m\n");
+    run_unreported_burn_case(std::min(runs, 8));
     if (runs >= kFullRuns) {
         run_pf_case(plain, 4, 1500);
     } else {  // reduced (e.g. under valgrind): one 100 s run

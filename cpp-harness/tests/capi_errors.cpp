@@ -345,7 +345,7 @@ void check_config() {
                            [&](relnav_config& c) { c.filter = RELNAV_FILTER_UKF; c.ukf_kappa = v; }, "kappa");
 
     // Unknown codes.
-    for (int v : {0, -1, 10, 100, INT_MIN, INT_MAX})
+    for (int v : {0, -1, 11, 100, INT_MIN, INT_MAX})
         expect_config_fail("filter=" + std::to_string(v), IA, [&](relnav_config& c) { c.filter = v; }, "filter");
     for (int v : {0, -1, 4, 100, INT_MIN, INT_MAX})
         expect_config_fail("frame=" + std::to_string(v), IA, [&](relnav_config& c) { c.frame = v; }, "frame");
@@ -355,6 +355,24 @@ void check_config() {
     // H-infinity design inputs out of their domain.
     expect_config_fail("filter=9, hinf_period=-1", IA,
                        [&](relnav_config& c) { c.filter = RELNAV_FILTER_HINF; c.hinf_period = -1.0; }, "period");
+    // Issue 12: the AQUKF's adaptation law and gate, the IMM's modes (code 10).
+    for (int v : {0, 3, -1})
+        expect_config_fail("aq_law=" + std::to_string(v), IA, [&](relnav_config& c) { c.aq_law = v; }, "aq_law");
+    for (int v : {0, 129, -5})
+        expect_config_fail("aq_gate_window=" + std::to_string(v), IA, [&](relnav_config& c) { c.aq_gate_window = v; },
+                           "aq_gate_window");
+    for (double v : {0.0, 1.0, kNaN})
+        expect_config_fail("aq_gate_quantile=" + fmt(v), IA, [&](relnav_config& c) { c.aq_gate_quantile = v; },
+                           "aq_gate_quantile");
+    for (int v : {1, 4, -1})
+        expect_config_fail("imm_modes=" + std::to_string(v), IA,
+                           [&](relnav_config& c) { c.filter = RELNAV_FILTER_IMM; c.imm_modes = v; }, "imm_modes");
+    for (double v : {-1e-6, kNaN, kInf})
+        expect_config_fail("imm_accel_psd[1]=" + fmt(v), IA, [&](relnav_config& c) { c.imm_accel_psd[1] = v; },
+                           "imm_accel_psd_2");
+    for (double v : {0.0, 1.0, kNaN})
+        expect_config_fail("imm_p_stay[2]=" + fmt(v), IA, [&](relnav_config& c) { c.imm_p_stay[2] = v; },
+                           "imm_p_stay_3");
     // Particle-filter and noise-model fields: out of their domain, named in the message.
     for (int v : {0, -1, 2000001, INT_MIN})
         expect_config_fail("particles=" + std::to_string(v), IA, [&](relnav_config& c) { c.particles = v; },

@@ -1,5 +1,5 @@
 // Test (d): saving and restoring an estimator's state through the C ABI
-// (relnav_estimator_save / relnav_estimator_restore), for every filter code 1-9, on paper
+// (relnav_estimator_save / relnav_estimator_restore), for every filter code 1-10, on paper
 // 000's example with a burn and a measurement gap (truth and noise from this harness's own
 // C++ closed form). A state saved mid-run and restored — into the same estimator and into a
 // fresh one — continues bit for bit as the uninterrupted run. The size query, a short
@@ -196,9 +196,10 @@ int main(int argc, char** argv) {
     const std::vector<Vec3> z = noisy_measurements(p, truth, 3);
     std::printf("relnav %s: estimator state through the C ABI, saved at step %d of %d\n", relnav_version(), kSaveAt,
                 kSteps);
-    for (int filter = RELNAV_FILTER_EKF; filter <= RELNAV_FILTER_HINF; ++filter) {
+    for (int filter = RELNAV_FILTER_EKF; filter <= RELNAV_FILTER_IMM; ++filter) {
         const bool family = filter == RELNAV_FILTER_EKF || filter == RELNAV_FILTER_AQUKF ||
-                            filter == RELNAV_FILTER_RPF || filter == RELNAV_FILTER_HINF;
+                            filter == RELNAV_FILTER_RPF || filter == RELNAV_FILTER_HINF ||
+                            filter == RELNAV_FILTER_IMM;
         if (!quick || family) one_filter(filter, p, z);
     }
 

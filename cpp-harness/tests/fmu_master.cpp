@@ -372,7 +372,9 @@ void accuracy_and_equivalence(Context& cx, int runs) {
     const Case cases[] = {{"FMU EKF", &plain, RELNAV_FILTER_EKF},
                           {"FMU UKF", &plain, RELNAV_FILTER_UKF},
                           {"FMU EKF burn 100-160s", &burn, RELNAV_FILTER_EKF},
-                          {"FMU UKF burn 100-160s", &burn, RELNAV_FILTER_UKF}};
+                          {"FMU UKF burn 100-160s", &burn, RELNAV_FILTER_UKF},
+                          {"FMU AQUKF (gated)", &plain, RELNAV_FILTER_AQUKF},
+                          {"FMU IMM", &plain, RELNAV_FILTER_IMM}};
     double worst_rel = 0.0;
     for (const Case& cs : cases) {
         const auto truth = truth_trajectory(*cs.p);
@@ -447,6 +449,67 @@ void gaps_and_reset_midway(Context& cx) {
     }
 }
 
+// The IMM's mode-probability outputs (imm_mu_1..3, looked up by name) are the C ABI's
+// relnav_estimator_get_mode_probabilities after every step, sum to one, and start at the
+// stationary distribution of the mode chain; the other filters publish NaN.
+void imm_mode_outputs(Context& cx) {
+    std::printf("\nIMM mode probabilities\n");
+    const Paper000 p = paper000_with_burn();
+    const auto truth = truth_trajectory(p);
+    const auto z = noisy_measurements(p, truth, 3);
+    Slave s(*cx.api, *cx.md, *cx.env, "imm", cx.resource_uri, cx.md->guid);
+    CHECK(s.get() != nullptr);
+    if (!s.get()) return;
+    const std::vector<fmi2ValueReference> mu_out = {s.vr("imm_mu_1"), s.vr("imm_mu_2"), s.vr("imm_mu_3")};
+    for (int filter : {RELNAV_FILTER_EKF, RELNAV_FILTER_IMM}) {
+        EXPECT_FMI(cx.api->fmi2Reset(s.get()), fmi2::OK);
+        if (!initialise(cx, s, filter, p.steps * p.dt)) return;
+        relnav_config c = scenario_config(filter);
+        relnav_estimator* e = nullptr;
+        CHECK(relnav_estimator_new(&c, &e) == RELNAV_OK);
+        if (!e) return;
+        double fmu_mu[3] = {0.0, 0.0, 0.0}, capi_mu[3] = {0.0, 0.0, 0.0};
+        EXPECT_FMI(s.get_reals(mu_out, fmu_mu), fmi2::OK);
+        CHECK(relnav_estimator_get_mode_probabilities(e, capi_mu) == RELNAV_OK);
+        if (filter == RELNAV_FILTER_IMM) {
+            double w[3], total = 0.0;
+            for (int j = 0; j < 3; ++j) total += (w[j] = 1.0 / (1.0 - c.imm_p_stay[j]));
+            for (int j = 0; j < 3; ++j)
+                CHECK_MSG(std::fabs(fmu_mu[j] - w[j] / total) < 1e-12 && fmu_mu[j] == capi_mu[j],
+                          "initial imm_mu_" + std::to_string(j + 1) + " is not the stationary probability");
+        }
+        const std::vector<fmi2ValueReference> in_thrust = {s.vr("thrust_x"), s.vr("thrust_y"), s.vr("thrust_z")};
+        const std::vector<fmi2ValueReference> in_meas = {s.vr("range"), s.vr("azimuth"), s.vr("elevation")};
+        const fmi2ValueReference in_valid = s.vr("measurement_valid");
+        const fmi2Boolean yes = fmi2::True;
+        double worst = 0.0;
+        for (int k = 0; k < 200; ++k) {
+            const double t = k * p.dt;
+            const Vec3 u = p.thrust_at(t);
+            EXPECT_FMI(cx.api->fmi2SetReal(s.get(), in_thrust.data(), 3, u.data()), fmi2::OK);
+            EXPECT_FMI(cx.api->fmi2SetReal(s.get(), in_meas.data(), 3, z[static_cast<size_t>(k)].data()), fmi2::OK);
+            EXPECT_FMI(cx.api->fmi2SetBoolean(s.get(), &in_valid, 1, &yes), fmi2::OK);
+            EXPECT_FMI(cx.api->fmi2DoStep(s.get(), t, p.dt, fmi2::True), fmi2::OK);
+            CHECK(relnav_estimator_step(e, u.data(), z[static_cast<size_t>(k)].data(), p.dt) == RELNAV_OK);
+            EXPECT_FMI(s.get_reals(mu_out, fmu_mu), fmi2::OK);
+            CHECK(relnav_estimator_get_mode_probabilities(e, capi_mu) == RELNAV_OK);
+            for (int j = 0; j < 3; ++j) {
+                if (filter == RELNAV_FILTER_IMM)
+                    worst = std::max(worst, std::fabs(fmu_mu[j] - capi_mu[j]));
+                else
+                    CHECK(std::isnan(fmu_mu[j]) && std::isnan(capi_mu[j]));
+            }
+            if (filter == RELNAV_FILTER_IMM) CHECK(std::fabs(fmu_mu[0] + fmu_mu[1] + fmu_mu[2] - 1.0) < 1e-12);
+        }
+        relnav_estimator_free(e);
+        EXPECT_FMI(cx.api->fmi2Terminate(s.get()), fmi2::OK);
+        if (filter == RELNAV_FILTER_IMM) {
+            std::printf("  imm_mu_* vs the C ABI over 200 steps: max |diff| %.3g\n", worst);
+            CHECK(worst == 0.0);
+        }
+    }
+}
+
 size_t count_errors(const Environment& env, size_t from) {
     size_t n = 0;
     for (size_t i = from; i < env.records.size(); ++i)
@@ -509,9 +572,9 @@ void error_cases(Context& cx) {
             EXPECT_FMI(api.fmi2Terminate(s.get()), fmi2::OK);
         }
     }
-    // Codes 3 (AQUKF), 4..8 (particle filters) and 9 (H-infinity) initialise;
-    // 10 is not a filter code (yet): refused when set.
-    for (int code = 3; code <= 10; ++code) {
+    // Codes 3 (AQUKF), 4..8 (particle filters), 9 (H-infinity) and 10 (IMM) initialise;
+    // 11 is not a filter code: refused when set.
+    for (int code = 3; code <= 11; ++code) {
         Slave s(api, *cx.md, env, "filter" + std::to_string(code), cx.resource_uri, cx.md->guid);
         if (!s.get()) {
             CHECK(s.get() != nullptr);
@@ -529,9 +592,9 @@ void error_cases(Context& cx) {
         env.echo = true;
         std::printf("  filter=%d: fmi2SetInteger -> %d, fmi2ExitInitializationMode -> %d: %s\n", code, set,
                     set == fmi2::OK ? exit_st : -1, last_message(env).c_str());
-        if (code <= 9) {
+        if (code <= 10) {
             CHECK(set == fmi2::OK);
-            // every code 3..9 is implemented (AQUKF, particle filters, H-infinity).
+            // every code 3..10 is implemented (AQUKF, particle filters, H-infinity, IMM).
             CHECK_MSG(exit_st == fmi2::OK, "filter " + std::to_string(code) + ": " + last_message(env));
         } else {
             CHECK(set == fmi2::Error);
@@ -641,7 +704,7 @@ void fmu_state(Context& cx) {
     const auto truth = truth_trajectory(p);
     const auto z = noisy_measurements(p, truth, 11);
     const int k0 = 12;
-    for (int filter = RELNAV_FILTER_EKF; filter <= RELNAV_FILTER_HINF; ++filter) {
+    for (int filter = RELNAV_FILTER_EKF; filter <= RELNAV_FILTER_IMM; ++filter) {
         Slave a(api, *cx.md, env, "state_a", cx.resource_uri, cx.md->guid);
         Slave b(api, *cx.md, env, "state_b", cx.resource_uri, cx.md->guid);
         if (!a.get() || !b.get()) {
@@ -750,6 +813,7 @@ int main(int argc, char** argv) {
         env.echo = true;
         accuracy_and_equivalence(cx, runs);
         gaps_and_reset_midway(cx);
+        imm_mode_outputs(cx);
         error_cases(cx);
         fmu_state(cx);
         logging(cx);

@@ -16,7 +16,7 @@ use super::{finite, symmetrize, Estimator, FilterError, UpdateInfo};
 use crate::dynamics::DiscreteModel;
 use crate::numerics::state::{Persist, Reader, StateError, Writer};
 use crate::sensors::MeasurementModel;
-use crate::types::{Mat6, State, Vec3};
+use crate::types::{Mat3, Mat6, State, Vec3};
 
 /// Extended Kalman filter with a Joseph-form update.
 #[derive(Debug, Clone, PartialEq)]
@@ -30,24 +30,16 @@ impl Ekf {
     pub fn new(x0: State, p0: Mat6) -> Self {
         Self { x: x0, p: p0 }
     }
-}
 
-impl Estimator for Ekf {
-    fn predict(&mut self, model: &DiscreteModel, accel: &Vec3) -> Result<(), FilterError> {
-        let x = model.apply(&self.x, accel);
-        let p = symmetrize(&(model.phi * self.p * model.phi.transpose() + model.q));
-        finite(&x, "predicted state")?;
-        finite(&p, "predicted covariance")?;
-        self.x = x;
-        self.p = p;
-        Ok(())
-    }
-
-    fn update<M: MeasurementModel>(
+    /// The measurement update of [`Estimator::update`], returning also the innovation
+    /// covariance `S = H P- H^T + R` it used (the interacting multiple-model filter weighs
+    /// its modes with the Gaussian likelihood `N(nu; 0, S)`). The filter is unchanged on
+    /// error.
+    pub fn update_with_s<M: MeasurementModel>(
         &mut self,
         sensor: &M,
         z: &Vec3,
-    ) -> Result<UpdateInfo, FilterError> {
+    ) -> Result<(UpdateInfo, Mat3), FilterError> {
         let g = sensor.linearize(&self.x.fixed_rows::<3>(0).into_owned())?;
         let mut nu = sensor.diff(z, &g.z);
         if !g.azimuth_usable {
@@ -70,11 +62,34 @@ impl Estimator for Ekf {
         let nis = nu.dot(&chol.solve(&nu));
         self.x = x;
         self.p = p;
-        Ok(UpdateInfo {
-            innovation: nu,
-            nis,
-            azimuth_used: g.azimuth_usable,
-        })
+        Ok((
+            UpdateInfo {
+                innovation: nu,
+                nis,
+                azimuth_used: g.azimuth_usable,
+            },
+            s,
+        ))
+    }
+}
+
+impl Estimator for Ekf {
+    fn predict(&mut self, model: &DiscreteModel, accel: &Vec3) -> Result<(), FilterError> {
+        let x = model.apply(&self.x, accel);
+        let p = symmetrize(&(model.phi * self.p * model.phi.transpose() + model.q));
+        finite(&x, "predicted state")?;
+        finite(&p, "predicted covariance")?;
+        self.x = x;
+        self.p = p;
+        Ok(())
+    }
+
+    fn update<M: MeasurementModel>(
+        &mut self,
+        sensor: &M,
+        z: &Vec3,
+    ) -> Result<UpdateInfo, FilterError> {
+        self.update_with_s(sensor, z).map(|(info, _)| info)
     }
 
     fn state(&self) -> &State {

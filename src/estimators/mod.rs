@@ -13,12 +13,16 @@ use crate::types::{Mat6, State, Vec3};
 
 pub mod aqukf;
 pub mod ekf;
+pub mod imm;
 /// cbindgen:ignore
 pub mod pf;
 pub mod ukf;
 
-pub use aqukf::{AdaptiveQ, AdaptiveUkf, AqParams, Aqukf, MAX_WINDOW};
+pub use aqukf::{
+    AdaptationLaw, AdaptiveQ, AdaptiveUkf, AqParams, Aqukf, MAX_GATE_WINDOW, MAX_WINDOW,
+};
 pub use ekf::Ekf;
+pub use imm::{Imm, ImmParams, MAX_MODES};
 pub use ukf::{Ukf, UkfParams};
 
 /// Why a filter step failed. The estimate is unchanged after an error.

@@ -34,6 +34,11 @@ pub const BUILTIN: &[(&str, &str, &str)] = &[
         include_str!("../../scenarios/model_error_j2.toml"),
     ),
     (
+        "001",
+        "model_error_quiet",
+        include_str!("../../scenarios/model_error_quiet.toml"),
+    ),
+    (
         "002",
         "paper002_stress_uniform",
         include_str!("../../scenarios/paper002_stress_uniform.toml"),

@@ -139,6 +139,13 @@ pub struct Summary {
     /// Recovery after each unreported burn \[s\] ([`recovery_times`]); empty when the
     /// scenario has none.
     pub recovery: Vec<Option<f64>>,
+    /// With unreported burns: position and velocity RMSE \[m, m/s\] of the quiet phase,
+    /// `convergence_time <= t < start of the first burn` ([`rmse_between`]); the price a
+    /// filter pays while nothing goes wrong. `None` without unreported burns.
+    pub quiet_rmse: Option<(f64, f64)>,
+    /// With unreported burns: position and velocity RMSE \[m, m/s\] from the start of the
+    /// first burn to the end ([`rmse_between`]). `None` without unreported burns.
+    pub after_burn_rmse: Option<(f64, f64)>,
 }
 
 /// Quantile of the chi-square distribution with `dof` degrees of freedom at probability
@@ -244,6 +251,23 @@ pub fn recovery_times(
         .collect()
 }
 
+/// Position and velocity RMSE over `from <= t[k] < to`:
+/// `(sqrt(mean(mse_x + mse_y + mse_z)), sqrt(mean(mse_vx + mse_vy + mse_vz)))`, NaN when no
+/// time falls in the interval. Only the common length of `t` and `mse` is used.
+pub fn rmse_between(t: &[f64], mse: &[[f64; 6]], from: f64, to: f64) -> (f64, f64) {
+    let window: Vec<usize> = t
+        .iter()
+        .take(mse.len())
+        .enumerate()
+        .filter(|(_, tk)| **tk >= from && **tk < to)
+        .map(|(k, _)| k)
+        .collect();
+    (
+        mean_over(&window, mse, pos_sq).sqrt(),
+        mean_over(&window, mse, vel_sq).sqrt(),
+    )
+}
+
 /// Indices `k` of the averaging window `t[k] >= convergence_time`.
 pub fn averaging_window(r: &McResult) -> Vec<usize> {
     r.t.iter()
@@ -335,6 +359,14 @@ fn summarize_filter(
         us_per_step: f.us_per_step,
         failed_runs: f.failed_runs,
         recovery: recovery_times(&r.t, &f.mse, r.convergence_threshold.0, &r.unreported_burns),
+        quiet_rmse: r
+            .unreported_burns
+            .first()
+            .map(|b| rmse_between(&r.t, &f.mse, r.convergence_time, b.0)),
+        after_burn_rmse: r
+            .unreported_burns
+            .first()
+            .map(|b| rmse_between(&r.t, &f.mse, b.0, f64::INFINITY)),
     }
 }
 
@@ -446,6 +478,25 @@ mod tests {
             published: vec![],
             unreported_burns: vec![],
         }
+    }
+
+    /// The RMSE over an interval is the root of the mean of the summed squares over the
+    /// times inside `[from, to)`; an empty interval is NaN.
+    #[test]
+    fn rmse_between_averages_inside_the_interval() {
+        let t: Vec<f64> = (0..6).map(f64::from).collect();
+        let mse: Vec<[f64; 6]> = (0..6)
+            .map(|k| {
+                let v = f64::from(k);
+                [v, 2.0 * v, 0.0, 0.1 * v, 0.0, 0.0]
+            })
+            .collect();
+        let (p, v) = rmse_between(&t, &mse, 2.0, 4.0);
+        assert!((p - ((6.0 + 9.0) / 2.0_f64).sqrt()).abs() < 1e-15);
+        assert!((v - ((0.2 + 0.3) / 2.0_f64).sqrt()).abs() < 1e-15);
+        let (p, _) = rmse_between(&t, &mse, 4.0, f64::INFINITY);
+        assert!((p - ((12.0 + 15.0) / 2.0_f64).sqrt()).abs() < 1e-15);
+        assert!(rmse_between(&t, &mse, 7.0, 9.0).0.is_nan());
     }
 
     #[test]

@@ -199,9 +199,12 @@ pub fn markdown_table(r: &McResult, s: &[Summary]) -> String {
     if !r.unreported_burns.is_empty() {
         let _ = writeln!(
             out,
-            "Recovery after the unreported burns: time from a burn's end until the position \
-             RMSE stays below {} m up to the next burn (or the end).",
-            fmt_trim(r.convergence_threshold.0, 4)
+            "Unreported burns. Recovery: time from a burn's end until the position RMSE \
+             stays below {} m up to the next burn (or the end). Quiet phase: {} s up to the \
+             first burn (the cost of a filter while nothing goes wrong); after: from the first \
+             burn's start to the end. Ratios are to the first UKF row (`kind = \"ukf\"`).",
+            fmt_trim(r.convergence_threshold.0, 4),
+            fmt_trim(r.convergence_time, 4),
         );
         let _ = writeln!(out);
         let mut head = String::from("| filter |");
@@ -215,8 +218,24 @@ pub fn markdown_table(r: &McResult, s: &[Summary]) -> String {
             );
             rule.push_str("---:|");
         }
+        head.push_str(
+            " quiet pos / vel RMSE [m, m/s] | quiet ÷ UKF pos / vel | after first burn pos / vel \
+             RMSE [m, m/s] | after ÷ UKF pos / vel |",
+        );
+        rule.push_str("---:|---:|---:|---:|");
         let _ = writeln!(out, "{head}");
         let _ = writeln!(out, "{rule}");
+        let ukf = s.iter().find(|x| x.kind == "ukf");
+        let pair = |p: Option<(f64, f64)>| {
+            p.map_or_else(
+                || "—".to_string(),
+                |(a, b)| format!("{} / {}", fmt_sig(a, 3), fmt_sig(b, 3)),
+            )
+        };
+        let ratio = |p: Option<(f64, f64)>, q: Option<(f64, f64)>| match (p, q) {
+            (Some((a, b)), Some((c, d))) => format!("{:.2} / {:.2}", a / c, b / d),
+            _ => "—".to_string(),
+        };
         for x in s {
             let mut row = format!("| {} |", cell(&x.label));
             for v in &x.recovery {
@@ -226,6 +245,14 @@ pub fn markdown_table(r: &McResult, s: &[Summary]) -> String {
                     v.map_or_else(|| "never".to_string(), |t| fmt_trim(t, 4))
                 );
             }
+            let _ = write!(
+                row,
+                " {} | {} | {} | {} |",
+                pair(x.quiet_rmse),
+                ratio(x.quiet_rmse, ukf.and_then(|u| u.quiet_rmse)),
+                pair(x.after_burn_rmse),
+                ratio(x.after_burn_rmse, ukf.and_then(|u| u.after_burn_rmse)),
+            );
             let _ = writeln!(out, "{row}");
         }
         let _ = writeln!(out);

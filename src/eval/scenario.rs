@@ -333,6 +333,27 @@ pub struct FilterSpec {
     /// AQUKF: upper bound on each adaptive `q_vv` [m^2/s^3] (default 1).
     #[serde(default = "one")]
     pub q_vv_ceiling: f64,
+    /// AQUKF: adaptation law, `gated` (default: adapt only while the windowed NIS exceeds
+    /// its chi-square bound) or `window` (paper 001: at every update).
+    #[serde(default)]
+    pub adaptation: AdaptationName,
+    /// AQUKF, gated law: updates in the windowed NIS (default 10).
+    #[serde(default = "default_window")]
+    pub gate_window: usize,
+    /// AQUKF, gated law: chi-square probability of the gate (default 0.999).
+    #[serde(default = "default_gate_quantile")]
+    pub gate_quantile: f64,
+    /// IMM (`kind = "imm"`): number of modes, 2 or 3 (default 3).
+    #[serde(default = "default_imm_modes")]
+    pub imm_modes: usize,
+    /// IMM: white-acceleration density added to the filter's process noise in each mode
+    /// [m^2/s^3] (default 0, 1e-6, 1e-3).
+    #[serde(default = "default_imm_accel_psd")]
+    pub imm_accel_psd: [f64; 3],
+    /// IMM: probability of staying in each mode over one second (default 0.99999, 0.9,
+    /// 0.9).
+    #[serde(default = "default_imm_p_stay")]
+    pub imm_p_stay: [f64; 3],
     /// H-infinity (`kind = "hinf"`): `paper` (Theorem 1 / Corollary 1 on the closed loop
     /// `u = K x`, Euler as the paper; needs `thrust.kind = "feedback"`), `published` (the
     /// paper's printed `A_F, B_F, C_F`, T = 0.1 s), `observer` (open-loop observer form,
@@ -364,6 +385,42 @@ pub struct FilterSpec {
 
 fn default_window() -> usize {
     10
+}
+
+fn default_gate_quantile() -> f64 {
+    crate::estimators::AqParams::default().gate_quantile
+}
+
+fn default_imm_modes() -> usize {
+    crate::estimators::ImmParams::default().modes
+}
+
+fn default_imm_accel_psd() -> [f64; 3] {
+    crate::estimators::ImmParams::default().accel_psd
+}
+
+fn default_imm_p_stay() -> [f64; 3] {
+    crate::estimators::ImmParams::default().p_stay
+}
+
+/// AQUKF adaptation-law names in scenario files.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum AdaptationName {
+    /// Paper 001 literally.
+    Window,
+    /// Adapt only while the windowed NIS exceeds its chi-square bound.
+    #[default]
+    Gated,
+}
+
+impl From<AdaptationName> for crate::estimators::AdaptationLaw {
+    fn from(a: AdaptationName) -> Self {
+        match a {
+            AdaptationName::Window => crate::estimators::AdaptationLaw::Window,
+            AdaptationName::Gated => crate::estimators::AdaptationLaw::Gated,
+        }
+    }
 }
 
 fn default_particles() -> usize {
@@ -422,6 +479,18 @@ impl FilterSpec {
             q_vv0: crate::types::Vec3::new(c[(3, 3)], c[(4, 4)], c[(5, 5)]),
             floor: self.q_vv_floor,
             ceiling: self.q_vv_ceiling,
+            law: self.adaptation.into(),
+            gate_window: self.gate_window,
+            gate_quantile: self.gate_quantile,
+        }
+    }
+
+    /// IMM settings: `imm_modes`, `imm_accel_psd`, `imm_p_stay`.
+    pub fn imm_params(&self) -> crate::estimators::ImmParams {
+        crate::estimators::ImmParams {
+            modes: self.imm_modes,
+            accel_psd: self.imm_accel_psd,
+            p_stay: self.imm_p_stay,
         }
     }
 
@@ -569,15 +638,20 @@ impl Scenario {
         }
         for f in &self.filters {
             let is_pf = crate::estimators::pf::PfKind::from_name(&f.kind).is_some();
-            if !(is_pf || matches!(f.kind.as_str(), "ekf" | "ukf" | "aqukf" | "hinf")) {
+            if !(is_pf || matches!(f.kind.as_str(), "ekf" | "ukf" | "aqukf" | "hinf" | "imm")) {
                 return Err(format!(
                     "filter \"{}\": kind \"{}\" is not available (implemented: ekf, ukf, \
-                     aqukf, pf, rpf, upf, gapf, cgapf, hinf)",
+                     aqukf, pf, rpf, upf, gapf, cgapf, hinf, imm)",
                     f.label, f.kind
                 ));
             }
             if f.kind == "aqukf" {
                 f.aq_params(self.simulation.step, self.io_frame())
+                    .validate()
+                    .map_err(|e| format!("filter \"{}\": {e}", f.label))?;
+            }
+            if f.kind == "imm" {
+                f.imm_params()
                     .validate()
                     .map_err(|e| format!("filter \"{}\": {e}", f.label))?;
             }

@@ -14,7 +14,7 @@
 use super::scenario::{Scenario, SensorKind, Thrust, TruthDynamics};
 use crate::dynamics::{CwModel, DiscreteModel, Discretization};
 use crate::estimators::pf::ParticleFilter;
-use crate::estimators::{AqParams, Aqukf, Ekf, Estimator, Ukf, UkfParams};
+use crate::estimators::{AqParams, Aqukf, Ekf, Estimator, Imm, Ukf, UkfParams};
 use crate::nav::AnyFilter;
 use crate::noise::NoiseModel;
 use crate::sensors::{CartesianSensor, Geometry, MeasurementModel, RadioSensor};
@@ -115,6 +115,12 @@ impl PreparedFilter {
                 self.p0,
                 self.ukf,
                 self.aq,
+                self.mean_motion,
+            )),
+            "imm" => AnyFilter::Imm(Imm::new(
+                self.x0,
+                self.p0,
+                self.spec.imm_params(),
                 self.mean_motion,
             )),
             "pf" | "rpf" | "upf" | "gapf" | "cgapf" => AnyFilter::Pf(ParticleFilter::new(

@@ -4,7 +4,7 @@ use super::error::{null, relnav_status};
 use super::panic::boundary;
 use crate::dynamics::Discretization;
 use crate::estimators::pf::resample::Resampler;
-use crate::estimators::UkfParams;
+use crate::estimators::{AdaptationLaw, UkfParams};
 use crate::frames::Frame;
 use crate::nav::{FilterKind, HinfDesignKind, NavConfig, NavError, NavErrorKind, NoiseKind};
 
@@ -34,6 +34,25 @@ pub enum relnav_filter {
     /// when the estimator is created, for the open-loop CW plant and `hinf_period`; its
     /// covariance and sigma are NaN (no Gaussian covariance exists).
     RELNAV_FILTER_HINF = 9,
+    /// Interacting multiple-model filter (Blom & Bar-Shalom 1988): `imm_modes` EKFs on the
+    /// CW model, mode `j` with the configured process noise plus a white acceleration of
+    /// density `imm_accel_psd[j]`, Markov switching with per-second staying probabilities
+    /// `imm_p_stay`; `relnav_estimator_get_mode_probabilities` reports the modes.
+    RELNAV_FILTER_IMM = 10,
+}
+
+/// Adaptation laws of the AQUKF for `relnav_config.aq_law` (same codes as the FMU's
+/// `aq_law` parameter).
+#[repr(C)]
+#[derive(Debug, Clone, Copy)]
+pub enum relnav_adaptation {
+    /// Paper 001 literally: the sliding-window estimate of `q_vv` at every update.
+    RELNAV_ADAPTATION_WINDOW = 1,
+    /// The default: `q_vv` stays at `q_vel` while the windowed normalised innovation
+    /// squared (`aq_gate_window` updates) is below its chi-square quantile
+    /// `aq_gate_quantile`, and follows the sliding window (never below `q_vel`) while it
+    /// is above.
+    RELNAV_ADAPTATION_GATED = 2,
 }
 
 /// Frame codes for `relnav_config.frame` (see ARCHITECTURE.md, "Frames").
@@ -92,7 +111,8 @@ pub enum relnav_noise_model {
 #[repr(C)]
 #[derive(Debug, Clone, Copy)]
 pub struct relnav_config {
-    /// A `relnav_filter` code (1 EKF, 2 UKF, 3 AQUKF, 4-8 particle filters, 9 H-infinity).
+    /// A `relnav_filter` code (1 EKF, 2 UKF, 3 AQUKF, 4-8 particle filters, 9 H-infinity,
+    /// 10 IMM).
     pub filter: i32,
     /// A `relnav_frame` code: the frame of every vector and angle passed in and out.
     pub frame: i32,
@@ -181,6 +201,21 @@ pub struct relnav_config {
     /// model and hand over to the designed gain when that is no worse (track initiation),
     /// 0 to run the designed gain from the first step.
     pub hinf_acquisition: i32,
+    /// AQUKF (code 3): a `relnav_adaptation` code (default 2, gated; 1 is paper 001's
+    /// window at every update).
+    pub aq_law: i32,
+    /// AQUKF, gated law: updates in the windowed NIS, 1..=128 (default 10).
+    pub aq_gate_window: i32,
+    /// AQUKF, gated law: chi-square probability of the NIS gate, in (0, 1) (default 0.999).
+    pub aq_gate_quantile: f64,
+    /// IMM (code 10): number of modes, 2 or 3 (default 3).
+    pub imm_modes: i32,
+    /// IMM: white-acceleration density added to the process noise in each mode
+    /// [m^2/s^3], >= 0 (default 0, 1e-6, 1e-3; the third is unused with 2 modes).
+    pub imm_accel_psd: [f64; 3],
+    /// IMM: probability of staying in each mode over one second, in (0, 1)
+    /// (default 0.99999, 0.9, 0.9).
+    pub imm_p_stay: [f64; 3],
 }
 
 impl From<&NavConfig> for relnav_config {
@@ -221,6 +256,12 @@ impl From<&NavConfig> for relnav_config {
             hinf_design: c.hinf_design as i32,
             hinf_gamma_factor: c.hinf_gamma_factor,
             hinf_acquisition: i32::from(c.hinf_acquisition),
+            aq_law: c.aq_law as i32,
+            aq_gate_window: i32::try_from(c.aq_gate_window).unwrap_or(i32::MAX),
+            aq_gate_quantile: c.aq_gate_quantile,
+            imm_modes: i32::try_from(c.imm_modes).unwrap_or(i32::MAX),
+            imm_accel_psd: c.imm_accel_psd,
+            imm_p_stay: c.imm_p_stay,
         }
     }
 }
@@ -248,12 +289,24 @@ impl TryFrom<&relnav_config> for NavConfig {
                 c.window
             ),
         })?;
+        let aq_gate_window = usize::try_from(c.aq_gate_window).map_err(|_| NavError {
+            kind: NavErrorKind::InvalidArgument,
+            message: format!(
+                "aq_gate_window must lie in 1..={} (got {})",
+                crate::estimators::MAX_GATE_WINDOW,
+                c.aq_gate_window
+            ),
+        })?;
+        let imm_modes = usize::try_from(c.imm_modes).map_err(|_| NavError {
+            kind: NavErrorKind::InvalidArgument,
+            message: format!("imm_modes must be 2 or 3 (got {})", c.imm_modes),
+        })?;
         let cfg = NavConfig {
             filter: FilterKind::from_code(c.filter).ok_or_else(|| {
                 bad(
                     "filter",
                     c.filter,
-                    "1 ekf, 2 ukf, 3 aqukf, 4 pf, 5 rpf, 6 upf, 7 gapf, 8 cgapf, 9 hinf",
+                    "1 ekf, 2 ukf, 3 aqukf, 4 pf, 5 rpf, 6 upf, 7 gapf, 8 cgapf, 9 hinf, 10 imm",
                 )
             })?,
             frame: Frame::from_code(c.frame).ok_or_else(|| {
@@ -323,6 +376,13 @@ impl TryFrom<&relnav_config> for NavConfig {
                 1 => true,
                 other => return Err(bad("hinf_acquisition", other, "0 off, 1 on")),
             },
+            aq_law: AdaptationLaw::from_code(c.aq_law)
+                .ok_or_else(|| bad("aq_law", c.aq_law, "1 window, 2 gated"))?,
+            aq_gate_window,
+            aq_gate_quantile: c.aq_gate_quantile,
+            imm_modes,
+            imm_accel_psd: c.imm_accel_psd,
+            imm_p_stay: c.imm_p_stay,
         };
         cfg.validate()?;
         Ok(cfg)

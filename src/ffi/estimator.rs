@@ -402,3 +402,25 @@ pub unsafe extern "C" fn relnav_estimator_get_hinf_certified(
         Ok(())
     })
 }
+
+/// The IMM's (code 10) mode probabilities after the last step, 3 doubles: mode 1 (the
+/// configured process noise), mode 2, mode 3 (`imm_accel_psd` added); they sum to 1 over
+/// the `imm_modes` modes, and an unused third mode is NaN. Every other filter has no modes:
+/// `out` is filled with NaN (status `RELNAV_OK`).
+///
+/// # Safety
+/// `estimator` is a live handle or null; `out` is null or 3 writable doubles.
+#[no_mangle]
+pub unsafe extern "C" fn relnav_estimator_get_mode_probabilities(
+    estimator: *const relnav_estimator,
+    out: *mut f64,
+) -> relnav_status {
+    const F: &str = "relnav_estimator_get_mode_probabilities";
+    boundary(F, || {
+        // SAFETY: pointer contracts are the caller's, checked for null.
+        let nav = unsafe { estimator_ref(estimator, F) }?;
+        let mu = nav.mode_probabilities().unwrap_or([f64::NAN; 3]);
+        // SAFETY: as above; `write_array` checks `out` for null.
+        unsafe { write_array(out, &mu, "out", F) }
+    })
+}

@@ -106,6 +106,17 @@ pub(super) fn config_of(values: &[f64]) -> relnav_config {
     c.hinf_design = v(vr::HINF_DESIGN) as i32;
     c.hinf_gamma_factor = v(vr::HINF_GAMMA_FACTOR);
     c.hinf_acquisition = i32::from(v(vr::HINF_ACQUISITION) != 0.0);
+    c.aq_law = v(vr::AQ_LAW) as i32;
+    c.aq_gate_window = v(vr::AQ_GATE_WINDOW) as i32;
+    c.aq_gate_quantile = v(vr::AQ_GATE_QUANTILE);
+    c.imm_modes = v(vr::IMM_MODES) as i32;
+    c.imm_accel_psd = [
+        vr::IMM_ACCEL_PSD_1,
+        vr::IMM_ACCEL_PSD_2,
+        vr::IMM_ACCEL_PSD_3,
+    ]
+    .map(v);
+    c.imm_p_stay = [vr::IMM_P_STAY_1, vr::IMM_P_STAY_2, vr::IMM_P_STAY_3].map(v);
     c
 }
 
@@ -163,6 +174,14 @@ impl RelnavFmu {
         status_of(unsafe {
             ffi::relnav_estimator_get_hinf_certified(self.estimator, &mut certified)
         })?;
+        let mut mu = [f64::NAN; 3];
+        // SAFETY: as above; `mu` holds 3 doubles.
+        status_of(unsafe {
+            ffi::relnav_estimator_get_mode_probabilities(self.estimator, mu.as_mut_ptr())
+        })?;
+        values[vr::IMM_MU_1 as usize] = mu[0];
+        values[vr::IMM_MU_2 as usize] = mu[1];
+        values[vr::IMM_MU_3 as usize] = mu[2];
         write_outputs(values, &x, &s);
         values[vr::ESS as usize] = ess;
         values[vr::Q_VV_X as usize] = q[0];
@@ -256,6 +275,26 @@ impl Model for RelnavFmu {
         for (out, q) in [vr::Q_VV_X, vr::Q_VV_Y, vr::Q_VV_Z].into_iter().zip(q_vel) {
             values[out as usize] = if aqukf {
                 q.clamp(def.q_vv_floor, def.q_vv_ceiling.max(def.q_vv_floor))
+            } else {
+                f64::NAN
+            };
+        }
+        // the IMM starts at the stationary distribution of its mode chain, mu_j ~ 1 / (1 - p_j)
+        let imm = filter == 10.0;
+        let modes = values[vr::IMM_MODES as usize];
+        let stay =
+            [vr::IMM_P_STAY_1, vr::IMM_P_STAY_2, vr::IMM_P_STAY_3].map(|r| values[r as usize]);
+        let used = |j: usize| (j as f64) < modes;
+        let total: f64 = (0..3)
+            .filter(|j| used(*j))
+            .map(|j| 1.0 / (1.0 - stay[j]))
+            .sum();
+        for (j, out) in [vr::IMM_MU_1, vr::IMM_MU_2, vr::IMM_MU_3]
+            .iter()
+            .enumerate()
+        {
+            values[*out as usize] = if imm && used(j) {
+                1.0 / (1.0 - stay[j]) / total
             } else {
                 f64::NAN
             };

@@ -155,6 +155,11 @@ pub static FILTER_TYPE: EnumType = EnumType {
             9,
             "Robust H-infinity filter (paper 002; observer form designed by an LMI at initialisation for hinf_period; sigma_* are NaN)",
         ),
+        (
+            "imm",
+            10,
+            "Interacting multiple-model filter: imm_modes EKFs with the process noise plus imm_accel_psd_*, Markov switching (imm_p_stay_*); mode probabilities in imm_mu_*",
+        ),
     ],
 };
 
@@ -248,14 +253,32 @@ pub static HINF_DESIGN_TYPE: EnumType = EnumType {
     ],
 };
 
+/// `aq_law` parameter values (same codes as the C ABI's `relnav_adaptation`).
+pub static AQ_LAW_TYPE: EnumType = EnumType {
+    name: "AdaptationLaw",
+    items: &[
+        (
+            "window",
+            1,
+            "Paper 001 literally: the sliding-window estimate of q_vv at every update",
+        ),
+        (
+            "gated",
+            2,
+            "q_vv stays at q_vel while the windowed NIS is below its chi-square quantile; the sliding window adapts it (never below q_vel) while it is above",
+        ),
+    ],
+};
+
 /// All code lists, in declaration order.
-pub static ENUM_TYPES: [&EnumType; 6] = [
+pub static ENUM_TYPES: [&EnumType; 7] = [
     &FILTER_TYPE,
     &FRAME_TYPE,
     &DISCRETIZATION_TYPE,
     &RESAMPLER_TYPE,
     &NOISE_MODEL_TYPE,
     &HINF_DESIGN_TYPE,
+    &AQ_LAW_TYPE,
 ];
 
 macro_rules! variables {
@@ -287,7 +310,7 @@ use VarType::{Boolean, Code, Integer, Real};
 
 variables! {
     FILTER = 0: "filter", Parameter, Fixed, Code(&FILTER_TYPE), 1.0,
-        "Estimator: 1-3 Kalman (EKF, UKF, AQUKF), 4-8 particle filters, 9 robust H-infinity";
+        "Estimator (codes 1-10: 1-3 Kalman (EKF, UKF, AQUKF), 4-8 particle filters, 9 robust H-infinity, 10 IMM)";
     FRAME = 1: "frame", Parameter, Fixed, Code(&FRAME_TYPE), 2.0,
         "Hill-frame convention of every input and output vector and angle";
     DISCRETIZATION = 2: "discretization", Parameter, Fixed, Code(&DISCRETIZATION_TYPE), 1.0,
@@ -400,10 +423,36 @@ variables! {
         "H-infinity filter: H2 norm of the design (from the unit white noises of its noise model to the error; with the derived noise model, the steady-state RMS error in m, velocity in m/s included); NaN for the other filters";
     HINF_CERTIFIED = 68: "hinf_certified", Output, Discrete, Boolean, 0.0,
         "H-infinity filter: true while the designed, certified gain runs (after the hand-over of hinf_acquisition, or always without it); false while acquiring and for the other filters";
+    AQ_LAW = 69: "aq_law", Parameter, Fixed, Code(&AQ_LAW_TYPE), 2.0,
+        "AQUKF (filter 3): adaptation law of the velocity process noise (1 window: paper 001 at every update; 2 gated: only while the windowed NIS exceeds its chi-square bound)";
+    AQ_GATE_WINDOW = 70: "aq_gate_window", Parameter, Fixed, Integer, 10.0,
+        "AQUKF, gated law: number of measurement updates in the windowed NIS (1..128)";
+    AQ_GATE_QUANTILE = 71: "aq_gate_quantile", Parameter, Fixed, Real(""), 0.999,
+        "AQUKF, gated law: the gate opens when the windowed NIS exceeds its chi-square quantile at this probability (in (0, 1))";
+    IMM_MODES = 72: "imm_modes", Parameter, Fixed, Integer, 3.0,
+        "IMM (filter 10): number of modes (2 or 3)";
+    IMM_ACCEL_PSD_1 = 73: "imm_accel_psd_1", Parameter, Fixed, Real("m2/s3"), 0.0,
+        "IMM: white-acceleration density added to the process noise in mode 1 (the quiet mode; >= 0)";
+    IMM_ACCEL_PSD_2 = 74: "imm_accel_psd_2", Parameter, Fixed, Real("m2/s3"), 1e-6,
+        "IMM: white-acceleration density added to the process noise in mode 2 (>= 0)";
+    IMM_ACCEL_PSD_3 = 75: "imm_accel_psd_3", Parameter, Fixed, Real("m2/s3"), 1e-3,
+        "IMM: white-acceleration density added to the process noise in mode 3 (>= 0; unused with 2 modes)";
+    IMM_P_STAY_1 = 76: "imm_p_stay_1", Parameter, Fixed, Real(""), 0.99999,
+        "IMM: probability of staying in mode 1 over one second (in (0, 1))";
+    IMM_P_STAY_2 = 77: "imm_p_stay_2", Parameter, Fixed, Real(""), 0.9,
+        "IMM: probability of staying in mode 2 over one second (in (0, 1))";
+    IMM_P_STAY_3 = 78: "imm_p_stay_3", Parameter, Fixed, Real(""), 0.9,
+        "IMM: probability of staying in mode 3 over one second (in (0, 1))";
+    IMM_MU_1 = 79: "imm_mu_1", Output, Continuous, Real(""), 0.0,
+        "IMM: probability of mode 1 after the last step; NaN for the other filters";
+    IMM_MU_2 = 80: "imm_mu_2", Output, Continuous, Real(""), 0.0,
+        "IMM: probability of mode 2 after the last step; NaN for the other filters";
+    IMM_MU_3 = 81: "imm_mu_3", Output, Continuous, Real(""), 0.0,
+        "IMM: probability of mode 3 after the last step; NaN with 2 modes and for the other filters";
 }
 
 /// Number of variables.
-pub const N_VARS: usize = 69;
+pub const N_VARS: usize = 82;
 
 /// The definition for a value reference, if it exists.
 pub fn lookup(vr: u32) -> Option<&'static VarDef> {
@@ -509,6 +558,23 @@ mod tests {
             s(vr::HINF_ACQUISITION),
             f64::from(u8::from(c.hinf_acquisition))
         );
+        assert_eq!(s(vr::AQ_LAW), c.aq_law as i32 as f64);
+        assert_eq!(s(vr::AQ_GATE_WINDOW), c.aq_gate_window as f64);
+        assert_eq!(s(vr::AQ_GATE_QUANTILE), c.aq_gate_quantile);
+        assert_eq!(s(vr::IMM_MODES), c.imm_modes as f64);
+        assert_eq!(
+            [
+                vr::IMM_ACCEL_PSD_1,
+                vr::IMM_ACCEL_PSD_2,
+                vr::IMM_ACCEL_PSD_3
+            ]
+            .map(s),
+            c.imm_accel_psd
+        );
+        assert_eq!(
+            [vr::IMM_P_STAY_1, vr::IMM_P_STAY_2, vr::IMM_P_STAY_3].map(s),
+            c.imm_p_stay
+        );
     }
 
     /// The code lists carry the library's codes and names.
@@ -539,5 +605,10 @@ mod tests {
             .map(|k| (*k as i32, k.name()))
             .collect();
         assert_eq!(names(&HINF_DESIGN_TYPE), designs);
+        let laws: Vec<(i32, &str)> = crate::estimators::AdaptationLaw::ALL
+            .iter()
+            .map(|k| (*k as i32, k.name()))
+            .collect();
+        assert_eq!(names(&AQ_LAW_TYPE), laws);
     }
 }

@@ -49,7 +49,7 @@ def cases(md):
     """Every code of every code parameter (given by item name), plus a Boolean start
     value, over the parameter kinds in COMMON."""
     codes = rf.codes(md)
-    assert set(codes) == {"filter", "frame", "discretization", "resampler", "noise_model", "hinf_design"}
+    assert set(codes) == {"filter", "frame", "discretization", "resampler", "noise_model", "hinf_design", "aq_law"}
     out = []
 
     def case(name, frame=2, valid=True, **params):
@@ -71,6 +71,8 @@ def cases(md):
         case(f"noise_{name}", filter="rpf", noise_model=name, noise_zeta=0.1, noise_scale=8.0, noise_dof=5.0)
     for name in codes["hinf_design"]:
         case(f"hinf_design_{name}", filter="hinf", hinf_period=1.0, hinf_design=name)
+    for name in codes["aq_law"]:
+        case(f"aq_law_{name}", filter="aqukf", window=5, aq_law=name, aq_gate_window=4)
     # Boolean: measurement_valid starts true and is never driven: every step updates
     case("boolean_start", filter="ekf", valid=False, measurement_valid=True)
     return out

@@ -63,7 +63,21 @@ EXPECTED = {
     "hinf_acquisition": ("parameter", "fixed", "Boolean", None),
     "hinf_h2_norm": ("output", "continuous", "Real", None),
     "hinf_certified": ("output", "discrete", "Boolean", None),
+    # issue 12: the AQUKF's adaptation law and the IMM
+    "aq_law": ("parameter", "fixed", "Integer", None),
+    "aq_gate_window": ("parameter", "fixed", "Integer", None),
+    "aq_gate_quantile": ("parameter", "fixed", "Real", None),
+    "imm_modes": ("parameter", "fixed", "Integer", None),
+    **{f"imm_accel_psd_{j}": ("parameter", "fixed", "Real", "m2/s3") for j in (1, 2, 3)},
+    **{f"imm_p_stay_{j}": ("parameter", "fixed", "Real", None) for j in (1, 2, 3)},
+    **{f"imm_mu_{j}": ("output", "continuous", "Real", None) for j in (1, 2, 3)},
 }
+
+# issue 12's variables, appended in this order after vr 62 (looked up by name: the
+# integrator may shift them behind other appended variables)
+ISSUE12 = ["aq_law", "aq_gate_window", "aq_gate_quantile", "imm_modes"] + [f"imm_accel_psd_{j}" for j in (1, 2, 3)] + [
+    f"imm_p_stay_{j}" for j in (1, 2, 3)
+] + [f"imm_mu_{j}" for j in (1, 2, 3)]
 
 DEFAULTS = {
     "filter": 1,
@@ -107,6 +121,16 @@ DEFAULTS = {
     "hinf_design": 3,
     "hinf_gamma_factor": 1.5,
     "hinf_acquisition": True,
+    "aq_law": 2,
+    "aq_gate_window": 10,
+    "aq_gate_quantile": 0.999,
+    "imm_modes": 3,
+    "imm_accel_psd_1": 0.0,
+    "imm_accel_psd_2": 1e-6,
+    "imm_accel_psd_3": 1e-3,
+    "imm_p_stay_1": 0.99999,
+    "imm_p_stay_2": 0.9,
+    "imm_p_stay_3": 0.9,
 }
 
 FMI2_CS_FUNCTIONS = [
@@ -185,6 +209,10 @@ def test_value_references_are_stable(md):
     assert [vr[n] for n in ["window", "q_vv_x", "q_vv_y", "q_vv_z"]] == [53, 54, 55, 56]
     hinf = ["hinf_period", "hinf_delta_bar", "hinf_b_pos", "hinf_b_vel", "hinf_d", "hinf_gamma"]
     assert [vr[n] for n in hinf] == list(range(57, 63))
+    # issue 12: appended after the H-infinity block, contiguous and in order
+    first = vr[ISSUE12[0]]
+    assert first >= 63
+    assert [vr[n] for n in ISSUE12] == list(range(first, first + len(ISSUE12)))
 
 
 def test_every_declared_unit_is_defined(md):
@@ -220,7 +248,8 @@ def test_codes(md, xml_root):
     assert not [v.name for v in md.modelVariables if v.type == "Enumeration"]
     codes = rf.codes(md)
     items = lambda var: {c: n for n, c in codes[var].items()}  # noqa: E731
-    assert items("filter") == {1: "ekf", 2: "ukf", 3: "aqukf", 4: "pf", 5: "rpf", 6: "upf", 7: "gapf", 8: "cgapf", 9: "hinf"}
+    assert items("filter") == {1: "ekf", 2: "ukf", 3: "aqukf", 4: "pf", 5: "rpf", 6: "upf", 7: "gapf", 8: "cgapf", 9: "hinf", 10: "imm"}
+    assert items("aq_law") == {1: "window", 2: "gated"}
     assert items("frame") == {1: "radial_along_normal", 2: "along_radial_antinormal", 3: "along_antinormal_nadir"}
     assert items("discretization") == {1: "exact", 2: "euler"}
     assert items("resampler") == {1: "multinomial", 2: "systematic", 3: "stratified", 4: "residual"}
@@ -289,7 +318,7 @@ def test_outputs_have_no_direct_feedthrough_in_model_structure(xml_root, md):
         assert variables[idx - 1].get("causality") == "output"
         assert u.get("dependencies") == "", f"output {variables[idx - 1].get('name')}: dependencies={u.get('dependencies')!r}"
     assert listed == output_indices
-    assert len(md.outputs) == 18 + 2  # issue 12: hinf_h2_norm, hinf_certified
+    assert len(md.outputs) == 18 + 2 + 3  # issue 12: hinf_h2_norm, hinf_certified, imm_mu_1..3
 
 
 def test_binary_exports_fmi2_cosimulation_api(unzipdir):

@@ -20,9 +20,9 @@ import relnav_fmu as rf
 
 STEPS = 40
 SAVE_AT = 15
-CODES = list(range(1, 10))
+CODES = list(range(1, 11))
 # documented sizes with the default parameters (1500 particles, window 10)
-FMU_STATE_BYTES = {1: 1443, 2: 1443, 3: 1739, 4: 117399, 5: 117399, 6: 621399, 7: 117399, 8: 621399, 9: 2694}
+FMU_STATE_BYTES = {1: 1627, 2: 1627, 3: 2116, 4: 117583, 5: 117583, 6: 621583, 7: 117583, 8: 621583, 9: 2878, 10: 2667}
 FMU_HEADER = 70
 EST_HEADER = 32
 
@@ -94,7 +94,7 @@ def parse_estimator_state(e: bytes) -> dict:
     assert crc == zlib.crc32(e[:28] + e[EST_HEADER:])
     assert e[32:36] == b"CONF"
     (count,) = struct.unpack_from("<I", e, 36)
-    assert count == 44
+    assert count == 54
     conf = e[36 : 40 + 8 * count]
     assert fingerprint == zlib.crc32(conf)
     settings = e[40 : 40 + 8 * count]
