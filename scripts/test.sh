@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # relnav's single test command (CI runs it through .ci/run):
 #
-#   setup (scripts/setup.sh) -> cargo fmt --check -> cargo clippy -D warnings -> cargo test
+#   setup (scripts/setup.sh, also builds and installs the Python package relnav)
+#   -> cargo fmt --check -> cargo clippy -D warnings (workspace) -> cargo test
 #   -> cargo build --release -> FMUs and SSP (fmu/build.sh: relnav.fmu, the system kit's
 #   relnav_plant.fmu, relnav_guidance.fmu, relnav_system.ssp)
 #   -> pytest tests/python (in .venv) -> C++ harness (cmake, build, ctest)
@@ -20,6 +21,8 @@ if ! command -v cargo >/dev/null 2>&1 && [ -x "$HOME/.cargo/bin/cargo" ]; then
 fi
 export CARGO_TERM_COLOR="${CARGO_TERM_COLOR:-never}"
 JOBS="${RELNAV_JOBS:-2}"
+# the Python extension (python/, in the workspace) is checked against the venv's Python
+export PYO3_PYTHON="${PYO3_PYTHON:-$ROOT/.venv/bin/python}"
 
 declare -a STAGE_NAMES=() STAGE_RESULTS=()
 T_START=$SECONDS

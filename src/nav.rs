@@ -1375,6 +1375,22 @@ impl Navigator {
         self.cfg.frame.cov_from_canonical(self.filter.covariance())
     }
 
+    /// 1-sigma per state component in the I/O frame: the square roots of the covariance's
+    /// diagonal. A NaN or negative variance (a failed filter; the H-infinity filter, which
+    /// has no covariance) gives NaN, never a reassuring 0. The C ABI, the FMU and the
+    /// Python package all report this.
+    pub fn sigma(&self) -> [f64; 6] {
+        let p = self.covariance();
+        std::array::from_fn(|i| {
+            let v = p[(i, i)];
+            if v >= 0.0 {
+                v.sqrt()
+            } else {
+                f64::NAN
+            }
+        })
+    }
+
     /// Diagnostics of the last measurement update, if any since construction or reset.
     /// The particle filters report the innovation of their weighted mean and no NIS (NaN).
     pub fn last_update(&self) -> Option<UpdateInfo> {

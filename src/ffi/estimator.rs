@@ -209,16 +209,8 @@ pub unsafe extern "C" fn relnav_estimator_get_sigma(
     boundary(F, || {
         // SAFETY: pointer contracts are the caller's, checked for null.
         let nav = unsafe { estimator_ref(estimator, F) }?;
-        let p = nav.covariance();
         // a NaN or negative variance (a failed filter) reports NaN, never a reassuring 0
-        let s: [f64; 6] = std::array::from_fn(|i| {
-            let v = p[(i, i)];
-            if v >= 0.0 {
-                v.sqrt()
-            } else {
-                f64::NAN
-            }
-        });
+        let s = nav.sigma();
         // SAFETY: as above.
         unsafe { write_array(out, &s, "out", F) }
     })

@@ -68,8 +68,13 @@ pub(super) fn status_of(s: relnav_status) -> Result<(), String> {
     }
 }
 
-/// The C-ABI configuration assembled from the parameter values of `values`.
-pub(super) fn config_of(values: &[f64]) -> relnav_config {
+/// The C-ABI configuration from the values of relnav's variable table (indexed by value
+/// reference; parameters are read, other variables ignored): the one mapping from FMU
+/// parameters to a `relnav_config`, shared with the front ends that take parameters by
+/// their FMU names (the Python package). Fields that are not FMU parameters keep
+/// [`ffi::relnav_config_default`]'s values; codes and Integers are the integers their
+/// `f64` holds.
+pub fn config_of(values: &[f64]) -> relnav_config {
     let v = |r: u32| values.get(r as usize).copied().unwrap_or(f64::NAN);
     let mut c = ffi::relnav_config_default();
     c.filter = v(vr::FILTER) as i32;
