@@ -9,6 +9,8 @@
 #     when something has to be installed. sudo is used when not root.
 #   * creates .venv at the repository root and installs scripts/requirements.txt into it
 #     (skipped when the venv already matches the requirements file).
+#   * installs cargo-fuzz with `cargo install` when nightly Rust is present and cargo-fuzz
+#     is not (for the fuzz smoke run; RELNAV_NO_FUZZ=1 skips it).
 #   * builds the Python package relnav (python/, PyO3) as a wheel with maturin (release,
 #     in the shared target/; a no-op for cargo when nothing changed) into target/wheels/
 #     and installs it into .venv (RELNAV_SKIP_PYTHON_PACKAGE=1 skips this step).
@@ -82,6 +84,25 @@ if [ "${#missing[@]}" -gt 0 ]; then
     "${SUDO[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" </dev/null
 else
     log "system packages present: cmake g++ valgrind readelf fonts-dejavu-core libopenblas-dev libgfortran-12-dev libtbb12"
+fi
+
+# ---------------------------------------------------------------- cargo-fuzz (optional)
+# When a nightly toolchain is installed (the machine image ships one beside stable),
+# install cargo-fuzz for the fuzz smoke run of scripts/test.sh (scripts/fuzz.sh). It is a
+# crates.io build of ~1.5 min on 2 cores, done once; skipped when already installed, when
+# there is no nightly, or with RELNAV_NO_FUZZ=1. A failed install only skips the smoke run.
+if ! command -v cargo >/dev/null 2>&1 && [ -x "$HOME/.cargo/bin/cargo" ]; then
+    PATH="$HOME/.cargo/bin:$PATH"
+fi
+# (nightly is looked up in `rustup toolchain list` first, so that no rustup ever tries to
+# download a missing toolchain)
+if [ "${RELNAV_NO_FUZZ:-0}" != 1 ] && command -v cargo >/dev/null 2>&1 \
+    && rustup toolchain list 2>/dev/null | grep -q '^nightly' \
+    && cargo +nightly --version >/dev/null 2>&1 \
+    && ! cargo +nightly fuzz --version >/dev/null 2>&1; then
+    log "installing cargo-fuzz (nightly Rust is present)"
+    cargo install --locked -q -j "${RELNAV_JOBS:-2}" cargo-fuzz </dev/null \
+        || log "warning: cargo-fuzz did not install: the fuzz smoke run will be skipped"
 fi
 
 # ---------------------------------------------------------------- Python venv

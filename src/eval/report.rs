@@ -34,9 +34,10 @@ const PLOT_SIZE: (u32, u32) = (1000, 600);
 /// Size of the three-panel per-axis plot \[px\].
 const AXES_PLOT_SIZE: (u32, u32) = (1000, 900);
 
-/// Line colours of the filters, in scenario order (black is reserved for the PCRLB and
-/// the NEES band).
-const COLORS: [RGBColor; 8] = [
+/// Line colours of the first filters, in scenario order: matplotlib's tab10 without its
+/// gray, then five more of clearly different hue (black and gray are reserved for the
+/// PCRLB and the NEES bands). Later filters get generated colours ([`color_of`]).
+const COLORS: [RGBColor; 14] = [
     RGBColor(31, 119, 180),
     RGBColor(214, 39, 40),
     RGBColor(44, 160, 44),
@@ -45,6 +46,12 @@ const COLORS: [RGBColor; 8] = [
     RGBColor(23, 190, 207),
     RGBColor(140, 86, 75),
     RGBColor(227, 119, 194),
+    RGBColor(188, 189, 34),
+    RGBColor(0, 0, 128),
+    RGBColor(128, 0, 0),
+    RGBColor(0, 128, 128),
+    RGBColor(255, 0, 255),
+    RGBColor(230, 171, 2),
 ];
 
 /// `x` with `sig` significant digits: fixed notation for magnitudes in `[1e-3, 1e5)`,
@@ -575,8 +582,35 @@ impl Curve {
     }
 }
 
+/// The colour of filter `i`: every filter its own. The palette first; beyond it hues
+/// stepped by the golden angle (137.5 degrees, so no two coincide) at three lightness
+/// levels, fully saturated (never black or gray).
 fn color_of(i: usize) -> RGBColor {
-    COLORS.get(i % COLORS.len()).copied().unwrap_or(BLACK)
+    if let Some(c) = COLORS.get(i) {
+        return *c;
+    }
+    let k = i - COLORS.len();
+    let hue = (20.0 + k as f64 * 137.507_764_050_037_85).rem_euclid(360.0);
+    let lightness = [0.35, 0.55, 0.7][k % 3];
+    hsl_to_rgb(hue, 1.0, lightness)
+}
+
+/// HSL (hue in degrees, saturation and lightness in [0, 1]) to 8-bit RGB.
+fn hsl_to_rgb(h: f64, s: f64, l: f64) -> RGBColor {
+    let c = (1.0 - (2.0 * l - 1.0).abs()) * s;
+    let hp = h / 60.0;
+    let x = c * (1.0 - (hp.rem_euclid(2.0) - 1.0).abs());
+    let (r, g, b) = match hp as u32 {
+        0 => (c, x, 0.0),
+        1 => (x, c, 0.0),
+        2 => (0.0, c, x),
+        3 => (0.0, x, c),
+        4 => (x, 0.0, c),
+        _ => (c, 0.0, x),
+    };
+    let m = l - c / 2.0;
+    let to8 = |v: f64| ((v + m) * 255.0).round().clamp(0.0, 255.0) as u8;
+    RGBColor(to8(r), to8(g), to8(b))
 }
 
 /// Time axis range: the finite times (a unit range around a single time).
@@ -892,6 +926,24 @@ mod tests {
     use super::*;
     use crate::eval::metrics;
     use crate::eval::results::FilterStats;
+
+    /// Every filter gets a colour of its own, none black or gray (reserved for the bound
+    /// and the NEES bands): all of the first 60 differ, and the first 20 (the built-in
+    /// scenarios have up to ten filters) differ clearly (city-block distance in RGB).
+    #[test]
+    fn every_filter_has_its_own_colour() {
+        let cs: Vec<RGBColor> = (0..60).map(color_of).collect();
+        for (i, a) in cs.iter().enumerate() {
+            assert!(!(a.0 == a.1 && a.1 == a.2), "filter {i}: gray {a:?}");
+            for (j, b) in cs.iter().enumerate().skip(i + 1) {
+                let d = (i32::from(a.0) - i32::from(b.0)).abs()
+                    + (i32::from(a.1) - i32::from(b.1)).abs()
+                    + (i32::from(a.2) - i32::from(b.2)).abs();
+                let min = if j < 20 { 60 } else { 1 };
+                assert!(d >= min, "filters {i} and {j}: {a:?} and {b:?}");
+            }
+        }
+    }
 
     fn unique_dir(name: &str) -> PathBuf {
         let nanos = std::time::SystemTime::now()
