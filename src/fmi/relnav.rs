@@ -122,6 +122,8 @@ pub fn config_of(values: &[f64]) -> relnav_config {
     ]
     .map(v);
     c.imm_p_stay = [vr::IMM_P_STAY_1, vr::IMM_P_STAY_2, vr::IMM_P_STAY_3].map(v);
+    c.pf_move = i32::from(v(vr::PF_MOVE) != 0.0);
+    c.pf_threads = v(vr::PF_THREADS) as i32;
     c
 }
 
