@@ -7,10 +7,10 @@
 #   relnav_system.ssp    the closed GNC loop of the three (fmu/ssp/*.ssd)
 #
 # (and each FMU unpacked in target/fmu/<id>/). The kit's cdylibs are built in their own
-# cargo invocation and target directory (target/kit): cargo unifies a package's features
-# within one invocation, and relnav's default features (its own fmi2* exports, the
-# H-infinity design) must stay out of them. Extra arguments go to cargo (e.g. -j2). Release profile; set CARGO_TARGET_DIR
-# as usual.
+# cargo invocation and profile (`kit`, Cargo.toml: release without LTO; output target/kit/):
+# cargo unifies a package's features within one invocation, and relnav's default features
+# (its own fmi2* exports, the H-infinity design, the evaluation engine) must stay out of
+# them. Extra arguments go to cargo (e.g. -j2). Set CARGO_TARGET_DIR as usual.
 set -euo pipefail
 
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -23,11 +23,11 @@ fi
 # compiled with other LTO settings than when a binary of the package links it, and the
 # packer's build (or `cargo build --release` before this script) would compile it again
 cargo build --release --lib --bin relnav-fmu "$@"
-# The kit's crates in a target directory of their own: relnav is a cdylib of this
-# workspace, so cargo gives its two feature sets (default here, none for the kit) one
-# output path, and each invocation would recompile it for the other.
+# The kit's crates in a profile of their own: relnav is a cdylib of this workspace, and
+# cargo writes its cdylib to one path per profile whatever its features, so the kit's
+# relnav (no default features) must not share the release directory with relnav.fmu's.
 TARGET="${CARGO_TARGET_DIR:-$ROOT/target}"
-CARGO_TARGET_DIR="$TARGET/kit" cargo build --release -p relnav_plant -p relnav_guidance "$@"
+cargo build --profile kit -p relnav_plant -p relnav_guidance "$@"
 # beside librelnav.so, where the packer looks
-cp "$TARGET/kit/release/librelnav_plant.so" "$TARGET/kit/release/librelnav_guidance.so" "$TARGET/release/"
+cp "$TARGET/kit/librelnav_plant.so" "$TARGET/kit/librelnav_guidance.so" "$TARGET/release/"
 cargo run --release "$@" --bin relnav-fmu -- --all

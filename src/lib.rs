@@ -13,6 +13,7 @@
 pub mod dynamics;
 pub mod estimators;
 /// cbindgen:ignore
+#[cfg(feature = "eval")]
 pub mod eval;
 pub mod frames;
 /// cbindgen:ignore
