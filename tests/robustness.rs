@@ -445,11 +445,21 @@ fn reseal_estimator_state(b: &mut [u8]) {
 fn restore_contract(nav: &mut Navigator, b: &[u8], what: &str) {
     let (x, p) = (nav.state(), nav.covariance());
     match nav.restore_state(b) {
-        Ok(()) => assert!(
-            nav.state().iter().all(|v| v.is_finite()),
-            "{what}: accepted with estimate {:?}",
-            nav.state()
-        ),
+        Ok(()) => {
+            assert!(
+                nav.state().iter().all(|v| v.is_finite()),
+                "{what}: accepted with estimate {:?}",
+                nav.state()
+            );
+            // a reset cannot fail: an accepted state must not make it non-finite (the
+            // `capi` fuzz target's H-infinity state with a huge C_F^-1, 1 December 2026)
+            nav.reset();
+            assert!(
+                nav.state().iter().all(|v| v.is_finite()),
+                "{what}: accepted, then reset to {:?}",
+                nav.state()
+            );
+        }
         Err(e) => {
             assert_eq!(e.kind, NavErrorKind::InvalidState, "{what}: {}", e.message);
             let same =
@@ -472,7 +482,11 @@ fn restore_contract(nav: &mut Navigator, b: &[u8], what: &str) {
 /// unchanged, or a finite estimate. The particle filters' state has grown since the
 /// finding, so the artifact's offset no longer lands in the weighted mean: the same three
 /// 0xff bytes are written at every offset of the CGA-PF state, and at least one (the
-/// weighted mean) must be refused for its non-finite estimate.
+/// weighted mean) must be refused for its non-finite estimate. Two more patches, the finite
+/// but huge 1e300 and `f64::MAX`, and a reset after every accepted state, come from the `capi` target's
+/// finding of 1 December 2026: an H-infinity state with a huge `C_F^-1` was accepted (its
+/// estimate was finite) and the next reset, which cannot fail, gave infinities; a restored
+/// `C_F` / `C_F^-1` must now be an inverse pair of moderate size.
 #[test]
 fn crafted_states_behind_a_valid_checksum_never_give_a_nan_estimate() {
     let cfg = NavConfig {
@@ -522,7 +536,9 @@ fn crafted_states_behind_a_valid_checksum_never_give_a_nan_estimate() {
             let mut good = Vec::new();
             nav.save_state(&mut good);
             for at in 32..good.len() {
-                for patch in [&f64::NAN.to_le_bytes()[..], &[0xff; 3][..]] {
+                let (huge, max) = (1e300f64.to_le_bytes(), f64::MAX.to_le_bytes());
+                let patches = [&f64::NAN.to_le_bytes()[..], &[0xff; 3], &huge, &max];
+                for patch in patches {
                     let mut b = good.clone();
                     let n = patch.len().min(b.len() - at);
                     b[at..at + n].copy_from_slice(&patch[..n]);
