@@ -631,15 +631,17 @@ pub unsafe fn fmi2GetBoolean<M: Model>(
     unsafe { get_values::<M, _>(c, vr, nvr, value, boolean("fmi2GetBoolean")) }
 }
 
-/// There are no String variables: any value reference is unknown.
+/// fmi2GetString / fmi2SetString: there are no String variables, so an empty request
+/// succeeds and any value reference is unknown (logged with the references asked for).
 ///
 /// # Safety
-/// `c` live or null; `vr` and `value` hold `nvr` elements.
-pub unsafe fn fmi2GetString<M: Model>(
+/// `c` live or null; `vr` holds `nvr` elements.
+unsafe fn no_string_variable<M: Model>(
     c: fmi2Component,
     vr: *const fmi2ValueReference,
     nvr: usize,
-    _value: *mut fmi2String,
+    fname: &'static str,
+    mask: u32,
 ) -> fmi2Status {
     // SAFETY: contract forwarded.
     unsafe {
@@ -655,16 +657,30 @@ pub unsafe fn fmi2GetString<M: Model>(
                 Err(_) => format!("nvr = {nvr}, vr = NULL"),
             })
         };
-        guarded_with::<M, _, _>(c, "fmi2GetString", M_GET, describe, |_| {
+        guarded_with::<M, _, _>(c, fname, mask, describe, |_| {
             let refs = slice(vr, nvr, "vr")?;
             match refs.first() {
                 None => Ok(()),
                 Some(r) => Err(error(format!(
-                    "fmi2GetString: no String variable has value reference {r}"
+                    "{fname}: no String variable has value reference {r}"
                 ))),
             }
         })
     }
+}
+
+/// There are no String variables: any value reference is unknown.
+///
+/// # Safety
+/// `c` live or null; `vr` and `value` hold `nvr` elements.
+pub unsafe fn fmi2GetString<M: Model>(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    _value: *mut fmi2String,
+) -> fmi2Status {
+    // SAFETY: contract forwarded.
+    unsafe { no_string_variable::<M>(c, vr, nvr, "fmi2GetString", M_GET) }
 }
 
 /// Write Real parameters (before initialisation ends) and inputs.
@@ -720,29 +736,7 @@ pub unsafe fn fmi2SetString<M: Model>(
     _value: *const fmi2String,
 ) -> fmi2Status {
     // SAFETY: contract forwarded.
-    unsafe {
-        let describe = |_: &FmuInstance<M>| {
-            Some(match slice(vr, nvr, "vr") {
-                Ok(refs) => {
-                    let labels: Vec<String> = refs
-                        .iter()
-                        .map(|r| FmuInstance::<M>::var_label(*r))
-                        .collect();
-                    format!("nvr = {nvr}: {}", labels.join(", "))
-                }
-                Err(_) => format!("nvr = {nvr}, vr = NULL"),
-            })
-        };
-        guarded_with::<M, _, _>(c, "fmi2SetString", M_SET, describe, |_| {
-            let refs = slice(vr, nvr, "vr")?;
-            match refs.first() {
-                None => Ok(()),
-                Some(r) => Err(error(format!(
-                    "fmi2SetString: no String variable has value reference {r}"
-                ))),
-            }
-        })
-    }
+    unsafe { no_string_variable::<M>(c, vr, nvr, "fmi2SetString", M_SET) }
 }
 
 // ---------------------------------------------------------------- FMU state
