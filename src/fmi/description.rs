@@ -1,12 +1,14 @@
 //! `modelDescription.xml`, generated from a model's variable table ([`ModelInfo`]; relnav's is
 //! [`super::variables`]), and the GUID derived from it.
 //!
-//! The GUID is a name-based UUID (version 5, SHA-1) of the XML text itself (with a
-//! placeholder where the GUID goes), as the FMI standard suggests: the binary computes the
-//! same value from the same table, so archive and binary cannot disagree. Nothing in the
-//! XML depends on the build machine or the build time: `generationDateAndTime` is the
-//! commit date of the source ([`GENERATION_DATE`], set by `build.rs`), so one commit gives
-//! one XML and one GUID.
+//! The GUID is a name-based UUID (version 5, SHA-1) of the XML text itself, with
+//! placeholders where the GUID and `generationDateAndTime` go, as the FMI standard suggests
+//! (a fingerprint of the relevant information in the XML): the binary computes the same
+//! value from the same table, so archive and binary cannot disagree. Nothing in the XML
+//! depends on the build machine or the build time: `generationDateAndTime` is the commit
+//! date of the source ([`GENERATION_DATE`], set by `build.rs`), so one commit gives one
+//! XML; the date is left out of the GUID, so a commit that changes nothing else keeps it
+//! (a library built before the commit and an archive packed after it still match).
 
 use super::model::ModelInfo;
 use super::variables::{Causality, VarDef, VarType, Variability, UNITS};
@@ -27,6 +29,7 @@ pub const LOG_CATEGORIES: [(&str, &str); 4] = [
 ];
 
 const GUID_PLACEHOLDER: &str = "@GUID@";
+const DATE_PLACEHOLDER: &str = "@DATE@";
 
 /// `generationDateAndTime` (UTC, `xs:dateTime`): `SOURCE_DATE_EPOCH` when set at build
 /// time, else the commit date of `HEAD` (`git log -1 --format=%ct`), else
@@ -87,7 +90,7 @@ fn body(info: &ModelInfo) -> String {
     let _ = writeln!(x, r#"<?xml version="1.0" encoding="UTF-8"?>"#);
     let _ = writeln!(
         x,
-        r#"<fmiModelDescription fmiVersion="2.0" modelName="{}" guid="{GUID_PLACEHOLDER}" description="{}" author="relnav developers" version="{}" generationTool="relnav {}" generationDateAndTime="{GENERATION_DATE}" variableNamingConvention="flat">"#,
+        r#"<fmiModelDescription fmiVersion="2.0" modelName="{}" guid="{GUID_PLACEHOLDER}" description="{}" author="relnav developers" version="{}" generationTool="relnav {}" generationDateAndTime="{DATE_PLACEHOLDER}" variableNamingConvention="flat">"#,
         info.model_identifier,
         escape(info.description),
         crate::VERSION,
@@ -208,14 +211,24 @@ fn body(info: &ModelInfo) -> String {
     x
 }
 
+/// The GUID and the XML of a body (with its GUID and date placeholders) for a given
+/// `generationDateAndTime`. The GUID is a UUID v5 of the body *before* the date goes in:
+/// it fingerprints the model's interface (variables, units, capabilities, description,
+/// version), not the commit that built it, so a commit that changes nothing in the XML
+/// but its date keeps the GUID, and a binary built before such a commit still matches an
+/// archive packed after it.
+fn finish(body: &str, date: &str) -> (String, String) {
+    let id = uuid::Uuid::new_v5(&uuid::Uuid::NAMESPACE_URL, body.as_bytes());
+    let guid = format!("{{{id}}}");
+    let xml = body
+        .replacen(GUID_PLACEHOLDER, &guid, 1)
+        .replacen(DATE_PLACEHOLDER, date, 1);
+    (guid, xml)
+}
+
 fn generated(info: &'static ModelInfo) -> &'static (String, String) {
-    info.generated.get_or_init(|| {
-        let b = body(info);
-        let id = uuid::Uuid::new_v5(&uuid::Uuid::NAMESPACE_URL, b.as_bytes());
-        let guid = format!("{{{id}}}");
-        let xml = b.replacen(GUID_PLACEHOLDER, &guid, 1);
-        (guid, xml)
-    })
+    info.generated
+        .get_or_init(|| finish(&body(info), GENERATION_DATE))
 }
 
 /// A model's GUID, `{xxxxxxxx-...}`.
@@ -318,5 +331,23 @@ mod tests {
         }
         assert!(xml.contains("canRunAsynchronuously"));
         assert_eq!(guid().len(), 38);
+        assert!(xml.contains(&format!(r#"generationDateAndTime="{GENERATION_DATE}""#)));
+    }
+
+    #[test]
+    fn guid_depends_on_the_interface_not_on_the_generation_date() {
+        let b = body(&super::super::relnav::INFO);
+        assert_eq!(b.matches(DATE_PLACEHOLDER).count(), 1);
+        let (g1, x1) = finish(&b, "2026-01-01T00:00:00Z");
+        let (g2, x2) = finish(&b, "2026-12-01T21:00:00Z");
+        assert_eq!(g1, g2);
+        assert_ne!(x1, x2);
+        assert_eq!(g1, guid());
+        // any change to the interface changes it
+        let (g3, _) = finish(&b.replacen("relnav developers", "relnav developer", 1), "x");
+        assert_ne!(g1, g3);
+        // the plant's and the guidance's differ from relnav's
+        assert_ne!(guid_of(&super::super::plant::INFO), guid());
+        assert_ne!(guid_of(&super::super::guidance::INFO), guid());
     }
 }

@@ -288,14 +288,16 @@ def test_description_names_every_filter_family(xml_root):
 
 def test_guid_is_the_uuid5_of_the_xml_and_the_date_is_fixed(fmu_path):
     """The GUID is the name-based UUID (v5, URL namespace) of the XML with "@GUID@" in its
-    place, computed here independently; the date is an xs:dateTime in UTC (the commit
-    date, never the build time: tests/fmu.rs checks it against git)."""
+    place and "@DATE@" in the date's, computed here independently (so the GUID follows the
+    interface, not the commit); the date is an xs:dateTime in UTC (the commit date, never
+    the build time: tests/fmu.rs checks it against git)."""
     with zipfile.ZipFile(fmu_path) as zf:
         xml = zf.read("modelDescription.xml").decode("utf-8")
     guid = ET.fromstring(xml).get("guid")
-    body = xml.replace(f'guid="{guid}"', 'guid="@GUID@"', 1)
-    assert guid == "{" + str(uuid.uuid5(uuid.NAMESPACE_URL, body)) + "}"
     date = ET.fromstring(xml).get("generationDateAndTime")
+    body = xml.replace(f'guid="{guid}"', 'guid="@GUID@"', 1)
+    body = body.replace(f'generationDateAndTime="{date}"', 'generationDateAndTime="@DATE@"', 1)
+    assert guid == "{" + str(uuid.uuid5(uuid.NAMESPACE_URL, body)) + "}"
     assert re.fullmatch(r"\d{4}-\d{2}-\d{2}T\d{2}:\d{2}:\d{2}Z", date), date
 
 
