@@ -50,27 +50,36 @@ def residual_z(a, b):
     return d
 
 
-def main():
+SIG_A = math.radians(0.01)
+
+
+def measurements(steps=600):
+    """Paper 000's truth (at rest at (400, 500, 200) m) measured with noise, seeded."""
     rng = np.random.default_rng(1)
-    sig_a = math.radians(0.01)
     x_true = np.array([400.0, 500.0, 200.0, 0, 0, 0])
     zs = []
-    for _ in range(600):
-        z = hx(x_true) + rng.normal(0, [0.5, sig_a, sig_a])
+    for _ in range(steps):
+        z = hx(x_true) + rng.normal(0, [0.5, SIG_A, SIG_A])
         z[1] %= 2 * math.pi
         zs.append(z)
         x_true = PHI @ x_true
+    return zs
 
-    def make():
-        pts = MerweScaledSigmaPoints(6, alpha=1.0, beta=2.0, kappa=0.0)
-        f = UnscentedKalmanFilter(dim_x=6, dim_z=3, dt=T, fx=fx, hx=hx, points=pts,
-                                  residual_z=residual_z)
-        f.x = np.array([405.0, 505.0, 205.0, 0.1, 0.1, 0.1])
-        f.P = np.diag([50.0**2] * 3 + [1.0] * 3)
-        f.Q = np.diag([0.09, 0.000625, 0.0025, 1e-6, 1e-6, 1e-6])
-        f.R = np.diag([0.25, sig_a**2, sig_a**2])
-        return f
 
+def make():
+    """filterpy's UKF set up like relnav's defaults (paper 000)."""
+    pts = MerweScaledSigmaPoints(6, alpha=1.0, beta=2.0, kappa=0.0)
+    f = UnscentedKalmanFilter(dim_x=6, dim_z=3, dt=T, fx=fx, hx=hx, points=pts,
+                              residual_z=residual_z)
+    f.x = np.array([405.0, 505.0, 205.0, 0.1, 0.1, 0.1])
+    f.P = np.diag([50.0**2] * 3 + [1.0] * 3)
+    f.Q = np.diag([0.09, 0.000625, 0.0025, 1e-6, 1e-6, 1e-6])
+    f.R = np.diag([0.25, SIG_A**2, SIG_A**2])
+    return f
+
+
+def main():
+    zs = measurements()
     samples = []
     for rep in range(7):
         f = make()

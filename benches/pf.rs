@@ -1,7 +1,9 @@
 //! Criterion benchmarks of the particle filters: one step (update with the measurement,
 //! resampling when due, predict) on paper 000's model, in steady state. SIR at N = 1500
 //! and N = 100 000 (issue 4: ns per particle; target <= 100 us per step at N = 1500,
-//! single-threaded), RPF, UPF, GA-PF and CGA-PF at N = 1500. `scripts/bench.sh` runs these
+//! single-threaded), RPF, UPF, GA-PF and CGA-PF at N = 1500; the thread scaling of the
+//! chunked path (issue 10) at N = 10^5 and 10^6 on 1 and 2 threads (`pf_scaling`, 10
+//! samples each; `cargo bench --bench pf -- threads`). `scripts/bench.sh` runs these
 //! with the vectorised numpy SIR anchor (`benches/anchor_numpy_sir.py`) and prints medians
 //! and ratios.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, missing_docs)] // bench code
@@ -47,11 +49,18 @@ fn setup(steps: usize) -> (DiscreteModel, RadioSensor, Vec<Vec3>) {
 }
 
 fn bench_pf(c: &mut Criterion, name: &str, kind: PfKind, particles: usize) {
+    bench_pf_threads(c, name, kind, particles, 0);
+}
+
+/// As [`bench_pf`] with `threads` worker threads for the chunked particle loops (from
+/// 32768 particles on; 0: one per core); the results do not depend on it.
+fn bench_pf_threads(c: &mut Criterion, name: &str, kind: PfKind, particles: usize, threads: usize) {
     let cfg = NavConfig::default();
     let (d, sensor, zs) = setup(20_000);
     let params = PfParams {
         particles,
         seed: 7,
+        threads,
         ..PfParams::new(kind)
     };
     let make = || {
@@ -88,5 +97,19 @@ fn benches(c: &mut Criterion) {
     bench_pf(c, "sir_step_n100000", PfKind::Sir, 100_000);
 }
 
+/// Issue 10's scaling: the SIR (with its moves) at N = 10^5 and 10^6 on 1 and 2 threads.
+fn scaling(c: &mut Criterion) {
+    for n in [100_000, 1_000_000] {
+        for t in [1, 2] {
+            bench_pf_threads(c, &format!("sir_step_n{n}_threads{t}"), PfKind::Sir, n, t);
+        }
+    }
+}
+
 criterion_group!(pf, benches);
-criterion_main!(pf);
+criterion_group! {
+    name = pf_scaling;
+    config = Criterion::default().sample_size(10);
+    targets = scaling
+}
+criterion_main!(pf, pf_scaling);

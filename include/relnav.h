@@ -92,8 +92,9 @@ typedef enum relnav_filter {
   // Sliding-window adaptive UKF (paper 001): adaptive velocity process noise, `window`,
   // `q_vv_floor`, `q_vv_ceiling`; `relnav_estimator_get_q_vv` reports it.
   RELNAV_FILTER_AQUKF = 3,
-  // SIR (bootstrap) particle filter (paper 000). Its velocities stay impoverished on
-  // paper 000's example (metres off after 100 s): prefer RPF or CGA-PF.
+  // SIR (bootstrap) particle filter (paper 000), with the posterior-invariant moves of
+  // `pf_move` (the literal SIR without them keeps impoverished velocities: metres off
+  // on paper 000's example after 100 s).
   RELNAV_FILTER_PF = 4,
   // Regularised particle filter (kernel jitter after resampling).
   RELNAV_FILTER_RPF = 5,
@@ -194,7 +195,8 @@ typedef struct relnav_config {
   double sigma_range;
   // Azimuth and elevation noise scale [rad], > 0 (as `sigma_range`).
   double sigma_angle;
-  // Initial estimate (x, y, z [m], vx, vy, vz [m/s]).
+  // Initial estimate (x, y, z [m], vx, vy, vz [m/s]); `|x0_i| + 100 sigma` (sigma of
+  // its group, `sigma_pos0` or `sigma_vel0`) must not exceed 1e150.
   double x0[6];
   // Initial position 1 sigma per axis [m], > 0.
   double sigma_pos0;
@@ -283,6 +285,15 @@ typedef struct relnav_config {
   // IMM: probability of staying in each mode over one second, in (0, 1)
   // (default 0.99999, 0.9, 0.9).
   double imm_p_stay[3];
+  // Particle filters (codes 4-8): 1 (default) moves the particles with
+  // posterior-invariant Metropolis–Hastings steps after every update (accurate as the
+  // EKF on Gaussian noise, also with small process noise); 0 runs the papers' literal
+  // filters (paper 000's SIR, plain RPF, van der Merwe's UPF). Other values are refused.
+  int32_t pf_move;
+  // Particle filters: worker threads of the particle loops from 32768 particles on
+  // (0, the default: one per core; 1: the calling thread; at most 1024). The results
+  // do not depend on it.
+  int32_t pf_threads;
 } relnav_config;
 
 // Inputs of an H-infinity design (canonical frame = paper 002's, SI units).
@@ -385,7 +396,8 @@ const char *relnav_version(void);
 // The default configuration: paper 000's numerical example (frame 2, 7200 s orbit, EKF,
 // 0.5 m / 0.01 deg Gaussian noise, initial estimate (405, 505, 205, 0.1, 0.1, 0.1),
 // 50 m / 1 m/s initial sigma, the paper's diagonal process noise per 1 s step; for the
-// particle filters 1500 particles, systematic resampling below N_eff = 2/3 N, seed 0).
+// particle filters 1500 particles, systematic resampling below N_eff = 2/3 N, seed 0,
+// moves on, threads one per core).
 struct relnav_config relnav_config_default(void);
 
 // Check a configuration without creating an estimator.
@@ -416,7 +428,9 @@ enum relnav_status relnav_estimator_new(const struct relnav_config *config,
 void relnav_estimator_free(struct relnav_estimator *estimator);
 
 // Time update over `dt` seconds with `thrust` (3 doubles, [N], configured frame) held
-// constant.
+// constant. `dt` must be > 0 and at most 1000 orbital periods (`2 pi / mean_motion`);
+// a longer step is refused with `RELNAV_ERROR_INVALID_ARGUMENT`. Every call returns in
+// bounded time, whatever the numbers.
 //
 // # Safety
 // `estimator` is a live handle or null; `thrust` is null or points to 3 doubles.
@@ -432,7 +446,8 @@ enum relnav_status relnav_estimator_update(struct relnav_estimator *estimator, c
 
 // One step at time t: update with `z` (the measurement taken at t; pass null when there
 // is none), then predict over `dt` with `thrust` held. Afterwards the estimate is at
-// `t + dt`. On error nothing changes.
+// `t + dt`. On error nothing changes. `dt` as in [`relnav_estimator_predict`] (at most
+// 1000 orbital periods).
 //
 // # Safety
 // `estimator` is a live handle or null; `thrust` is null or 3 doubles; `z` is null or 3

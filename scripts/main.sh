@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # relnav's main job: set up, build the FMU, print paper 000's accuracy table through the
-# FMU (EKF and UKF with fmpy, 20 seeded runs; the five particle filters, 10 runs), then reproduce every paper's numerical
+# FMU (EKF and UKF with fmpy, 20 seeded runs; the five particle filters with their moves, 10 runs;
+# every one must meet the paper's bar), then reproduce every paper's numerical
 # example with the evaluation engine (`relnav reproduce --paper all`: Markdown tables,
 # CSV time series and PNG plots under results/).
 # Extra arguments go to tools/paper000_fmu.py (e.g. --driver slave, --frame 3).

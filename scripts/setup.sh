@@ -9,6 +9,11 @@
 #     when something has to be installed. sudo is used when not root.
 #   * creates .venv at the repository root and installs scripts/requirements.txt into it
 #     (skipped when the venv already matches the requirements file).
+#   * installs cargo-fuzz with `cargo install` when nightly Rust is present and cargo-fuzz
+#     is not (for the fuzz smoke run; RELNAV_NO_FUZZ=1 skips it).
+#   * builds the Python package relnav (python/, PyO3) as a wheel with maturin (release,
+#     in the shared target/; a no-op for cargo when nothing changed) into target/wheels/
+#     and installs it into .venv (RELNAV_SKIP_PYTHON_PACKAGE=1 skips this step).
 #
 # Non-interactive (DEBIAN_FRONTEND=noninteractive, no stdin needed); exports nothing
 # beyond this process. Re-running it when everything is in place does nothing.
@@ -81,6 +86,25 @@ else
     log "system packages present: cmake g++ valgrind readelf fonts-dejavu-core libopenblas-dev libgfortran-12-dev libtbb12"
 fi
 
+# ---------------------------------------------------------------- cargo-fuzz (optional)
+# When a nightly toolchain is installed (the machine image ships one beside stable),
+# install cargo-fuzz for the fuzz smoke run of scripts/test.sh (scripts/fuzz.sh). It is a
+# crates.io build of ~1.5 min on 2 cores, done once; skipped when already installed, when
+# there is no nightly, or with RELNAV_NO_FUZZ=1. A failed install only skips the smoke run.
+if ! command -v cargo >/dev/null 2>&1 && [ -x "$HOME/.cargo/bin/cargo" ]; then
+    PATH="$HOME/.cargo/bin:$PATH"
+fi
+# (nightly is looked up in `rustup toolchain list` first, so that no rustup ever tries to
+# download a missing toolchain)
+if [ "${RELNAV_NO_FUZZ:-0}" != 1 ] && command -v cargo >/dev/null 2>&1 \
+    && rustup toolchain list 2>/dev/null | grep -q '^nightly' \
+    && cargo +nightly --version >/dev/null 2>&1 \
+    && ! cargo +nightly fuzz --version >/dev/null 2>&1; then
+    log "installing cargo-fuzz (nightly Rust is present)"
+    cargo install --locked -q -j "${RELNAV_JOBS:-2}" cargo-fuzz </dev/null \
+        || log "warning: cargo-fuzz did not install: the fuzz smoke run will be skipped"
+fi
+
 # ---------------------------------------------------------------- Python venv
 if [ -x "$VENV/bin/python" ] && ! "$VENV/bin/python" -c 'import sys' >/dev/null 2>&1; then
     log "existing .venv is broken: recreating"
@@ -94,11 +118,30 @@ fi
 STAMP="$VENV/.relnav-requirements.sha256"
 want="$(sha256sum "$REQ" | cut -d' ' -f1)"
 have="$(cat "$STAMP" 2>/dev/null || true)"
-if [ "$want" = "$have" ] && "$VENV/bin/python" -c 'import fmpy, numpy, pytest, filterpy, libcosimpy.CosimExecution, ecospy, fmu_manipulation_toolbox' >/dev/null 2>&1; then
+if [ "$want" = "$have" ] && "$VENV/bin/python" -c 'import fmpy, numpy, pytest, filterpy, libcosimpy.CosimExecution, ecospy, fmu_manipulation_toolbox, maturin, tqdm, dask, distributed' >/dev/null 2>&1; then
     log "venv up to date ($(cd "$ROOT" && "$VENV/bin/python" -c 'import fmpy, numpy; print("fmpy", fmpy.__version__, "numpy", numpy.__version__)'))"
 else
     log "installing Python packages from scripts/requirements.txt"
     "$VENV/bin/python" -m pip install --disable-pip-version-check -q --no-input -r "$REQ" </dev/null
     echo "$want" >"$STAMP"
     log "venv ready ($("$VENV/bin/python" -c 'import fmpy, numpy; print("fmpy", fmpy.__version__, "numpy", numpy.__version__)'))"
+fi
+
+# ---------------------------------------------------------------- Python package relnav
+# maturin (from PyPI, in the venv) drives cargo on python/Cargo.toml, a member of the
+# workspace: the wheel is built in target/ beside the CLI and the FMU and shares their
+# compiled relnav. Rebuilt every time (cargo decides what changed), then installed.
+if [ "${RELNAV_SKIP_PYTHON_PACKAGE:-0}" != 1 ]; then
+    if ! command -v cargo >/dev/null 2>&1 && [ -x "$HOME/.cargo/bin/cargo" ]; then
+        PATH="$HOME/.cargo/bin:$PATH"
+    fi
+    WHEELS="$ROOT/target/wheels"
+    rm -rf "$WHEELS"
+    log "building the Python package relnav (maturin build --release)"
+    CARGO_BUILD_JOBS="${RELNAV_JOBS:-2}" "$VENV/bin/python" -m maturin build --release --quiet \
+        -m "$ROOT/python/Cargo.toml" -i "$VENV/bin/python" -o "$WHEELS" </dev/null
+    wheel=("$WHEELS"/relnav-*.whl)
+    "$VENV/bin/python" -m pip install --disable-pip-version-check -q --no-input --no-deps \
+        --force-reinstall "${wheel[0]}" </dev/null
+    log "relnav $("$VENV/bin/python" -c 'import relnav; print(relnav.__version__)') installed from ${wheel[0]##*/}"
 fi

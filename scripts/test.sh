@@ -1,9 +1,12 @@
 #!/usr/bin/env bash
 # relnav's single test command (CI runs it through .ci/run):
 #
-#   setup (scripts/setup.sh) -> cargo fmt --check -> cargo clippy -D warnings -> cargo test
+#   setup (scripts/setup.sh, also builds and installs the Python package relnav)
+#   -> cargo fmt --check -> cargo clippy -D warnings (workspace) -> cargo test
 #   -> cargo build --release -> FMU (cargo run --release --bin relnav-fmu)
-#   -> pytest tests/python (in .venv) -> C++ harness (cmake, build, ctest)
+#   -> pytest tests/python (in .venv) -> C++ harness (cmake, build, ctest; valgrind)
+#   -> C++ harness under ASan+UBSan (second build dir) -> fuzz smoke run (scripts/fuzz.sh
+#   smoke, 20 s per target, only when nightly Rust and cargo-fuzz are installed)
 #
 # Every stage is run and reported; a stage that later ones need (setup, release build,
 # FMU) stops the run when it fails. Exits non-zero if any stage failed; the last line is
@@ -19,6 +22,8 @@ if ! command -v cargo >/dev/null 2>&1 && [ -x "$HOME/.cargo/bin/cargo" ]; then
 fi
 export CARGO_TERM_COLOR="${CARGO_TERM_COLOR:-never}"
 JOBS="${RELNAV_JOBS:-2}"
+# the Python extension (python/, in the workspace) is checked against the venv's Python
+export PYO3_PYTHON="${PYO3_PYTHON:-$ROOT/.venv/bin/python}"
 
 declare -a STAGE_NAMES=() STAGE_RESULTS=()
 T_START=$SECONDS
@@ -82,15 +87,39 @@ run_cpp_harness() {
         ctest --test-dir cpp-harness/build --output-on-failure
 }
 
+# The same harness under AddressSanitizer + UndefinedBehaviorSanitizer (a second build
+# directory; the valgrind tests are not defined there). Any report fails the test.
+run_cpp_harness_sanitized() {
+    cmake -S cpp-harness -B cpp-harness/build-asan -DCMAKE_BUILD_TYPE=Debug -DRELNAV_SANITIZE=ON &&
+        cmake --build cpp-harness/build-asan -j"$JOBS" &&
+        ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:halt_on_error=1:strict_string_checks=1:detect_stack_use_after_return=1" \
+            UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1" \
+            ctest --test-dir cpp-harness/build-asan --output-on-failure
+}
+
+# A short run of each cargo-fuzz target (fuzz/README.md), only when nightly Rust and
+# cargo-fuzz are installed (scripts/setup.sh installs cargo-fuzz when nightly exists).
+run_fuzz_smoke() {
+    if rustup toolchain list 2>/dev/null | grep -q '^nightly' \
+        && cargo +nightly --version >/dev/null 2>&1 \
+        && cargo +nightly fuzz --version >/dev/null 2>&1; then
+        bash scripts/fuzz.sh smoke
+    else
+        echo "fuzz smoke run SKIPPED: nightly Rust (rustup toolchain 'nightly') or cargo-fuzz is not installed"
+    fi
+}
+
 stage "setup" required bash scripts/setup.sh
 stage "cargo fmt --check" optional cargo fmt --all -- --check
-stage "cargo clippy" optional cargo clippy --all-targets -j"$JOBS" -- -D warnings
+stage "cargo clippy" optional cargo clippy --workspace --all-targets -j"$JOBS" -- -D warnings
 stage "cargo test" optional cargo test --all-targets -j"$JOBS"
 stage "cargo test --doc" optional cargo test --doc -j"$JOBS"
 stage "cargo build --release" required cargo build --release -j"$JOBS"
 stage "build FMU" required cargo run --release -j"$JOBS" --bin relnav-fmu
 stage "pytest tests/python" optional run_pytest
 stage "C++ harness" optional run_cpp_harness
+stage "C++ harness (ASan+UBSan)" optional run_cpp_harness_sanitized
+stage "fuzz smoke" optional run_fuzz_smoke
 
 summary
 for r in "${STAGE_RESULTS[@]}"; do

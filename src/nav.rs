@@ -35,7 +35,7 @@
 use crate::dynamics::{CwModel, DiscreteModel, Discretization};
 use crate::estimators::aqukf::AqukfSnapshot;
 use crate::estimators::pf::resample::Resampler;
-use crate::estimators::pf::{ParticleFilter, PfKind, PfParams, MAX_PARTICLES};
+use crate::estimators::pf::{ParticleFilter, PfKind, PfParams, MAX_PARTICLES, MAX_THREADS};
 use crate::estimators::{
     AdaptationLaw, AqParams, Aqukf, Ekf, Estimator, FilterError, Imm, ImmParams, Ukf, UkfParams,
     UpdateInfo, MAX_MODES,
@@ -53,6 +53,21 @@ use crate::types::{Mat3, Mat6, State, Vec3};
 /// Accepted mean motions [rad/s]: from a 200-year orbit to a 1-minute one. Outside, the
 /// CW model has no physical meaning and `1 / n^2` terms of the discretisation overflow.
 pub const MEAN_MOTION_RANGE: (f64, f64) = (1e-9, 0.1);
+
+/// Longest accepted step, in orbital periods `2 pi / n` of the target: a prediction over
+/// more than 1000 orbits (for a 90-minute orbit, two months; geostationary, three years) is
+/// far outside the linearised CW model and is almost certainly a units or time-base error
+/// (a step of 1e45 s was seen from a co-simulation master). [`Navigator::predict`] and
+/// [`Navigator::step`] refuse it with a message naming the limit; below it every step
+/// returns a value or an error in bounded time (the discretisation is closed-form).
+pub const MAX_STEP_PERIODS: f64 = 1000.0;
+
+/// Bound on `|x0_i| + 100 sigma_i` of the initial estimate [m, m/s]: a numerical limit,
+/// not a physical one. Covariances are squares of state differences, and a particle
+/// filter's weighted mean is only as exact as the ulp of the state (`1e-16 |x|`): beyond
+/// ~1e154 those squares overflow. 1e150 keeps the initial distribution and the first
+/// steps' arithmetic inside double precision.
+pub const MAX_INITIAL_MAGNITUDE: f64 = 1e150;
 
 /// Filter codes, shared by the C ABI and the FMU (`filter` parameter).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -308,6 +323,16 @@ pub struct NavConfig {
     /// IMM: probability of staying in each mode over one second, in (0, 1)
     /// (default 0.99999, 0.9, 0.9).
     pub imm_p_stay: [f64; MAX_MODES],
+    /// Particle filters (codes 4-8): move the particles with posterior-invariant
+    /// Metropolis–Hastings steps ([`crate::estimators::pf`], module `moves`; default
+    /// true). False gives the papers' literal filters (paper 000's SIR, the plain RPF,
+    /// van der Merwe's UPF), which degenerate with small process noise.
+    pub pf_move: bool,
+    /// Particle filters: worker threads of the particle loops from
+    /// [`crate::estimators::pf::PARALLEL_MIN_PARTICLES`] particles on (0: one per core,
+    /// rayon's global pool; 1: the calling thread); `0..=MAX_THREADS`. The results do not
+    /// depend on it.
+    pub pf_threads: usize,
 }
 
 impl Default for NavConfig {
@@ -354,6 +379,8 @@ impl Default for NavConfig {
             imm_modes: ImmParams::default().modes,
             imm_accel_psd: ImmParams::default().accel_psd,
             imm_p_stay: ImmParams::default().p_stay,
+            pf_move: true,
+            pf_threads: 0,
         }
     }
 }
@@ -548,6 +575,21 @@ impl NavConfig {
                     self.x0[i]
                 )));
             }
+            // headroom in double precision for the initial distribution (a particle
+            // filter draws x0 + sigma eps) and the first steps' arithmetic
+            let sigma = if i < 3 {
+                self.sigma_pos0
+            } else {
+                self.sigma_vel0
+            };
+            if !(self.x0[i].abs() + 100.0 * sigma <= MAX_INITIAL_MAGNITUDE) {
+                return Err(NavError::invalid(format!(
+                    "|{n}| + 100 sigma must not exceed {MAX_INITIAL_MAGNITUDE:e} (got {n} = {}, \
+                     sigma {}): the initial estimate would overflow double precision",
+                    num(self.x0[i]),
+                    num(sigma)
+                )));
+            }
         }
         for (i, axis) in ["x", "y", "z"].iter().enumerate() {
             non_negative(&format!("q_pos_{axis}"), self.q_pos[i])?;
@@ -601,12 +643,20 @@ impl NavConfig {
             }
         }
         if self.filter.pf_kind().is_some_and(PfKind::unscented)
+            && !self.pf_move
             && !(self.accel_psd > 0.0 || self.q_pos.iter().chain(&self.q_vel).all(|q| *q > 0.0))
         {
             return Err(NavError::invalid(format!(
-                "filter {} needs a positive-definite process noise (accel_psd > 0, or every \
-                 q_pos_* and q_vel_* > 0): its proposal is built on the transition density",
+                "filter {} with pf_move = false needs a positive-definite process noise \
+                 (accel_psd > 0, or every q_pos_* and q_vel_* > 0): its literal proposal is \
+                 built on the transition density",
                 self.filter.name()
+            )));
+        }
+        if self.pf_threads > MAX_THREADS {
+            return Err(NavError::invalid(format!(
+                "pf_threads must lie in 0..={MAX_THREADS} (got {}); 0 = one per core",
+                self.pf_threads
             )));
         }
         if let Some(p) = self.pf_params() {
@@ -620,7 +670,8 @@ impl NavConfig {
 
     /// Every setting by name, in the order of a saved state's configuration section
     /// (`docs/state-format.md`). The destructuring names every field: a new field of
-    /// `NavConfig` does not compile until it is added here (and so to the fingerprint).
+    /// `NavConfig` does not compile until it is added here (and so to the fingerprint) —
+    /// or is named as not state-relevant (`pf_threads`: the results do not depend on it).
     pub fn settings(&self) -> Vec<(&'static str, Setting)> {
         use Setting::{Int, Real};
         let NavConfig {
@@ -663,6 +714,10 @@ impl NavConfig {
             imm_modes,
             imm_accel_psd,
             imm_p_stay,
+            pf_move,
+            // the results (and so a saved state) do not depend on the thread count: a state
+            // moves between instances that run the particle loops on different threads
+            pf_threads: _,
         } = *self;
         let UkfParams { alpha, beta, kappa } = ukf;
         vec![
@@ -720,6 +775,7 @@ impl NavConfig {
             ("imm_p_stay[0]", Real(imm_p_stay[0])),
             ("imm_p_stay[1]", Real(imm_p_stay[1])),
             ("imm_p_stay[2]", Real(imm_p_stay[2])),
+            ("pf_move", Int(i64::from(pf_move))),
         ]
     }
 
@@ -864,12 +920,14 @@ impl NavConfig {
     }
 
     /// The particle-filter settings for filter codes 4-8 (`None` for the other filters):
-    /// `PfParams::new(kind)` with `particles`, `resampler`, `resample_threshold`, `seed` and
-    /// the UKF parameters (the unscented proposal of `upf` and `cgapf`) of this
-    /// configuration.
+    /// `PfParams::new(kind)` with `particles`, `resampler`, `resample_threshold`, `seed`,
+    /// the UKF parameters (the unscented proposal of `upf` and `cgapf`), `pf_move` and
+    /// `pf_threads` of this configuration.
     pub fn pf_params(&self) -> Option<PfParams> {
         let kind = self.filter.pf_kind()?;
         Some(PfParams {
+            moves: self.pf_move,
+            threads: self.pf_threads,
             particles: self.particles,
             resampler: self.resampler,
             threshold: self.resample_threshold,
@@ -1198,6 +1256,21 @@ impl Navigator {
             failed: false,
         };
         nav.discrete(1.0);
+        // every field is finite, but x0 near the largest double with its uncertainty can
+        // still overflow (a particle filter's initial draw x0 + L eps): refuse it here rather
+        // than hand out an estimator whose estimate is not a number
+        let cov_ok = matches!(nav.filter, AnyFilter::Hinf(_))
+            || nav.filter.covariance().iter().all(|v| v.is_finite());
+        if !(nav.filter.state().iter().all(|v| v.is_finite()) && cov_ok) {
+            return Err(NavError::invalid(format!(
+                "the initial estimate x0 = {:?} with sigma_pos0 = {}, sigma_vel0 = {} overflows \
+                 double precision in the {} filter's initial state",
+                cfg.x0,
+                num(cfg.sigma_pos0),
+                num(cfg.sigma_vel0),
+                cfg.filter.name()
+            )));
+        }
         Ok(nav)
     }
 
@@ -1231,8 +1304,23 @@ impl Navigator {
         self.step_cache
     }
 
+    /// The longest accepted step [s]: [`MAX_STEP_PERIODS`] orbital periods.
+    pub fn max_step(&self) -> f64 {
+        MAX_STEP_PERIODS * std::f64::consts::TAU / self.cfg.mean_motion
+    }
+
     fn check_dt(&self, dt: f64) -> Result<(), NavError> {
         positive("step size h", dt)?;
+        if dt > self.max_step() {
+            return Err(NavError::invalid(format!(
+                "step size h = {} s is longer than {MAX_STEP_PERIODS} orbital periods ({} s at \
+                 mean_motion {} rad/s), where the linearised CW model means nothing: split \
+                 the interval, or check the time unit",
+                num(dt),
+                num(self.max_step()),
+                num(self.cfg.mean_motion)
+            )));
+        }
         if let AnyFilter::Hinf(f) = &self.filter {
             let t = f.period();
             if (dt - t).abs() > 1e-9 * t {
@@ -1373,6 +1461,22 @@ impl Navigator {
     /// Covariance in the I/O frame.
     pub fn covariance(&self) -> Mat6 {
         self.cfg.frame.cov_from_canonical(self.filter.covariance())
+    }
+
+    /// 1-sigma per state component in the I/O frame: the square roots of the covariance's
+    /// diagonal. A NaN or negative variance (a failed filter; the H-infinity filter, which
+    /// has no covariance) gives NaN, never a reassuring 0. The C ABI, the FMU and the
+    /// Python package all report this.
+    pub fn sigma(&self) -> [f64; 6] {
+        let p = self.covariance();
+        std::array::from_fn(|i| {
+            let v = p[(i, i)];
+            if v >= 0.0 {
+                v.sqrt()
+            } else {
+                f64::NAN
+            }
+        })
     }
 
     /// Diagnostics of the last measurement update, if any since construction or reset.
@@ -1595,6 +1699,18 @@ impl Navigator {
         let mut filter = self.filter.clone();
         filter.load_state(&mut r)?;
         r.finish()?;
+        // a crafted state behind a valid checksum can carry fields a filter reads without
+        // a finiteness check (a particle filter's weighted mean): the estimate handed out
+        // must be numbers (fuzz finding, `tests/robustness.rs`). The covariance is not
+        // checked: a reachable state may hold an infinite one (particles spread beyond
+        // 1e154 m by absurd thrust), and it must restore.
+        if !filter.state().iter().all(|v| v.is_finite()) {
+            return Err(refuse(
+                "the state's estimate is not finite (a crafted or corrupted state behind a \
+                 valid checksum)",
+            )
+            .into());
+        }
         // commit: nothing below can fail
         self.filter = filter;
         self.last_update = last_update;

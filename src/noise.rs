@@ -88,6 +88,40 @@ impl NoiseModel {
         }
     }
 
+    /// The variance of a Gaussian that stands in for this density at the innovation `nu`
+    /// of an uncertain prediction (predicted-measurement variance `pred_var`), scale
+    /// `sigma`. For the Gaussian scale mixtures it is the inverse of the noise precision
+    /// expected given `nu`, `1 / E[1/s^2 | nu]` — the E-step of the EM / variational
+    /// treatment of heavy-tailed noise (e.g. Agamennoni, Nieto & Nebot 2012): contaminated
+    /// Gaussian, `r = P(wide | nu)` from the two predictive Gaussians
+    /// `N(nu; 0, s_i^2 + pred_var)`, giving `1 / ((1 - r) / s1^2 + r / s2^2)`; Student-t,
+    /// `E[lambda | nu] = (dof + 1) / (dof + nu^2 / (sigma^2 + pred_var))`, giving
+    /// `sigma^2 / E[lambda | nu]`. Other densities: the variance. An inlier thus gets the
+    /// narrow variance, an outlier the wide one (the particle filters' Gaussian proposal,
+    /// [`crate::estimators::pf`]).
+    pub fn local_variance(&self, nu: f64, pred_var: f64, sigma: f64) -> f64 {
+        let s2 = sigma * sigma;
+        match *self {
+            NoiseModel::Mixture { zeta, scale } if zeta > 0.0 => {
+                let (v1, v2) = (s2, s2 * scale * scale);
+                // log N(nu; 0, v) up to the common constant
+                let ln_n = |v: f64| -0.5 * (nu * nu / v + v.ln());
+                let (a, b) = (
+                    (1.0 - zeta).ln() + ln_n(v1 + pred_var),
+                    zeta.ln() + ln_n(v2 + pred_var),
+                );
+                let r = 1.0 / (1.0 + (a - b).exp());
+                let r = if r.is_finite() { r } else { 0.0 };
+                1.0 / ((1.0 - r) / v1 + r / v2)
+            }
+            NoiseModel::StudentT { dof } => {
+                let e_lambda = (dof + 1.0) / (dof + nu * nu / (s2 + pred_var));
+                s2 / e_lambda
+            }
+            _ => s2 * self.variance_factor(),
+        }
+    }
+
     /// Whether successive samples are independent.
     pub fn is_white(&self) -> bool {
         !matches!(self, NoiseModel::Ar1 { .. })
@@ -340,5 +374,32 @@ mod tests {
             .validate()
             .unwrap_err()
             .contains("phi"));
+    }
+
+    #[test]
+    fn local_variance_is_the_narrow_or_the_wide_one() {
+        let (sigma, pv) = (0.5, 0.01);
+        assert_eq!(NoiseModel::Gaussian.local_variance(3.0, pv, sigma), 0.25);
+        let mix = NoiseModel::Mixture {
+            zeta: 0.2,
+            scale: 10.0,
+        };
+        // an inlier: nearly the narrow variance; a 20-sigma outlier: nearly the wide one
+        let inlier = mix.local_variance(0.3 * sigma, pv, sigma);
+        let outlier = mix.local_variance(20.0 * sigma, pv, sigma);
+        assert!((inlier / 0.25 - 1.0).abs() < 0.05, "{inlier}");
+        assert!((outlier / 25.0 - 1.0).abs() < 0.01, "{outlier}");
+        // monotone in |nu| between the two
+        let mut last = 0.0;
+        for k in 0..40 {
+            let v = mix.local_variance(0.5 * k as f64 * sigma, pv, sigma);
+            assert!(v >= last && (0.25..=25.0).contains(&v), "{k}: {v}");
+            last = v;
+        }
+        // Student-t: sigma^2 (dof + nu^2 / (sigma^2 + pv)) / (dof + 1)
+        let t = NoiseModel::StudentT { dof: 4.0 };
+        let nu = 1.5;
+        let want = 0.25 * (4.0 + nu * nu / (0.25 + pv)) / 5.0;
+        assert!((t.local_variance(nu, pv, sigma) - want).abs() < 1e-15);
     }
 }

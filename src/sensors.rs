@@ -105,7 +105,7 @@ pub struct Geometry {
 /// What a filter needs of a sensor: the measurement function, its linearisation, the
 /// residual and mean that respect angles, and the noise covariance. Component 1 is the
 /// one that [`Geometry::azimuth_usable`] may switch off.
-pub trait MeasurementModel {
+pub trait MeasurementModel: Sync {
     /// Noise-free measurement of the canonical relative position `r` (`None` where it is
     /// undefined).
     fn predict(&self, r: &Vec3) -> Option<Vec3>;

@@ -173,6 +173,76 @@ fn results_do_not_depend_on_the_thread_count() {
     assert_eq!(format!("{:?}", strip(one)), format!("{:?}", strip(two)));
 }
 
+/// The chunks of a campaign run anywhere, in any order, and travel as bytes: reduced in
+/// chunk order they give exactly `run`'s result (what the Python package's Dask campaigns
+/// rely on). Partial sums out of order or from another campaign are refused.
+#[test]
+fn chunks_computed_apart_reduce_to_the_runners_result() {
+    use relnav::eval::runner::{Campaign, Partial};
+    use std::sync::atomic::{AtomicBool, AtomicU64};
+    let (_, text) = builtin::for_paper("000")[0];
+    let mut s = Scenario::from_toml(text).unwrap();
+    s.filters
+        .retain(|f| ["EKF", "UKF", "RPF"].contains(&f.label.as_str()));
+    for f in &mut s.filters {
+        f.particles = f.particles.min(200);
+    }
+    s.simulation.duration = 60.0;
+    let whole = run(
+        &s,
+        &Options {
+            runs: Some(10),
+            threads: 2,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let c = Campaign::new(&s, Some(10)).unwrap();
+    assert_eq!(c.chunks().len(), 3); // 4 + 4 + 2 runs
+    let (done, cancel) = (AtomicU64::new(0), AtomicBool::new(false));
+    // computed last chunk first, each through its bytes
+    let mut bytes: Vec<(usize, Vec<u8>)> = (0..3)
+        .rev()
+        .map(|i| (i, c.run_chunk(i, &done, &cancel).unwrap().to_bytes()))
+        .collect();
+    bytes.sort_by_key(|(i, _)| *i);
+    let parts: Vec<Partial> = bytes
+        .iter()
+        .map(|(_, b)| Partial::from_bytes(b).unwrap())
+        .collect();
+    assert_eq!(parts[1].to_bytes(), bytes[1].1, "bytes round trip");
+    let mut r = c.reducer();
+    let err = r.add(&c, &parts[1]).unwrap_err();
+    assert!(err.contains("expected chunk 0"), "{err}");
+    for p in &parts {
+        r.add(&c, p).unwrap();
+    }
+    assert!(r.add(&c, &parts[2]).is_err(), "a chunk added twice");
+    let apart = c.finish(r);
+    let strip = |mut r: relnav::eval::results::McResult| {
+        for f in &mut r.filters {
+            f.us_per_step = 0.0;
+        }
+        r
+    };
+    assert_eq!(format!("{:?}", strip(whole)), format!("{:?}", strip(apart)));
+    // another campaign's sums do not fit
+    let other = Campaign::new(&s, Some(12)).unwrap();
+    let mut r = other.reducer();
+    for p in &parts[..2] {
+        r.add(&other, p).unwrap(); // the first two chunks are the same runs
+    }
+    assert!(
+        r.add(&other, &parts[2]).is_err(),
+        "runs 8..10 are not chunk 2 of 12 runs"
+    );
+    // damaged bytes are refused, not misread
+    let b = &bytes[0].1;
+    assert!(Partial::from_bytes(&b[..b.len() - 1]).is_err());
+    assert!(Partial::from_bytes(&[b.as_slice(), &[0]].concat()).is_err());
+    assert!(Partial::from_bytes(b"RNPART99").is_err());
+}
+
 #[test]
 fn every_builtin_scenario_runs() {
     for (name, text) in builtin::for_paper("all") {

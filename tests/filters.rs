@@ -312,10 +312,13 @@ fn invalid_configurations_name_the_parameter() {
             "noise_dof",
         ),
         (
+            // the literal unscented proposal needs Q > 0 (with the moves, the default, it
+            // does not collapse and Q = 0 is allowed)
             NavConfig {
                 filter: FilterKind::Upf,
                 q_pos: [0.0; 3],
                 q_vel: [0.0; 3],
+                pf_move: false,
                 ..Default::default()
             },
             "q_pos",

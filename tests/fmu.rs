@@ -62,6 +62,12 @@ fn set_int(c: fmi2Component, r: u32, v: i32) -> fmi2Status {
     unsafe { fmi2SetInteger(c, &r, 1, &v) }
 }
 
+fn set_bool(c: fmi2Component, r: u32, v: bool) -> fmi2Status {
+    let v = fmi2Boolean::from(v);
+    // SAFETY: live instance, one element.
+    unsafe { fmi2SetBoolean(c, &r, 1, &v) }
+}
+
 fn outputs(c: fmi2Component) -> [f64; 12] {
     let refs: Vec<u32> = (vr::X..=vr::SIGMA_VZ).collect();
     let mut y = [0.0; 12];
@@ -110,7 +116,7 @@ fn platform_strings_and_description() {
         );
     }
     assert!(model_description().contains(guid()));
-    assert_eq!(VARIABLES.len(), vr::IMM_MU_3 as usize + 1);
+    assert_eq!(VARIABLES.len(), vr::PF_THREADS as usize + 1);
 }
 
 #[test]
@@ -260,7 +266,7 @@ fn call_sequence_and_parameter_errors() {
         }
         // values valid alone, invalid together: accepted when set, refused at
         // exit-initialisation (hinf_period 1000 s needs mean_motion <= 5e-4 rad/s; the
-        // unscented particle filters need a process noise)
+        // literal unscented particle filters, pf_move = false, need a process noise)
         let combos: [&[(u32, f64)]; 2] = [
             &[(vr::HINF_PERIOD, 1000.0)],
             &[
@@ -276,6 +282,7 @@ fn call_sequence_and_parameter_errors() {
             assert_eq!(fmi2SetupExperiment(c, 0, 0.0, 0.0, 0, 0.0), OK);
             if i == 1 {
                 assert_eq!(set_int(c, vr::FILTER, 6), OK);
+                assert_eq!(set_bool(c, vr::PF_MOVE, false), OK);
             }
             for (r, v) in combo.iter() {
                 assert_eq!(set_real(c, *r, *v), OK, "vr {r} = {v}");
@@ -693,16 +700,24 @@ fn bad_particle_filter_parameters_are_refused() {
             assert!(msg.contains(name), "{name} = {v}: message {msg:?}");
             assert_eq!(fmi2Reset(c), OK);
         }
-        // the UPF and CGA-PF need a transition density: no process noise at all is refused
+        // the literal UPF and CGA-PF (pf_move = false) need a transition density: no
+        // process noise at all is refused; with their moves (the default) it is accepted
         for filter in [6, 8] {
-            assert_eq!(set_int(c, vr::FILTER, filter), OK);
-            for r in vr::Q_POS_X..=vr::Q_VEL_Z {
-                assert_eq!(set_real(c, r, 0.0), OK);
+            for moves in [false, true] {
+                assert_eq!(set_int(c, vr::FILTER, filter), OK);
+                assert_eq!(set_bool(c, vr::PF_MOVE, moves), OK);
+                for r in vr::Q_POS_X..=vr::Q_VEL_Z {
+                    assert_eq!(set_real(c, r, 0.0), OK);
+                }
+                assert_eq!(fmi2EnterInitializationMode(c), OK);
+                if moves {
+                    assert_eq!(fmi2ExitInitializationMode(c), OK, "filter {filter}, Q = 0");
+                } else {
+                    assert_eq!(fmi2ExitInitializationMode(c), ERR, "filter {filter}, Q = 0");
+                    assert!(last_error().contains("process noise"), "{}", last_error());
+                }
+                assert_eq!(fmi2Reset(c), OK);
             }
-            assert_eq!(fmi2EnterInitializationMode(c), OK);
-            assert_eq!(fmi2ExitInitializationMode(c), ERR, "filter {filter}, Q = 0");
-            assert!(last_error().contains("process noise"), "{}", last_error());
-            assert_eq!(fmi2Reset(c), OK);
         }
         // valid edges are accepted
         assert_eq!(set_int(c, vr::FILTER, 8), OK);

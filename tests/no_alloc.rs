@@ -298,15 +298,21 @@ fn fmu_cycles_do_not_allocate(filter: i32, law: i32) {
     );
 }
 
-/// Every particle-filter kind (codes 4-8), with every resampler and a heavy-tailed noise
-/// model: the first step after construction (the first update initialises the particles
-/// from the measurement) and every later step (weighting, resampling, regularisation or
-/// genetic moves, UKF proposals, a new step size, steps without measurement) allocate
-/// nothing, through the library and the C ABI (with the ess getter).
+/// Every particle-filter kind (codes 4-8), with and without the moves, with every
+/// resampler and a heavy-tailed noise model: the first step after construction (the first
+/// update initialises the particles from the measurement) and every later step
+/// (weighting, resampling, rejuvenation, regularisation or genetic moves, UKF proposals,
+/// a new step size, steps without measurement) allocate nothing, through the library and
+/// the C ABI (with the ess getter). This holds below `PARALLEL_MIN_PARTICLES` particles;
+/// from there on the particle loops run in chunks on worker threads, which allocates a
+/// few vectors per loop (ARCHITECTURE.md, invariants).
 #[test]
 fn particle_filter_steps_do_not_allocate() {
     use relnav::estimators::pf::resample::Resampler;
+    use relnav::estimators::pf::PARALLEL_MIN_PARTICLES;
     use relnav::nav::NoiseKind;
+    const PARTICLES: usize = 300;
+    const { assert!(PARTICLES < PARALLEL_MIN_PARTICLES) };
     let kinds = [
         FilterKind::Pf,
         FilterKind::Rpf,
@@ -314,10 +320,15 @@ fn particle_filter_steps_do_not_allocate() {
         FilterKind::Gapf,
         FilterKind::Cgapf,
     ];
-    for (i, filter) in kinds.into_iter().enumerate() {
+    for (i, (filter, pf_move)) in kinds
+        .into_iter()
+        .flat_map(|k| [(k, true), (k, false)])
+        .enumerate()
+    {
         let cfg = NavConfig {
             filter,
-            particles: 300,
+            pf_move,
+            particles: PARTICLES,
             resampler: Resampler::ALL[i % 4],
             noise_model: if i % 2 == 0 {
                 NoiseKind::Gaussian
@@ -333,7 +344,7 @@ fn particle_filter_steps_do_not_allocate() {
         });
         assert_eq!(
             first, 0,
-            "{filter:?}: {first} allocations in the first step"
+            "{filter:?} (pf_move {pf_move}): {first} allocations in the first step"
         );
         let mut resampled = 0;
         let n = allocations(|| {
@@ -348,12 +359,19 @@ fn particle_filter_steps_do_not_allocate() {
             nav.predict(&[0.0; 3], 2.0).unwrap();
             nav.step(&[0.0; 3], Some(&measurement(61)), 1.0).unwrap();
         });
-        assert_eq!(n, 0, "{filter:?}: {n} allocations in library steps");
-        assert!(resampled > 0, "{filter:?}: never resampled");
+        assert_eq!(
+            n, 0,
+            "{filter:?} (pf_move {pf_move}): {n} allocations in library steps"
+        );
+        assert!(
+            resampled > 0,
+            "{filter:?} (pf_move {pf_move}): never resampled"
+        );
 
         let mut c = ffi::relnav_config_default();
         c.filter = filter as i32;
-        c.particles = 300;
+        c.pf_move = i32::from(pf_move);
+        c.particles = PARTICLES as i32;
         let mut est = std::ptr::null_mut();
         // SAFETY: valid pointers.
         unsafe { ffi::relnav_estimator_new(&c, &mut est) };
@@ -377,7 +395,13 @@ fn particle_filter_steps_do_not_allocate() {
         });
         // SAFETY: live handle, freed once.
         unsafe { ffi::relnav_estimator_free(est) };
-        assert_eq!(n, 0, "{filter:?}: {n} allocations in C-ABI steps");
-        assert!((1.0..=300.0).contains(&ess), "{filter:?}: ess {ess}");
+        assert_eq!(
+            n, 0,
+            "{filter:?} (pf_move {pf_move}): {n} allocations in C-ABI steps"
+        );
+        assert!(
+            (1.0..=300.0).contains(&ess),
+            "{filter:?} (pf_move {pf_move}): ess {ess}"
+        );
     }
 }

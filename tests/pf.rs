@@ -1,5 +1,8 @@
-//! Particle filters: convergence to the Kalman filter on a linear-Gaussian problem as N
-//! grows, the literal SIR's collapse on paper 000 and its honest fix, parameter checks.
+//! Particle filters: the literal SIR's convergence to the Kalman filter on a
+//! linear-Gaussian problem as N grows, and the moving filters' agreement with it at any
+//! N; the literal SIR's collapse on paper 000 and its fixes; degeneration with small
+//! process noise without moves; thread-count independence of the parallel path;
+//! parameter checks; the papers' examples through the evaluation engine.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)] // test code
 
 use rand::Rng;
@@ -11,13 +14,17 @@ use relnav::estimators::pf::resample::Resampler;
 use relnav::estimators::pf::{Kernel, ParticleFilter, PfInit, PfKind, PfParams};
 use relnav::estimators::{Ekf, Estimator};
 use relnav::frames::Frame;
-use relnav::nav::NavConfig;
+use relnav::nav::{FilterKind, NavConfig, Navigator};
 use relnav::sensors::{CartesianSensor, MeasurementModel, RadioSensor};
 use relnav::types::{Mat3, Mat6, State, Vec3};
 
 /// Mean over time of |x_pf - x_kf| (position) on a linear-Gaussian problem where the KF
-/// is the exact posterior mean.
+/// is the exact posterior mean, and the mean posterior position sd.
 fn pf_vs_kf(particles: usize, seed: u64) -> (f64, f64) {
+    pf_vs_kf_with(particles, seed, false)
+}
+
+fn pf_vs_kf_with(particles: usize, seed: u64, moves: bool) -> (f64, f64) {
     let model =
         CwModel::new(1e-3).discretize(1.0, &(Mat3::identity() * 1e-2), Discretization::Exact);
     let sensor = CartesianSensor {
@@ -31,6 +38,7 @@ fn pf_vs_kf(particles: usize, seed: u64) -> (f64, f64) {
         particles,
         init: PfInit::Prior,
         seed,
+        moves,
         ..Default::default()
     };
     let mut pf = ParticleFilter::new(x0, p0, params);
@@ -58,6 +66,7 @@ fn pf_vs_kf(particles: usize, seed: u64) -> (f64, f64) {
     (sum / steps as f64, sd / steps as f64)
 }
 
+/// The literal SIR (no moves): its Monte Carlo error falls with N.
 #[test]
 fn sir_converges_to_the_kalman_filter_as_n_grows() {
     let avg = |n: usize| (0..4).map(|s| pf_vs_kf(n, s).0).sum::<f64>() / 4.0;
@@ -77,10 +86,40 @@ fn sir_converges_to_the_kalman_filter_as_n_grows() {
     );
 }
 
+/// With moves, on a linear measurement with Gaussian noise the rejuvenation's Gaussian
+/// proposal is the target itself: every proposal is accepted and the control-variate
+/// moments are the Kalman update of the predictive moments, which are propagated exactly
+/// — the filter is the Kalman filter to rounding, at any particle count (here 100).
+#[test]
+fn moving_sir_is_the_kalman_filter_on_a_linear_gaussian_problem() {
+    for seed in 0..3 {
+        let (e, sd) = pf_vs_kf_with(100, seed, true);
+        assert!(
+            e < 1e-9 * sd,
+            "seed {seed}: {e} m from the KF (posterior sd {sd} m)"
+        );
+    }
+}
+
 /// Paper 000's example, noise-free truth here: run a PF (generator seed `seed`,
 /// measurement-noise seed `seed + 12`) for 100 steps, return the final position error and
-/// the ESS right after the first update.
-fn paper000_pf(init: PfInit, kernel: Option<Kernel>, seed: u64) -> (f64, f64) {
+/// the ESS right after the first update. `kernel`: an RPF with it, else a SIR.
+fn paper000_pf(init: PfInit, kernel: Option<Kernel>, seed: u64, moves: bool) -> (f64, f64) {
+    let kind = if kernel.is_some() {
+        PfKind::Rpf
+    } else {
+        PfKind::Sir
+    };
+    paper000_pf_kind(kind, init, kernel.unwrap_or_default(), seed, moves)
+}
+
+fn paper000_pf_kind(
+    kind: PfKind,
+    init: PfInit,
+    kernel: Kernel,
+    seed: u64,
+    moves: bool,
+) -> (f64, f64) {
     let cfg = NavConfig::default();
     let f = cfg.frame;
     let model = CwModel::new(cfg.mean_motion);
@@ -93,13 +132,10 @@ fn paper000_pf(init: PfInit, kernel: Option<Kernel>, seed: u64) -> (f64, f64) {
         particles: 2000,
         resampler: Resampler::Multinomial,
         init,
-        kernel: kernel.unwrap_or_default(),
+        kernel,
         seed,
-        ..PfParams::new(if kernel.is_some() {
-            PfKind::Rpf
-        } else {
-            PfKind::Sir
-        })
+        moves,
+        ..PfParams::new(kind)
     };
     let mut pf = ParticleFilter::new(cfg.initial_state(), cfg.initial_covariance(), params);
     let mut rng = ChaCha8Rng::seed_from_u64(seed + 12);
@@ -129,7 +165,7 @@ fn literal_sir_collapses_on_paper000_and_first_measurement_init_fixes_it() {
     const SEEDS: std::ops::Range<u64> = 0..8;
     let rms = |errs: &[f64]| (errs.iter().map(|e| e * e).sum::<f64>() / errs.len() as f64).sqrt();
     for seed in SEEDS {
-        let (err_literal, ess_literal) = paper000_pf(PfInit::Prior, None, seed);
+        let (err_literal, ess_literal) = paper000_pf(PfInit::Prior, None, seed, false);
         assert!(
             ess_literal < 2.0,
             "literal SIR, seed {seed}: ESS {ess_literal} after the first update"
@@ -146,17 +182,174 @@ fn literal_sir_collapses_on_paper000_and_first_measurement_init_fixes_it() {
     // within 0.3 m, one 1.2 m, two 10 and 17 m; RMS 7 m), so the statement is about the
     // RMS over seeds
     let fm: Vec<f64> = SEEDS
-        .map(|s| paper000_pf(PfInit::FirstMeasurement, None, s).0)
+        .map(|s| paper000_pf(PfInit::FirstMeasurement, None, s, false).0)
         .collect();
     assert!(rms(&fm) > 2.0, "first-measurement init alone: {fm:?} m");
-    // regularisation after each resampling refines the velocities: decimetres in every
-    // run, as the EKF
-    for kernel in [Kernel::Gaussian, Kernel::Epanechnikov] {
-        for seed in SEEDS {
-            let (err, _) = paper000_pf(PfInit::FirstMeasurement, Some(kernel), seed);
+    // plain regularisation after each resampling refines the velocities: decimetres in
+    // every run, as the EKF; so does the MH-accepted kernel of the moving RPF
+    for moves in [false, true] {
+        for kernel in [Kernel::Gaussian, Kernel::Epanechnikov] {
+            for seed in SEEDS {
+                let (err, _) = paper000_pf(PfInit::FirstMeasurement, Some(kernel), seed, moves);
+                assert!(
+                    err < 0.5,
+                    "{kernel:?} (moves {moves}), seed {seed}: final position error {err} m"
+                );
+            }
+        }
+    }
+    // with the moves every kind reaches decimetres in every run, even from the prior (the
+    // rejuvenation replaces the collapsed set by draws from the Gaussian update)
+    for kind in [PfKind::Sir, PfKind::Upf, PfKind::Gapf, PfKind::Cgapf] {
+        for init in [PfInit::FirstMeasurement, PfInit::Prior] {
+            for seed in 0..3 {
+                let (err, _) = paper000_pf_kind(kind, init, Kernel::Gaussian, seed, true);
+                assert!(
+                    err < 0.5,
+                    "{kind:?} from {init:?}, seed {seed}: final position error {err} m"
+                );
+            }
+        }
+    }
+}
+
+/// Paper 000's geometry with an honest small process noise: a quiet truth (no process
+/// noise), filters told a white acceleration of 1e-10 m^2/s^3 and nothing else, 300 s at
+/// 1 Hz. Position and velocity RMSE over t >= 80 s of the navigator's predicted estimate,
+/// per seed, for one filter kind; the EKF's on the same measurements.
+fn small_q_run(filter: FilterKind, pf_move: bool, seed: u64) -> (f64, f64) {
+    let cfg = NavConfig {
+        filter,
+        pf_move,
+        seed,
+        accel_psd: 1e-10,
+        q_pos: [0.0; 3],
+        q_vel: [0.0; 3],
+        ..Default::default()
+    };
+    let f = cfg.frame;
+    let model = CwModel::new(cfg.mean_motion);
+    let phi = model.phi(1.0);
+    let sensor = RadioSensor::new(f, cfg.sigma_range, cfg.sigma_angle);
+    let mut rng = ChaCha8Rng::seed_from_u64(1000 + seed);
+    let mut xt = f.state_to_canonical(&State::from_row_slice(&[
+        400.0, 500.0, 200.0, 0.0, 0.0, 0.0,
+    ]));
+    let mut nav = Navigator::new(&cfg).unwrap();
+    let (mut sp, mut sv, mut n) = (0.0, 0.0, 0.0);
+    for k in 0..300 {
+        let z = sensor
+            .measure(&xt.fixed_rows::<3>(0).into_owned(), &mut rng)
+            .unwrap();
+        nav.step(&[0.0; 3], Some(&[z.x, z.y, z.z]), 1.0).unwrap();
+        xt = phi * xt;
+        if k + 1 >= 80 {
+            let e = nav.state() - f.state_from_canonical(&xt);
+            sp += e.fixed_rows::<3>(0).norm_squared();
+            sv += e.fixed_rows::<3>(3).norm_squared();
+            n += 1.0;
+        }
+    }
+    ((sp / n).sqrt(), (sv / n).sqrt())
+}
+
+/// Small honest process noise: every kind with its moves stays within the issue's
+/// margins of the EKF (1.3 times its position RMSE, 2 times its velocity RMSE) in every
+/// seed, where the literal SIR degenerates (measured: 190-375 times the EKF's position
+/// error through the FMU; here more than 3 times in every seed).
+#[test]
+fn small_process_noise_moving_filters_match_the_ekf_literal_sir_degenerates() {
+    for seed in 0..2 {
+        let (ep, ev) = small_q_run(FilterKind::Ekf, true, seed);
+        for kind in [
+            FilterKind::Pf,
+            FilterKind::Rpf,
+            FilterKind::Upf,
+            FilterKind::Gapf,
+            FilterKind::Cgapf,
+        ] {
+            let (p, v) = small_q_run(kind, true, seed);
+            eprintln!(
+                "seed {seed} {}: pos {p:.4} m ({:.2} x EKF), vel {v:.6} m/s ({:.2} x EKF)",
+                kind.name(),
+                p / ep,
+                v / ev
+            );
             assert!(
-                err < 0.5,
-                "{kernel:?}, seed {seed}: final position error {err} m"
+                p < 1.3 * ep && v < 2.0 * ev,
+                "{kind:?} seed {seed}: {p} / {v} vs EKF {ep} / {ev}"
+            );
+        }
+        let (p, _) = small_q_run(FilterKind::Pf, false, seed);
+        assert!(p > 3.0 * ep, "literal SIR seed {seed}: {p} m vs EKF {ep} m");
+    }
+}
+
+/// From `PARALLEL_MIN_PARTICLES` particles on the particle loops run in chunks with their
+/// own generators: one, two or three worker threads give bit-identical particles,
+/// weights, means and covariances for every kind (with and without moves).
+#[test]
+fn parallel_path_is_independent_of_the_thread_count() {
+    use relnav::estimators::pf::PARALLEL_MIN_PARTICLES;
+    let cfg = NavConfig::default();
+    let f = cfg.frame;
+    let model = CwModel::new(cfg.mean_motion);
+    let mut d = model.discretize(1.0, &Mat3::zeros(), Discretization::Exact);
+    d.q += f.cov_to_canonical(&Mat6::from_diagonal(&State::from_row_slice(&[
+        0.09, 0.000625, 0.0025, 1e-6, 1e-6, 1e-6,
+    ])));
+    let sensor = RadioSensor::new(f, cfg.sigma_range, cfg.sigma_angle);
+    let x0 = f.state_to_canonical(&State::from_row_slice(&[
+        400.0, 500.0, 200.0, 0.0, 0.0, 0.0,
+    ]));
+    let particles = PARALLEL_MIN_PARTICLES + 1001; // a short last chunk
+    for (kind, moves) in [
+        (PfKind::Sir, true),
+        (PfKind::Sir, false),
+        (PfKind::Rpf, true),
+        (PfKind::Upf, true),
+        (PfKind::Gapf, true),
+        (PfKind::Cgapf, true),
+    ] {
+        let run = |threads: usize| {
+            let params = PfParams {
+                particles,
+                seed: 5,
+                moves,
+                threads,
+                ..PfParams::new(kind)
+            };
+            let mut pf = ParticleFilter::new(cfg.initial_state(), cfg.initial_covariance(), params);
+            let mut rng = ChaCha8Rng::seed_from_u64(3);
+            let mut xt = x0;
+            for _ in 0..4 {
+                let z = sensor
+                    .measure(&xt.fixed_rows::<3>(0).into_owned(), &mut rng)
+                    .unwrap();
+                pf.update(&sensor, &z).unwrap();
+                pf.predict(&d, &Vec3::new(1e-3, 0.0, 0.0)).unwrap();
+                xt = d.phi * xt;
+            }
+            let (x, w) = pf.particles();
+            (
+                x.to_vec(),
+                w.to_vec(),
+                *pf.state(),
+                *pf.covariance(),
+                pf.ess(),
+            )
+        };
+        let one = run(1);
+        assert!(one.2.iter().all(|v| v.is_finite()));
+        for threads in [2, 3] {
+            let other = run(threads);
+            assert!(
+                one.0 == other.0 && one.1 == other.1,
+                "{kind:?} (moves {moves}): particles differ with {threads} threads"
+            );
+            assert!(
+                one.2 == other.2 && one.3 == other.3 && one.4 == other.4,
+                "{kind:?} (moves {moves}): moments differ with {threads} threads"
             );
         }
     }
@@ -176,7 +369,26 @@ fn bad_parameters_are_rejected() {
         };
         assert!(p.validate().unwrap_err().contains("threshold"), "{t}");
     }
+    let p = PfParams {
+        threads: relnav::estimators::pf::MAX_THREADS + 1,
+        ..Default::default()
+    };
+    assert!(p.validate().unwrap_err().contains("threads"));
     assert!(PfParams::default().validate().is_ok());
+    // the literal unscented filters need a transition density, the moving ones do not
+    let cfg = NavConfig {
+        filter: FilterKind::Upf,
+        q_pos: [0.0; 3],
+        q_vel: [0.0; 3],
+        accel_psd: 0.0,
+        ..Default::default()
+    };
+    assert!(cfg.validate().is_ok());
+    let literal = NavConfig {
+        pf_move: false,
+        ..cfg
+    };
+    assert!(literal.validate().unwrap_err().message.contains("pf_move"));
 }
 
 /// Run a built-in scenario with only the `keep` filters, `runs` runs, `duration` seconds.
@@ -211,40 +423,35 @@ fn row<'a>(
     sm.iter().find(|s| s.label == label).unwrap()
 }
 
-/// Paper 000 (radio, 0.5 m / 0.01 deg), 20 runs over its 600 s, errors averaged after
-/// 80 s. Bars: the paper's 0.4 m for position; position and velocity against the PCRLB. A
-/// particle filter's velocity error is heavy-tailed across runs (impoverishment strikes
-/// some runs much harder), so the campaign is the full 20 runs of the reproduction: with
-/// 8 runs the CGA-PF's velocity efficiency was measured at 4.1, over 20 at 1.69 (1.29
-/// with the previous generator); RPF 1.31 / 4.26 (docs/evaluation.md). The literal SIR
-/// and the SIR without regularisation fail, as documented (measured 670 m and 56 m).
+/// Paper 000 (radio, 0.5 m / 0.01 deg, the paper's process noise driving the truth), 8
+/// runs over its 600 s, errors averaged after 80 s. With their moves every particle filter
+/// is as good as the EKF, which sits on the PCRLB here (efficiency 0.98 / 1.00): the
+/// paper's 0.4 m, and within 10 % of the bound in position and velocity (an efficient
+/// estimator's RMSE over 8 runs scatters by a few per cent around the bound; the EKF's is
+/// asserted the same way). The literal SIR and the SIR without moves fail, as documented
+/// (measured: hundreds of metres; tens of metres).
 #[test]
 fn paper000_particle_filters_meet_their_reproduced_bars() {
-    let sm = reproduce(
-        "paper000",
-        &["SIR PF (literal)", "SIR PF", "RPF", "CGA-PF"],
-        20,
-        600.0,
-    );
-
-    let cga = row(&sm, "CGA-PF");
-    assert!(cga.rmse_pos < 0.4, "CGA-PF position RMSE {}", cga.rmse_pos);
-    assert!(
-        cga.efficiency_pos.unwrap() < 1.3 && cga.efficiency_vel.unwrap() < 3.0,
-        "CGA-PF efficiency {:?} / {:?}",
-        cga.efficiency_pos,
-        cga.efficiency_vel
-    );
-    let rpf = row(&sm, "RPF");
-    assert!(rpf.rmse_pos < 0.4, "RPF position RMSE {}", rpf.rmse_pos);
-    assert!(
-        rpf.efficiency_vel.unwrap() < 8.0,
-        "RPF velocity efficiency {:?}",
-        rpf.efficiency_vel
-    );
+    let moving = ["SIR PF", "RPF", "UPF", "GA-PF", "CGA-PF"];
+    let mut labels = vec!["EKF", "SIR PF (literal)", "SIR PF (no move)"];
+    labels.extend(moving);
+    let sm = reproduce("paper000", &labels, 8, 600.0);
+    for s in &sm {
+        eprintln!(
+            "{}: {:.3} m, {:.4} m/s, efficiency {:?} / {:?}",
+            s.label, s.rmse_pos, s.rmse_vel, s.efficiency_pos, s.efficiency_vel
+        );
+    }
+    for l in moving.iter().chain(&["EKF"]) {
+        let s = row(&sm, l);
+        assert_eq!(s.failed_runs, 0, "{l}");
+        assert!(s.rmse_pos < 0.4, "{l}: position RMSE {}", s.rmse_pos);
+        let (ep, ev) = (s.efficiency_pos.unwrap(), s.efficiency_vel.unwrap());
+        assert!(ep < 1.1 && ev < 1.1, "{l}: efficiency {ep} / {ev}");
+    }
     // the failures the module documentation explains
     assert!(row(&sm, "SIR PF (literal)").rmse_pos > 50.0);
-    assert!(row(&sm, "SIR PF").rmse_pos > 2.0);
+    assert!(row(&sm, "SIR PF (no move)").rmse_pos > 2.0);
 }
 
 /// Paper 003 (lidar, contaminated Gaussian zeta = 0.2): every particle filter beats the

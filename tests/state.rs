@@ -144,6 +144,45 @@ fn every_filter_continues_bit_for_bit_after_a_restore() {
     }
 }
 
+/// The parallel path (from `PARALLEL_MIN_PARTICLES` = 32768 particles on): its per-chunk
+/// generators are state. Saved mid-run on one thread, restored into a navigator that runs
+/// the particle loops on two: the continuation is bit-identical (the thread count is not
+/// part of the configuration fingerprint; the results do not depend on it).
+#[test]
+fn the_parallel_path_continues_bit_for_bit_on_another_thread_count() {
+    for kind in [FilterKind::Pf, FilterKind::Rpf] {
+        let cfg = NavConfig {
+            particles: 40_000,
+            pf_threads: 1,
+            ..config(kind)
+        };
+        let inputs = scenario(&cfg);
+        let mut nav = Navigator::new(&cfg).unwrap();
+        for i in &inputs[..8] {
+            step(&mut nav, i);
+        }
+        let mut b = Vec::new();
+        nav.save_state(&mut b);
+        // 10 chunk generators of 4 words beside the filter's own
+        assert_eq!(b.len(), nav.state_len());
+        let mut trace = Vec::new();
+        for i in &inputs[8..14] {
+            step(&mut nav, i);
+            trace.push(outputs(&nav));
+        }
+        let mut other = Navigator::new(&NavConfig {
+            pf_threads: 2,
+            ..cfg
+        })
+        .unwrap();
+        other.restore_state(&b).unwrap();
+        for (i, want) in inputs[8..14].iter().zip(&trace) {
+            step(&mut other, i);
+            assert_eq!(outputs(&other), *want, "{kind:?}");
+        }
+    }
+}
+
 /// A state saved between a separate update and prediction (the H-infinity filter holds
 /// the measurement until its step) continues bit for bit too.
 #[test]
@@ -399,8 +438,8 @@ fn malformed_fields_are_refused() {
     let mut b = Vec::new();
     nav.save_state(&mut b);
     // then: mean, cached covariance (flag and 36), ESS, flags, prior mean, covariance,
-    // factor, predictive mean and factor
-    let rng_at = perm + n * 4 + 48 + 1 + 288 + 8 + 2 + 48 + 288 + 288 + 48 + 288;
+    // factor, predictive mean, covariance and factor
+    let rng_at = perm + n * 4 + 48 + 1 + 288 + 8 + 2 + 48 + 288 + 288 + 48 + 288 + 288;
     b[rng_at..rng_at + 32].fill(0);
     reseal(&mut b, EST_HEADER);
     refusal(&mut nav, &b, "all zero", "zero generator");
@@ -422,7 +461,7 @@ fn sizes_follow_the_documented_layout() {
         STATE_FORMAT_VERSION, 1,
         "update docs/state-format.md and this table"
     );
-    let conf = 4 + 4 + 54 * 8;
+    let conf = conf_len();
     // failure flag, last-update flag, innovation, NIS, azimuth flag (zeros when absent)
     let navg = 4 + 1 + 1 + 3 * 8 + 8 + 1;
     let m6 = 36 * 8;
@@ -474,9 +513,15 @@ fn sizes_follow_the_documented_layout() {
     }
 }
 
-/// Particle-filter section without its tag: counts, prior, per-particle arrays, the rest.
+/// Particle-filter section without its tag: counts, prior, per-particle arrays, the rest
+/// (below 32768 particles no chunk generators).
 fn pf_len(n: usize, m: usize) -> usize {
     let m6 = 288;
+    let chunk_generators = if n >= 32_768 {
+        n.div_ceil(4096) * 32
+    } else {
+        0
+    };
     16 + 48
         + m6
         + n * 48
@@ -494,7 +539,9 @@ fn pf_len(n: usize, m: usize) -> usize {
         + m6
         + 48
         + m6
+        + m6
         + 32
+        + chunk_generators
         + m6
         + m6
         + 1

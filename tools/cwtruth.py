@@ -259,6 +259,20 @@ def add_noise(z, sigma_range: float, sigma_angle: float, rng: np.random.Generato
     return z
 
 
+def add_mixture_noise(z, sigma_range: float, sigma_angle: float, zeta: float, scale: float, rng: np.random.Generator) -> np.ndarray:
+    """Add contaminated-Gaussian noise to measurements (..., 3): each component
+    independently N(0, s^2) with probability 1 - zeta, N(0, (scale s)^2) with probability
+    zeta (paper 003's heavy tail); azimuth wrapped to [0, 2 pi), elevation clipped to
+    [-pi/2, pi/2] (a measurement the sensor can report)."""
+    z = np.array(z, dtype=float)
+    sig = np.array([sigma_range, sigma_angle, sigma_angle])
+    wide = rng.random(z.shape) < zeta
+    z = z + rng.standard_normal(z.shape) * sig * np.where(wide, scale, 1.0)
+    z[..., 1] = np.mod(z[..., 1], 2 * np.pi)
+    z[..., 2] = np.clip(z[..., 2], -np.pi / 2, np.pi / 2)
+    return z
+
+
 def meas_to_position(z) -> np.ndarray:
     """Inverse of :func:`measure`: position in the measurement's frame."""
     z = np.asarray(z, dtype=float)
@@ -304,6 +318,9 @@ class Scenario:
     sigma_range: float = PAPER000_SIGMA_RANGE
     sigma_angle: float = PAPER000_SIGMA_ANGLE
     params: dict = field(default_factory=dict)  # FMU parameters beyond the defaults
+    # contaminated-Gaussian measurement noise (zeta, scale): with probability zeta a
+    # component's noise is scale times wider (paper 003); None: Gaussian
+    mixture: tuple | None = None
 
     @property
     def steps(self) -> int:
@@ -313,7 +330,9 @@ class Scenario:
         """Noisy (range, azimuth, elevation) at times[:-1] for one seeded run, (N, 3)."""
         rng = np.random.default_rng(seed)
         z = measure(self.truth_io[:-1, :3])
-        return add_noise(z, self.sigma_range, self.sigma_angle, rng)
+        if self.mixture is None:
+            return add_noise(z, self.sigma_range, self.sigma_angle, rng)
+        return add_mixture_noise(z, self.sigma_range, self.sigma_angle, *self.mixture, rng)
 
 
 def frame_params(frame: int) -> dict:
@@ -432,6 +451,33 @@ def recovery_time(est, truth, times, burn_stop: float, threshold: float, until: 
     if last == sel[-1]:
         return float("nan")
     return float(times[last + 1] - burn_stop)
+
+
+# honest process noise for the quiet truth: a white acceleration of 1e-10 m^2/s^3 and
+# nothing else (the truth has no process noise at all)
+SMALL_Q = {"accel_psd": 1e-10, **{f"q_{k}_{a}": 0.0 for k in ("pos", "vel") for a in "xyz"}}
+# paper 003's contaminated Gaussian (FMU noise_model 2)
+MIXTURE = (0.2, 10.0)
+
+
+def family_scenario(frame: int, small_q: bool, mixture: bool = False, stop: float = 600.0) -> Scenario:
+    """Issue 10's scenario family: paper 000's geometry and sensor in I/O frame ``frame``, a
+    60 s burn known through the thrust inputs ((2, -1, 0.5) N in frame 2, t = 100-160 s, on
+    the 1000 kg chaser), a 30 s measurement dropout (t = 200-230 s), ``stop`` s at 1 Hz.
+    Filter process noise: paper 000's (the FMU defaults) or, with ``small_q``, the honest
+    :data:`SMALL_Q`; measurement noise Gaussian or, with ``mixture``, paper 003's
+    contaminated Gaussian (zeta 0.2, scale 10; the Kalman filters then assume its
+    variance)."""
+    times = np.arange(stop + 1.0)
+    thrust = burn_thrust(times, 100.0, 160.0, vec_to_frame(vec_to_canonical(np.array([2.0, -1.0, 0.5]), 2), frame))
+    valid = ~((times[:-1] >= 200.0) & (times[:-1] < 230.0))
+    sc = paper000_scenario(frame, times=times, thrust_io=thrust, valid=valid)
+    if small_q:
+        sc.params.update(SMALL_Q)
+    if mixture:
+        sc.mixture = MIXTURE
+        sc.params.update(noise_model=2, noise_zeta=MIXTURE[0], noise_scale=MIXTURE[1])
+    return sc
 
 
 def burn_thrust(times, start: float, stop: float, thrust) -> np.ndarray:

@@ -34,9 +34,10 @@ const PLOT_SIZE: (u32, u32) = (1000, 600);
 /// Size of the three-panel per-axis plot \[px\].
 const AXES_PLOT_SIZE: (u32, u32) = (1000, 900);
 
-/// Line colours of the filters, in scenario order (black is reserved for the PCRLB and
-/// the NEES band).
-const COLORS: [RGBColor; 8] = [
+/// Line colours of the first filters, in scenario order: matplotlib's tab10 without its
+/// gray, then five more of clearly different hue (black and gray are reserved for the
+/// PCRLB and the NEES bands). Later filters get generated colours ([`color_of`]).
+const COLORS: [RGBColor; 14] = [
     RGBColor(31, 119, 180),
     RGBColor(214, 39, 40),
     RGBColor(44, 160, 44),
@@ -45,6 +46,12 @@ const COLORS: [RGBColor; 8] = [
     RGBColor(23, 190, 207),
     RGBColor(140, 86, 75),
     RGBColor(227, 119, 194),
+    RGBColor(188, 189, 34),
+    RGBColor(0, 0, 128),
+    RGBColor(128, 0, 0),
+    RGBColor(0, 128, 128),
+    RGBColor(255, 0, 255),
+    RGBColor(230, 171, 2),
 ];
 
 /// `x` with `sig` significant digits: fixed notation for magnitudes in `[1e-3, 1e5)`,
@@ -293,10 +300,6 @@ fn csv_num(v: f64) -> String {
     }
 }
 
-fn csv_opt(v: Option<f64>) -> String {
-    v.map_or_else(String::new, csv_num)
-}
-
 /// Suffixes of the per-filter columns of `timeseries.csv`.
 const TIMESERIES_COLUMNS: [&str; 12] = [
     "rmse_x",
@@ -326,7 +329,7 @@ const PCRLB_COLUMNS: [&str; 8] = [
 ];
 
 /// Columns of `summary.csv`.
-const SUMMARY_COLUMNS: [&str; 35] = [
+pub const SUMMARY_COLUMNS: [&str; 35] = [
     "label",
     "kind",
     "runs_used",
@@ -364,18 +367,121 @@ const SUMMARY_COLUMNS: [&str; 35] = [
     "published",
 ];
 
-fn consistency_fields(c: Option<&Consistency>) -> [String; 6] {
-    match c {
-        None => Default::default(),
-        Some(c) => [
-            csv_num(c.avg),
-            csv_num(c.bounds.0),
-            csv_num(c.bounds.1),
-            csv_num(c.band.0),
-            csv_num(c.band.1),
-            csv_num(c.in_band),
-        ],
+/// One cell of `summary.csv`, typed (see [`summary_fields`]).
+#[derive(Debug, Clone, PartialEq)]
+pub enum Field {
+    /// Text (label, kind, published figure).
+    Text(String),
+    /// A count.
+    Int(u64),
+    /// A number; NaN where the value is undefined (an empty cell).
+    Num(f64),
+}
+
+impl Field {
+    fn opt(v: Option<f64>) -> Self {
+        Field::Num(v.unwrap_or(f64::NAN))
     }
+
+    /// The CSV text of this cell.
+    fn csv(&self) -> String {
+        match self {
+            Field::Text(t) => t.clone(),
+            Field::Int(i) => i.to_string(),
+            Field::Num(v) => csv_num(*v),
+        }
+    }
+}
+
+fn consistency_fields(c: Option<&Consistency>) -> [Field; 6] {
+    match c {
+        None => std::array::from_fn(|_| Field::Num(f64::NAN)),
+        Some(c) => [c.avg, c.bounds.0, c.bounds.1, c.band.0, c.band.1, c.in_band].map(Field::Num),
+    }
+}
+
+/// The rows of `summary.csv` as typed values, one row per filter in the order of
+/// [`SUMMARY_COLUMNS`] ([`write_csv`] writes exactly these). `s` is
+/// [`summarize`](crate::eval::metrics::summarize)`(r)`.
+pub fn summary_fields(r: &McResult, s: &[Summary]) -> Vec<Vec<Field>> {
+    let bound = pcrlb_averaged(r).ok();
+    s.iter()
+        .map(|x| {
+            let mut row = vec![
+                Field::Text(x.label.clone()),
+                Field::Text(x.kind.clone()),
+                Field::Int(u64::from(x.runs_used)),
+                Field::Int(u64::from(x.failed_runs)),
+                Field::Num(x.avg_from),
+                Field::Int(x.avg_times as u64),
+                Field::Num(x.rmse_pos),
+                Field::Num(x.rmse_vel),
+            ];
+            row.extend(x.rmse_axes.iter().map(|v| Field::Num(*v)));
+            row.push(Field::Num(x.max_pos_err));
+            row.push(Field::Num(x.max_vel_err));
+            row.push(Field::opt(x.convergence_time));
+            row.extend(consistency_fields(x.nees.as_ref()));
+            row.extend(consistency_fields(x.nis.as_ref()));
+            row.push(Field::opt(x.efficiency_pos));
+            row.push(Field::opt(x.efficiency_vel));
+            row.push(Field::Num(x.us_per_step));
+            row.push(Field::opt(bound.map(|b| b.0)));
+            row.push(Field::opt(bound.map(|b| b.1)));
+            row.push(Field::Text(published_for(r, &x.label).unwrap_or_default()));
+            row
+        })
+        .collect()
+}
+
+/// The columns of `timeseries.csv`: name and one value per time (NaN where the cell is
+/// empty); [`write_csv`] writes exactly these. Columns as documented there.
+pub fn timeseries_columns(r: &McResult) -> Vec<(String, Vec<f64>)> {
+    let n = r.t.len();
+    let at = |v: &[f64], k: usize| v.get(k).copied().unwrap_or(f64::NAN);
+    // per-axis RMSE (6), position and velocity RMSE of a per-time MSE series
+    let rmse = |prefix: &str, v: Option<&[[f64; 6]]>, names: &[&str]| {
+        let (axes, pos, vel) = match v {
+            Some(v) => (rmse_axes(v), rmse_pos(v), rmse_vel(v)),
+            None => (Vec::new(), Vec::new(), Vec::new()),
+        };
+        let mut cols: Vec<(String, Vec<f64>)> = (0..6)
+            .map(|i| {
+                let col = (0..n)
+                    .map(|k| axes.get(k).map_or(f64::NAN, |a| a[i]))
+                    .collect();
+                (format!("{prefix}{}", names[i]), col)
+            })
+            .collect();
+        cols.push((
+            format!("{prefix}{}", names[6]),
+            (0..n).map(|k| at(&pos, k)).collect(),
+        ));
+        cols.push((
+            format!("{prefix}{}", names[7]),
+            (0..n).map(|k| at(&vel, k)).collect(),
+        ));
+        cols
+    };
+    let mut cols = vec![("t".to_string(), r.t.clone())];
+    for f in &r.filters {
+        let p = format!("{}_", f.label);
+        cols.extend(rmse(&p, Some(&f.mse), &TIMESERIES_COLUMNS[..8]));
+        for (name, v) in [
+            (TIMESERIES_COLUMNS[8], &f.nees),
+            (TIMESERIES_COLUMNS[9], &f.nis),
+            (TIMESERIES_COLUMNS[10], &f.max_pos_err),
+            (TIMESERIES_COLUMNS[11], &f.max_vel_err),
+        ] {
+            cols.push((format!("{p}{name}"), (0..n).map(|k| at(v, k)).collect()));
+        }
+    }
+    cols.extend(rmse(
+        "",
+        r.pcrlb.as_ref().ok().map(Vec::as_slice),
+        &PCRLB_COLUMNS,
+    ));
+    cols
 }
 
 fn write_records(path: &Path, rows: impl Iterator<Item = Vec<String>>) -> Result<(), String> {
@@ -395,88 +501,28 @@ fn write_records(path: &Path, rows: impl Iterator<Item = Vec<String>>) -> Result
 /// `_rmse_pos` \[m\], `_rmse_vel` \[m/s\], `_nees`, `_nis` (empty where no measurement),
 /// `_max_pos_err` \[m\], `_max_vel_err` \[m/s\]; then `pcrlb_x` .. `pcrlb_vz`, `pcrlb_pos`,
 /// `pcrlb_vel`: square roots of the PCRLB (empty cells when it is undefined).
+/// ([`timeseries_columns`] gives the same columns as numbers.)
 ///
 /// `summary.csv`: a header row, then one row per filter with the [`Summary`] numbers,
 /// the PCRLB's time-averaged root and the published figure (units in the column names:
-/// `_m`, `_mps` \[m/s\], `_s`).
+/// `_m`, `_mps` \[m/s\], `_s`). ([`summary_fields`] gives the same rows as typed values.)
 pub fn write_csv(r: &McResult, s: &[Summary], dir: &Path) -> Result<Vec<PathBuf>, String> {
     std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
 
-    // Time series.
-    let mut header = vec!["t".to_string()];
-    for f in &r.filters {
-        header.extend(
-            TIMESERIES_COLUMNS
-                .iter()
-                .map(|c| format!("{}_{c}", f.label)),
-        );
-    }
-    header.extend(PCRLB_COLUMNS.iter().map(|c| (*c).to_string()));
-    struct Series {
-        axes: Vec<[f64; 6]>,
-        pos: Vec<f64>,
-        vel: Vec<f64>,
-    }
-    let series = |v: &[[f64; 6]]| Series {
-        axes: rmse_axes(v),
-        pos: rmse_pos(v),
-        vel: rmse_vel(v),
-    };
-    let filters: Vec<Series> = r.filters.iter().map(|f| series(&f.mse)).collect();
-    let bound = r.pcrlb.as_ref().ok().map(|j| series(j));
-    let at = |v: &[f64], k: usize| v.get(k).copied().unwrap_or(f64::NAN);
-    let push_series = |row: &mut Vec<String>, x: Option<&Series>, k: usize| {
-        let axes = x
-            .and_then(|x| x.axes.get(k))
-            .copied()
-            .unwrap_or([f64::NAN; 6]);
-        row.extend(axes.iter().map(|v| csv_num(*v)));
-        row.push(csv_num(x.map_or(f64::NAN, |x| at(&x.pos, k))));
-        row.push(csv_num(x.map_or(f64::NAN, |x| at(&x.vel, k))));
-    };
-    let rows = r.t.iter().enumerate().map(|(k, tk)| {
-        let mut row = vec![csv_num(*tk)];
-        for (f, x) in r.filters.iter().zip(&filters) {
-            push_series(&mut row, Some(x), k);
-            row.push(csv_num(at(&f.nees, k)));
-            row.push(csv_num(at(&f.nis, k)));
-            row.push(csv_num(at(&f.max_pos_err, k)));
-            row.push(csv_num(at(&f.max_vel_err, k)));
-        }
-        push_series(&mut row, bound.as_ref(), k);
-        row
+    let cols = timeseries_columns(r);
+    let header: Vec<String> = cols.iter().map(|(name, _)| name.clone()).collect();
+    let rows = (0..r.t.len()).map(|k| {
+        cols.iter()
+            .map(|(_, v)| csv_num(v.get(k).copied().unwrap_or(f64::NAN)))
+            .collect()
     });
     let ts_path = dir.join("timeseries.csv");
     write_records(&ts_path, std::iter::once(header).chain(rows))?;
 
-    // Summary.
-    let bound = pcrlb_averaged(r).ok();
     let header: Vec<String> = SUMMARY_COLUMNS.iter().map(|c| (*c).to_string()).collect();
-    let rows = s.iter().map(|x| {
-        let mut row = vec![
-            x.label.clone(),
-            x.kind.clone(),
-            x.runs_used.to_string(),
-            x.failed_runs.to_string(),
-            csv_num(x.avg_from),
-            x.avg_times.to_string(),
-            csv_num(x.rmse_pos),
-            csv_num(x.rmse_vel),
-        ];
-        row.extend(x.rmse_axes.iter().map(|v| csv_num(*v)));
-        row.push(csv_num(x.max_pos_err));
-        row.push(csv_num(x.max_vel_err));
-        row.push(csv_opt(x.convergence_time));
-        row.extend(consistency_fields(x.nees.as_ref()));
-        row.extend(consistency_fields(x.nis.as_ref()));
-        row.push(csv_opt(x.efficiency_pos));
-        row.push(csv_opt(x.efficiency_vel));
-        row.push(csv_num(x.us_per_step));
-        row.push(csv_opt(bound.map(|b| b.0)));
-        row.push(csv_opt(bound.map(|b| b.1)));
-        row.push(published_for(r, &x.label).unwrap_or_default());
-        row
-    });
+    let rows = summary_fields(r, s)
+        .into_iter()
+        .map(|row| row.iter().map(Field::csv).collect());
     let sum_path = dir.join("summary.csv");
     write_records(&sum_path, std::iter::once(header).chain(rows))?;
     Ok(vec![ts_path, sum_path])
@@ -536,8 +582,35 @@ impl Curve {
     }
 }
 
+/// The colour of filter `i`: every filter its own. The palette first; beyond it hues
+/// stepped by the golden angle (137.5 degrees, so no two coincide) at three lightness
+/// levels, fully saturated (never black or gray).
 fn color_of(i: usize) -> RGBColor {
-    COLORS.get(i % COLORS.len()).copied().unwrap_or(BLACK)
+    if let Some(c) = COLORS.get(i) {
+        return *c;
+    }
+    let k = i - COLORS.len();
+    let hue = (20.0 + k as f64 * 137.507_764_050_037_85).rem_euclid(360.0);
+    let lightness = [0.35, 0.55, 0.7][k % 3];
+    hsl_to_rgb(hue, 1.0, lightness)
+}
+
+/// HSL (hue in degrees, saturation and lightness in [0, 1]) to 8-bit RGB.
+fn hsl_to_rgb(h: f64, s: f64, l: f64) -> RGBColor {
+    let c = (1.0 - (2.0 * l - 1.0).abs()) * s;
+    let hp = h / 60.0;
+    let x = c * (1.0 - (hp.rem_euclid(2.0) - 1.0).abs());
+    let (r, g, b) = match hp as u32 {
+        0 => (c, x, 0.0),
+        1 => (x, c, 0.0),
+        2 => (0.0, c, x),
+        3 => (0.0, x, c),
+        4 => (x, 0.0, c),
+        _ => (c, 0.0, x),
+    };
+    let m = l - c / 2.0;
+    let to8 = |v: f64| ((v + m) * 255.0).round().clamp(0.0, 255.0) as u8;
+    RGBColor(to8(r), to8(g), to8(b))
 }
 
 /// Time axis range: the finite times (a unit range around a single time).
@@ -853,6 +926,24 @@ mod tests {
     use super::*;
     use crate::eval::metrics;
     use crate::eval::results::FilterStats;
+
+    /// Every filter gets a colour of its own, none black or gray (reserved for the bound
+    /// and the NEES bands): all of the first 60 differ, and the first 20 (the built-in
+    /// scenarios have up to ten filters) differ clearly (city-block distance in RGB).
+    #[test]
+    fn every_filter_has_its_own_colour() {
+        let cs: Vec<RGBColor> = (0..60).map(color_of).collect();
+        for (i, a) in cs.iter().enumerate() {
+            assert!(!(a.0 == a.1 && a.1 == a.2), "filter {i}: gray {a:?}");
+            for (j, b) in cs.iter().enumerate().skip(i + 1) {
+                let d = (i32::from(a.0) - i32::from(b.0)).abs()
+                    + (i32::from(a.1) - i32::from(b.1)).abs()
+                    + (i32::from(a.2) - i32::from(b.2)).abs();
+                let min = if j < 20 { 60 } else { 1 };
+                assert!(d >= min, "filters {i} and {j}: {a:?} and {b:?}");
+            }
+        }
+    }
 
     fn unique_dir(name: &str) -> PathBuf {
         let nanos = std::time::SystemTime::now()

@@ -6,6 +6,11 @@
 //! on which thread does it. Runs are reduced in fixed chunks of [`CHUNK`] in run order and
 //! the chunks are combined in order, so even the floating-point sums are identical for
 //! any thread count.
+//!
+//! The same chunks can run anywhere: [`Campaign`] runs one chunk into a [`Partial`]
+//! (serialisable bytes) and a [`Reducer`] adds them in chunk order — [`run`] is exactly
+//! that on this machine's threads, and the Python package's Dask campaigns the same on a
+//! cluster, so both give bit-identical results.
 
 use super::pcrlb;
 use super::results::{FilterStats, McResult};
@@ -114,6 +119,19 @@ struct Chunk {
     runs: u32,
 }
 
+impl Chunk {
+    /// Add another chunk's sums (the order of calls fixes the floating-point result).
+    fn merge(&mut self, o: &Chunk) {
+        for (a, b) in self.filters.iter_mut().zip(&o.filters) {
+            a.merge(b);
+        }
+        for (a, b) in self.info.iter_mut().zip(&o.info) {
+            *a += b;
+        }
+        self.runs += o.runs;
+    }
+}
+
 fn run_chunk(
     prep: &Prepared,
     base: u64,
@@ -165,28 +183,341 @@ fn run_chunk(
     c
 }
 
-/// Run a scenario's campaign.
+/// A campaign ready to run: the prepared scenario, the run count, the base seed and the
+/// fixed chunks of [`CHUNK`] runs, in run order.
+///
+/// This is the engine behind [`run`] and the entry point for running a campaign
+/// elsewhere (the Python package's Dask campaigns): [`Campaign::run_chunk`] computes one
+/// chunk's sums ([`Partial`], serialisable with [`Partial::to_bytes`]) on any machine,
+/// and a [`Reducer`] adds them **in chunk order**, so the floating-point sums — and the
+/// result — are bit-identical to [`run`]'s for any number of threads or machines.
+pub struct Campaign {
+    prep: Prepared,
+    base: u64,
+    runs: u64,
+    want_info: bool,
+    chunks: Vec<std::ops::Range<u64>>,
+}
+
+impl Campaign {
+    /// Prepare `scenario` for `runs` runs (default: the scenario's own count, at least 1).
+    pub fn new(scenario: &Scenario, runs: Option<u32>) -> Result<Self, String> {
+        let prep = Prepared::new(scenario)?;
+        let runs = runs.unwrap_or(scenario.simulation.runs).max(1) as u64;
+        let want_info = pcrlb::undefined_reason(&prep).is_none();
+        let chunks = (0..runs)
+            .step_by(CHUNK)
+            .map(|s| s..(s + CHUNK as u64).min(runs))
+            .collect();
+        Ok(Self {
+            base: scenario.simulation.seed,
+            prep,
+            runs,
+            want_info,
+            chunks,
+        })
+    }
+
+    /// Requested number of runs.
+    pub fn runs(&self) -> u64 {
+        self.runs
+    }
+
+    /// The chunks (ranges of run indices), in the order they are reduced.
+    pub fn chunks(&self) -> &[std::ops::Range<u64>] {
+        &self.chunks
+    }
+
+    /// The prepared scenario.
+    pub fn prepared(&self) -> &Prepared {
+        &self.prep
+    }
+
+    /// Run chunk `index` (runs `chunks()[index]`, each seeded from its run index alone).
+    /// `done` counts finished runs; when `cancel` is set, the chunk stops before its next
+    /// run and the partial sums hold fewer runs.
+    pub fn run_chunk(
+        &self,
+        index: usize,
+        done: &AtomicU64,
+        cancel: &AtomicBool,
+    ) -> Result<Partial, String> {
+        let range = self.chunks.get(index).cloned().ok_or_else(|| {
+            format!(
+                "chunk {index} does not exist (the campaign has {} chunks)",
+                self.chunks.len()
+            )
+        })?;
+        Ok(Partial {
+            index: index as u64,
+            range: range.clone(),
+            base: self.base,
+            chunk: run_chunk(&self.prep, self.base, range, self.want_info, done, cancel),
+        })
+    }
+
+    /// An empty reducer for this campaign's partial sums.
+    pub fn reducer(&self) -> Reducer {
+        let n = self.prep.steps + 1;
+        Reducer {
+            total: Chunk {
+                filters: vec![Acc::new(n); self.prep.filters.len()],
+                info: vec![Mat6::zeros(); if self.want_info { n } else { 0 }],
+                runs: 0,
+            },
+            next: 0,
+        }
+    }
+
+    /// Check that `p` is chunk `reducer.next_index()` of this campaign.
+    fn check(&self, p: &Partial, next: usize) -> Result<(), String> {
+        let n = self.prep.steps + 1;
+        let want = self.chunks.get(next);
+        if p.index != next as u64 || want != Some(&p.range) || p.base != self.base {
+            return Err(format!(
+                "partial sums out of order or from another campaign: expected chunk {next} \
+                 (runs {want:?}, seed {}), got chunk {} (runs {:?}, seed {})",
+                self.base, p.index, p.range, p.base
+            ));
+        }
+        let dims_ok = p.chunk.filters.len() == self.prep.filters.len()
+            && p.chunk.filters.iter().all(|a| a.sum.len() == n)
+            && p.chunk.info.len() == if self.want_info { n } else { 0 };
+        if !dims_ok {
+            return Err(format!(
+                "partial sums of chunk {next} do not fit this campaign (filters or steps differ)"
+            ));
+        }
+        Ok(())
+    }
+
+    /// The campaign's result from the reduced sums (chunks not added count as not run:
+    /// the result is then marked interrupted).
+    pub fn finish(&self, reducer: Reducer) -> McResult {
+        summarize_total(&self.prep, self.runs, self.want_info, &reducer.total)
+    }
+}
+
+/// Adds partial sums in chunk order (see [`Campaign`]).
+pub struct Reducer {
+    total: Chunk,
+    next: usize,
+}
+
+impl Reducer {
+    /// Add the next chunk's sums; refused (nothing changes) unless `p` is chunk
+    /// [`Reducer::next_index`] of `campaign`.
+    pub fn add(&mut self, campaign: &Campaign, p: &Partial) -> Result<(), String> {
+        campaign.check(p, self.next)?;
+        self.total.merge(&p.chunk);
+        self.next += 1;
+        Ok(())
+    }
+
+    /// Index of the chunk [`Reducer::add`] expects next (= chunks added so far).
+    pub fn next_index(&self) -> usize {
+        self.next
+    }
+
+    /// Runs added so far.
+    pub fn runs(&self) -> u32 {
+        self.total.runs
+    }
+}
+
+/// The sums of one chunk of runs ([`Campaign::run_chunk`]), with the chunk it belongs to.
+#[derive(Clone)]
+pub struct Partial {
+    index: u64,
+    range: std::ops::Range<u64>,
+    base: u64,
+    chunk: Chunk,
+}
+
+/// First bytes of [`Partial::to_bytes`] (format name and version).
+const PARTIAL_MAGIC: &[u8; 8] = b"RNPART01";
+
+impl Partial {
+    /// Index of the chunk.
+    pub fn index(&self) -> usize {
+        self.index as usize
+    }
+
+    /// Runs completed in this chunk.
+    pub fn runs(&self) -> u32 {
+        self.chunk.runs
+    }
+
+    /// A self-describing little-endian encoding (every `f64` by its bit pattern, so
+    /// [`Partial::from_bytes`] gives back exactly the same sums).
+    pub fn to_bytes(&self) -> Vec<u8> {
+        let c = &self.chunk;
+        let n = c.filters.first().map_or(c.info.len(), |a| a.sum.len());
+        let mut w = Vec::with_capacity(64 + c.filters.len() * n * 12 * 8 + c.info.len() * 288);
+        w.extend_from_slice(PARTIAL_MAGIC);
+        for v in [self.index, self.range.start, self.range.end, self.base] {
+            w.extend_from_slice(&v.to_le_bytes());
+        }
+        for v in [
+            c.runs,
+            n as u32,
+            c.filters.len() as u32,
+            c.info.len() as u32,
+        ] {
+            w.extend_from_slice(&v.to_le_bytes());
+        }
+        let f64s = |w: &mut Vec<u8>, v: &mut dyn Iterator<Item = f64>| {
+            for x in v {
+                w.extend_from_slice(&x.to_le_bytes());
+            }
+        };
+        for a in &c.filters {
+            f64s(&mut w, &mut a.sum.iter().flatten().copied());
+            f64s(&mut w, &mut a.nees.iter().copied());
+            f64s(&mut w, &mut a.nis.iter().copied());
+            for x in &a.nis_n {
+                w.extend_from_slice(&x.to_le_bytes());
+            }
+            f64s(&mut w, &mut a.max_pos.iter().copied());
+            f64s(&mut w, &mut a.max_vel.iter().copied());
+            for x in [a.ok_runs, a.failed, a.failures.len() as u32] {
+                w.extend_from_slice(&x.to_le_bytes());
+            }
+            w.extend_from_slice(&a.nanos.to_le_bytes());
+            for f in &a.failures {
+                w.extend_from_slice(&(f.len() as u32).to_le_bytes());
+                w.extend_from_slice(f.as_bytes());
+            }
+        }
+        for m in &c.info {
+            f64s(&mut w, &mut m.iter().copied());
+        }
+        w
+    }
+
+    /// Decode [`Partial::to_bytes`]; the error says what does not fit.
+    pub fn from_bytes(bytes: &[u8]) -> Result<Self, String> {
+        let mut r = ByteReader { bytes, pos: 0 };
+        if r.take(8)? != PARTIAL_MAGIC {
+            return Err("not relnav partial sums (bad magic or another format version)".into());
+        }
+        let (index, start, end, base) = (r.u64()?, r.u64()?, r.u64()?, r.u64()?);
+        let (runs, n, nf, ni) = (r.u32()?, r.u32()? as usize, r.u32()?, r.u32()? as usize);
+        if ni != 0 && ni != n {
+            return Err(format!(
+                "partial sums: {ni} information matrices for {n} times"
+            ));
+        }
+        // every filter needs at least 12 n values: refuse sizes the input cannot hold
+        if (nf as usize).saturating_mul(n).saturating_mul(12 * 4) > bytes.len() {
+            return Err("partial sums: truncated".into());
+        }
+        let mut filters = Vec::with_capacity(nf as usize);
+        for _ in 0..nf {
+            let mut a = Acc::new(n);
+            for s in a.sum.iter_mut().flatten() {
+                *s = r.f64()?;
+            }
+            for v in [&mut a.nees, &mut a.nis] {
+                for x in v.iter_mut() {
+                    *x = r.f64()?;
+                }
+            }
+            for x in a.nis_n.iter_mut() {
+                *x = r.u32()?;
+            }
+            for v in [&mut a.max_pos, &mut a.max_vel] {
+                for x in v.iter_mut() {
+                    *x = r.f64()?;
+                }
+            }
+            let (ok, failed, nfail) = (r.u32()?, r.u32()?, r.u32()?);
+            a.ok_runs = ok;
+            a.failed = failed;
+            a.nanos = u128::from_le_bytes(r.array()?);
+            for _ in 0..nfail {
+                let len = r.u32()? as usize;
+                a.failures
+                    .push(String::from_utf8_lossy(r.take(len)?).into_owned());
+            }
+            filters.push(a);
+        }
+        let mut info = Vec::with_capacity(ni);
+        for _ in 0..ni {
+            let mut m = Mat6::zeros();
+            for x in m.iter_mut() {
+                *x = r.f64()?;
+            }
+            info.push(m);
+        }
+        if r.pos != bytes.len() {
+            return Err(format!(
+                "partial sums: {} trailing bytes",
+                bytes.len() - r.pos
+            ));
+        }
+        Ok(Partial {
+            index,
+            range: start..end,
+            base,
+            chunk: Chunk {
+                filters,
+                info,
+                runs,
+            },
+        })
+    }
+}
+
+/// Cursor over the bytes of [`Partial::from_bytes`].
+struct ByteReader<'a> {
+    bytes: &'a [u8],
+    pos: usize,
+}
+
+impl<'a> ByteReader<'a> {
+    fn take(&mut self, k: usize) -> Result<&'a [u8], String> {
+        let s = self
+            .pos
+            .checked_add(k)
+            .and_then(|e| self.bytes.get(self.pos..e))
+            .ok_or("partial sums: truncated")?;
+        self.pos += k;
+        Ok(s)
+    }
+    fn array<const K: usize>(&mut self) -> Result<[u8; K], String> {
+        let mut a = [0u8; K];
+        a.copy_from_slice(self.take(K)?);
+        Ok(a)
+    }
+    fn u32(&mut self) -> Result<u32, String> {
+        Ok(u32::from_le_bytes(self.array()?))
+    }
+    fn u64(&mut self) -> Result<u64, String> {
+        Ok(u64::from_le_bytes(self.array()?))
+    }
+    fn f64(&mut self) -> Result<f64, String> {
+        Ok(f64::from_le_bytes(self.array()?))
+    }
+}
+
+/// Run a scenario's campaign on this machine's threads: [`Campaign::run_chunk`] for every
+/// chunk in parallel (rayon), then a [`Reducer`] in chunk order.
 pub fn run(scenario: &Scenario, opts: &Options) -> Result<McResult, String> {
-    let prep = Prepared::new(scenario)?;
-    let runs = opts.runs.unwrap_or(scenario.simulation.runs).max(1) as u64;
-    let base = scenario.simulation.seed;
-    let want_info = pcrlb::undefined_reason(&prep).is_none();
+    let campaign = Campaign::new(scenario, opts.runs)?;
+    let runs = campaign.runs();
     let done = Arc::new(AtomicU64::new(0));
     let cancel = opts
         .cancel
         .clone()
         .unwrap_or_else(|| Arc::new(AtomicBool::new(false)));
-    let chunks: Vec<std::ops::Range<u64>> = (0..runs)
-        .step_by(CHUNK)
-        .map(|s| s..(s + CHUNK as u64).min(runs))
-        .collect();
-    let work = || -> Vec<Chunk> {
-        chunks
-            .par_iter()
-            .map(|r| run_chunk(&prep, base, r.clone(), want_info, &done, &cancel))
+    let work = || -> Result<Vec<Partial>, String> {
+        (0..campaign.chunks().len())
+            .into_par_iter()
+            .map(|i| campaign.run_chunk(i, &done, &cancel))
             .collect()
     };
-    let results = std::thread::scope(|scope| -> Result<Vec<Chunk>, String> {
+    let results = std::thread::scope(|scope| -> Result<Vec<Partial>, String> {
         let finished = Arc::new(AtomicBool::new(false));
         if opts.progress {
             let (done, finished) = (done.clone(), finished.clone());
@@ -197,36 +528,32 @@ pub fn run(scenario: &Scenario, opts: &Options) -> Result<McResult, String> {
             rayon::ThreadPoolBuilder::new()
                 .num_threads(opts.threads)
                 .build()
-                .map_err(|e| format!("thread pool: {e}"))?
-                .install(work)
+                .map_err(|e| format!("thread pool: {e}"))
+                .and_then(|pool| pool.install(work))
         } else {
             work()
         };
         finished.store(true, Ordering::Relaxed);
-        Ok(out)
+        out
     })?;
     // reduce in chunk order: deterministic whatever the thread count
-    let n = prep.steps + 1;
-    let mut total = Chunk {
-        filters: vec![Acc::new(n); prep.filters.len()],
-        info: vec![Mat6::zeros(); if want_info { n } else { 0 }],
-        runs: 0,
-    };
-    for c in &results {
-        for (a, b) in total.filters.iter_mut().zip(&c.filters) {
-            a.merge(b);
-        }
-        for (a, b) in total.info.iter_mut().zip(&c.info) {
-            *a += b;
-        }
-        total.runs += c.runs;
+    let mut reducer = campaign.reducer();
+    for p in &results {
+        reducer.add(&campaign, p)?;
     }
+    Ok(campaign.finish(reducer))
+}
+
+/// The campaign's statistics from the sums over all runs.
+fn summarize_total(prep: &Prepared, runs: u64, want_info: bool, total: &Chunk) -> McResult {
+    let scenario = &prep.scenario;
+    let n = prep.steps + 1;
     let m = f64::from(total.runs.max(1));
     let mean_info: Vec<Mat6> = total.info.iter().map(|i| i / m).collect();
     let pcrlb = if want_info {
-        pcrlb::recursion(&prep, &mean_info)
+        pcrlb::recursion(prep, &mean_info)
     } else {
-        Err(pcrlb::undefined_reason(&prep).unwrap_or_default())
+        Err(pcrlb::undefined_reason(prep).unwrap_or_default())
     };
     let filters = prep
         .filters
@@ -254,7 +581,7 @@ pub fn run(scenario: &Scenario, opts: &Options) -> Result<McResult, String> {
             }
         })
         .collect();
-    Ok(McResult {
+    McResult {
         scenario: scenario.name.clone(),
         title: scenario.title.clone(),
         t: prep.times(),
@@ -283,7 +610,7 @@ pub fn run(scenario: &Scenario, opts: &Options) -> Result<McResult, String> {
             }
             _ => Vec::new(),
         },
-    })
+    }
 }
 
 /// A progress bar that appears only once the campaign has lasted a second.

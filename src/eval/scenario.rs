@@ -323,6 +323,10 @@ pub struct FilterSpec {
     /// literally) instead of restarting it from `Q` each step (default false).
     #[serde(default)]
     pub carry_covariance: bool,
+    /// Particle filters: the posterior-invariant moves after every update (default true;
+    /// false: the papers' literal filters). Key `move`.
+    #[serde(default = "yes", rename = "move")]
+    pub moves: bool,
     /// AQUKF: sliding-window width (default 10, paper 001). Its initial adaptive density
     /// is the velocity part of `process_noise` divided by `simulation.step`.
     #[serde(default = "default_window")]
@@ -518,6 +522,7 @@ impl FilterSpec {
             },
             seed,
             carry_covariance: self.carry_covariance,
+            moves: self.moves,
             ..PfParams::new(kind)
         }
     }

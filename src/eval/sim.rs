@@ -276,11 +276,12 @@ fn prepare_hinf(
 }
 
 /// Symmetric square root of a PSD matrix (eigen-decomposition; negative rounding
-/// eigenvalues clipped to 0).
-pub fn psd_sqrt(q: &Mat6) -> Mat6 {
-    let e = nalgebra::SymmetricEigen::new((q + q.transpose()) * 0.5);
+/// eigenvalues clipped to 0); `None` when `q` is not finite or the capped eigensolver
+/// ([`crate::numerics::eigen`]) does not converge.
+pub fn psd_sqrt(q: &Mat6) -> Option<Mat6> {
+    let e = crate::numerics::eigen::symmetric_eigen((q + q.transpose()) * 0.5)?;
     let d = e.eigenvalues.map(|v| v.max(0.0).sqrt());
-    e.eigenvectors * Mat6::from_diagonal(&d) * e.eigenvectors.transpose()
+    Some(e.eigenvectors * Mat6::from_diagonal(&d) * e.eigenvectors.transpose())
 }
 
 impl Prepared {
@@ -425,7 +426,8 @@ impl Prepared {
             measured,
             burn_accel,
             feedback,
-            truth_q_sqrt: psd_sqrt(&truth_q),
+            truth_q_sqrt: psd_sqrt(&truth_q)
+                .ok_or("the truth's process noise has no square root (not finite)")?,
             truth_q,
             noise,
             noise_sigma,

@@ -19,8 +19,9 @@ pub enum relnav_filter {
     /// Sliding-window adaptive UKF (paper 001): adaptive velocity process noise, `window`,
     /// `q_vv_floor`, `q_vv_ceiling`; `relnav_estimator_get_q_vv` reports it.
     RELNAV_FILTER_AQUKF = 3,
-    /// SIR (bootstrap) particle filter (paper 000). Its velocities stay impoverished on
-    /// paper 000's example (metres off after 100 s): prefer RPF or CGA-PF.
+    /// SIR (bootstrap) particle filter (paper 000), with the posterior-invariant moves of
+    /// `pf_move` (the literal SIR without them keeps impoverished velocities: metres off
+    /// on paper 000's example after 100 s).
     RELNAV_FILTER_PF = 4,
     /// Regularised particle filter (kernel jitter after resampling).
     RELNAV_FILTER_RPF = 5,
@@ -127,7 +128,8 @@ pub struct relnav_config {
     pub sigma_range: f64,
     /// Azimuth and elevation noise scale [rad], > 0 (as `sigma_range`).
     pub sigma_angle: f64,
-    /// Initial estimate (x, y, z [m], vx, vy, vz [m/s]).
+    /// Initial estimate (x, y, z [m], vx, vy, vz [m/s]); `|x0_i| + 100 sigma` (sigma of
+    /// its group, `sigma_pos0` or `sigma_vel0`) must not exceed 1e150.
     pub x0: [f64; 6],
     /// Initial position 1 sigma per axis [m], > 0.
     pub sigma_pos0: f64,
@@ -216,6 +218,15 @@ pub struct relnav_config {
     /// IMM: probability of staying in each mode over one second, in (0, 1)
     /// (default 0.99999, 0.9, 0.9).
     pub imm_p_stay: [f64; 3],
+    /// Particle filters (codes 4-8): 1 (default) moves the particles with
+    /// posterior-invariant Metropolis–Hastings steps after every update (accurate as the
+    /// EKF on Gaussian noise, also with small process noise); 0 runs the papers' literal
+    /// filters (paper 000's SIR, plain RPF, van der Merwe's UPF). Other values are refused.
+    pub pf_move: i32,
+    /// Particle filters: worker threads of the particle loops from 32768 particles on
+    /// (0, the default: one per core; 1: the calling thread; at most 1024). The results
+    /// do not depend on it.
+    pub pf_threads: i32,
 }
 
 impl From<&NavConfig> for relnav_config {
@@ -262,6 +273,8 @@ impl From<&NavConfig> for relnav_config {
             imm_modes: i32::try_from(c.imm_modes).unwrap_or(i32::MAX),
             imm_accel_psd: c.imm_accel_psd,
             imm_p_stay: c.imm_p_stay,
+            pf_move: i32::from(c.pf_move),
+            pf_threads: i32::try_from(c.pf_threads).unwrap_or(i32::MAX),
         }
     }
 }
@@ -300,6 +313,24 @@ impl TryFrom<&relnav_config> for NavConfig {
         let imm_modes = usize::try_from(c.imm_modes).map_err(|_| NavError {
             kind: NavErrorKind::InvalidArgument,
             message: format!("imm_modes must be 2 or 3 (got {})", c.imm_modes),
+        })?;
+        let pf_move = match c.pf_move {
+            0 => false,
+            1 => true,
+            v => {
+                return Err(NavError {
+                    kind: NavErrorKind::InvalidArgument,
+                    message: format!("pf_move must be 0 or 1 (got {v})"),
+                })
+            }
+        };
+        let pf_threads = usize::try_from(c.pf_threads).map_err(|_| NavError {
+            kind: NavErrorKind::InvalidArgument,
+            message: format!(
+                "pf_threads must lie in 0..={} (got {})",
+                crate::estimators::pf::MAX_THREADS,
+                c.pf_threads
+            ),
         })?;
         let cfg = NavConfig {
             filter: FilterKind::from_code(c.filter).ok_or_else(|| {
@@ -383,6 +414,8 @@ impl TryFrom<&relnav_config> for NavConfig {
             imm_modes,
             imm_accel_psd: c.imm_accel_psd,
             imm_p_stay: c.imm_p_stay,
+            pf_move,
+            pf_threads,
         };
         cfg.validate()?;
         Ok(cfg)
@@ -392,7 +425,8 @@ impl TryFrom<&relnav_config> for NavConfig {
 /// The default configuration: paper 000's numerical example (frame 2, 7200 s orbit, EKF,
 /// 0.5 m / 0.01 deg Gaussian noise, initial estimate (405, 505, 205, 0.1, 0.1, 0.1),
 /// 50 m / 1 m/s initial sigma, the paper's diagonal process noise per 1 s step; for the
-/// particle filters 1500 particles, systematic resampling below N_eff = 2/3 N, seed 0).
+/// particle filters 1500 particles, systematic resampling below N_eff = 2/3 N, seed 0,
+/// moves on, threads one per core).
 #[no_mangle]
 pub extern "C" fn relnav_config_default() -> relnav_config {
     relnav_config::from(&NavConfig::default())

@@ -79,7 +79,9 @@ pub unsafe extern "C" fn relnav_estimator_free(estimator: *mut relnav_estimator)
 }
 
 /// Time update over `dt` seconds with `thrust` (3 doubles, [N], configured frame) held
-/// constant.
+/// constant. `dt` must be > 0 and at most 1000 orbital periods (`2 pi / mean_motion`);
+/// a longer step is refused with `RELNAV_ERROR_INVALID_ARGUMENT`. Every call returns in
+/// bounded time, whatever the numbers.
 ///
 /// # Safety
 /// `estimator` is a live handle or null; `thrust` is null or points to 3 doubles.
@@ -122,7 +124,8 @@ pub unsafe extern "C" fn relnav_estimator_update(
 
 /// One step at time t: update with `z` (the measurement taken at t; pass null when there
 /// is none), then predict over `dt` with `thrust` held. Afterwards the estimate is at
-/// `t + dt`. On error nothing changes.
+/// `t + dt`. On error nothing changes. `dt` as in [`relnav_estimator_predict`] (at most
+/// 1000 orbital periods).
 ///
 /// # Safety
 /// `estimator` is a live handle or null; `thrust` is null or 3 doubles; `z` is null or 3
@@ -209,16 +212,8 @@ pub unsafe extern "C" fn relnav_estimator_get_sigma(
     boundary(F, || {
         // SAFETY: pointer contracts are the caller's, checked for null.
         let nav = unsafe { estimator_ref(estimator, F) }?;
-        let p = nav.covariance();
         // a NaN or negative variance (a failed filter) reports NaN, never a reassuring 0
-        let s: [f64; 6] = std::array::from_fn(|i| {
-            let v = p[(i, i)];
-            if v >= 0.0 {
-                v.sqrt()
-            } else {
-                f64::NAN
-            }
-        });
+        let s = nav.sigma();
         // SAFETY: as above.
         unsafe { write_array(out, &s, "out", F) }
     })

@@ -339,8 +339,13 @@ impl Instance {
     }
 }
 
-/// The C-ABI configuration assembled from the parameter values of `values`.
-pub(super) fn config_of(values: &[f64; N_VARS]) -> relnav_config {
+/// The C-ABI configuration from the values of the variable table (indexed by value
+/// reference; parameters are read, other variables ignored): the one mapping from FMU
+/// parameters to a `relnav_config`, shared with the front ends that take parameters by
+/// their FMU names (the Python package). Fields that are not FMU parameters keep
+/// [`ffi::relnav_config_default`]'s values; codes and Integers are the integers their
+/// `f64` holds.
+pub fn config_of(values: &[f64; N_VARS]) -> relnav_config {
     {
         let v = |r: u32| values[r as usize];
         let mut c = ffi::relnav_config_default();
@@ -389,6 +394,8 @@ pub(super) fn config_of(values: &[f64; N_VARS]) -> relnav_config {
         ]
         .map(v);
         c.imm_p_stay = [vr::IMM_P_STAY_1, vr::IMM_P_STAY_2, vr::IMM_P_STAY_3].map(v);
+        c.pf_move = i32::from(v(vr::PF_MOVE) != 0.0);
+        c.pf_threads = v(vr::PF_THREADS) as i32;
         c
     }
 }

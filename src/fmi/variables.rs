@@ -124,7 +124,7 @@ pub static FILTER_TYPE: EnumType = EnumType {
         (
             "pf",
             4,
-            "SIR particle filter (paper 000; its velocities stay impoverished, metres off on paper 000)",
+            "SIR particle filter (paper 000), with the posterior-invariant moves of pf_move (without them its velocities stay impoverished, metres off on paper 000)",
         ),
         (
             "rpf",
@@ -444,10 +444,14 @@ variables! {
         "IMM: probability of mode 2 after the last step; NaN for the other filters";
     IMM_MU_3 = 81: "imm_mu_3", Output, Continuous, Real(""), 0.0,
         "IMM: probability of mode 3 after the last step; NaN with 2 modes and for the other filters";
+    PF_MOVE = 82: "pf_move", Parameter, Fixed, Boolean, 1.0,
+        "Particle filters (codes 4-8): move the particles after every update with Metropolis-Hastings steps that leave the posterior invariant (as accurate as the EKF on Gaussian noise, also with small process noise); false: the papers' literal filters (paper 000's SIR, plain RPF, van der Merwe's UPF), which degenerate with small process noise";
+    PF_THREADS = 83: "pf_threads", Parameter, Fixed, Integer, 0.0,
+        "Particle filters: worker threads of the particle loops from 32768 particles on (0: one per core; 1: the calling thread; <= 1024); results do not depend on it";
 }
 
 /// Number of variables.
-pub const N_VARS: usize = 82;
+pub const N_VARS: usize = 84;
 
 /// The definition for a value reference, if it exists.
 pub fn lookup(vr: u32) -> Option<&'static VarDef> {
@@ -540,6 +544,8 @@ mod tests {
             [vr::IMM_P_STAY_1, vr::IMM_P_STAY_2, vr::IMM_P_STAY_3].map(s),
             c.imm_p_stay
         );
+        assert_eq!(s(vr::PF_MOVE), f64::from(u8::from(c.pf_move)));
+        assert_eq!(s(vr::PF_THREADS), c.pf_threads as f64);
     }
 
     /// The code lists carry the library's codes and names.

@@ -666,12 +666,14 @@ fn robustly_stable(plant: &HinfPlant) -> Result<(), HinfError> {
     Ok(())
 }
 
-/// Largest eigenvalue of a symmetric matrix.
+/// Largest eigenvalue of a symmetric matrix (NaN when it is not finite or the capped
+/// eigensolver does not converge: every caller's `< 0` test then fails).
 pub(crate) fn max_eig(m: &DMatrix<f64>) -> f64 {
     let sym = (m + m.transpose()) * 0.5;
-    sym.symmetric_eigenvalues()
-        .iter()
-        .fold(f64::NEG_INFINITY, |a, b| a.max(*b))
+    match crate::numerics::eigen::symmetric_eigenvalues(sym) {
+        Some(ev) => ev.iter().fold(f64::NEG_INFINITY, |a, b| a.max(*b)),
+        None => f64::NAN,
+    }
 }
 
 /// The observer (error-dynamics) design for `plant` (any `A`, e.g.

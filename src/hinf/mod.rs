@@ -247,10 +247,14 @@ impl HinfSpec {
 }
 
 /// Symmetric square root of a positive semidefinite matrix (eigen-decomposition; rounding
-/// below zero clipped).
+/// below zero clipped). A matrix that is not finite, or whose decomposition does not
+/// converge within the cap of [`crate::numerics::eigen`], gives an all-NaN result, which
+/// [`HinfSpec::validate`] refuses.
 pub fn psd_sqrt<const N: usize>(m: &nalgebra::SMatrix<f64, N, N>) -> nalgebra::SMatrix<f64, N, N> {
     let sym = nalgebra::DMatrix::from_fn(N, N, |i, j| 0.5 * (m[(i, j)] + m[(j, i)]));
-    let e = sym.symmetric_eigen();
+    let Some(e) = crate::numerics::eigen::symmetric_eigen(sym) else {
+        return nalgebra::SMatrix::<f64, N, N>::from_element(f64::NAN);
+    };
     let d = e.eigenvalues.map(|v| v.max(0.0).sqrt());
     let r = &e.eigenvectors * nalgebra::DMatrix::from_diagonal(&d) * e.eigenvectors.transpose();
     nalgebra::SMatrix::<f64, N, N>::from_fn(|i, j| r[(i, j)])

@@ -1,11 +1,13 @@
 //! Numerical helpers shared by the layers above (estimators, H-infinity design, navigator,
-//! C ABI): number formatting for error messages, the thread setting of the BLAS linked
-//! for the H-infinity design, and [`state`] (the explicit bytes of saved state). Lives
-//! below its users; imports nothing from them.
+//! C ABI): number formatting for error messages, the iteration-capped eigen and singular
+//! value decompositions every caller uses instead of nalgebra's uncapped ones ([`eigen`]),
+//! the thread setting of the BLAS linked for the H-infinity design, and [`state`] (the
+//! explicit bytes of saved state). Lives below its users; imports nothing from them.
 
 #[cfg(feature = "hinf")]
 #[allow(unsafe_code)]
 pub mod blas;
+pub mod eigen;
 pub mod state;
 
 /// A number for an error message: plain when readable, scientific when tiny or huge.

@@ -41,13 +41,20 @@ def test_fmpy_quickstart_runs(fmu_path, tmp_path):
     assert np.all(sig < 1.0) and np.all(sig > 0.0), out
 
 
-def test_readme_python_blocks_are_the_fmpy_quickstart():
+def test_readme_python_blocks_are_the_examples():
+    """Every ```python block of README.md is one of examples/*.py verbatim, and the
+    quick-starts are all shown (the Python package's examples run in
+    test_package_api.py and test_package_campaign.py)."""
     assert README.is_file(), "README.md is missing"
     blocks = fenced_blocks(README.read_text(), "python")
-    assert blocks, "README.md has no ```python block: it should show examples/fmpy_quickstart.py verbatim"
-    want = normalized(QUICKSTART_PY.read_text())
+    examples = {p.name: normalized(p.read_text()) for p in sorted((REPO_ROOT / "examples").glob("*.py"))}
+    shown = set()
     for i, block in enumerate(blocks):
-        assert normalized(block) == want, f"README.md ```python block {i + 1} differs from examples/fmpy_quickstart.py"
+        match = [name for name, text in examples.items() if text == normalized(block)]
+        assert match, f"README.md ```python block {i + 1} is none of examples/*.py verbatim"
+        shown.update(match)
+    for name in ("fmpy_quickstart.py", "relnav_python_quickstart.py", "relnav_campaign.py"):
+        assert name in shown, f"README.md should show examples/{name} verbatim in a ```python block"
 
 
 def test_readme_c_blocks_are_the_c_quickstart():

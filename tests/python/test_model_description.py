@@ -71,6 +71,9 @@ EXPECTED = {
     **{f"imm_accel_psd_{j}": ("parameter", "fixed", "Real", "m2/s3") for j in (1, 2, 3)},
     **{f"imm_p_stay_{j}": ("parameter", "fixed", "Real", None) for j in (1, 2, 3)},
     **{f"imm_mu_{j}": ("output", "continuous", "Real", None) for j in (1, 2, 3)},
+    # issue 10: the particle filters' moves and worker threads
+    "pf_move": ("parameter", "fixed", "Boolean", None),
+    "pf_threads": ("parameter", "fixed", "Integer", None),
 }
 
 # issue 12's variables, appended in this order after vr 62 (looked up by name: the
@@ -131,6 +134,9 @@ DEFAULTS = {
     "imm_p_stay_1": 0.99999,
     "imm_p_stay_2": 0.9,
     "imm_p_stay_3": 0.9,
+    # particle filters: posterior-invariant moves on, one thread per core
+    "pf_move": True,
+    "pf_threads": 0,
 }
 
 FMI2_CS_FUNCTIONS = [

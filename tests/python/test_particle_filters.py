@@ -1,15 +1,28 @@
-"""The particle filters (filter codes 4-8) through fmpy.simulate_fmu on paper 000's example,
-against the independent numpy truth (tools/cwtruth.py); seeded reproducibility and the
-``ess`` output.
+"""The particle filters (filter codes 4-8) through the FMU against the independent numpy
+truth (tools/cwtruth.py), judged against the EKF run with the same parameters on the same
+measurements (issue 10).
 
-Paper 000's example is hard on particle filters: the prior is 50 m / 1 m/s wide, the first
-measurement pins the position to decimetres, and the velocity process noise (1e-3 m/s per
-step) cannot refine velocity draws. The filters that move their particles after resampling
-(RPF: kernel jitter, GA-PF and CGA-PF: genetic moves) reach decimetres like the EKF; the plain
-SIR (``pf``) and the unscented PF (``upf``) keep impoverished velocities and drift metres to
-tens of metres (measured over 8 seeds at 150 s, 1500 particles: pf 0.3-58 m, upf 0.2-21 m;
-rpf, gapf, cgapf 0.1-0.4 m). The bounds below are those facts, with margin.
+Scenario family (cwtruth.family_scenario): paper 000's geometry and radio sensor in each
+of the three frames, a 60 s burn known through the thrust inputs, a 30 s dropout, 600 s
+at 1 Hz; the filters' process noise either the FMU defaults (paper 000's Q) or honest for
+the quiet truth (a white acceleration of 1e-10 m^2/s^3, nothing else); 1500 particles.
+Error statistics over t >= 80 s (the outputs are the FMU's predictions at t + 1).
+
+The margins are issue 10's: every particle filter, in every run, within 1.3 times the
+EKF's position RMSE and 2 times its velocity RMSE on Gaussian noise, and at least 15 %
+below the EKF's position RMSE with paper 003's contaminated Gaussian (which the EKF can
+only model by its variance); on paper 000's own example the paper's < 0.4 m and
+< 0.02 m/s. Each run is one seed (measurement noise and particle-filter seed); the cases
+use different seeds. The literal SIR (pf_move = false) is run on one honest-noise case to
+show what the margins catch.
+
+The runs go through fmpy's FMU2Slave on two worker processes (the whole module: about
+two minutes of CPU).
 """
+
+from __future__ import annotations
+
+import multiprocessing as mp
 
 import numpy as np
 import pytest
@@ -18,107 +31,123 @@ from fmpy import simulate_fmu
 import cwtruth as cw
 import relnav_fmu as rf
 
-STOP = 150.0
-SEEDS = [0, 1, 2, 3]
 PARTICLES = 1500
-# code -> (final position bound [m], final velocity bound [m/s]) for every run
-MOVING = {5: ("rpf", 1.0, 0.2), 7: ("gapf", 1.0, 0.2), 8: ("cgapf", 1.0, 0.2)}
-IMPOVERISHED = {4: "pf", 6: "upf"}
-OUTPUTS = rf.OUTPUTS + ["ess"]
+T_FROM = 80.0
+PF = {"pf": 4, "rpf": 5, "upf": 6, "gapf": 7, "cgapf": 8}
+CODES = {"ekf": 1, **PF}
+# (key, frame, small_q, mixture, seed): the Gaussian family in three frames with both
+# process-noise settings, the heavy-tailed family in two frames, paper 000's example
+GAUSSIAN = [(f"gauss-f{f}-{'small' if q else 'fmu'}", f, q, False, s) for s, (f, q) in enumerate([(1, True), (2, True), (3, True), (1, False), (2, False), (3, False)])]
+HEAVY = [("mix-f2-small", 2, True, True, 6), ("mix-f3-fmu", 3, False, True, 7)]
+PAPER000 = [("paper000", 2, False, False, s) for s in (8, 9)]
+LITERAL = ("gauss-f1-small", "pf-literal")
+
+_worker = {}
+
+
+def _init(unzipdir):
+    _worker["runner"] = rf.SlaveRunner(unzipdir)
+
+
+def _run(job):
+    key, frame, small_q, mixture, seed, name, extra = job
+    sc = cw.paper000_scenario(2) if key == "paper000" else cw.family_scenario(frame, small_q, mixture)
+    params = {**sc.params, "filter": CODES[name], "seed": seed, "particles": PARTICLES, **extra}
+    out = _worker["runner"].run(params, sc.times, sc.thrust, sc.measurements(seed), sc.valid)
+    sel = sc.times >= T_FROM
+    err = out[:, :6] - sc.truth_io
+    finite = bool(np.all(np.isfinite(out[:, :12])))
+    pos = float(np.sqrt(np.mean(np.sum(err[sel, :3] ** 2, axis=-1))))
+    vel = float(np.sqrt(np.mean(np.sum(err[sel, 3:] ** 2, axis=-1))))
+    return (key, name if not extra else f"{name}-literal"), (pos, vel, finite)
 
 
 @pytest.fixture(scope="module")
-def scenario():
-    return cw.paper000_scenario(2, times=np.arange(STOP + 1.0))
+def rmse(unzipdir):
+    """(case, filter) -> (position RMSE, velocity RMSE, all outputs finite)."""
+    jobs = [(k, f, q, m, s, name, {}) for (k, f, q, m, s) in GAUSSIAN + HEAVY + PAPER000 for name in CODES]
+    k, f, q, m, s = GAUSSIAN[0]
+    assert k == LITERAL[0]
+    jobs.append((k, f, q, m, s, "pf", {"pf_move": False}))
+    # the slow unscented runs first, so the two workers finish together
+    jobs.sort(key=lambda j: j[5] not in ("upf", "cgapf"))
+    with mp.get_context("fork").Pool(2, initializer=_init, initargs=(str(unzipdir),)) as pool:
+        return dict(pool.map(_run, jobs, chunksize=1))
 
 
-def simulate(unzipdir, sc, params: dict, seed: int) -> np.ndarray:
-    """One run through fmpy.simulate_fmu; (N+1, 13): the 12 outputs of rf.OUTPUTS and ess."""
-    res = simulate_fmu(
-        str(unzipdir),
-        start_time=0.0,
-        stop_time=STOP,
-        output_interval=1.0,
-        input=rf.input_table(sc.times, sc.thrust, sc.measurements(seed), sc.valid),
-        start_values={**sc.params, **params},
-        output=OUTPUTS,
-        fmi_type="CoSimulation",
-    )
-    assert np.allclose(res["time"], sc.times, rtol=0, atol=1e-9)
-    return np.stack([res[name] for name in OUTPUTS], axis=1)
+def _ratios(rmse, key):
+    ekf_p, ekf_v, _ = rmse[(key, "ekf")]
+    return {n: (rmse[(key, n)][0] / ekf_p, rmse[(key, n)][1] / ekf_v) for n in PF}
 
 
-@pytest.fixture(scope="module")
-def pf_runs(unzipdir, scenario):
-    """code -> (runs, N+1, 13) for codes 4-8, PF seed = measurement seed."""
-    return {
-        code: np.array([simulate(unzipdir, scenario, {"filter": code, "seed": s}, s) for s in SEEDS])
-        for code in range(4, 9)
-    }
+@pytest.mark.parametrize("case", GAUSSIAN, ids=[c[0] for c in GAUSSIAN])
+def test_gaussian_noise_every_particle_filter_matches_the_ekf(rmse, case):
+    key = case[0]
+    report = {n: f"{p:.2f} / {v:.2f}" for n, (p, v) in _ratios(rmse, key).items()}
+    for name in PF:
+        pos, vel, finite = rmse[(key, name)]
+        ekf_p, ekf_v, _ = rmse[(key, "ekf")]
+        assert finite, f"{key} {name}: non-finite outputs"
+        assert pos < 1.3 * ekf_p and vel < 2.0 * ekf_v, (
+            f"{key} {name}: position {pos:.4f} m, velocity {vel:.6f} m/s; EKF {ekf_p:.4f} m, "
+            f"{ekf_v:.6f} m/s; ratios (pos / vel) to the EKF: {report}"
+        )
 
 
-@pytest.fixture(scope="module")
-def ekf_runs(unzipdir, scenario):
-    return np.array([simulate(unzipdir, scenario, {"filter": 1}, s) for s in SEEDS])
+def test_literal_sir_degenerates_with_honest_noise(rmse):
+    """Without its moves the SIR degenerates with small process noise (measured 190-375
+    times the EKF's position error, issue 10): the margins above catch it."""
+    pos, _, _ = rmse[LITERAL]
+    ekf_p, _, _ = rmse[(LITERAL[0], "ekf")]
+    assert pos > 3.0 * ekf_p, f"literal SIR {pos:.3f} m vs EKF {ekf_p:.3f} m"
 
 
-def final_errors(out, sc):
-    err = out[:, -1, :6] - sc.truth_io[-1]
-    return np.linalg.norm(err[:, :3], axis=1), np.linalg.norm(err[:, 3:], axis=1)
+@pytest.mark.parametrize("case", HEAVY, ids=[c[0] for c in HEAVY])
+def test_heavy_tails_every_particle_filter_beats_the_ekf(rmse, case):
+    key = case[0]
+    ekf_p, _, _ = rmse[(key, "ekf")]
+    for name in PF:
+        pos, _, finite = rmse[(key, name)]
+        assert finite, f"{key} {name}: non-finite outputs"
+        assert pos < 0.85 * ekf_p, f"{key} {name}: position {pos:.4f} m vs EKF {ekf_p:.4f} m"
 
 
-def late_pos_rmse(out, sc, t_from=100.0):
-    sel = sc.times >= t_from
-    err = out[:, sel, :3] - sc.truth_io[None, sel, :3]
-    return float(np.sqrt(np.mean(np.sum(err**2, axis=-1))))
+@pytest.mark.parametrize("name", list(PF))
+def test_paper000_bar_met(rmse, name):
+    """Paper 000's example at the FMU defaults: < 0.4 m and < 0.02 m/s after 80 s, in every
+    run (tools/paper000_fmu.py prints the 10-run table)."""
+    for key, *_, seed in PAPER000:
+        pos, vel, finite = rmse[(key, name)]
+        assert finite and pos < cw.BAR_POS_RMSE and vel < cw.BAR_VEL_RMSE, (key, seed, name, pos, vel)
 
 
-@pytest.mark.parametrize("code", list(range(4, 9)))
-def test_outputs_are_finite_and_ess_in_range(pf_runs, code):
-    out = pf_runs[code]
-    assert np.all(np.isfinite(out)), f"filter {code}: non-finite outputs"
-    ess = out[:, :, 12]
-    assert np.all((ess >= 1.0) & (ess <= PARTICLES)), (ess.min(), ess.max())
-    assert np.all(ess[:, 0] == PARTICLES)  # equal weights before the first update
-    assert ess.min() < PARTICLES / 2  # the weights do degenerate between resamplings
-
-
-@pytest.mark.parametrize("code", sorted(MOVING))
-def test_moving_particle_filters_reach_decimetres(pf_runs, ekf_runs, scenario, code):
-    name, pos_bound, vel_bound = MOVING[code]
-    pos, vel = final_errors(pf_runs[code], scenario)
-    assert np.all(pos < pos_bound), f"{name}: final position errors {pos} m"
-    assert np.all(vel < vel_bound), f"{name}: final velocity errors {vel} m/s"
-    # within a small factor of the EKF on the same measurements (EKF ~0.2 m here)
-    rmse, ekf = late_pos_rmse(pf_runs[code], scenario), late_pos_rmse(ekf_runs, scenario)
-    assert rmse < 2.5 * ekf, f"{name}: position RMSE 100-150 s {rmse:.3f} m vs EKF {ekf:.3f} m"
-    # and the reported 1-sigma is neither zero nor metres
-    sigma = pf_runs[code][:, -1, 6:9]
-    assert np.all((sigma > 0.01) & (sigma < 2.0)), sigma
-
-
-@pytest.mark.parametrize("code", sorted(IMPOVERISHED))
-def test_impoverished_particle_filters_stay_bounded(pf_runs, scenario, code):
-    """pf and upf are not accurate on this example (see the module docs), but they track:
-    finite, within tens of metres, and no better than the moving filters on average."""
-    pos, vel = final_errors(pf_runs[code], scenario)
-    assert np.all(pos < 100.0), f"{IMPOVERISHED[code]}: final position errors {pos} m"
-    best, _ = final_errors(pf_runs[8], scenario)
-    assert pos.mean() > best.mean(), (pos, best)
-
-
-def test_same_seed_reproduces_and_ess_is_output(unzipdir, scenario):
+def test_same_seed_reproduces_and_ess_is_output(unzipdir):
     """Identical seed: bit-identical outputs (ess included) from two simulate_fmu runs; a
     different seed: different outputs. ess is the effective sample size of the particle
-    filter and NaN for the EKF."""
+    filter, in [1, particles], and NaN for the EKF."""
+    sc = cw.paper000_scenario(2, times=np.arange(151.0))
+    outputs = rf.OUTPUTS + ["ess"]
+
+    def simulate(params):
+        res = simulate_fmu(
+            str(unzipdir),
+            start_time=0.0,
+            stop_time=150.0,
+            output_interval=1.0,
+            input=rf.input_table(sc.times, sc.thrust, sc.measurements(0), sc.valid),
+            start_values={**sc.params, **params},
+            output=outputs,
+            fmi_type="CoSimulation",
+        )
+        return np.stack([res[n] for n in outputs], axis=1)
+
     params = {"filter": 5, "particles": 500, "seed": 7}
-    a = simulate(unzipdir, scenario, params, 0)
-    b = simulate(unzipdir, scenario, params, 0)
-    c = simulate(unzipdir, scenario, {**params, "seed": 8}, 0)
+    a, b, c = simulate(params), simulate(params), simulate({**params, "seed": 8})
     assert np.array_equal(a, b)
     assert not np.array_equal(a[:, :6], c[:, :6])
     ess = a[:, 12]
     assert np.all((ess >= 1.0) & (ess <= 500.0)) and len(np.unique(ess)) > 10, ess
-    ekf = simulate(unzipdir, scenario, {"filter": 1}, 0)
+    assert ess[0] == 500.0  # equal weights before the first update
+    ekf = simulate({"filter": 1})
     assert np.all(np.isnan(ekf[:, 12]))
     assert np.all(np.isfinite(ekf[:, :12]))

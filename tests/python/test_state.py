@@ -22,7 +22,7 @@ STEPS = 40
 SAVE_AT = 15
 CODES = list(range(1, 11))
 # documented sizes with the default parameters (1500 particles, window 10)
-FMU_STATE_BYTES = {1: 1627, 2: 1627, 3: 2116, 4: 117583, 5: 117583, 6: 621583, 7: 117583, 8: 621583, 9: 2878, 10: 2667}
+FMU_STATE_BYTES = {1: 1651, 2: 1651, 3: 2140, 4: 117895, 5: 117895, 6: 621895, 7: 117895, 8: 621895, 9: 2902, 10: 2691}
 FMU_HEADER = 70
 EST_HEADER = 32
 
@@ -94,7 +94,7 @@ def parse_estimator_state(e: bytes) -> dict:
     assert crc == zlib.crc32(e[:28] + e[EST_HEADER:])
     assert e[32:36] == b"CONF"
     (count,) = struct.unpack_from("<I", e, 36)
-    assert count == 54
+    assert count == 55
     conf = e[36 : 40 + 8 * count]
     assert fingerprint == zlib.crc32(conf)
     settings = e[40 : 40 + 8 * count]

@@ -289,7 +289,11 @@ impl ParticleFilter {
                 self.crossover(a, b, lik);
             }
         }
-        let d = psd_sqrt(cov_before) * (bandwidth(Kernel::Gaussian, n) * g.mutation_scale);
+        // a non-finite particle covariance (particles near overflow): no mutation step
+        let Some(sqrt) = psd_sqrt(cov_before) else {
+            return;
+        };
+        let d = sqrt * (bandwidth(Kernel::Gaussian, n) * g.mutation_scale);
         for i in 0..n {
             if self.rng.random::<f64>() < g.mutation {
                 let cand = self.x[i] + d * gauss6(&mut self.rng);

@@ -1,22 +1,38 @@
 //! Particle filters of papers 000 and 003: SIR, regularised (RPF), unscented (UPF),
 //! genetic (GA-PF) and cloud-genetic (CGA-PF), on one particle set.
 //!
-//! | kind | proposal | after resampling |
-//! |---|---|---|
-//! | [`PfKind::Sir`] (paper 000, sec. 3) | transition density | nothing |
-//! | [`PfKind::Rpf`] | transition density | kernel jitter |
-//! | [`PfKind::Upf`] | per-particle UKF step with the current measurement | nothing |
-//! | [`PfKind::Gapf`] | transition density | crossover + mutation, MH-accepted ([`genetic`]) |
-//! | [`PfKind::Cgapf`] (paper 003) | per-particle UKF step | cloud crossover + cloud mutation, MH-accepted |
+//! | kind | proposal | after resampling | then, with [`PfParams::moves`] (default) |
+//! |---|---|---|---|
+//! | [`PfKind::Sir`] (paper 000, sec. 3) | transition density | nothing | rejuvenation ([`moves`]) |
+//! | [`PfKind::Rpf`] | transition density | kernel jitter (MH-accepted with moves) | rejuvenation |
+//! | [`PfKind::Upf`] | per-particle UKF step with the current measurement (shrinkage kernel with moves) | nothing | rejuvenation |
+//! | [`PfKind::Gapf`] | transition density | crossover + mutation, MH-accepted ([`genetic`]) | rejuvenation |
+//! | [`PfKind::Cgapf`] (paper 003) | per-particle UKF step (shrinkage kernel with moves) | cloud crossover + cloud mutation, MH-accepted | rejuvenation |
 //!
 //! **SIR** (Gordon, Salmond & Smith 1993): `x_i <- Phi x_i + Gamma a + w_i`,
 //! `w_i ~ N(0, Q)`; the log-weights grow by the measurement log-likelihood and are
 //! normalised with the max-subtraction trick; `N_eff = 1 / sum w_i^2`; when
 //! `N_eff < threshold N` (paper 000: 2/3) the particles are resampled ([`resample`]) and
-//! the weights reset to `1/N`. The outputs are the weighted mean and covariance. The
-//! likelihood is the sensor's true noise density (Gaussian, contaminated Gaussian,
-//! Student-t, ... see [`crate::noise`]): the particle filters are where heavy tails are
-//! modelled (paper 003), the Kalman filters keep the Gaussian of the same variance.
+//! the weights reset to `1/N`. The likelihood is the sensor's true noise density
+//! (Gaussian, contaminated Gaussian, Student-t, ... see [`crate::noise`]): the particle
+//! filters are where heavy tails are modelled (paper 003), the Kalman filters keep the
+//! Gaussian of the same variance.
+//!
+//! **Outputs.** After an update: the weighted mean and covariance of the particles (with
+//! moves: those of the rejuvenated set, see [`moves`]). After a prediction: the mean and
+//! covariance of the particle predictive density `sum_i w_i N(Phi x_i + Gamma a, Q)`,
+//! exactly `Phi m + Gamma a` and `Phi P Phi^T + Q` — the same quantities the sample
+//! moments of the drawn particles estimate, without their sampling noise.
+//!
+//! **Moves** ([`PfParams::moves`], on by default; [`moves`] has the method and its
+//! justification). With process noise honest for a quiet truth (a white acceleration of
+//! 1e-10 m^2/s^3) the particles cannot explore: resampling duplicates them, the
+//! transition hardly separates the copies, the set degenerates onto a few points and the
+//! filter diverges. With paper 000's large `Q` the same filters drift in velocity, where
+//! `Q` is small. Every kind therefore ends each measurement update with a Metropolis–
+//! Hastings move that leaves the filtering posterior invariant (resample-move, Gilks &
+//! Berzuini 2001). `moves = false` gives the literal filters of the papers: paper 000's
+//! SIR, the plain post-regularised RPF, van der Merwe's UPF.
 //!
 //! **Regularised PF** (Musso, Oudjane & Le Gland 2001): after each resampling every
 //! particle is moved by `h D eps`, `D D^T` the weighted empirical covariance before
@@ -27,25 +43,33 @@
 //!   `h = A N^(-1/(n+4))`, `A = (8 (n + 4) (2 sqrt(pi))^n / c_n)^(1/(n+4))`, `c_n` the unit
 //!   ball's volume; `eps = r u` with `u` uniform on the sphere and `r^2 ~ Beta(n/2, 2)`.
 //!
+//! Plain jitter widens the set by `h^2 P` at every resampling (3 times the EKF's error
+//! with small `Q`, measured); with moves each jittered particle is accepted by the
+//! Metropolis–Hastings test of [`moves`] — the MCMC-regularised filter of the same
+//! authors — and the set keeps the posterior's spread.
+//!
 //! **Unscented PF** (van der Merwe, Doucet, de Freitas & Wan 2000; paper 003's proposal):
-//! every particle carries a mean and a covariance `(x_i, P_i)`. The time update is
-//! `xbar_i = Phi x_i + Gamma a`, `P_i <- Phi P_i Phi^T + Q` (the unscented transform of
-//! the linear CW map is exact, so it is done in closed form; paper 003's augmented
-//! sigma-point dimension `n_x + n_v + n_u` reduces to this for additive noise). The
-//! measurement update runs the UKF of [`crate::estimators::ukf`] on `(xbar_i, P_i)` with
-//! the current `z` and the Gaussian of the noise model's variance, giving `N(m_i, P_i+)`;
-//! the new particle is drawn from it and weighted by
-//! `p(z | x) N(x; xbar_i, Q) / N(x; m_i, P_i+)`. A particle whose UKF step fails (zero
-//! range) falls back to the transition proposal.
-//! What `P_i` is after the draw is the one choice: van der Merwe keep `P_i <- P_i+` (a
-//! bank of UKFs; [`PfParams::carry_covariance`]); by default we restart it at zero, so
-//! the next step's proposal is the UKF update of `N(xbar_i, Q)` — the unscented
-//! approximation of the optimal proposal `p(x_k | x_(k-1)^i, z_k)`. The particle already
-//! *is* a draw from `P_i+`: carrying `P_i+` counts that uncertainty twice, the proposal
-//! becomes much wider than the transition density in the velocity directions
-//! (accumulated UKF variance against `Q`'s 0.1 (m/s)^2 on paper 003, 1e-6 on paper 000)
-//! and the weights degenerate (paper 003, 10 runs: NEES 558 and 3 failed runs of 10 before
-//! this choice was made explicit).
+//! every particle carries a transition mean `xbar_i = Phi x_i + Gamma a`; the
+//! measurement update runs the UKF of [`crate::estimators::ukf`] on a Gaussian
+//! `N(mu_i, S_i)` around it with the current `z` and the Gaussian of the noise model's
+//! variance, giving `N(m_i, P_i+)`; the new particle is drawn from it and weighted by
+//! `p(z | x) N(x; mu_i, S_i) / N(x; m_i, P_i+)`. A particle whose UKF step fails (zero
+//! range) keeps its transition draw. Which Gaussian:
+//! * literally (`moves = false`): `N(xbar_i, Q)`, the transition density itself (the
+//!   unscented approximation of the optimal proposal `p(x_k | x_(k-1)^i, z_k)`). With
+//!   small `Q` this proposal collapses onto the transition and the UPF degenerates like
+//!   the SIR (40-216 times the EKF's error with a 1e-10 m^2/s^3 white acceleration);
+//! * with moves: component `i` of the kernel-smoothed predictive density of Liu & West
+//!   (2001), `N(a xbar_i + (1 - a) m-, (1 - h^2) Q + h^2 P-)`, `m-, P-` the predictive
+//!   mean and covariance, `h` the Gaussian kernel's optimal bandwidth and
+//!   `a = sqrt(1 - h^2)`: the mixture of these components has exactly the predictive mean
+//!   and covariance, and each component is at least `h^2` of the predictive spread wide
+//!   however small `Q` is. The weights are those of importance sampling from this mixture
+//!   (component `i` taking the place of particle `i`'s transition density);
+//! * [`PfParams::carry_covariance`]: van der Merwe's bank of UKFs, `P_i` carried from step
+//!   to step (`P_i <- Phi P_i+ Phi^T + Q`). The particle already *is* a draw from `P_i+`:
+//!   carrying it counts that uncertainty twice and the weights degenerate (paper 003, 10
+//!   runs: NEES 558 and 3 failed runs of 10).
 //!
 //! **Prior of the first update.** Until the first weighting update the prior is the
 //! Gaussian `N(x0, P0)` propagated exactly (`xbar_0`, `P_prior`). With
@@ -53,33 +77,33 @@
 //! SIR samples the prior (the literal filter of paper 000); the UPF draws every particle
 //! from the one UKF posterior of `(xbar_0, P_prior)` and weighs with
 //! `p(z | x) N(x; xbar_0, P_prior) / q(x)` — exact importance sampling of the first
-//! posterior, which is why the unscented filters need no special initialisation.
+//! posterior.
 //!
 //! **The collapse of the literal SIR on paper 000** (issue 4's "known trap"): its prior is
 //! 50 m / 1 m/s wide while one measurement pins the position to a 0.5 m x 0.12 m x 0.12 m
 //! box, about 1e-7 of the prior's volume: with thousands of particles none lands in the
 //! likelihood's support, one particle takes all the weight and the filter ends hundreds of
-//! metres off. [`PfInit::Prior`] keeps that literal behaviour. [`PfInit::FirstMeasurement`]
-//! is the first half of the fix and the default of the transition-proposal filters: the
-//! positions are drawn from the first measurement's likelihood (the noisy measurement
-//! inverted to a position, noise drawn from the sensor's noise model) and the velocities
-//! from the prior. This is the posterior after the first measurement up to the prior's
-//! density over a box of a few decimetres, which a 50 m prior makes flat to 1e-4; the
-//! first measurement is consumed by it.
-//! The second half is **regularisation or move steps** (RPF, GA-PF): the velocities are
-//! the prior's N draws, and with 2000 of them over a 1 m/s-wide prior none lies closer
-//! than ~0.1 m/s to the truth; paper 000's velocity process noise (1e-3 m/s per step)
-//! cannot refine them, so a plain SIR keeps the best draw and drifts metres off within
-//! 100 s (`tests/pf.rs`). The kernel jitter after each resampling moves the velocities by
-//! a fraction of their current spread and the population contracts onto the truth:
-//! decimetres, as the EKF. The unscented proposals (UPF, CGA-PF) do the same by moving
-//! every particle with a UKF step.
+//! metres off. [`PfInit::Prior`] with `moves = false` keeps that literal behaviour.
+//! [`PfInit::FirstMeasurement`] (the default) draws the positions from the first
+//! measurement's likelihood (the noisy measurement inverted to a position, noise drawn
+//! from the sensor's noise model) and the velocities from the prior: the posterior after
+//! the first measurement up to the prior's density over a box of a few decimetres, which
+//! a 50 m prior makes flat to 1e-4; the first measurement is consumed by it. That alone
+//! leaves the velocities impoverished (the prior's N draws, none closer than ~0.1 m/s to
+//! the truth, which paper 000's 1e-3 m/s velocity noise cannot refine: the SIR without
+//! moves drifts metres off within 100 s, `tests/pf.rs`); the moves refine them.
 //!
-//! No heap allocation happens in a step: every buffer is sized at construction
-//! (`tests/no_alloc.rs`).
+//! **Threads.** From [`PARALLEL_MIN_PARTICLES`] particles on the particle loops run in
+//! fixed chunks on worker threads, with results independent of the thread count
+//! ([`PfParams::threads`]; see the `par` module). Below, a step allocates nothing:
+//! every buffer is sized at construction (`tests/no_alloc.rs`).
 
 pub mod genetic;
+mod moves;
+mod par;
 pub mod resample;
+
+pub use par::{CHUNK, MAX_THREADS, PARALLEL_MIN_PARTICLES};
 
 use super::ukf::{Ukf, UkfParams};
 use super::{symmetrize, Estimator, FilterError, UpdateInfo};
@@ -89,8 +113,9 @@ use crate::numerics::state::{refuse, Persist, Reader, StateError, Writer};
 use crate::sensors::MeasurementModel;
 use crate::types::{Mat3, Mat6, State, Vec3};
 use genetic::{CloudParams, GeneticParams};
+use par::Pool;
 use rand::{Rng, SeedableRng};
-use rand_distr::{Beta, Distribution, StandardNormal};
+use rand_distr::{Distribution, StandardNormal};
 use rand_xoshiro::Xoshiro256PlusPlus;
 use std::cell::OnceCell;
 
@@ -98,7 +123,8 @@ use std::cell::OnceCell;
 /// SplitMix64 by `seed_from_u64`. Chosen over ChaCha8 for speed (the six normals per
 /// particle and step were a quarter of a SIR step); statistical quality is ample for
 /// Monte Carlo and the stream is fixed by the crate's documented algorithm, so results
-/// are reproducible from the seed.
+/// are reproducible from the seed. Its `jump` (2^128 draws) gives the parallel chunks
+/// non-overlapping streams.
 pub type PfRng = Xoshiro256PlusPlus;
 
 /// The four 64-bit words of a [`PfRng`]'s state. rand_xoshiro exposes them only through its
@@ -229,13 +255,23 @@ pub struct PfParams {
     /// Sigma-point parameters of the unscented proposal (UPF, CGA-PF).
     pub ukf: UkfParams,
     /// Unscented proposal: carry each particle's UKF covariance from step to step (van der
-    /// Merwe et al. 2000 literally) instead of restarting it from `Q` at every step (the
+    /// Merwe et al. 2000 literally) instead of starting it afresh at every step (the
     /// default; see the module documentation for why).
     pub carry_covariance: bool,
     /// Genetic operators (GA-PF).
     pub genetic: GeneticParams,
     /// Cloud-genetic operators (CGA-PF).
     pub cloud: CloudParams,
+    /// Move the particles with posterior-invariant Metropolis–Hastings steps (the
+    /// rejuvenation of [`moves`] after every update, the MH-accepted RPF jitter, the
+    /// shrinkage-kernel unscented proposal); default true. False: the papers' literal
+    /// filters (paper 000's SIR, the plain RPF, van der Merwe's UPF), which degenerate
+    /// with small process noise.
+    pub moves: bool,
+    /// Worker threads of the particle loops from [`PARALLEL_MIN_PARTICLES`] particles on:
+    /// 0 (default) rayon's global pool (one per core), 1 the calling thread, more a pool of
+    /// the filter's own. The results do not depend on it.
+    pub threads: usize,
 }
 
 impl Default for PfParams {
@@ -246,7 +282,8 @@ impl Default for PfParams {
 
 impl PfParams {
     /// Defaults for `kind`: 1500 particles (paper 003), systematic resampling, threshold
-    /// 2/3 (paper 000), Gaussian kernel, the kind's [`PfKind::default_init`], seed 0.
+    /// 2/3 (paper 000), Gaussian kernel, the kind's [`PfKind::default_init`], seed 0,
+    /// moves on, threads from rayon's global pool.
     pub fn new(kind: PfKind) -> Self {
         Self {
             kind,
@@ -260,6 +297,8 @@ impl PfParams {
             carry_covariance: false,
             genetic: GeneticParams::default(),
             cloud: CloudParams::default(),
+            moves: true,
+            threads: 0,
         }
     }
 
@@ -280,9 +319,21 @@ impl PfParams {
                 self.threshold
             ));
         }
+        if self.threads > MAX_THREADS {
+            return Err(format!(
+                "particle-filter threads must be <= {MAX_THREADS} (got {})",
+                self.threads
+            ));
+        }
         self.ukf.validate()?;
         self.genetic.validate()?;
         self.cloud.validate()
+    }
+
+    /// Whether the unscented proposal is the shrinkage kernel (moves on, covariance not
+    /// carried) rather than the transition density.
+    fn shrinkage(&self) -> bool {
+        self.moves && !self.carry_covariance
     }
 }
 
@@ -366,6 +417,9 @@ fn log_gauss(x: &State, m: &State, l: &Mat6) -> f64 {
 /// `c` near the cloud: `m = c + s1 / W`, `P = s2 / W - (m - c)(m - c)^T` with
 /// `s1 = sum w_i d_i`, `s2 = sum w_i d_i d_i^T`, `d_i = x_i - c`, `W = sum w_i`. Shifting
 /// to a point inside the cloud avoids the cancellation of the textbook one-pass formula.
+/// Partial sums about the same reference [`Moments::merge`] exactly (the parallel path).
+/// A variance that still rounds below zero is set to zero.
+#[derive(Debug, Clone, Copy)]
 struct Moments {
     reference: State,
     s1: State,
@@ -403,13 +457,29 @@ impl Moments {
         }
     }
 
-    fn finish(self) -> (State, Mat6) {
+    /// Add the sums of `other` (same reference).
+    fn merge(&mut self, other: &Moments) {
+        self.s1 += other.s1;
+        self.wsum += other.wsum;
+        for (a, b) in self.s2.iter_mut().zip(&other.s2) {
+            *a += b;
+        }
+    }
+
+    /// `(mean, covariance)`.
+    fn finish(&self) -> (State, Mat6) {
         let md = self.s1 / self.wsum;
         let mut p = Mat6::zeros();
         let mut k = 0;
         for c in 0..N {
             for r in 0..=c {
-                let v = self.s2.get(k).copied().unwrap_or(f64::NAN) / self.wsum - md[r] * md[c];
+                let mut v = self.s2.get(k).copied().unwrap_or(f64::NAN) / self.wsum - md[r] * md[c];
+                if r == c && v < 0.0 {
+                    // `s2/W >= md^2` in exact arithmetic (Cauchy-Schwarz); a collapsed cloud
+                    // can round it to -1e-20, which would read as a failed filter (NaN
+                    // sigma). NaN stays NaN.
+                    v = 0.0;
+                }
                 p[(r, c)] = v;
                 p[(c, r)] = v;
                 k += 1;
@@ -461,6 +531,141 @@ fn chol(p: &Mat6) -> Option<Mat6> {
     symmetrize(p).cholesky().map(|c| c.unpack())
 }
 
+/// Lower Cholesky factor, with a relative `1e-12` diagonal load if the matrix is only
+/// semi-definite (a cloud that lost a dimension to rounding).
+fn chol_loaded(p: &Mat6) -> Option<Mat6> {
+    chol(p).or_else(|| {
+        let eps = 1e-12 * p.trace().max(f64::MIN_POSITIVE);
+        chol(&(p + Mat6::identity() * eps))
+    })
+}
+
+/// One step of the transition `x <- Phi x + Gamma a + w`, `w ~ N(0, Q)`.
+struct Transition {
+    blocks: Option<CwBlocks>,
+    phi: Mat6,
+    u: State,
+    /// the standard deviations of a diagonal `Q` (6 products instead of 36)
+    diag: Option<State>,
+    /// a square root of `Q`
+    l: Mat6,
+}
+
+impl Transition {
+    /// Draw the new particles `out[i]` from `x[i]` (and store the transition means in
+    /// `xbar` when it is not empty); returns the sum of every new component (finite
+    /// unless a particle overflowed).
+    fn run(&self, x: &[State], out: &mut [State], xbar: &mut [State], rng: &mut PfRng) -> f64 {
+        let mut check = 0.0;
+        for (i, (xi, xn)) in x.iter().zip(out.iter_mut()).enumerate() {
+            let xb = match &self.blocks {
+                Some(b) => b.apply(xi) + self.u,
+                None => self.phi * *xi + self.u,
+            };
+            if let Some(slot) = xbar.get_mut(i) {
+                *slot = xb;
+            }
+            let e = gauss6(rng);
+            *xn = match &self.diag {
+                Some(d) => xb + e.component_mul(d),
+                None => xb + self.l * e,
+            };
+            check += xn.sum();
+        }
+        check
+    }
+}
+
+/// The Gaussian around particle `i`'s transition mean that the unscented proposal updates
+/// with the measurement: component `i` of the shrinkage kernel (see the module docs).
+struct ShrinkKernel {
+    a: f64,
+    /// `(1 - a) m-`
+    offset: State,
+    cov: Mat6,
+    l: Mat6,
+}
+
+impl ShrinkKernel {
+    /// The kernel of the predictive `N(m-, P-)` with process noise `q` and `n` particles:
+    /// `a = sqrt(1 - h^2)`, covariance `(1 - h^2) Q + h^2 P-`.
+    fn new(pred_mean: &State, pred_cov: &Mat6, q: &Mat6, n: usize) -> Option<Self> {
+        let h2 = bandwidth(Kernel::Gaussian, n).powi(2);
+        let a = (1.0 - h2).sqrt();
+        let cov = symmetrize(&(q * (1.0 - h2) + pred_cov * h2));
+        chol_loaded(&cov).map(|l| Self {
+            a,
+            offset: pred_mean * (1.0 - a),
+            cov,
+            l,
+        })
+    }
+}
+
+/// Everything the per-particle unscented proposal reads.
+struct Unscented<'a, M> {
+    /// a copy of the filter's sigma-point machinery (no heap: fixed-size)
+    ukf: Ukf,
+    lik: &'a Likelihood<'a, M>,
+    sensor: &'a M,
+    r: Mat3,
+    z: Vec3,
+    kernel: Option<ShrinkKernel>,
+    /// square root of `Q` (the literal proposal's transition density)
+    q_sqrt: Mat6,
+    carry: bool,
+}
+
+impl<M: MeasurementModel> Unscented<'_, M> {
+    /// Draw particle `i` from its UKF proposal: `(x, P_i, ln p(x|.) - ln q(x))`, `None`
+    /// when the UKF step fails.
+    fn draw(&self, xbar: &State, pc: &Mat6, rng: &mut PfRng) -> Option<(State, Mat6, f64)> {
+        let (mu, prior, prior_l) = match &self.kernel {
+            Some(k) => (xbar * k.a + k.offset, k.cov, k.l),
+            None => (*xbar, *pc, self.q_sqrt),
+        };
+        let (m, p, _) = self
+            .ukf
+            .measurement_update(&mu, &prior, self.sensor, &self.r, &self.z)
+            .ok()?;
+        let l = chol(&p)?;
+        let eps = gauss6(rng);
+        let x = m + l * eps;
+        let half_logdet: f64 = (0..N).map(|k| l[(k, k)].ln()).sum();
+        let log_q = -0.5 * eps.norm_squared() - half_logdet;
+        let pc_new = if self.carry { p } else { Mat6::zeros() };
+        Some((x, pc_new, log_gauss(&x, &mu, &prior_l) - log_q))
+    }
+
+    /// The proposals of a run of particles: new particles, covariances, log-weights and
+    /// log-likelihoods into the spare buffers.
+    #[allow(clippy::too_many_arguments)]
+    fn run(
+        &self,
+        x: &[State],
+        xbar: &[State],
+        pc: &[Mat6],
+        logw: &[f64],
+        x_new: &mut [State],
+        pc_new: &mut [Mat6],
+        logw_new: &mut [f64],
+        loglik: &mut [f64],
+        rng: &mut PfRng,
+    ) {
+        for i in 0..x.len() {
+            let (xi, pci, corr) = match self.draw(&xbar[i], &pc[i], rng) {
+                Some(d) => d,
+                None => (x[i], pc[i], 0.0),
+            };
+            let ll = self.lik.log(&xi);
+            x_new[i] = xi;
+            pc_new[i] = pci;
+            logw_new[i] = logw[i] + ll + corr;
+            loglik[i] = ll;
+        }
+    }
+}
+
 /// A particle filter over the canonical 6-state (see the module documentation).
 #[derive(Debug, Clone)]
 pub struct ParticleFilter {
@@ -484,14 +689,15 @@ pub struct ParticleFilter {
     /// log-likelihood of each particle at the last update (fitness of the genetic kinds)
     loglik: Vec<f64>,
     loglik_tmp: Vec<f64>,
-    /// log target density `ln p(z|x) + ln p(x|ancestor)` during the move steps
+    /// log target density of each particle during the genetic move steps
     logpi: Vec<f64>,
     idx: Vec<usize>,
     perm: Vec<usize>,
     scratch: Vec<f64>,
     mean: State,
-    /// weighted covariance, computed when first asked for after an update (a SIR step
-    /// inside `Navigator::step` never needs the posterior one: the prediction follows)
+    /// covariance: computed from the particles when first asked for (a SIR step without
+    /// moves never needs the posterior one), set directly when known (after a prediction
+    /// or a rejuvenation)
     cov: OnceCell<Mat6>,
     ess: f64,
     /// the first-measurement initialisation is still to come
@@ -501,10 +707,17 @@ pub struct ParticleFilter {
     prior_mean: State,
     prior_cov: Mat6,
     prior_l: Mat6,
-    /// Cholesky factor of the predicted particles' covariance (target of the move steps)
+    /// the predictive mean and covariance at the current update (the Gaussian part of
+    /// the move steps' target) and the covariance's Cholesky factor
     pred_mean: State,
+    pred_cov: Mat6,
     pred_l: Mat6,
     rng: PfRng,
+    /// the chunks' generators of the parallel path (empty below PARALLEL_MIN_PARTICLES)
+    chunk_rng: Vec<PfRng>,
+    /// their state before the step in progress (a failed step restores it)
+    chunk_rng_saved: Vec<PfRng>,
+    pool: Pool,
     q_key: Mat6,
     /// square root of Q used to sample (Cholesky factor when Q is positive definite)
     q_sqrt: Mat6,
@@ -524,11 +737,12 @@ fn gauss6<R: Rng + ?Sized>(rng: &mut R) -> State {
     State::from(e)
 }
 
-/// Symmetric square root of a PSD matrix (negative rounding eigenvalues clipped).
-fn psd_sqrt(q: &Mat6) -> Mat6 {
-    let e = nalgebra::SymmetricEigen::new(symmetrize(q));
+/// Symmetric square root of a PSD matrix (negative rounding eigenvalues clipped); `None`
+/// when `q` is not finite or the (iteration-capped) eigensolver does not converge.
+fn psd_sqrt(q: &Mat6) -> Option<Mat6> {
+    let e = crate::numerics::eigen::symmetric_eigen(symmetrize(q))?;
     let d = e.eigenvalues.map(|v| v.max(0.0).sqrt());
-    e.eigenvectors * Mat6::from_diagonal(&d) * e.eigenvectors.transpose()
+    Some(e.eigenvectors * Mat6::from_diagonal(&d) * e.eigenvectors.transpose())
 }
 
 impl ParticleFilter {
@@ -538,6 +752,13 @@ impl ParticleFilter {
         let n = params.particles.clamp(1, MAX_PARTICLES);
         let unscented = params.kind.unscented();
         let m = if unscented { n } else { 0 };
+        let rng = PfRng::seed_from_u64(params.seed);
+        let chunk_rng = par::chunk_generators(&rng, n);
+        let pool = if chunk_rng.is_empty() {
+            Pool::Serial
+        } else {
+            Pool::new(params.threads)
+        };
         let mut f = Self {
             params,
             x0,
@@ -566,8 +787,12 @@ impl ParticleFilter {
             prior_cov: p0,
             prior_l: Mat6::identity(),
             pred_mean: x0,
+            pred_cov: p0,
             pred_l: Mat6::identity(),
-            rng: PfRng::seed_from_u64(params.seed),
+            chunk_rng_saved: chunk_rng.clone(),
+            chunk_rng,
+            rng,
+            pool,
             q_key: Mat6::from_element(f64::NAN),
             q_sqrt: Mat6::zeros(),
             q_pd: false,
@@ -581,7 +806,10 @@ impl ParticleFilter {
     }
 
     fn draw_prior(&mut self) {
-        let l = psd_sqrt(&self.p0);
+        // the prior is validated (diagonal, finite); a matrix set through `set_estimate`
+        // that has no square root falls back to the square roots of its diagonal
+        let l = psd_sqrt(&self.p0)
+            .unwrap_or_else(|| Mat6::from_diagonal(&self.p0.diagonal().map(|v| v.max(0.0).sqrt())));
         for xi in self.x.iter_mut() {
             *xi = self.x0 + l * gauss6(&mut self.rng);
         }
@@ -595,7 +823,9 @@ impl ParticleFilter {
         self.prior_mean = self.x0;
         self.prior_cov = self.p0;
         self.ess = n;
-        self.summarise();
+        // the prior itself, not the sample moments of its draws
+        self.mean = self.x0;
+        self.cov = OnceCell::from(self.p0);
     }
 
     /// Effective sample size `1 / sum w_i^2` after the last update (before resampling).
@@ -608,8 +838,8 @@ impl ParticleFilter {
         self.resamples
     }
 
-    /// Fraction of the genetic moves (crossover, mutation) accepted by the
-    /// Metropolis–Hastings test so far (NaN before the first move).
+    /// Fraction of the Metropolis–Hastings moves (rejuvenation, RPF jitter, genetic
+    /// crossover and mutation) accepted so far (NaN before the first move).
     pub fn move_acceptance(&self) -> f64 {
         self.moves_accepted as f64 / self.moves_tried as f64
     }
@@ -624,27 +854,50 @@ impl ParticleFilter {
         (&self.x, &self.w)
     }
 
+    /// Whether the particle loops run in chunks (the parallel path).
+    fn chunked(&self) -> bool {
+        !self.chunk_rng.is_empty()
+    }
+
+    /// Remember the chunk generators before a step that may fail.
+    fn save_chunk_rngs(&mut self) {
+        self.chunk_rng_saved.clone_from_slice(&self.chunk_rng);
+    }
+
+    fn restore_chunk_rngs(&mut self) {
+        self.chunk_rng.clone_from_slice(&self.chunk_rng_saved);
+    }
+
     /// Weighted mean of the particles; the covariance is computed when first asked for
     /// ([`ParticleFilter::cov`]).
     fn summarise(&mut self) {
-        let mut m = State::zeros();
-        let mut wsum = 0.0;
-        for (xi, wi) in self.x.iter().zip(&self.w) {
-            m += xi * *wi;
-            wsum += *wi;
-        }
+        let (m, wsum) = if self.chunked() {
+            let jobs: Vec<_> = self.x.chunks(CHUNK).zip(self.w.chunks(CHUNK)).collect();
+            self.pool
+                .map(jobs, |(x, w)| weighted_sum(x, w))
+                .into_iter()
+                .fold((State::zeros(), 0.0), |(m, s), (mj, sj)| (m + mj, s + sj))
+        } else {
+            weighted_sum(&self.x, &self.w)
+        };
         self.mean = m / wsum;
         self.cov = OnceCell::new();
     }
 
-    /// Weighted covariance of the particles ([`Moments`] about the weighted mean).
+    /// Weighted covariance of the particles ([`Moments`] about the weighted mean), unless
+    /// it is known.
     fn cov(&self) -> &Mat6 {
         self.cov.get_or_init(|| {
-            let mut acc = Moments::new(self.mean);
-            for (xi, wi) in self.x.iter().zip(&self.w) {
-                acc.add(xi, *wi);
+            if self.chunked() {
+                let jobs: Vec<_> = self.x.chunks(CHUNK).zip(self.w.chunks(CHUNK)).collect();
+                let mean = self.mean;
+                let parts = self.pool.map(jobs, |(x, w)| moments(&mean, x, w));
+                let mut acc = Moments::new(mean);
+                parts.iter().for_each(|p| acc.merge(p));
+                acc.finish().1
+            } else {
+                moments(&self.mean, &self.x, &self.w).finish().1
             }
-            acc.finish().1
         })
     }
 
@@ -657,7 +910,7 @@ impl ParticleFilter {
         scales: &[f64; 3],
     ) -> Result<(), FilterError> {
         // the velocity rows of a square root of the prior draw from its velocity marginal
-        let l = psd_sqrt(&self.prior_cov);
+        let l = psd_sqrt(&self.prior_cov).ok_or(FilterError::NonFinite("prior covariance"))?;
         for i in 0..self.x.len() {
             let mut zi = *z;
             let mut st = 0.0;
@@ -680,39 +933,36 @@ impl ParticleFilter {
         Ok(())
     }
 
-    fn regularise(&mut self, kernel: Kernel, cov_before: &Mat6) {
-        let h = bandwidth(kernel, self.x.len());
-        let d = psd_sqrt(cov_before) * h;
-        let beta = Beta::new(N as f64 / 2.0, 2.0).ok();
-        for xi in self.x.iter_mut() {
-            let eps = match kernel {
-                Kernel::Gaussian => gauss6(&mut self.rng),
-                Kernel::Epanechnikov => {
-                    let u = gauss6(&mut self.rng);
-                    let un = u.norm();
-                    let r2: f64 = beta.map(|b| b.sample(&mut self.rng)).unwrap_or(0.0);
-                    if un > 0.0 {
-                        u * (r2.sqrt() / un)
-                    } else {
-                        State::zeros()
-                    }
-                }
-            };
-            *xi += d * eps;
-        }
-    }
-
-    /// `ln N(x; m-, P-)`, the Gaussian of the predicted particles: the predictive density
-    /// in the target of the move steps.
+    /// `ln N(x; m-, P-)` up to a constant, the Gaussian of the predictive: the prior part
+    /// of the move steps' target (`pred_l` set by the update).
     fn log_predictive(&self, x: &State) -> f64 {
-        log_gauss(x, &self.pred_mean, &self.pred_l)
+        match self.pred_l.solve_lower_triangular(&(x - self.pred_mean)) {
+            Some(u) => -0.5 * u.norm_squared(),
+            None => f64::NEG_INFINITY,
+        }
     }
 
     /// Reorder every per-particle array by `self.idx` (after resampling).
     fn apply_resampling(&mut self) {
-        for (k, &i) in self.idx.iter().enumerate() {
-            self.x_tmp[k] = self.x[i];
-            self.loglik_tmp[k] = self.loglik[i];
+        if self.chunked() {
+            let (x, ll, idx) = (&self.x, &self.loglik, &self.idx);
+            let jobs: Vec<_> = self
+                .x_tmp
+                .chunks_mut(CHUNK)
+                .zip(self.loglik_tmp.chunks_mut(CHUNK))
+                .zip(idx.chunks(CHUNK))
+                .collect();
+            self.pool.map(jobs, |((xo, lo), ix)| {
+                for ((xk, lk), &i) in xo.iter_mut().zip(lo.iter_mut()).zip(ix) {
+                    *xk = x[i];
+                    *lk = ll[i];
+                }
+            });
+        } else {
+            for (k, &i) in self.idx.iter().enumerate() {
+                self.x_tmp[k] = self.x[i];
+                self.loglik_tmp[k] = self.loglik[i];
+            }
         }
         std::mem::swap(&mut self.x, &mut self.x_tmp);
         std::mem::swap(&mut self.loglik, &mut self.loglik_tmp);
@@ -726,39 +976,12 @@ impl ParticleFilter {
         }
     }
 
-    /// Draw particle `i` from its UKF proposal into `x_tmp[i]`, `pc_tmp[i]` and return
-    /// `ln p(x|anc) - ln q(x)`. `None` when the UKF step fails (the caller keeps the
-    /// transition draw).
-    fn unscented_move<M: MeasurementModel>(
-        &mut self,
-        i: usize,
-        sensor: &M,
-        r: &Mat3,
-        z: &Vec3,
-    ) -> Option<f64> {
-        let (m, p, _) = self
-            .ukf
-            .measurement_update(&self.xbar[i], &self.pc[i], sensor, r, z)
-            .ok()?;
-        let l = chol(&p)?;
-        let eps = gauss6(&mut self.rng);
-        let x = m + l * eps;
-        let half_logdet: f64 = (0..N).map(|k| l[(k, k)].ln()).sum();
-        let log_q = -0.5 * eps.norm_squared() - half_logdet;
-        self.x_tmp[i] = x;
-        self.pc_tmp[i] = if self.params.carry_covariance {
-            p
-        } else {
-            Mat6::zeros()
-        };
-        Some(log_gauss(&x, &self.xbar[i], &self.q_sqrt) - log_q)
-    }
-
     /// Measurement update with the sensor's likelihood under `noise` (per-component
     /// scales `scales`): the particle filters weigh with the true noise density, heavy
-    /// tails included; the unscented proposal uses the Gaussian of the same variance.
+    /// tails included; the unscented proposal and the rejuvenation's Gaussian proposal use
+    /// the Gaussian of the same variance.
     ///
-    /// A failed update changes nothing (the generator included): new particles, weights
+    /// A failed update changes nothing (the generators included): new particles, weights
     /// and covariances are written to the spare buffers and swapped in once the weights
     /// have normalised; every later step cannot fail.
     pub fn update_with<M: MeasurementModel>(
@@ -769,11 +992,128 @@ impl ParticleFilter {
         scales: &[f64; 3],
     ) -> Result<UpdateInfo, FilterError> {
         let rng = self.rng.clone();
+        self.save_chunk_rngs();
         let r = self.try_update(sensor, z, noise, scales);
         if r.is_err() {
             self.rng = rng;
+            self.restore_chunk_rngs();
         }
         r
+    }
+
+    /// The log-weights `logw_tmp` and log-likelihoods of the transition-proposal kinds.
+    fn weigh<M: MeasurementModel>(&mut self, lik: &Likelihood<'_, M>) {
+        let kernel = |x: &[State], lw: &[f64], lw_new: &mut [f64], ll: &mut [f64]| {
+            for (((xi, lw), lw_new), ll) in x.iter().zip(lw).zip(lw_new.iter_mut()).zip(ll) {
+                *ll = lik.log(xi);
+                *lw_new = *lw + *ll;
+            }
+        };
+        if self.chunked() {
+            let jobs: Vec<_> = self
+                .x
+                .chunks(CHUNK)
+                .zip(self.logw.chunks(CHUNK))
+                .zip(self.logw_tmp.chunks_mut(CHUNK))
+                .zip(self.loglik.chunks_mut(CHUNK))
+                .collect();
+            self.pool
+                .map(jobs, |(((x, lw), lwn), ll)| kernel(x, lw, lwn, ll));
+        } else {
+            kernel(&self.x, &self.logw, &mut self.logw_tmp, &mut self.loglik);
+        }
+    }
+
+    /// The unscented proposals of every particle (spare buffers).
+    fn propose_unscented<M: MeasurementModel>(&mut self, u: &Unscented<'_, M>) {
+        if self.chunked() {
+            let jobs: Vec<_> = self
+                .x
+                .chunks(CHUNK)
+                .zip(self.xbar.chunks(CHUNK))
+                .zip(self.pc.chunks(CHUNK))
+                .zip(self.logw.chunks(CHUNK))
+                .zip(self.x_tmp.chunks_mut(CHUNK))
+                .zip(self.pc_tmp.chunks_mut(CHUNK))
+                .zip(self.logw_tmp.chunks_mut(CHUNK))
+                .zip(self.loglik.chunks_mut(CHUNK))
+                .zip(self.chunk_rng.iter_mut())
+                .collect();
+            self.pool.map(
+                jobs,
+                |((((((((x, xb), pc), lw), xn), pcn), lwn), ll), rng)| {
+                    u.run(x, xb, pc, lw, xn, pcn, lwn, ll, rng)
+                },
+            );
+        } else {
+            u.run(
+                &self.x,
+                &self.xbar,
+                &self.pc,
+                &self.logw,
+                &mut self.x_tmp,
+                &mut self.pc_tmp,
+                &mut self.logw_tmp,
+                &mut self.loglik,
+                &mut self.rng,
+            );
+        }
+    }
+
+    /// Normalise `logw_tmp` into `scratch`; the log mean likelihood increment, `None` when
+    /// every weight is zero ([`normalize_log_weights`]; chunk sums combined in order on
+    /// the parallel path).
+    fn normalise(&mut self) -> Option<f64> {
+        if !self.chunked() {
+            return normalize_log_weights(&self.logw_tmp, &mut self.scratch);
+        }
+        let max = self
+            .logw_tmp
+            .iter()
+            .fold(f64::NEG_INFINITY, |m, &l| m.max(l));
+        if !max.is_finite() {
+            // no weight, or infinite ones: the sequential rules (rare, exact either way)
+            return normalize_log_weights(&self.logw_tmp, &mut self.scratch);
+        }
+        let jobs: Vec<_> = self
+            .logw_tmp
+            .chunks(CHUNK)
+            .zip(self.scratch.chunks_mut(CHUNK))
+            .collect();
+        let sum: f64 = self
+            .pool
+            .map(jobs, |(lw, w)| {
+                let mut s = 0.0;
+                for (x, &l) in w.iter_mut().zip(lw) {
+                    *x = if l.is_nan() { 0.0 } else { (l - max).exp() };
+                    s += *x;
+                }
+                s
+            })
+            .into_iter()
+            .sum();
+        let inv = 1.0 / sum;
+        let jobs: Vec<_> = self.scratch.chunks_mut(CHUNK).collect();
+        self.pool
+            .map(jobs, |w| w.iter_mut().for_each(|x| *x *= inv));
+        Some(sum.ln() + max - (self.logw_tmp.len() as f64).ln())
+    }
+
+    fn effective_sample_size(&self) -> f64 {
+        if !self.chunked() {
+            return effective_sample_size(&self.w);
+        }
+        let jobs: Vec<_> = self.w.chunks(CHUNK).collect();
+        let s: f64 = self
+            .pool
+            .map(jobs, |w| w.iter().map(|x| x * x).sum::<f64>())
+            .into_iter()
+            .sum();
+        if s > 0.0 && s.is_finite() {
+            1.0 / s
+        } else {
+            0.0
+        }
     }
 
     fn try_update<M: MeasurementModel>(
@@ -790,11 +1130,11 @@ impl ParticleFilter {
             self.logw.iter_mut().for_each(|v| *v = 0.0);
             self.awaiting_first = false;
             self.prior_mode = false;
+            self.summarise();
             if !self.pc.is_empty() {
                 // the particle's own uncertainty: the spread of the drawn positions and the
-                // prior's velocity block (or nothing: restarted from Q at the next step)
+                // prior's velocity block (or nothing: started afresh at the next step)
                 let p = if self.params.carry_covariance {
-                    self.summarise();
                     let mut p = self.prior_cov;
                     p.fixed_view_mut::<3, 3>(0, 0)
                         .copy_from(&self.cov().fixed_view::<3, 3>(0, 0));
@@ -807,7 +1147,6 @@ impl ParticleFilter {
                 self.pc.iter_mut().for_each(|c| *c = p);
             }
             self.ess = n as f64;
-            self.summarise();
             return Ok(UpdateInfo {
                 innovation: Vec3::zeros(),
                 nis: f64::NAN,
@@ -815,93 +1154,67 @@ impl ParticleFilter {
             });
         }
         let lik = Likelihood::new(sensor, z, noise, scales);
-        if self.params.kind.unscented() {
+        let kind = self.params.kind;
+        // the predictive density as a Gaussian: the prior part of the moves' target
+        (self.pred_mean, self.pred_cov) = if self.prior_mode {
+            (self.prior_mean, self.prior_cov)
+        } else {
+            (self.mean, *self.cov())
+        };
+        let needs_pred_l = match kind {
+            PfKind::Rpf => self.params.moves,
+            PfKind::Gapf | PfKind::Cgapf => true,
+            PfKind::Sir | PfKind::Upf => false,
+        };
+        if needs_pred_l {
+            self.pred_l = chol_loaded(&self.pred_cov).ok_or(FilterError::NotPositiveDefinite(
+                "predictive covariance of the particles",
+            ))?;
+        }
+        let vf = noise.variance_factor();
+        let r = Mat3::from_diagonal(&Vec3::from_fn(|k, _| scales[k] * scales[k] * vf));
+        if kind.unscented() {
             if self.prior_mode {
                 self.prior_l = chol(&self.prior_cov)
                     .ok_or(FilterError::NotPositiveDefinite("prior covariance"))?;
-            } else if !self.q_pd {
-                return Err(FilterError::NotPositiveDefinite(
-                    "process noise Q (the UPF and CGA-PF need a transition density)",
-                ));
-            }
-        }
-        if matches!(self.params.kind, PfKind::Gapf | PfKind::Cgapf) {
-            // the predicted particles (the state after predict) as a Gaussian
-            let cov = *self.cov();
-            self.pred_l = chol(&cov)
-                .or_else(|| {
-                    let eps = 1e-12 * cov.trace().max(f64::MIN_POSITIVE);
-                    chol(&(cov + Mat6::identity() * eps))
-                })
-                .ok_or(FilterError::NotPositiveDefinite(
-                    "predicted particle covariance",
-                ))?;
-            self.pred_mean = self.mean;
-        }
-        if self.params.kind.unscented() {
-            let vf = noise.variance_factor();
-            let r = Mat3::from_diagonal(&Vec3::from_fn(|k, _| scales[k] * scales[k] * vf));
-            if self.prior_mode {
-                // one UKF posterior of the Gaussian prior, every particle drawn from it
-                let (m, p, _) = self.ukf.measurement_update(
-                    &self.prior_mean,
-                    &self.prior_cov,
-                    sensor,
-                    &r,
-                    z,
-                )?;
-                let l = chol(&p).ok_or(FilterError::NotPositiveDefinite("UKF proposal"))?;
-                let half_logdet: f64 = (0..N).map(|k| l[(k, k)].ln()).sum();
-                for i in 0..n {
-                    let eps = gauss6(&mut self.rng);
-                    let x = m + l * eps;
-                    let log_q = -0.5 * eps.norm_squared() - half_logdet;
-                    let ll = lik.log(&x);
-                    self.logw_tmp[i] =
-                        self.logw[i] + ll + log_gauss(&x, &self.prior_mean, &self.prior_l) - log_q;
-                    self.loglik[i] = ll;
-                    self.x_tmp[i] = x;
-                    self.pc_tmp[i] = if self.params.carry_covariance {
-                        p
-                    } else {
-                        Mat6::zeros()
-                    };
-                }
+                self.propose_from_prior(&lik, sensor, &r, z)?;
             } else {
-                for i in 0..n {
-                    let corr = match self.unscented_move(i, sensor, &r, z) {
-                        Some(c) => c,
-                        None => {
-                            self.x_tmp[i] = self.x[i];
-                            self.pc_tmp[i] = self.pc[i];
-                            0.0
-                        }
-                    };
-                    let ll = lik.log(&self.x_tmp[i]);
-                    self.logw_tmp[i] = self.logw[i] + ll + corr;
-                    self.loglik[i] = ll;
-                }
+                let kernel = if self.params.shrinkage() {
+                    Some(
+                        ShrinkKernel::new(&self.pred_mean, &self.pred_cov, &self.q_key, n).ok_or(
+                            FilterError::NotPositiveDefinite("shrinkage kernel of the proposal"),
+                        )?,
+                    )
+                } else if self.q_pd {
+                    None
+                } else {
+                    return Err(FilterError::NotPositiveDefinite(
+                        "process noise Q (the literal UPF and CGA-PF need a transition density)",
+                    ));
+                };
+                let u = Unscented {
+                    ukf: self.ukf.clone(),
+                    lik: &lik,
+                    sensor,
+                    r,
+                    z: *z,
+                    kernel,
+                    q_sqrt: self.q_sqrt,
+                    carry: self.params.carry_covariance,
+                };
+                self.propose_unscented(&u);
             }
         } else {
-            for (((xi, lw), lw_new), ll) in self
-                .x
-                .iter()
-                .zip(&self.logw)
-                .zip(self.logw_tmp.iter_mut())
-                .zip(self.loglik.iter_mut())
-            {
-                *ll = lik.log(xi);
-                *lw_new = *lw + *ll;
-            }
+            self.weigh(&lik);
         }
         // normalise into the spare buffer; nothing is committed if every weight is zero
-        let log_mean = normalize_log_weights(&self.logw_tmp, &mut self.scratch).ok_or(
-            FilterError::NonFinite("particle weights (every likelihood is zero)"),
-        )?;
+        let log_mean = self.normalise().ok_or(FilterError::NonFinite(
+            "particle weights (every likelihood is zero)",
+        ))?;
         // commit: from here on nothing can fail
         std::mem::swap(&mut self.w, &mut self.scratch);
         std::mem::swap(&mut self.logw, &mut self.logw_tmp);
-        if self.params.kind.unscented() {
+        if kind.unscented() {
             std::mem::swap(&mut self.x, &mut self.x_tmp);
             std::mem::swap(&mut self.pc, &mut self.pc_tmp);
         }
@@ -914,14 +1227,10 @@ impl ParticleFilter {
                 *lw = w.ln();
             }
         }
-        self.ess = effective_sample_size(&self.w);
+        self.ess = self.effective_sample_size();
         self.summarise();
-        let innovation = sensor
-            .predict(&self.mean.fixed_rows::<3>(0).into_owned())
-            .map(|zh| sensor.diff(z, &zh))
-            .unwrap_or_default();
         if self.ess < self.params.threshold * n as f64 {
-            let cov_before = match self.params.kind {
+            let cov_before = match kind {
                 PfKind::Rpf | PfKind::Gapf => *self.cov(),
                 _ => Mat6::zeros(),
             };
@@ -936,31 +1245,93 @@ impl ParticleFilter {
             self.w.iter_mut().for_each(|v| *v = 1.0 / n as f64);
             self.logw.iter_mut().for_each(|v| *v = 0.0);
             self.resamples += 1;
-            // the weighted mean and covariance before a plain resampling are kept (lower
-            // variance than the resampled set's); moved particles are summarised again
-            match self.params.kind {
+            match kind {
+                PfKind::Rpf if self.params.moves => self.regularise_mh(&lik, &cov_before),
                 PfKind::Rpf => self.regularise(self.params.kernel, &cov_before),
                 PfKind::Gapf => self.genetic_moves(&lik, &cov_before),
                 PfKind::Cgapf => self.cloud_moves(&lik),
                 PfKind::Sir | PfKind::Upf => {}
             }
-            if !matches!(self.params.kind, PfKind::Sir | PfKind::Upf) {
+            // the weighted moments before a plain resampling are kept (lower variance
+            // than the resampled set's); moved particles are summarised again
+            if !self.params.moves && !matches!(kind, PfKind::Sir | PfKind::Upf) {
                 self.summarise();
             }
         }
+        if self.params.moves && !self.rejuvenate(&lik, sensor, z) {
+            self.summarise();
+        }
         self.prior_mode = false;
+        let innovation = sensor
+            .predict(&self.mean.fixed_rows::<3>(0).into_owned())
+            .map(|zh| sensor.diff(z, &zh))
+            .unwrap_or_default();
         Ok(UpdateInfo {
             innovation,
             nis: f64::NAN,
             azimuth_used: true,
         })
     }
+
+    /// The unscented kinds' first update from the Gaussian prior ([`PfInit::Prior`]):
+    /// one UKF posterior of the prior, every particle drawn from it.
+    fn propose_from_prior<M: MeasurementModel>(
+        &mut self,
+        lik: &Likelihood<'_, M>,
+        sensor: &M,
+        r: &Mat3,
+        z: &Vec3,
+    ) -> Result<(), FilterError> {
+        let (m, p, _) =
+            self.ukf
+                .measurement_update(&self.prior_mean, &self.prior_cov, sensor, r, z)?;
+        let l = chol(&p).ok_or(FilterError::NotPositiveDefinite("UKF proposal"))?;
+        let half_logdet: f64 = (0..N).map(|k| l[(k, k)].ln()).sum();
+        let pc = if self.params.carry_covariance {
+            p
+        } else {
+            Mat6::zeros()
+        };
+        for i in 0..self.x.len() {
+            let eps = gauss6(&mut self.rng);
+            let x = m + l * eps;
+            let log_q = -0.5 * eps.norm_squared() - half_logdet;
+            let ll = lik.log(&x);
+            self.logw_tmp[i] =
+                self.logw[i] + ll + log_gauss(&x, &self.prior_mean, &self.prior_l) - log_q;
+            self.loglik[i] = ll;
+            self.x_tmp[i] = x;
+            self.pc_tmp[i] = pc;
+        }
+        Ok(())
+    }
+}
+
+/// `(sum w_i x_i, sum w_i)`.
+fn weighted_sum(x: &[State], w: &[f64]) -> (State, f64) {
+    let mut m = State::zeros();
+    let mut s = 0.0;
+    for (xi, wi) in x.iter().zip(w) {
+        m += xi * *wi;
+        s += *wi;
+    }
+    (m, s)
+}
+
+/// [`Moments`] of `x` with weights `w` about `reference`.
+fn moments(reference: &State, x: &[State], w: &[f64]) -> Moments {
+    let mut acc = Moments::new(*reference);
+    for (xi, wi) in x.iter().zip(w) {
+        acc.add(xi, *wi);
+    }
+    acc
 }
 
 impl Estimator for ParticleFilter {
-    /// Transition draw `x_i <- Phi x_i + Gamma a + w_i` fused with the weighted moments.
-    /// The new particles go to the spare buffers and are swapped in only when the mean is
-    /// finite: a failed prediction changes nothing (the generator included).
+    /// Transition draw `x_i <- Phi x_i + Gamma a + w_i`; the predicted mean and covariance
+    /// are the particle predictive's, `Phi m + Gamma a` and `Phi P Phi^T + Q`. The new
+    /// particles go to the spare buffers and are swapped in only when they are finite: a
+    /// failed prediction changes nothing (the generators included).
     fn predict(&mut self, model: &DiscreteModel, accel: &Vec3) -> Result<(), FilterError> {
         // the square root of Q is cached per Q; the next update's transition density uses
         // it, so it is committed with the particles
@@ -969,43 +1340,57 @@ impl Estimator for ParticleFilter {
         } else {
             match chol(&model.q) {
                 Some(l) => (l, true),
-                None => (psd_sqrt(&model.q), false),
+                None => (
+                    psd_sqrt(&model.q).ok_or(FilterError::NonFinite("process noise Q"))?,
+                    false,
+                ),
             }
         };
-        // a diagonal Q (paper 000's) needs 6 products per particle instead of 36
-        let diag = (l == Mat6::from_diagonal(&l.diagonal())).then(|| l.diagonal());
-        let u = model.gamma * accel;
         let phi = model.phi;
-        let blocks = CwBlocks::of(&phi);
-        // moments about a reference point near the mean (no cancellation)
-        let reference = phi * self.mean + u;
+        let tr = Transition {
+            blocks: CwBlocks::of(&phi),
+            phi,
+            u: model.gamma * accel,
+            // a diagonal Q (paper 000's) needs 6 products per particle instead of 36
+            diag: (l == Mat6::from_diagonal(&l.diagonal())).then(|| l.diagonal()),
+            l,
+        };
+        let mean = phi * self.mean + tr.u;
+        let cov = symmetrize(&(phi * *self.cov() * phi.transpose() + model.q));
         let rng_saved = self.rng.clone();
-        let mut acc = Moments::new(reference);
-        for (i, ((xi, xn), wi)) in self
-            .x
-            .iter()
-            .zip(self.x_tmp.iter_mut())
-            .zip(&self.w)
-            .enumerate()
-        {
-            let xb = match &blocks {
-                Some(b) => b.apply(xi) + u,
-                None => phi * *xi + u,
-            };
-            if let Some(slot) = self.xbar_tmp.get_mut(i) {
-                *slot = xb;
-            }
-            let e = gauss6(&mut self.rng);
-            *xn = match &diag {
-                Some(d) => xb + e.component_mul(d),
-                None => xb + l * e,
-            };
-            acc.add(xn, *wi);
-        }
-        let (mean, cov) = acc.finish();
-        if !mean.iter().all(|v| v.is_finite()) {
+        self.save_chunk_rngs();
+        let check = if self.chunked() {
+            let jobs: Vec<_> = self
+                .x
+                .chunks(CHUNK)
+                .zip(self.x_tmp.chunks_mut(CHUNK))
+                .zip(par::chunks_mut(&mut self.xbar_tmp))
+                .zip(self.chunk_rng.iter_mut())
+                .collect();
+            self.pool
+                .map(jobs, |(((x, xn), xb), rng)| tr.run(x, xn, xb, rng))
+                .into_iter()
+                .sum()
+        } else {
+            tr.run(&self.x, &mut self.x_tmp, &mut self.xbar_tmp, &mut self.rng)
+        };
+        // the Gaussian prior before the first weighting update moves with the particles
+        let prior = self.prior_mode.then(|| {
+            (
+                phi * self.prior_mean + tr.u,
+                symmetrize(&(phi * self.prior_cov * phi.transpose() + model.q)),
+            )
+        });
+        let finite = |m: &[f64]| m.iter().all(|v| v.is_finite());
+        let prior_bad = prior.is_some_and(|(m, p)| !finite(m.as_slice()) || !finite(p.as_slice()));
+        if !check.is_finite() || !finite(mean.as_slice()) || prior_bad {
             self.rng = rng_saved;
-            return Err(FilterError::NonFinite("particle mean"));
+            self.restore_chunk_rngs();
+            return Err(FilterError::NonFinite(if prior_bad {
+                "predicted prior"
+            } else {
+                "predicted particles"
+            }));
         }
         std::mem::swap(&mut self.x, &mut self.x_tmp);
         std::mem::swap(&mut self.xbar, &mut self.xbar_tmp);
@@ -1015,9 +1400,8 @@ impl Estimator for ParticleFilter {
         for p in self.pc.iter_mut() {
             *p = symmetrize(&(phi * *p * phi.transpose() + model.q));
         }
-        if self.prior_mode {
-            self.prior_mean = phi * self.prior_mean + u;
-            self.prior_cov = symmetrize(&(phi * self.prior_cov * phi.transpose() + model.q));
+        if let Some((m, p)) = prior {
+            (self.prior_mean, self.prior_cov) = (m, p);
         }
         Ok(())
     }
@@ -1046,6 +1430,8 @@ impl Estimator for ParticleFilter {
         self.x0 = x;
         self.p0 = p;
         self.rng = PfRng::seed_from_u64(self.params.seed);
+        self.chunk_rng = par::chunk_generators(&self.rng, self.x.len());
+        self.chunk_rng_saved.clone_from(&self.chunk_rng);
         self.resamples = 0;
         self.moves_tried = 0;
         self.moves_accepted = 0;
@@ -1059,10 +1445,13 @@ impl Estimator for ParticleFilter {
 /// weight, log-likelihood and the pairing permutation (u32; the genetic moves shuffle it in
 /// place, so its order is state); then the weighted mean, the cached covariance (if
 /// computed), the ESS, the initialisation flags, the Gaussian prior and its factor, the
-/// move steps' predictive Gaussian, the generator's four state words, the cached `Q`, its
-/// square root and definiteness, and the counters. The settings and the unscented
-/// proposal's weights are configuration; the `*_tmp`, `logpi`, `idx` and `scratch`
-/// buffers are overwritten by every step before they are read.
+/// move steps' predictive Gaussian (mean, covariance, factor), the generator's four state
+/// words and those of every chunk generator of the parallel path (one per 4096 particles
+/// from `PARALLEL_MIN_PARTICLES` on, none below), the cached `Q`, its square root and
+/// definiteness, and the counters (resamplings, moves tried and accepted). The settings,
+/// the worker pool and the unscented proposal's weights are configuration; the `*_tmp`,
+/// `logpi`, `idx` and `scratch` buffers and the chunk generators' saved copies are
+/// overwritten by every step before they are read.
 impl Persist for ParticleFilter {
     fn save_state(&self, w: &mut Writer<'_>) {
         let Self {
@@ -1093,8 +1482,12 @@ impl Persist for ParticleFilter {
             prior_cov,
             prior_l,
             pred_mean,
+            pred_cov,
             pred_l,
             rng,
+            chunk_rng,
+            chunk_rng_saved,
+            pool: _,
             q_key,
             q_sqrt,
             q_pd,
@@ -1123,10 +1516,15 @@ impl Persist for ParticleFilter {
         w.matrix(prior_cov);
         w.matrix(prior_l);
         w.matrix(pred_mean);
+        w.matrix(pred_cov);
         w.matrix(pred_l);
-        for word in rng_state(rng).unwrap_or([0; 4]) {
-            w.u64(word);
+        for g in std::iter::once(rng).chain(chunk_rng.iter()) {
+            for word in rng_state(g).unwrap_or([0; 4]) {
+                w.u64(word);
+            }
         }
+        // the saved copies are rewritten at the start of every step before they are read
+        let _ = chunk_rng_saved;
         w.matrix(q_key);
         w.matrix(q_sqrt);
         w.bool(*q_pd);
@@ -1164,8 +1562,12 @@ impl Persist for ParticleFilter {
             prior_cov,
             prior_l,
             pred_mean,
+            pred_cov,
             pred_l,
             rng,
+            chunk_rng,
+            chunk_rng_saved,
+            pool: _,
             q_key,
             q_sqrt,
             q_pd,
@@ -1225,14 +1627,18 @@ impl Persist for ParticleFilter {
         *prior_cov = r.matrix("prior covariance")?;
         *prior_l = r.matrix("prior covariance factor")?;
         *pred_mean = r.matrix("predictive mean")?;
+        *pred_cov = r.matrix("predictive covariance")?;
         *pred_l = r.matrix("predictive covariance factor")?;
-        let mut s = [0u64; 4];
-        for word in s.iter_mut() {
-            *word = r.u64("generator state")?;
+        for g in std::iter::once(rng).chain(chunk_rng.iter_mut()) {
+            let mut s = [0u64; 4];
+            for word in s.iter_mut() {
+                *word = r.u64("generator state")?;
+            }
+            *g = rng_from_state(s).ok_or_else(|| {
+                refuse("a particle filter's generator state is all zero (not a xoshiro256++ state)")
+            })?;
         }
-        *rng = rng_from_state(s).ok_or_else(|| {
-            refuse("the particle filter's generator state is all zero (not a xoshiro256++ state)")
-        })?;
+        chunk_rng_saved.clone_from(chunk_rng);
         *q_key = r.matrix("cached process noise")?;
         *q_sqrt = r.matrix("cached square root of the process noise")?;
         *q_pd = r.bool("process-noise definiteness flag")?;
@@ -1267,6 +1673,23 @@ mod tests {
         let mut coupled = Mat6::identity();
         coupled[(0, 2)] = 1e-3;
         assert!(CwBlocks::of(&coupled).is_none());
+    }
+
+    /// Merged partial moments equal the one-pass moments of the whole set.
+    #[test]
+    fn merged_moments_equal_one_pass() {
+        let x: Vec<State> = (0..1000)
+            .map(|k| State::from_fn(|i, _| ((i * 13 + k * 7) as f64).sin() * (i + 1) as f64))
+            .collect();
+        let w: Vec<f64> = (0..1000).map(|k| 1.0 + (k as f64).cos()).collect();
+        let c = State::from_element(0.1);
+        let (m1, p1) = moments(&c, &x, &w).finish();
+        let mut acc = Moments::new(c);
+        for (xs, ws) in x.chunks(64).zip(w.chunks(64)) {
+            acc.merge(&moments(&c, xs, ws));
+        }
+        let (m2, p2) = acc.finish();
+        assert!((m1 - m2).abs().max() < 1e-12 && (p1 - p2).abs().max() < 1e-12);
     }
 
     /// The generator's state words read through serde rebuild the same stream (and are

@@ -1,0 +1,242 @@
+"""Type stubs of the extension module relnav._relnav (Rust, PyO3)."""
+
+from __future__ import annotations
+
+from os import PathLike
+from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+
+_Vec3 = Union[Sequence[float], npt.ArrayLike]
+_FloatArray = npt.NDArray[np.float64]
+
+class Estimator:
+    """A relative-navigation estimator: one filter of the library behind the FMU's step
+    semantics, in the configured frame and SI units (angles in radians). Keyword
+    arguments are the FMU's parameters (``relnav.parameters()``)."""
+
+    # --- parameters: begin (generated from relnav.parameters() by tests/python/test_package_api.py; regenerate: RELNAV_BLESS_STUBS=1 pytest tests/python/test_package_api.py) ---
+    def __init__(
+        self,
+        *,
+        filter: Union[int, str] = 'ekf',
+        frame: Union[int, str] = 'along_radial_antinormal',
+        discretization: Union[int, str] = 'exact',
+        mean_motion: float = 0.0008726646259971648,
+        chaser_mass: float = 1000.0,
+        sigma_range: float = 0.5,
+        sigma_angle: float = 0.00017453292519943296,
+        x0: float = 405.0,
+        y0: float = 505.0,
+        z0: float = 205.0,
+        vx0: float = 0.1,
+        vy0: float = 0.1,
+        vz0: float = 0.1,
+        sigma_pos0: float = 50.0,
+        sigma_vel0: float = 1.0,
+        accel_psd: float = 0.0,
+        q_pos_x: float = 0.09,
+        q_pos_y: float = 0.000625,
+        q_pos_z: float = 0.0025,
+        q_vel_x: float = 1e-06,
+        q_vel_y: float = 1e-06,
+        q_vel_z: float = 1e-06,
+        ukf_alpha: float = 1.0,
+        ukf_beta: float = 2.0,
+        ukf_kappa: float = 0.0,
+        seed: int = 0,
+        particles: int = 1500,
+        resampler: Union[int, str] = 'systematic',
+        resample_threshold: float = 0.6666666666666666,
+        noise_model: Union[int, str] = 'gaussian',
+        noise_zeta: float = 0.2,
+        noise_scale: float = 10.0,
+        noise_dof: float = 4.0,
+        window: int = 10,
+        hinf_period: float = 1.0,
+        hinf_delta_bar: float = 0.05,
+        hinf_b_pos: float = 0.0,
+        hinf_b_vel: float = 0.0,
+        hinf_d: float = 0.0,
+        hinf_design: Union[int, str] = 'mixed',
+        hinf_gamma_factor: float = 1.5,
+        hinf_acquisition: bool = True,
+        aq_law: Union[int, str] = 'gated',
+        aq_gate_window: int = 10,
+        aq_gate_quantile: float = 0.999,
+        imm_modes: int = 3,
+        imm_accel_psd_1: float = 0.0,
+        imm_accel_psd_2: float = 1e-06,
+        imm_accel_psd_3: float = 0.001,
+        imm_p_stay_1: float = 0.99999,
+        imm_p_stay_2: float = 0.9,
+        imm_p_stay_3: float = 0.9,
+        pf_move: bool = True,
+        pf_threads: int = 0,
+    ) -> None:
+        """Keyword arguments are the FMU's parameters (names, types, defaults):
+
+            filter: Estimator (codes 1-10: 1-3 Kalman (EKF, UKF, AQUKF), 4-8 particle filters, 9 robust H-infinity, 10 IMM). One of: 1 ekf, 2 ukf, 3 aqukf, 4 pf, 5 rpf, 6 upf, 7 gapf, 8 cgapf, 9 hinf, 10 imm.
+            frame: Hill-frame convention of every input and output vector and angle. One of: 1 radial_along_normal, 2 along_radial_antinormal, 3 along_antinormal_nadir.
+            discretization: Discretisation of the CW model. One of: 1 exact, 2 euler.
+            mean_motion [rad/s]: Mean motion of the target's circular orbit (> 0).
+            chaser_mass [kg]: Chaser mass: thrust / mass = acceleration (> 0).
+            sigma_range [m]: Range measurement noise, 1 sigma of the Gaussian (nominal sigma of the other noise models; > 0).
+            sigma_angle [rad]: Azimuth and elevation measurement noise, 1 sigma of the Gaussian (nominal sigma of the other noise models; > 0).
+            x0 [m]: Initial estimate of x.
+            y0 [m]: Initial estimate of y.
+            z0 [m]: Initial estimate of z.
+            vx0 [m/s]: Initial estimate of vx.
+            vy0 [m/s]: Initial estimate of vy.
+            vz0 [m/s]: Initial estimate of vz.
+            sigma_pos0 [m]: Initial position uncertainty per axis, 1 sigma (> 0).
+            sigma_vel0 [m/s]: Initial velocity uncertainty per axis, 1 sigma (> 0).
+            accel_psd [m2/s3]: Process noise: spectral density of a continuous white acceleration per axis (Van Loan discretisation; >= 0).
+            q_pos_x [m2/s]: Process noise: x position variance added per second (discrete Q = q h; >= 0).
+            q_pos_y [m2/s]: Process noise: y position variance added per second (>= 0).
+            q_pos_z [m2/s]: Process noise: z position variance added per second (>= 0).
+            q_vel_x [m2/s3]: Process noise: vx variance added per second (>= 0).
+            q_vel_y [m2/s3]: Process noise: vy variance added per second (>= 0).
+            q_vel_z [m2/s3]: Process noise: vz variance added per second (>= 0).
+            ukf_alpha: UKF sigma-point spread alpha (> 0); also the unscented proposal of upf and cgapf.
+            ukf_beta: UKF beta (2 for Gaussian priors).
+            ukf_kappa: UKF kappa.
+            seed: Seed of the filters that draw random numbers (identical seeds give identical outputs).
+            particles: Number of particles of the particle filters (codes 4-8; 1..2000000).
+            resampler: Resampling scheme of the particle filters. One of: 1 multinomial, 2 systematic, 3 stratified, 4 residual.
+            resample_threshold: The particle filters resample when the effective sample size drops below resample_threshold * particles (in (0, 1]; paper 000: 2/3).
+            noise_model: Measurement-noise density scaled by sigma_range and sigma_angle: the particle filters weigh with it, the Kalman filters assume the Gaussian of its variance. One of: 1 gaussian, 2 mixture, 3 student_t.
+            noise_zeta: Mixture noise: weight of the wide component (in [0, 1)).
+            noise_scale: Mixture noise: sigma of the wide component over the nominal sigma (>= 1).
+            noise_dof: Student-t noise: degrees of freedom (> 2).
+            window: AQUKF (filter 3): sliding-window width N of the adaptive process noise (1..512; paper 001: 10). For the AQUKF, q_vel_* is the initial adaptive density.
+            hinf_period [s]: H-infinity filter (code 9): sampling period of its discrete design; fmi2DoStep with another step size is refused (set it to the communication step).
+            hinf_delta_bar: H-infinity filter: bound of the orbit-rate uncertainty, w = w0 (1 + delta), |delta| <= hinf_delta_bar (paper 002: 0.05).
+            hinf_b_pos [m]: H-infinity filter: process-noise scaling on positions (paper 002 B: 0.05); 0 with hinf_b_vel = 0 (default): derived from accel_psd, q_pos_*, q_vel_* (the noise every other filter uses).
+            hinf_b_vel [m/s]: H-infinity filter: process-noise scaling on velocities (paper 002 B: 0.001); 0 with hinf_b_pos = 0 (default): derived.
+            hinf_d [m]: H-infinity filter: scaling of the indirect position measurement noise (paper 002 D: 0.1); 0 (default): derived from sigma_range, sigma_angle and the noise model at the initial estimate's position.
+            hinf_design: H-infinity filter: the LMI design (mixed H2/H-infinity by default; gamma_optimal is issue 5's filter). One of: 1 gamma_optimal, 3 mixed.
+            hinf_gamma_factor: H-infinity filter, mixed design: bound on the certified gamma (hinf_gamma) as a multiple of the gamma-optimal design's (> 1).
+            hinf_acquisition: H-infinity filter: start with the Kalman gain of the design's noise model and hand over to the designed gain once that is no worse (track initiation); false: the designed gain from the first step.
+            aq_law: AQUKF (filter 3): adaptation law of the velocity process noise (1 window: paper 001 at every update; 2 gated: only while the windowed NIS exceeds its chi-square bound). One of: 1 window, 2 gated.
+            aq_gate_window: AQUKF, gated law: number of measurement updates in the windowed NIS (1..128).
+            aq_gate_quantile: AQUKF, gated law: the gate opens when the windowed NIS exceeds its chi-square quantile at this probability (in (0, 1)).
+            imm_modes: IMM (filter 10): number of modes (2 or 3).
+            imm_accel_psd_1 [m2/s3]: IMM: white-acceleration density added to the process noise in mode 1 (the quiet mode; >= 0).
+            imm_accel_psd_2 [m2/s3]: IMM: white-acceleration density added to the process noise in mode 2 (>= 0).
+            imm_accel_psd_3 [m2/s3]: IMM: white-acceleration density added to the process noise in mode 3 (>= 0; unused with 2 modes).
+            imm_p_stay_1: IMM: probability of staying in mode 1 over one second (in (0, 1)).
+            imm_p_stay_2: IMM: probability of staying in mode 2 over one second (in (0, 1)).
+            imm_p_stay_3: IMM: probability of staying in mode 3 over one second (in (0, 1)).
+            pf_move: Particle filters (codes 4-8): move the particles after every update with Metropolis-Hastings steps that leave the posterior invariant (as accurate as the EKF on Gaussian noise, also with small process noise); false: the papers' literal filters (paper 000's SIR, plain RPF, van der Merwe's UPF), which degenerate with small process noise.
+            pf_threads: Particle filters: worker threads of the particle loops from 32768 particles on (0: one per core; 1: the calling thread; <= 1024); results do not depend on it.
+        """
+    # --- parameters: end ---
+    def step(self, thrust: _Vec3, measurement: Optional[_Vec3] = None, dt: float = 1.0) -> None:
+        """Update with ``measurement`` = (range [m], azimuth [rad], elevation [rad]) taken
+        at the step's start (``None``: no measurement), then predict over ``dt`` [s] with
+        ``thrust`` (x, y, z) [N] held constant. A failed step changes nothing and raises
+        the library's error."""
+    def predict(self, thrust: _Vec3, dt: float = 1.0) -> None:
+        """Time update only: predict over ``dt`` [s] with ``thrust`` [N] held."""
+    def update(self, measurement: _Vec3) -> None:
+        """Measurement update only, with (range [m], azimuth [rad], elevation [rad])."""
+    def reset(self) -> None:
+        """Back to the initial estimate (a particle filter redraws from its seed)."""
+    def run(
+        self,
+        thrust: npt.ArrayLike,
+        measurements: Optional[npt.ArrayLike] = None,
+        valid: Optional[npt.ArrayLike] = None,
+        dt: Union[float, npt.ArrayLike, None] = None,
+    ) -> Tuple[_FloatArray, _FloatArray]:
+        """K steps in one call without the GIL: thrust K x 3 [N], measurements K x 3 or
+        None, valid K booleans (default: every row when measurements are given), dt one
+        number or K numbers (default 1 s). Row k is ``step(thrust[k], measurements[k] if
+        valid[k] else None, dt[k])``; returns (estimates, sigmas), each K x 6, row k after
+        step k."""
+    @property
+    def state(self) -> _FloatArray:
+        """The estimate (x, y, z [m], vx, vy, vz [m/s]) in the configured frame."""
+    @property
+    def covariance(self) -> _FloatArray:
+        """The 6 x 6 covariance (NaN for the H-infinity filter)."""
+    @property
+    def sigma(self) -> _FloatArray:
+        """1-sigma per state component (NaN for the H-infinity filter)."""
+    @property
+    def ess(self) -> float:
+        """Effective sample size of a particle filter (NaN for the others)."""
+    @property
+    def q_vv(self) -> _FloatArray:
+        """The AQUKF's adaptive velocity process-noise density per axis [m^2/s^3] (NaN
+        for the other filters)."""
+    @property
+    def hinf_gamma(self) -> float:
+        """The H-infinity design's certified gamma (NaN for the other filters)."""
+    @property
+    def params(self) -> Dict[str, Union[float, int, bool, str]]:
+        """Every parameter's value (enumerations by name)."""
+
+class CampaignResult:
+    """The result of :func:`relnav.campaign`."""
+
+    @property
+    def scenario(self) -> str: ...
+    @property
+    def title(self) -> str: ...
+    @property
+    def runs(self) -> int:
+        """Completed runs."""
+    @property
+    def interrupted(self) -> bool: ...
+    @property
+    def t(self) -> _FloatArray:
+        """Times [s]."""
+    @property
+    def filters(self) -> List[str]:
+        """Filter labels in scenario order."""
+    @property
+    def summary(self) -> List[Dict[str, Union[str, int, float]]]:
+        """One dict per filter with the columns and numbers of ``summary.csv``."""
+    @property
+    def timeseries(self) -> Dict[str, _FloatArray]:
+        """The columns of ``timeseries.csv``."""
+    @property
+    def pcrlb(self) -> Optional[_FloatArray]:
+        """The PCRLB's diagonal (K x 6 variances) or None where undefined."""
+    @property
+    def pcrlb_reason(self) -> Optional[str]: ...
+    def markdown(self) -> str:
+        """The CLI's Markdown table."""
+    def write_csv(self, dir: Union[str, PathLike[str]]) -> List[str]:
+        """Write ``timeseries.csv`` and ``summary.csv`` into ``dir``."""
+    def write_plots(self, dir: Union[str, PathLike[str]]) -> List[str]:
+        """Write the CLI's PNG plots into ``dir``."""
+
+class _Campaign:
+    def __init__(self, scenario: Union[str, Mapping[str, Any]], runs: Optional[int] = None) -> None: ...
+    @property
+    def name(self) -> str: ...
+    @property
+    def runs(self) -> int: ...
+    @property
+    def chunks(self) -> List[Tuple[int, int]]: ...
+    def run_chunk(self, index: int) -> bytes: ...
+    def reducer(self) -> _Reducer: ...
+
+class _Reducer:
+    def add(self, partial: bytes) -> None: ...
+    @property
+    def next_index(self) -> int: ...
+    @property
+    def runs(self) -> int: ...
+    def finish(self) -> CampaignResult: ...
+
+def parameters_table() -> List[Dict[str, Any]]: ...
+def scenario_toml(source: Union[str, Mapping[str, Any]]) -> str: ...
+def builtin_scenario(name: str) -> Optional[str]: ...
+def builtin_scenarios() -> List[str]: ...

@@ -1,0 +1,51 @@
+"""How the Python package is built and installed: a wheel with its type information, and
+one compiled relnav shared by the CLI/FMU build and the extension's build (the features
+of every crate both depend on are the same, so cargo builds it once: a full release
+compile less in CI)."""
+
+from __future__ import annotations
+
+import importlib.resources
+import re
+import shutil
+import subprocess
+
+import pytest
+
+import relnav
+from conftest import REPO_ROOT
+
+def crate_features(package: str) -> dict:
+    cargo = shutil.which("cargo")
+    if cargo is None:
+        pytest.fail("cargo not found (scripts/test.sh puts ~/.cargo/bin on PATH)", pytrace=False)
+    out = subprocess.run(
+        [cargo, "tree", "--offline", "--locked", "-e", "features,no-dev", "-p", package, "--prefix", "none", "-f", "{p} | {f}"],
+        cwd=REPO_ROOT, capture_output=True, text=True, timeout=120, check=True,
+    ).stdout
+    feats: dict = {}
+    for line in out.splitlines():
+        m = re.match(r"^(\S+) v(\S+).*? \| (.*?)(?: \(\*\))?$", line)
+        if m:
+            feats[(m[1], m[2])] = m[3]
+    return feats
+
+
+def test_cli_and_extension_builds_share_relnavs_dependencies():
+    alone, ext = crate_features("relnav"), crate_features("relnav-python")
+    differ = {k: (alone[k], ext[k]) for k in alone if k in ext and alone[k] != ext[k]}
+    assert any(name == "relnav" for name, _ in ext) and len(alone) > 50
+    assert not differ, (
+        "these crates get other features in the Python extension's build than in `cargo build --release`, so "
+        "relnav and its dependencies would be compiled twice; request the extension's features in the top-level "
+        f"Cargo.toml (see the comment there): {differ}"
+    )
+
+
+def test_installed_package_has_its_type_information():
+    files = importlib.resources.files("relnav")
+    for name in ("py.typed", "_relnav.pyi", "errors.py", "_campaign.py"):
+        assert files.joinpath(name).is_file(), name
+    assert relnav.Estimator.__doc__ and "FMU" in relnav.Estimator.__doc__
+    assert relnav.Estimator.run.__doc__ and "GIL" in relnav.Estimator.run.__doc__
+    assert relnav.campaign.__doc__ and "bit-identical" in relnav.campaign.__doc__
