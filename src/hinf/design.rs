@@ -406,6 +406,14 @@ impl Sdp {
             max_iter: opts.max_iter,
             verbose: false,
             equilibrate_enable: self.equilibrate,
+            // Clarabel's own choice of LDL per KKT matrix (its `faer-sparse` feature, as in
+            // its Python wheel): faer's supernodal factorisation where the KKT system is
+            // dense enough (flops / nnz(L) >= 40: the paper form's PSD blocks; 4.0 G -> 1.8
+            // G instructions), QDLDL elsewhere (the observer designs). docs/evaluation.md,
+            // "H-infinity design speed".
+            direct_solve_method: "auto".to_string(),
+            // one thread: deterministic, and the machine's cores belong to the caller
+            max_threads: 1,
             ..DefaultSettings::default()
         };
         let mut solver =
