@@ -12,7 +12,7 @@
 //! `P- = sum Wc (chi_i - x-)(chi_i - x-)^T + Q` (additive noise; [`Ukf::predict_with`],
 //! used for nonlinear models). For the linear CW model this equals the Kalman time update
 //! — the unscented transform is exact for linear maps — so [`Estimator::predict`] with a
-//! [`DiscreteModel`] computes that form directly (issue 15: a third of the step's cost);
+//! [`DiscreteModel`] computes that form directly (issue 15: a quarter of the step's instructions);
 //! the tests check that both agree to rounding.
 //!
 //! Measurement update: sigma points are redrawn from `(x-, P-)`, passed through `h`, and
