@@ -3,7 +3,8 @@
 #
 #   setup (scripts/setup.sh, also builds and installs the Python package relnav)
 #   -> cargo fmt --check -> cargo clippy -D warnings (workspace) -> cargo test
-#   -> cargo build --release -> FMU (cargo run --release --bin relnav-fmu)
+#   -> cargo build --release -> FMUs and SSP (fmu/build.sh: relnav.fmu, the system kit's
+#   relnav_plant.fmu, relnav_guidance.fmu, relnav_system.ssp)
 #   -> pytest tests/python (in .venv) -> C++ harness (cmake, build, ctest; valgrind)
 #   -> C++ harness under ASan+UBSan (second build dir) -> fuzz smoke run (scripts/fuzz.sh
 #   smoke, 20 s per target, only when nightly Rust and cargo-fuzz are installed)
@@ -115,7 +116,7 @@ stage "cargo clippy" optional cargo clippy --workspace --all-targets -j"$JOBS" -
 stage "cargo test" optional cargo test --all-targets -j"$JOBS"
 stage "cargo test --doc" optional cargo test --doc -j"$JOBS"
 stage "cargo build --release" required cargo build --release -j"$JOBS"
-stage "build FMU" required cargo run --release -j"$JOBS" --bin relnav-fmu
+stage "build FMUs" required bash fmu/build.sh -j"$JOBS"
 stage "pytest tests/python" optional run_pytest
 stage "C++ harness" optional run_cpp_harness
 stage "C++ harness (ASan+UBSan)" optional run_cpp_harness_sanitized

@@ -26,6 +26,7 @@
 //!   against a prediction of 0.01° is a 0.02° residual, not 359.98°.
 
 use crate::frames::Frame;
+use crate::noise::NoiseModel;
 use crate::types::{Mat3, Mat36, Vec3};
 use rand::Rng;
 use rand_distr::StandardNormal;
@@ -373,6 +374,30 @@ impl RadioSensor {
             wrap_2pi(z.y + self.sigma_angle * n1),
             (z.z + self.sigma_angle * n2).clamp(-FRAC_PI_2, FRAC_PI_2),
         ))
+    }
+
+    /// A measurement of the canonical position `r` with additive noise from the density
+    /// `noise` (see [`crate::noise`]): `z_i = h_i(r) + v_i`, `v_i` drawn with scale
+    /// `sigma_range` for the range and `sigma_angle` for each angle, in that order, `ar`
+    /// holding the AR(1) model's previous sample per component. Wrapped and clamped as
+    /// [`RadioSensor::measure`]. `None` at zero range (then nothing is drawn). The truth of
+    /// the evaluation engine and the plant FMU (`relnav_plant`) both measure through it.
+    pub fn measure_with<R: Rng + ?Sized>(
+        &self,
+        r: &Vec3,
+        noise: &NoiseModel,
+        ar: &mut [f64; 3],
+        rng: &mut R,
+    ) -> Option<Vec3> {
+        let mut z = self.h(r)?;
+        let sigma = [self.sigma_range, self.sigma_angle, self.sigma_angle];
+        for i in 0..3 {
+            z[i] += noise.sample(sigma[i], &mut ar[i], rng);
+        }
+        z.x = z.x.max(0.0);
+        z.y = wrap_2pi(z.y);
+        z.z = z.z.clamp(-FRAC_PI_2, FRAC_PI_2);
+        Some(z)
     }
 }
 

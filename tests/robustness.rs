@@ -445,11 +445,21 @@ fn reseal_estimator_state(b: &mut [u8]) {
 fn restore_contract(nav: &mut Navigator, b: &[u8], what: &str) {
     let (x, p) = (nav.state(), nav.covariance());
     match nav.restore_state(b) {
-        Ok(()) => assert!(
-            nav.state().iter().all(|v| v.is_finite()),
-            "{what}: accepted with estimate {:?}",
-            nav.state()
-        ),
+        Ok(()) => {
+            assert!(
+                nav.state().iter().all(|v| v.is_finite()),
+                "{what}: accepted with estimate {:?}",
+                nav.state()
+            );
+            // a reset cannot fail: an accepted state must not make it non-finite (the
+            // `capi` fuzz target's H-infinity state with a huge C_F^-1, 1 December 2026)
+            nav.reset();
+            assert!(
+                nav.state().iter().all(|v| v.is_finite()),
+                "{what}: accepted, then reset to {:?}",
+                nav.state()
+            );
+        }
         Err(e) => {
             assert_eq!(e.kind, NavErrorKind::InvalidState, "{what}: {}", e.message);
             let same =
@@ -472,7 +482,11 @@ fn restore_contract(nav: &mut Navigator, b: &[u8], what: &str) {
 /// unchanged, or a finite estimate. The particle filters' state has grown since the
 /// finding, so the artifact's offset no longer lands in the weighted mean: the same three
 /// 0xff bytes are written at every offset of the CGA-PF state, and at least one (the
-/// weighted mean) must be refused for its non-finite estimate.
+/// weighted mean) must be refused for its non-finite estimate. Two more patches, the finite
+/// but huge 1e300 and `f64::MAX`, and a reset after every accepted state, come from the `capi` target's
+/// finding of 1 December 2026: an H-infinity state with a huge `C_F^-1` was accepted (its
+/// estimate was finite) and the next reset, which cannot fail, gave infinities; a restored
+/// `C_F` / `C_F^-1` must now be an inverse pair of moderate size.
 #[test]
 fn crafted_states_behind_a_valid_checksum_never_give_a_nan_estimate() {
     let cfg = NavConfig {
@@ -522,7 +536,9 @@ fn crafted_states_behind_a_valid_checksum_never_give_a_nan_estimate() {
             let mut good = Vec::new();
             nav.save_state(&mut good);
             for at in 32..good.len() {
-                for patch in [&f64::NAN.to_le_bytes()[..], &[0xff; 3][..]] {
+                let (huge, max) = (1e300f64.to_le_bytes(), f64::MAX.to_le_bytes());
+                let patches = [&f64::NAN.to_le_bytes()[..], &[0xff; 3], &huge, &max];
+                for patch in patches {
                     let mut b = good.clone();
                     let n = patch.len().min(b.len() - at);
                     b[at..at + n].copy_from_slice(&patch[..n]);
@@ -533,4 +549,54 @@ fn crafted_states_behind_a_valid_checksum_never_give_a_nan_estimate() {
             }
         });
     }
+}
+
+/// The `capi` fuzz target's crash of 1 December 2026 (evening campaign,
+/// `crash-adef8859...`): an RPF with 2 particles, a position process noise of 7.5e159 m^2
+/// on one axis and a 4e-149 rad angle noise. Its first update draws the particles from
+/// the measurement and the velocities from the prior, whose covariance (variances from
+/// 1e-6 to 7.5e159) nalgebra's eigensolver returned as NaN: the update succeeded with a
+/// NaN estimate. Now the decomposition is refused (`numerics::eigen` checks its results)
+/// and the update fails with the estimate untouched. Every particle kind, the same inputs.
+#[test]
+fn particle_update_with_an_extreme_prior_fails_cleanly_or_stays_finite() {
+    bounded("particle filters, extreme prior", || {
+        for filter in 4..=8 {
+            let mut c = relnav_config_default();
+            c.filter = filter;
+            c.frame = 3;
+            c.discretization = 1;
+            c.resampler = 3;
+            c.noise_model = 3;
+            c.particles = 2;
+            c.seed = 81_382_552_153_096_225;
+            c.sigma_angle = 4.186_217_997_340_713e-149;
+            c.accel_psd = 1e-9;
+            c.q_pos[0] += 8703.0 / 256.0;
+            c.q_pos[2] = 7.525_755_689_936_148e159;
+            let mut e = std::ptr::null_mut();
+            // SAFETY: valid pointers; live handle until freed; arrays of 3 and 6 doubles.
+            unsafe {
+                assert_eq!(relnav_estimator_new(&c, &mut e), relnav_status::RELNAV_OK);
+                let st = relnav_estimator_predict(e, [0.0; 3].as_ptr(), 1.0 - 2.0 / 32768.0);
+                assert_eq!(st, relnav_status::RELNAV_OK, "{}", last_error());
+                let mut x = [0.0; 6];
+                relnav_estimator_get_state(e, x.as_mut_ptr());
+                // the measurement of the estimate itself (the fuzz target's FromEstimate)
+                let r = (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]).sqrt();
+                let az = x[1].atan2(x[0]).rem_euclid(std::f64::consts::TAU);
+                let el = (x[2] / r).asin();
+                let st = relnav_estimator_update(e, [r, az, el].as_ptr());
+                let mut x2 = [0.0; 6];
+                relnav_estimator_get_state(e, x2.as_mut_ptr());
+                if st == relnav_status::RELNAV_OK {
+                    assert!(x2.iter().all(|v| v.is_finite()), "filter {filter}: {x2:?}");
+                } else {
+                    assert!(!last_error().is_empty());
+                    assert_eq!(x.map(f64::to_bits), x2.map(f64::to_bits), "filter {filter}");
+                }
+                relnav_estimator_free(e);
+            }
+        }
+    });
 }

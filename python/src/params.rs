@@ -2,14 +2,13 @@
 //! (`relnav::fmi::variables::VARIABLES`): every variable of causality *parameter* is a
 //! keyword argument with the table's name, type, start value and description; the values
 //! become a configuration through the FMU's own mapping
-//! (`relnav::fmi::instance::config_of`) and are validated by the library
+//! (`relnav::fmi::relnav::config_of`) and are validated by the library
 //! (`NavConfig::try_from`). A parameter appended to the table is therefore accepted here
 //! with nothing to change.
 
 use crate::errors::{invalid, nav_error};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
-use relnav::fmi::instance::config_of;
 use relnav::fmi::variables::{Causality, EnumType, VarDef, VarType, N_VARS, VARIABLES};
 use relnav::nav::NavConfig;
 
@@ -226,7 +225,7 @@ pub fn values_from_kwargs(
 
 /// The validated library configuration of these values (the FMU's mapping).
 pub fn config(py: Python<'_>, values: &[f64; N_VARS]) -> PyResult<NavConfig> {
-    let c = config_of(values);
+    let c = relnav::fmi::relnav::config_of(values);
     NavConfig::try_from(&c).map_err(|e| nav_error(py, e))
 }
 

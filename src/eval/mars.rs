@@ -6,7 +6,7 @@
 //! only third body): `r'' = -mu_M r / r^3 + mu_S ((r_S - r) / |r_S - r|^3 - r_S / r_S^3)`,
 //! the Sun on Mars' circular heliocentric orbit (1.5237 AU, 686.98 d) in the ecliptic
 //! (obliquity 23.439 deg). **Truth**: the 10th-order GBS step
-//! ([`super::orbit::gbs_step`]) at 1 s (the paper: RKF89 at 1 s). **Filters**: the same
+//! ([`crate::orbit::gbs_step`]) at 1 s (the paper: RKF89 at 1 s). **Filters**: the same
 //! model integrated by one RK4 step per filter period `T` (120-1200 s) — the integration
 //! error near periapsis is the unknown, growing process noise the paper is about.
 //!
@@ -27,9 +27,9 @@
 //! tidal pull over the 3.7 days shifts it by about 370 km). The table reports the closest
 //! approach of the 1 s truth.
 
-use super::orbit::{gbs_step, rk4_step};
 use crate::estimators::aqukf::double_integrator_q;
 use crate::estimators::{AdaptationLaw, AdaptiveUkf, AqParams, Estimator, Ukf, UkfParams};
+use crate::orbit::{gbs_step, rk4_step};
 use crate::types::{Mat6, State, Vec3};
 use nalgebra::{SMatrix, SVector};
 use rand::{Rng, SeedableRng};

@@ -3,7 +3,6 @@
 pub mod builtin;
 pub mod mars;
 pub mod metrics;
-pub mod orbit;
 pub mod pcrlb;
 pub mod report;
 pub mod results;

@@ -17,7 +17,7 @@ use crate::estimators::pf::ParticleFilter;
 use crate::estimators::{AqParams, Aqukf, Ekf, Estimator, Imm, Ukf, UkfParams};
 use crate::nav::AnyFilter;
 use crate::noise::NoiseModel;
-use crate::sensors::{wrap_2pi, CartesianSensor, Geometry, MeasurementModel, RadioSensor};
+use crate::sensors::{CartesianSensor, Geometry, MeasurementModel, RadioSensor};
 use crate::types::{Mat3, Mat6, State, Vec3};
 use nalgebra::SMatrix;
 use rand::Rng;
@@ -501,21 +501,18 @@ impl Prepared {
 impl Prepared {
     /// Noisy measurement of a true canonical state (or `None` at zero range).
     fn measure(&self, x: &State, ar: &mut [f64; 3], rng: &mut ChaCha8Rng) -> Option<Vec3> {
-        self.truth_sensor
-            .predict(&x.fixed_rows::<3>(0).into_owned())
-            .map(|z0| {
+        let r = x.fixed_rows::<3>(0).into_owned();
+        match &self.truth_sensor {
+            // scales: noise_sigma = the sensor's (sigma_range, sigma_angle, sigma_angle)
+            AnySensor::Radio(s) => s.measure_with(&r, &self.noise, ar, rng),
+            AnySensor::Cartesian(s) => s.predict(&r).map(|z0| {
                 let mut z = z0;
                 for i in 0..3 {
                     z[i] += self.noise.sample(self.noise_sigma[i], &mut ar[i], rng);
                 }
-                if let AnySensor::Radio(_) = self.truth_sensor {
-                    z.x = z.x.max(0.0);
-                    z.y = wrap_2pi(z.y);
-                    z.z =
-                        z.z.clamp(-std::f64::consts::FRAC_PI_2, std::f64::consts::FRAC_PI_2);
-                }
                 z
-            })
+            }),
+        }
     }
 
     /// The truth of a `two_body_j2` scenario: target and chaser around the Earth (point
@@ -528,11 +525,7 @@ impl Prepared {
         substep: f64,
         rng: &mut ChaCha8Rng,
     ) -> (Vec<State>, Vec<Option<Vec3>>) {
-        use super::orbit::{chaser_from_relative, circular_target, gbs_step, hill_frame, j2_rhs};
-        let mut target = circular_target(self.n0, incl);
-        let mut chaser = chaser_from_relative(&target, &rel0);
-        let sub = (self.dt / substep).round().max(1.0) as usize;
-        let h = self.dt / sub as f64;
+        let mut truth = crate::orbit::TwoBodyJ2::new(self.n0, incl, &rel0, substep);
         let mut states = Vec::with_capacity(self.steps + 1);
         let mut meas = Vec::with_capacity(self.steps + 1);
         let mut ar = [0.0; 3];
@@ -540,7 +533,7 @@ impl Prepared {
             *a = self.noise.initial_state(self.noise_sigma[i], rng);
         }
         for k in 0..=self.steps {
-            let x = super::orbit::relative_state(&target, &chaser);
+            let x = truth.relative();
             states.push(x);
             meas.push(if self.measured[k] {
                 self.measure(&x, &mut ar, rng)
@@ -548,14 +541,7 @@ impl Prepared {
                 None
             });
             if k < self.steps {
-                let (rot, _) = hill_frame(&target);
-                let a_in = rot.transpose() * self.burn_accel[k];
-                let t0 = k as f64 * self.dt;
-                for j in 0..sub {
-                    let t = t0 + j as f64 * h;
-                    target = gbs_step(&|_, y: &State| j2_rhs(y, &Vec3::zeros()), t, &target, h);
-                    chaser = gbs_step(&|_, y: &State| j2_rhs(y, &a_in), t, &chaser, h);
-                }
+                truth.step(&self.burn_accel[k], k as f64 * self.dt, self.dt);
             }
         }
         (states, meas)

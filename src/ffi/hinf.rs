@@ -93,6 +93,7 @@ pub struct relnav_hinf_result {
     pub gamma_opt: f64,
 }
 
+#[cfg(feature = "hinf")]
 fn to_c_matrices(m: &crate::hinf::HinfMatrices) -> relnav_hinf_matrices {
     let mut o = relnav_hinf_matrices {
         a_f: [0.0; 36],

@@ -1,4 +1,5 @@
-//! `modelDescription.xml`, generated from [`super::variables`], and the GUID derived from it.
+//! `modelDescription.xml`, generated from a model's variable table ([`ModelInfo`]; relnav's is
+//! [`super::variables`]), and the GUID derived from it.
 //!
 //! The GUID is a name-based UUID (version 5, SHA-1) of the XML text itself (with a
 //! placeholder where the GUID goes), as the FMI standard suggests: the binary computes the
@@ -7,11 +8,11 @@
 //! commit date of the source ([`GENERATION_DATE`], set by `build.rs`), so one commit gives
 //! one XML and one GUID.
 
-use super::variables::{Causality, VarDef, VarType, Variability, UNITS, VARIABLES};
+use super::model::ModelInfo;
+use super::variables::{Causality, VarDef, VarType, Variability, UNITS};
 use std::fmt::Write;
-use std::sync::OnceLock;
 
-/// The FMU's model identifier (and binary name).
+/// relnav's model identifier (and binary name).
 pub const MODEL_IDENTIFIER: &str = "relnav";
 
 /// Logging categories, in the order declared in the XML.
@@ -32,7 +33,7 @@ const GUID_PLACEHOLDER: &str = "@GUID@";
 /// 1970-01-01T00:00:00Z (a source tree without git); computed by `build.rs`.
 pub const GENERATION_DATE: &str = env!("RELNAV_GENERATION_DATE");
 
-/// The model's `description` attribute.
+/// relnav's `description` attribute.
 pub const MODEL_DESCRIPTION: &str =
     "Spacecraft relative navigation near a target on a circular orbit \
 (Clohessy-Wiltshire): estimate of the chaser's relative position and velocity, with 1-sigma \
@@ -80,23 +81,31 @@ fn variability(v: Variability) -> &'static str {
     }
 }
 
-fn body() -> String {
+fn body(info: &ModelInfo) -> String {
     let mut x = String::new();
     // write! into a String cannot fail; the results are ignored deliberately.
     let _ = writeln!(x, r#"<?xml version="1.0" encoding="UTF-8"?>"#);
     let _ = writeln!(
         x,
-        r#"<fmiModelDescription fmiVersion="2.0" modelName="relnav" guid="{GUID_PLACEHOLDER}" description="{}" author="relnav developers" version="{}" generationTool="relnav {}" generationDateAndTime="{GENERATION_DATE}" variableNamingConvention="flat">"#,
-        escape(MODEL_DESCRIPTION),
+        r#"<fmiModelDescription fmiVersion="2.0" modelName="{}" guid="{GUID_PLACEHOLDER}" description="{}" author="relnav developers" version="{}" generationTool="relnav {}" generationDateAndTime="{GENERATION_DATE}" variableNamingConvention="flat">"#,
+        info.model_identifier,
+        escape(info.description),
         crate::VERSION,
         crate::VERSION
     );
     let _ = writeln!(
         x,
-        r#"  <CoSimulation modelIdentifier="{MODEL_IDENTIFIER}" needsExecutionTool="false" canHandleVariableCommunicationStepSize="true" canInterpolateInputs="false" maxOutputDerivativeOrder="0" canRunAsynchronuously="false" canBeInstantiatedOnlyOncePerProcess="false" canNotUseMemoryManagementFunctions="true" canGetAndSetFMUstate="true" canSerializeFMUstate="true" providesDirectionalDerivative="false"/>"#
+        r#"  <CoSimulation modelIdentifier="{}" needsExecutionTool="false" canHandleVariableCommunicationStepSize="true" canInterpolateInputs="false" maxOutputDerivativeOrder="0" canRunAsynchronuously="false" canBeInstantiatedOnlyOncePerProcess="false" canNotUseMemoryManagementFunctions="true" canGetAndSetFMUstate="true" canSerializeFMUstate="true" providesDirectionalDerivative="false"/>"#,
+        info.model_identifier
     );
     let _ = writeln!(x, "  <UnitDefinitions>");
-    for (name, [kg, m, s, rad]) in UNITS {
+    // the units the table uses, in the order of the master list
+    let used = UNITS.iter().filter(|(u, _)| {
+        info.variables
+            .iter()
+            .any(|v| matches!(v.ty, VarType::Real(w) if w == *u))
+    });
+    for (name, [kg, m, s, rad]) in used {
         let mut attrs = String::new();
         for (n, e) in [("kg", kg), ("m", m), ("s", s), ("rad", rad)] {
             if *e != 0 {
@@ -119,12 +128,14 @@ fn body() -> String {
         );
     }
     let _ = writeln!(x, "  </LogCategories>");
+    let e = info.default_experiment;
     let _ = writeln!(
         x,
-        r#"  <DefaultExperiment startTime="0" stopTime="600" stepSize="1"/>"#
+        r#"  <DefaultExperiment startTime="{}" stopTime="{}" stepSize="{}"/>"#,
+        e.start, e.stop, e.step
     );
     let _ = writeln!(x, "  <ModelVariables>");
-    for v in VARIABLES {
+    for v in info.variables {
         let _ = writeln!(
             x,
             r#"    <!-- index {} --><ScalarVariable name="{}" valueReference="{}" description="{}" causality="{}" variability="{}">"#,
@@ -170,13 +181,15 @@ fn body() -> String {
     }
     let _ = writeln!(x, "  </ModelVariables>");
     let _ = writeln!(x, "  <ModelStructure>");
-    let outputs: Vec<_> = VARIABLES
+    let outputs: Vec<_> = info
+        .variables
         .iter()
         .filter(|v| v.causality == Causality::Output)
         .collect();
     let _ = writeln!(x, "    <Outputs>");
     for v in &outputs {
-        // dependencies="": no direct feedthrough, outputs change only in fmi2DoStep
+        // dependencies="": no direct feedthrough, outputs change only in fmi2DoStep (true of
+        // every model here: relnav, the plant and the guidance law)
         let _ = writeln!(
             x,
             r#"      <Unknown index="{}" dependencies=""/>"#,
@@ -186,7 +199,7 @@ fn body() -> String {
     let _ = writeln!(x, "    </Outputs>");
     let _ = writeln!(x, "    <InitialUnknowns>");
     for v in &outputs {
-        // initial values depend on the parameters (initial estimate and sigma)
+        // initial values depend on the parameters (relnav: initial estimate and sigma)
         let _ = writeln!(x, r#"      <Unknown index="{}"/>"#, v.vr + 1);
     }
     let _ = writeln!(x, "    </InitialUnknowns>");
@@ -195,10 +208,9 @@ fn body() -> String {
     x
 }
 
-fn generated() -> &'static (String, String) {
-    static CELL: OnceLock<(String, String)> = OnceLock::new();
-    CELL.get_or_init(|| {
-        let b = body();
+fn generated(info: &'static ModelInfo) -> &'static (String, String) {
+    info.generated.get_or_init(|| {
+        let b = body(info);
         let id = uuid::Uuid::new_v5(&uuid::Uuid::NAMESPACE_URL, b.as_bytes());
         let guid = format!("{{{id}}}");
         let xml = b.replacen(GUID_PLACEHOLDER, &guid, 1);
@@ -206,25 +218,41 @@ fn generated() -> &'static (String, String) {
     })
 }
 
-/// The FMU's GUID, `{xxxxxxxx-...}`.
+/// A model's GUID, `{xxxxxxxx-...}`.
+pub fn guid_of(info: &'static ModelInfo) -> &'static str {
+    &generated(info).0
+}
+
+/// A model's full `modelDescription.xml` text.
+pub fn model_description_of(info: &'static ModelInfo) -> &'static str {
+    &generated(info).1
+}
+
+/// relnav's GUID, `{xxxxxxxx-...}`.
 pub fn guid() -> &'static str {
-    &generated().0
+    guid_of(&super::relnav::INFO)
 }
 
-/// The full `modelDescription.xml` text.
+/// relnav's full `modelDescription.xml` text.
 pub fn model_description() -> &'static str {
-    &generated().1
+    model_description_of(&super::relnav::INFO)
 }
 
-/// The variable table as Markdown (for the README; a test keeps the README in sync).
+/// relnav's variable table as Markdown (for the README; a test keeps the README in sync).
 pub fn variables_markdown() -> String {
+    variables_markdown_of(&super::relnav::INFO)
+}
+
+/// A model's variable table as Markdown (the README's and `docs/kit.md`'s tables; tests
+/// keep them in sync).
+pub fn variables_markdown_of(info: &ModelInfo) -> String {
     let mut x = String::new();
     let _ = writeln!(
         x,
         "| name | vr | causality | variability | type | unit | start | description |"
     );
     let _ = writeln!(x, "|---|---:|---|---|---|---|---|---|");
-    for v in VARIABLES {
+    for v in info.variables {
         let (ty, unit, start) = match v.ty {
             VarType::Real(u) => ("Real", u.to_string(), format!("{}", v.start)),
             VarType::Integer => ("Integer", String::new(), format!("{}", v.start as i64)),
@@ -265,7 +293,7 @@ pub fn variables_markdown() -> String {
     let _ = writeln!(x);
     let _ = writeln!(x, "| parameter | code | name | meaning |");
     let _ = writeln!(x, "|---|---:|---|---|");
-    for v in VARIABLES {
+    for v in info.variables {
         if let VarType::Code(t) = v.ty {
             for (n, code, d) in t.items {
                 let _ = writeln!(x, "| `{}` | {code} | `{n}` | {d} |", v.name);
@@ -281,6 +309,7 @@ mod tests {
 
     #[test]
     fn xml_contains_every_variable_and_the_guid() {
+        use super::super::variables::VARIABLES;
         let xml = model_description();
         assert!(xml.contains(&format!(r#"guid="{}""#, guid())));
         assert!(!xml.contains(GUID_PLACEHOLDER));

@@ -1,12 +1,16 @@
 //! FMU state: `fmi2GetFMUstate` / `fmi2SetFMUstate` / serialisation, as explicit,
 //! versioned bytes (`docs/state-format.md`).
 //!
+//! Generic over the [`Model`]: the same layout serves relnav.fmu and the kit's FMUs.
+//!
 //! An FMU state is the instance's complete state in one byte string: a 70-byte header
-//! (magic `RELNAVFM`, [`FMU_STATE_FORMAT_VERSION`], the FMU's GUID, the `filter` code, a
+//! (magic `RELNAVFM`, [`FMU_STATE_FORMAT_VERSION`], the FMU's GUID, the model code —
+//! relnav's `filter`, the plant's `truth_model`, 0 for the guidance —, a
 //! fingerprint of the parameter values, payload length, CRC-32), then the state-machine
 //! state, the time and experiment bounds, the value of every variable (parameters, held
-//! inputs, published outputs), and — once the estimator exists — the estimator's own
-//! state as the C ABI saves it ([`crate::ffi::relnav_estimator_save`]). The `fmi2FMUstate`
+//! inputs, published outputs), and — once the model is built — the model's own state
+//! ([`Model::save`]; relnav: the estimator's state as the C ABI saves it,
+//! [`crate::ffi::relnav_estimator_save`]). The `fmi2FMUstate`
 //! handed to the master is that byte string, so getting a state serialises it once,
 //! `fmi2SerializeFMUstate` copies it, and every state is checked the same way.
 //!
@@ -27,11 +31,11 @@
 //! unchanged by a refused state (it enters the error state, as after every `fmi2Error`;
 //! `fmi2SetFMUstate` with a good state or `fmi2Reset` continues from there).
 
-use super::description::guid;
-use super::instance::{error, FmiFailure, Instance, ModelState};
+use super::description::guid_of;
+use super::instance::{error, FmiFailure, FmuInstance, ModelState};
+use super::model::Model;
 use super::types::fmi2FMUstate;
-use super::variables::{vr, Causality, N_VARS, VARIABLES};
-use crate::ffi;
+use super::variables::{Causality, VarDef};
 use crate::numerics::state::{self, crc32, refuse, Reader, StateError, FMU_MAGIC, KINDS};
 
 /// Format version of the FMU state bytes. Bump it whenever the layout changes; a state of
@@ -40,7 +44,7 @@ pub const FMU_STATE_FORMAT_VERSION: u32 = 1;
 
 /// Bytes of the GUID in the header (`{8-4-4-4-12}`, ASCII).
 const GUID_LEN: usize = 38;
-/// Identity block of the header: GUID, `filter` code (i32), parameter fingerprint (u32).
+/// Identity block of the header: GUID, model code (i32), parameter fingerprint (u32).
 const IDENT_LEN: usize = GUID_LEN + 4 + 4;
 
 /// One `fmi2FMUstate`: the serialised state.
@@ -126,8 +130,8 @@ struct Parsed<'a> {
     time: f64,
     start_time: f64,
     stop_time: Option<f64>,
-    values: [f64; N_VARS],
-    estimator: Option<&'a [u8]>,
+    values: Vec<f64>,
+    model: Option<&'a [u8]>,
 }
 
 fn mode_of(v: u32) -> Option<ModelState> {
@@ -144,26 +148,26 @@ fn mode_of(v: u32) -> Option<ModelState> {
 
 /// The parameters' fingerprint: CRC-32 of every parameter's value (f64 bits, LE) in
 /// value-reference order.
-fn fingerprint(values: &[f64; N_VARS]) -> u32 {
-    let mut b = Vec::with_capacity(8 * N_VARS);
-    for v in VARIABLES
-        .iter()
-        .filter(|v| v.causality == Causality::Parameter)
-    {
+fn fingerprint(vars: &[VarDef], values: &[f64]) -> u32 {
+    let mut b = Vec::with_capacity(8 * vars.len());
+    for v in vars.iter().filter(|v| v.causality == Causality::Parameter) {
         b.extend_from_slice(&values[v.vr as usize].to_bits().to_le_bytes());
     }
     crc32(&b)
 }
 
-fn guid_bytes() -> [u8; GUID_LEN] {
+fn guid_bytes(guid: &str) -> [u8; GUID_LEN] {
     let mut g = [0u8; GUID_LEN];
-    for (d, s) in g.iter_mut().zip(guid().bytes()) {
+    for (d, s) in g.iter_mut().zip(guid.bytes()) {
         *d = s;
     }
     g
 }
 
-fn parse(bytes: &[u8]) -> Result<Parsed<'_>, StateError> {
+fn parse<M: Model>(bytes: &[u8]) -> Result<Parsed<'_>, StateError> {
+    let info = M::info();
+    let guid = guid_of(info);
+    let vars = info.variables;
     let o = state::open(
         bytes,
         FMU_MAGIC,
@@ -174,14 +178,14 @@ fn parse(bytes: &[u8]) -> Result<Parsed<'_>, StateError> {
     )?;
     let mut id = Reader::new(o.ident);
     let g = id.take(GUID_LEN, "GUID")?;
-    if g != guid_bytes() {
+    if g != guid_bytes(guid) {
         return Err(refuse(format!(
             "the state is from another FMU: GUID {}, this FMU's is {}",
             String::from_utf8_lossy(g),
-            guid()
+            guid
         )));
     }
-    let code = id.i32("filter code")?;
+    let code = id.i32("model code")?;
     let fp = id.u32("parameter fingerprint")?;
     let mut r = Reader::new(o.payload);
     r.tag(b"FMUI")?;
@@ -192,14 +196,15 @@ fn parse(bytes: &[u8]) -> Result<Parsed<'_>, StateError> {
     let stop_defined = r.bool("stop-time flag")?;
     let stop = r.f64("stop time")?;
     let stop_time = stop_defined.then_some(stop);
-    r.count("number of variables", N_VARS)?;
-    let mut values = [0.0; N_VARS];
-    for (v, def) in values.iter_mut().zip(VARIABLES) {
+    r.count("number of variables", vars.len())?;
+    let mut values = vec![0.0; vars.len()];
+    for (v, def) in values.iter_mut().zip(vars) {
         *v = r.f64(def.name)?;
     }
-    let estimator = if r.bool("estimator flag")? {
-        let n = r.usize("estimator state length")?;
-        Some(r.take(n, "estimator state")?)
+    let what = info.state_name;
+    let model = if r.bool(&format!("{what} flag"))? {
+        let n = r.usize(&format!("{what} state length"))?;
+        Some(r.take(n, &format!("{what} state"))?)
     } else {
         None
     };
@@ -209,17 +214,26 @@ fn parse(bytes: &[u8]) -> Result<Parsed<'_>, StateError> {
         ModelState::Instantiated | ModelState::InitializationMode => Some(false),
         ModelState::Error => None,
     };
-    if needs.is_some_and(|n| n != estimator.is_some()) {
+    if needs.is_some_and(|n| n != model.is_some()) {
         return Err(refuse(format!(
-            "a state in {mode:?} must {}carry an estimator state",
-            if estimator.is_some() { "not " } else { "" }
+            "a state in {mode:?} must {}carry {} {what} state",
+            if model.is_some() { "not " } else { "" },
+            if what.starts_with(['a', 'e', 'i', 'o', 'u']) {
+                "an"
+            } else {
+                "a"
+            }
         )));
     }
-    if code != values[vr::FILTER as usize] as i32 || fp != fingerprint(&values) {
-        return Err(refuse(
-            "the header's filter code or parameter fingerprint disagrees with the parameters the \
-             state carries",
-        ));
+    if code != info.state_code_of(&values) || fp != fingerprint(vars, &values) {
+        let name = info
+            .state_code
+            .and_then(|r| info.lookup(r))
+            .map_or("model", |d| d.name);
+        return Err(refuse(format!(
+            "the header's {name} code or parameter fingerprint disagrees with the parameters \
+             the state carries"
+        )));
     }
     Ok(Parsed {
         mode,
@@ -227,7 +241,7 @@ fn parse(bytes: &[u8]) -> Result<Parsed<'_>, StateError> {
         start_time,
         stop_time,
         values,
-        estimator,
+        model,
     })
 }
 
@@ -235,15 +249,16 @@ fn refused(func: &str, e: StateError) -> FmiFailure {
     error(format!("{func}: state refused: {e}"))
 }
 
-impl Instance {
+impl<M: Model> FmuInstance<M> {
     /// The instance's state as bytes (see the module documentation).
     pub fn save_state(&self) -> Result<Vec<u8>, FmiFailure> {
-        let est = self.estimator_state()?;
+        let info = M::info();
+        let saved = self.model().save().map_err(error)?;
         let values = self.values();
         let mut ident = Vec::with_capacity(IDENT_LEN);
-        ident.extend_from_slice(&guid_bytes());
-        ident.extend_from_slice(&(values[vr::FILTER as usize] as i32).to_le_bytes());
-        ident.extend_from_slice(&fingerprint(values).to_le_bytes());
+        ident.extend_from_slice(&guid_bytes(guid_of(info)));
+        ident.extend_from_slice(&info.state_code_of(values).to_le_bytes());
+        ident.extend_from_slice(&fingerprint(info.variables, values).to_le_bytes());
         let mut out = Vec::new();
         state::seal(&mut out, FMU_MAGIC, FMU_STATE_FORMAT_VERSION, &ident, |w| {
             let (time, start, stop) = self.times();
@@ -253,11 +268,11 @@ impl Instance {
             w.f64(start);
             w.bool(stop.is_some());
             w.f64(stop.unwrap_or(0.0));
-            w.usize(N_VARS);
+            w.usize(values.len());
             for v in values {
                 w.f64(*v);
             }
-            match &est {
+            match &saved {
                 Some(b) => {
                     w.bool(true);
                     w.usize(b.len());
@@ -269,38 +284,19 @@ impl Instance {
         Ok(out)
     }
 
-    /// The C ABI's saved state of the estimator, if it exists.
-    fn estimator_state(&self) -> Result<Option<Vec<u8>>, FmiFailure> {
-        let est = self.estimator_ptr();
-        if est.is_null() {
-            return Ok(None);
-        }
-        let mut need = 0usize;
-        // SAFETY: `est` is the instance's live handle; a null buffer is a size query.
-        let st = unsafe { ffi::relnav_estimator_save(est, std::ptr::null_mut(), 0, &mut need) };
-        super::instance::status_of(st)?;
-        let mut b = vec![0u8; need];
-        // SAFETY: as above; `b` holds `need` writable bytes.
-        let st = unsafe { ffi::relnav_estimator_save(est, b.as_mut_ptr(), b.len(), &mut need) };
-        super::instance::status_of(st)?;
-        b.truncate(need);
-        Ok(Some(b))
-    }
-
     /// Check bytes for `fmi2DeSerializeFMUstate` (everything that does not depend on the
     /// restoring instance).
     pub fn check_state(bytes: &[u8], func: &str) -> Result<(), FmiFailure> {
-        parse(bytes).map(|_| ()).map_err(|e| refused(func, e))
+        parse::<M>(bytes).map(|_| ()).map_err(|e| refused(func, e))
     }
 
-    /// Restore a state made by [`Instance::save_state`] (see the module documentation for
+    /// Restore a state made by [`FmuInstance::save_state`] (see the module documentation for
     /// the rules). Transactional: a refused state leaves the instance's data unchanged.
     pub fn restore_state(&mut self, bytes: &[u8], func: &str) -> Result<(), FmiFailure> {
-        let p = parse(bytes).map_err(|e| refused(func, e))?;
-        let current = self.estimator_ptr();
-        if !current.is_null() {
+        let p = parse::<M>(bytes).map_err(|e| refused(func, e))?;
+        if self.model().is_built() {
             let mine = self.values();
-            if let Some(d) = VARIABLES.iter().find(|d| {
+            if let Some(d) = M::info().variables.iter().find(|d| {
                 d.causality == Causality::Parameter
                     && mine[d.vr as usize].to_bits() != p.values[d.vr as usize].to_bits()
             }) {
@@ -315,36 +311,16 @@ impl Instance {
                 ));
             }
         }
-        // the estimator: restored into the existing one (same parameters), or into a new
-        // one built from the state's parameters; the C ABI's restore is transactional
-        let mut created = std::ptr::null_mut();
-        if let Some(blob) = p.estimator {
-            let target = if current.is_null() {
-                let cfg = super::instance::config_of(&p.values);
-                // SAFETY: both pointers are valid locals.
-                let st = unsafe { ffi::relnav_estimator_new(&cfg, &mut created) };
-                super::instance::status_of(st).map_err(|e| {
-                    error(format!(
-                        "{func}: state refused: its parameters do not make an estimator: {}",
-                        e.message
-                    ))
-                })?;
-                created
-            } else {
-                current
-            };
-            // SAFETY: `target` is a live handle; `blob` is a readable byte slice.
-            let st = unsafe { ffi::relnav_estimator_restore(target, blob.as_ptr(), blob.len()) };
-            if let Err(e) = super::instance::status_of(st) {
-                // SAFETY: `created` is null or the handle made above, freed once.
-                unsafe { ffi::relnav_estimator_free(created) };
-                return Err(error(format!("{func}: state refused: {}", e.message)));
-            }
+        // the model: restored into the existing one (same parameters), or into a new one
+        // built from the state's parameters; transactional
+        match p.model {
+            Some(blob) => self
+                .model_mut()
+                .restore(&p.values, blob)
+                .map_err(|e| error(format!("{func}: state refused: {e}")))?,
+            None => self.model_mut().reset(),
         }
         // commit: nothing below can fail
-        if p.estimator.is_none() || current.is_null() {
-            self.replace_estimator(created);
-        }
         self.set_restored(p.mode, p.values, p.time, p.start_time, p.stop_time);
         Ok(())
     }

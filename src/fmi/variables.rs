@@ -1,7 +1,9 @@
-//! The one table of FMU variables. It generates `modelDescription.xml`
+//! The one table of relnav.fmu's variables. It generates `modelDescription.xml`
 //! ([`super::description`]) and drives the get/set dispatch ([`super::instance`]): value
 //! reference = index in [`VARIABLES`] (checked by a test), start values come from here and
-//! nowhere else.
+//! nowhere else. The types and the `variables!` macro that writes a table are shared with
+//! the kit's FMUs, whose own tables live beside their models ([`super::plant`],
+//! [`super::guidance`]).
 
 use std::f64::consts::PI;
 
@@ -108,6 +110,8 @@ pub const UNITS: &[(&str, [i32; 4])] = &[
     ("m2/s", [0, 2, -1, 0]),
     ("m2/s3", [0, 2, -3, 0]),
     ("s", [0, 0, 1, 0]),
+    // appended for the kit's FMUs (a model declares the units its table uses)
+    ("N.s", [1, 1, -1, 0]),
 ];
 
 /// `filter` parameter values (same codes as the C ABI's `relnav_filter`).
@@ -287,12 +291,12 @@ macro_rules! variables {
             )*
         }
         /// Every FMU variable; the value reference is the index.
-        pub static VARIABLES: &[VarDef] = &[
-            $( VarDef {
+        pub static VARIABLES: &[$crate::fmi::variables::VarDef] = &[
+            $( $crate::fmi::variables::VarDef {
                 vr: $vr,
                 name: $name,
-                causality: Causality::$caus,
-                variability: Variability::$var,
+                causality: $crate::fmi::variables::Causality::$caus,
+                variability: $crate::fmi::variables::Variability::$var,
                 ty: $ty,
                 start: $start,
                 description: $desc,
@@ -300,6 +304,7 @@ macro_rules! variables {
         ];
     };
 }
+pub(crate) use variables;
 
 use VarType::{Boolean, Code, Integer, Real};
 
@@ -458,6 +463,35 @@ pub fn lookup(vr: u32) -> Option<&'static VarDef> {
     VARIABLES.get(vr as usize)
 }
 
+/// Check a variable table: value reference = index, unique names, declared units, start
+/// values of code parameters in their list (used by each model's tests; codes need not be
+/// contiguous: `hinf_design` has 1 and 3).
+#[cfg(test)]
+pub(crate) fn check_table(vars: &[VarDef]) {
+    for (i, v) in vars.iter().enumerate() {
+        assert_eq!(v.vr as usize, i, "{}", v.name);
+        assert!(vars.iter().filter(|w| w.name == v.name).count() == 1);
+        if let VarType::Real(u) = v.ty {
+            assert!(
+                u.is_empty() || UNITS.iter().any(|(n, _)| *n == u),
+                "unit {u}"
+            );
+        }
+        if let VarType::Code(t) = v.ty {
+            assert!(t.item(v.start).is_some(), "{}", v.name);
+        }
+        // outputs change only in fmi2DoStep; inputs need a start value
+        if v.causality == Causality::Parameter {
+            assert_eq!(v.variability, Variability::Fixed, "{}", v.name);
+        }
+    }
+    assert!(
+        vars.iter()
+            .any(|v| v.name == "fmi_status" && v.causality == Causality::Output),
+        "every model publishes fmi_status"
+    );
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -465,6 +499,7 @@ mod tests {
 
     #[test]
     fn table_is_dense_and_unique() {
+        check_table(VARIABLES);
         assert_eq!(VARIABLES.len(), N_VARS);
         for (i, v) in VARIABLES.iter().enumerate() {
             assert_eq!(v.vr as usize, i, "{}", v.name);

@@ -765,6 +765,31 @@ impl crate::estimators::Estimator for HinfEstimator {
     }
 }
 
+/// Largest entry of a restored `C_F` or `C_F^-1`. A reset computes `C_F (C_F^-1 x0)` for any
+/// accepted initial state (up to about 1e150 m): with both factors below 1e50 the
+/// intermediate stays below 1e201 and the result finite. Designed filters have entries of
+/// order 1e-3 to 1e3.
+const MAX_OUTPUT_MAP_ENTRY: f64 = 1e50;
+
+/// A restored output map `C_F` and its saved inverse must be an inverse pair of moderate
+/// size: a crafted state behind a valid checksum (the `capi` fuzz target, 1 December
+/// 2026) carried a finite but huge `C_F^-1`, was accepted because its estimate was finite,
+/// and the next reset (which cannot fail) turned the estimate into infinities.
+fn check_output_map(c_f: &Mat6, c_f_inv: &Mat6) -> Result<(), StateError> {
+    let big = c_f
+        .iter()
+        .chain(c_f_inv.iter())
+        .any(|v| v.abs() > MAX_OUTPUT_MAP_ENTRY);
+    let off = (c_f * c_f_inv - Mat6::identity()).amax();
+    if big || !(off <= 1e-6) {
+        return Err(refuse(format!(
+            "H-infinity C_F and C_F^-1 are not an inverse pair of moderate size \
+             (largest entry above {MAX_OUTPUT_MAP_ENTRY:e}: {big}; |C_F C_F^-1 - I| = {off:e})"
+        )));
+    }
+    Ok(())
+}
+
 /// Saved state: the matrices `A_F` (36), `B_F` (18), `C_F` (36), `E_F` (18), column by
 /// column, and their period (8) — saved rather than re-designed, so a restore continues
 /// with exactly these numbers whatever the solver gives on another machine — then
@@ -819,6 +844,7 @@ impl Persist for HinfFilter {
             )));
         }
         *c_f_inv = r.finite_matrix("H-infinity C_F^-1")?;
+        check_output_map(c_f, c_f_inv)?;
         *x_f = r.finite_matrix("H-infinity filter state")?;
         *est = r.finite_matrix("H-infinity estimate")?;
         Ok(())

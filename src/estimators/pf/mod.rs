@@ -927,7 +927,12 @@ impl ParticleFilter {
                 *xb = self.x_tmp[i];
             }
         }
-        // commit only when every particle was drawn
+        // commit only when every particle was drawn, and drawn finite
+        if !self.x_tmp.iter().all(|x| x.iter().all(|v| v.is_finite())) {
+            return Err(FilterError::NonFinite(
+                "particles drawn from the measurement",
+            ));
+        }
         std::mem::swap(&mut self.x, &mut self.x_tmp);
         std::mem::swap(&mut self.xbar, &mut self.xbar_tmp);
         Ok(())

@@ -1,7 +1,9 @@
-//! Orbit propagation for the evaluation engine's nonlinear truths: a hand-written
-//! high-order integrator (Gragg–Bulirsch–Stoer extrapolation), classical RK4, and the
-//! accelerations of the two-body problem with J2 (Earth) and of a Mars approach (Mars point
-//! mass plus the Sun as a third body).
+//! Orbit propagation for the nonlinear truths of the evaluation engine and of the plant FMU
+//! (`relnav_plant`): a hand-written high-order integrator (Gragg–Bulirsch–Stoer
+//! extrapolation), classical RK4, the accelerations of the two-body problem with J2 (Earth),
+//! and [`TwoBodyJ2`], the target and the chaser propagated together with the relative state
+//! read in the target's Hill frame. (The Mars approach of `eval::mars` uses the integrators
+//! with its own accelerations.)
 //!
 //! No crate was added: `ode_solvers` (the usual choice) pins its own nalgebra version and
 //! adaptive stepping is not wanted here (the truth is sampled on a fixed 1 s grid). The GBS
@@ -122,6 +124,60 @@ pub fn circular_target(n: f64, incl: f64) -> State {
     let a = (MU_EARTH / (n * n)).cbrt();
     let v = (MU_EARTH / a).sqrt();
     State::from_row_slice(&[a, 0.0, 0.0, 0.0, v * incl.cos(), v * incl.sin()])
+}
+
+/// The two-body + J2 truth of both spacecraft: a target on a circular orbit and the chaser,
+/// both around the Earth (point mass + J2, [`gbs_step`] substeps), thrust acting on the
+/// chaser in the inertial direction of the target's Hill axes at the start of each step.
+/// The relative state is read in the target's Hill frame ([`relative_state`]). Used by the
+/// evaluation engine's `two_body_j2` scenarios and by the plant FMU's `truth_model` 2.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TwoBodyJ2 {
+    /// Target (ECI position and velocity).
+    pub target: State,
+    /// Chaser (ECI position and velocity).
+    pub chaser: State,
+    /// Longest integration substep [s]: a step `dt` takes `round(dt / substep)` (at least
+    /// one) equal substeps.
+    pub substep: f64,
+}
+
+impl TwoBodyJ2 {
+    /// Target on the circular orbit of mean motion `n` [rad/s] at inclination `incl` [rad]
+    /// ([`circular_target`]), chaser at the canonical relative state `rel0`.
+    pub fn new(n: f64, incl: f64, rel0: &State, substep: f64) -> Self {
+        let target = circular_target(n, incl);
+        let chaser = chaser_from_relative(&target, rel0);
+        Self {
+            target,
+            chaser,
+            substep,
+        }
+    }
+
+    /// Canonical relative state now (Hill frame of the target, rotating-frame velocity).
+    pub fn relative(&self) -> State {
+        relative_state(&self.target, &self.chaser)
+    }
+
+    /// Propagate both over `[t0, t0 + dt)` with the chaser's thrust acceleration `accel`
+    /// (canonical Hill axes at `t0`, held in inertial space over the step).
+    pub fn step(&mut self, accel: &Vec3, t0: f64, dt: f64) {
+        let sub = (dt / self.substep).round().max(1.0) as usize;
+        let h = dt / sub as f64;
+        let (rot, _) = hill_frame(&self.target);
+        let a_in = rot.transpose() * accel;
+        for j in 0..sub {
+            let t = t0 + j as f64 * h;
+            self.target = gbs_step(
+                &|_, y: &State| j2_rhs(y, &Vec3::zeros()),
+                t,
+                &self.target,
+                h,
+            );
+            self.chaser = gbs_step(&|_, y: &State| j2_rhs(y, &a_in), t, &self.chaser, h);
+        }
+    }
 }
 
 #[cfg(test)]

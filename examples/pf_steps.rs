@@ -1,0 +1,65 @@
+//! A fixed amount of particle-filter work for instruction counting (issue 10 item 3):
+//! the SIR (moves on, the default) on paper 000's model, `warm` steps into steady state,
+//! then `steps` more. Under `valgrind --tool=callgrind` the difference of the instruction
+//! counts of two runs that differ only in `steps` is the cost of those steps alone (the
+//! run is deterministic: fixed seeds).
+//!
+//! ```sh
+//! cargo build --release --example pf_steps
+//! valgrind --tool=callgrind target/release/examples/pf_steps 100000 20 0 1
+//! valgrind --tool=callgrind target/release/examples/pf_steps 100000 20 5 1
+//! ```
+//!
+//! Arguments: particles, warm-up steps, measured steps, threads (default 100000 20 1 1).
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)] // example code
+
+use rand::SeedableRng;
+use relnav::dynamics::{CwModel, Discretization};
+use relnav::estimators::pf::{ParticleFilter, PfKind, PfParams};
+use relnav::estimators::Estimator;
+use relnav::nav::NavConfig;
+use relnav::sensors::RadioSensor;
+use relnav::types::{Mat3, Mat6, State, Vec3};
+
+fn main() {
+    let arg = |i: usize, d: usize| -> usize {
+        std::env::args()
+            .nth(i)
+            .map_or(d, |s| s.parse().expect("a non-negative integer"))
+    };
+    let (particles, warm, steps, threads) = (arg(1, 100_000), arg(2, 20), arg(3, 1), arg(4, 1));
+    let cfg = NavConfig::default();
+    let f = cfg.frame;
+    let model = CwModel::new(cfg.mean_motion);
+    let mut d = model.discretize(1.0, &Mat3::zeros(), Discretization::Exact);
+    let q = [cfg.q_pos, cfg.q_vel].concat();
+    d.q += f.cov_to_canonical(&Mat6::from_diagonal(&State::from_row_slice(&q)));
+    let sensor = RadioSensor::new(f, cfg.sigma_range, cfg.sigma_angle);
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(1);
+    let x0 = f.state_to_canonical(&State::from_row_slice(&[
+        400.0, 500.0, 200.0, 0.0, 0.0, 0.0,
+    ]));
+    let params = PfParams {
+        particles,
+        seed: 7,
+        threads,
+        ..PfParams::new(PfKind::Sir)
+    };
+    let mut pf = ParticleFilter::new(cfg.initial_state(), cfg.initial_covariance(), params);
+    for k in 0..warm + steps {
+        let x = model.phi(k as f64) * x0;
+        let z = sensor
+            .measure(&x.fixed_rows::<3>(0).into_owned(), &mut rng)
+            .unwrap();
+        pf.update(&sensor, &z).unwrap();
+        pf.predict(&d, &Vec3::zeros()).unwrap();
+    }
+    let m = pf.state();
+    println!(
+        "particles {particles}, steps {}, threads {threads}: mean {:.6} {:.6} {:.6}",
+        warm + steps,
+        m[0],
+        m[1],
+        m[2]
+    );
+}

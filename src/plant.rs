@@ -1,0 +1,471 @@
+//! The truth plant of the system kit (`relnav_plant.fmu`): the chaser's true motion relative
+//! to the target, driven by its thrust, and the radio (or lidar) sensor that measures it —
+//! the half of a GNC system a user of relnav.fmu would otherwise have to write.
+//!
+//! **Truth** (canonical Hill frame inside, I/O frame at the interface, SI units):
+//! * [`TruthModel::Cw`]: exact Clohessy–Wiltshire, `X(t + h) = Phi(h) X(t) + Gamma(h) F / m`
+//!   with the closed-form transition and exact zero-order-hold input matrix of
+//!   [`crate::dynamics::CwModel`] (papers 000 and 002, sec. 2), the thrust `F` held over the
+//!   step;
+//! * [`TruthModel::TwoBodyJ2`]: target and chaser around the Earth, point mass + J2
+//!   ([`crate::orbit::TwoBodyJ2`], the evaluation engine's nonlinear truth), the target
+//!   started on the circular orbit of `mean_motion` at `inclination`, the relative state read
+//!   in the target's Hill frame.
+//!
+//! **Sensor** ([`crate::sensors::RadioSensor::measure_with`], paper 000 sec. 2): range,
+//! azimuth `atan2(y, x)` in `[0, 2 pi)` and elevation `asin(z / range)` of the I/O-frame
+//! position, plus noise from [`crate::noise::NoiseModel`] (Gaussian, contaminated Gaussian
+//! or Student-t) scaled by `sigma_range` and `sigma_angle`. A measurement is due every
+//! `measurement_period` from the start time, taken at the first communication point at or
+//! after the due time; it is lost (`valid = false`) inside the dropout window
+//! `[dropout_start, dropout_stop)` and with probability `dropout_probability`.
+//!
+//! **Random draws** (ChaCha8, seeded by `seed`): per due measurement one uniform for the
+//! dropout, then the three noise samples (range, azimuth, elevation) — always, whether the
+//! measurement is then dropped or not, so the noise sequence does not depend on the dropout
+//! settings.
+
+use crate::dynamics::CwModel;
+use crate::frames::Frame;
+use crate::noise::NoiseModel;
+use crate::numerics::state::{refuse, Reader, StateError, Writer};
+use crate::orbit::{TwoBodyJ2, R_EARTH};
+use crate::sensors::RadioSensor;
+use crate::types::{Mat6, Mat63, State, Vec3};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+/// Which truth propagates the relative motion (codes of the plant's `truth_model`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[repr(i32)]
+pub enum TruthModel {
+    /// Exact CW (closed-form transition, exact zero-order hold).
+    #[default]
+    Cw = 1,
+    /// Two-body + J2 propagation of target and chaser (10th-order GBS substeps).
+    TwoBodyJ2 = 2,
+}
+
+impl TruthModel {
+    /// All codes, in order.
+    pub const ALL: [TruthModel; 2] = [TruthModel::Cw, TruthModel::TwoBodyJ2];
+
+    /// From the stable code (1 CW, 2 two-body + J2).
+    pub fn from_code(code: i32) -> Option<Self> {
+        Self::ALL.into_iter().find(|k| *k as i32 == code)
+    }
+
+    /// Short name (`cw`, `two_body_j2`).
+    pub fn name(self) -> &'static str {
+        match self {
+            TruthModel::Cw => "cw",
+            TruthModel::TwoBodyJ2 => "two_body_j2",
+        }
+    }
+}
+
+/// Everything that defines a plant. [`Default`] is paper 000's example: frame 2, a 7200 s
+/// orbit, the chaser at rest at (400, 500, 200) m, 1000 kg, a measurement every second with
+/// 0.5 m / 0.01 deg Gaussian noise.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PlantConfig {
+    /// I/O frame of the true state, the thrust and the measurement angles.
+    pub frame: Frame,
+    /// CW or two-body + J2.
+    pub truth_model: TruthModel,
+    /// Mean motion of the target's circular orbit [rad/s].
+    pub mean_motion: f64,
+    /// Chaser mass [kg] (acceleration = thrust / mass).
+    pub chaser_mass: f64,
+    /// True initial relative state `(x, y, z, vx, vy, vz)` in the I/O frame [m, m/s].
+    pub x0: [f64; 6],
+    /// Two-body + J2: inclination of the target's orbit [rad].
+    pub inclination: f64,
+    /// Two-body + J2: longest integration substep [s].
+    pub j2_substep: f64,
+    /// Time between measurements [s].
+    pub measurement_period: f64,
+    /// Range noise scale [m] (1 sigma of the Gaussian, nominal sigma of the other models).
+    pub sigma_range: f64,
+    /// Azimuth and elevation noise scale [rad].
+    pub sigma_angle: f64,
+    /// Noise density (white: Gaussian, mixture or Student-t).
+    pub noise: NoiseModel,
+    /// Probability that a due measurement is lost, in [0, 1].
+    pub dropout_probability: f64,
+    /// Start of the dropout window [s] (no window when `dropout_stop <= dropout_start`).
+    pub dropout_start: f64,
+    /// End of the dropout window [s] (excluded).
+    pub dropout_stop: f64,
+    /// Seed of the noise and dropout draws.
+    pub seed: u64,
+}
+
+impl Default for PlantConfig {
+    fn default() -> Self {
+        Self {
+            frame: Frame::AlongRadialAntinormal,
+            truth_model: TruthModel::Cw,
+            mean_motion: 2.0 * std::f64::consts::PI / 7200.0,
+            chaser_mass: 1000.0,
+            x0: [400.0, 500.0, 200.0, 0.0, 0.0, 0.0],
+            inclination: 51.6 * std::f64::consts::PI / 180.0,
+            j2_substep: 1.0,
+            measurement_period: 1.0,
+            sigma_range: 0.5,
+            sigma_angle: 0.01 * std::f64::consts::PI / 180.0,
+            noise: NoiseModel::Gaussian,
+            dropout_probability: 0.0,
+            dropout_start: 0.0,
+            dropout_stop: 0.0,
+            seed: 0,
+        }
+    }
+}
+
+fn finite_pos(name: &str, v: f64) -> Result<(), String> {
+    if v.is_finite() && v > 0.0 {
+        Ok(())
+    } else {
+        Err(format!("{name} must be finite and > 0 (got {v})"))
+    }
+}
+
+impl PlantConfig {
+    /// Check every setting; the message names the first bad one.
+    pub fn validate(&self) -> Result<(), String> {
+        let (lo, hi) = (1e-9, 0.1);
+        if !(lo..=hi).contains(&self.mean_motion) {
+            return Err(format!(
+                "mean_motion must lie in [{lo:e}, {hi}] rad/s (got {})",
+                self.mean_motion
+            ));
+        }
+        finite_pos("chaser_mass", self.chaser_mass)?;
+        if let Some(i) = self.x0.iter().position(|v| !v.is_finite()) {
+            let names = [
+                "true_x0", "true_y0", "true_z0", "true_vx0", "true_vy0", "true_vz0",
+            ];
+            return Err(format!("{} must be finite (got {})", names[i], self.x0[i]));
+        }
+        finite_pos("measurement_period", self.measurement_period)?;
+        finite_pos("sigma_range", self.sigma_range)?;
+        finite_pos("sigma_angle", self.sigma_angle)?;
+        match self.noise {
+            NoiseModel::Gaussian | NoiseModel::Mixture { .. } | NoiseModel::StudentT { .. } => {}
+            other => return Err(format!("noise model {other:?} is not offered by the plant")),
+        }
+        self.noise
+            .validate()
+            .map_err(|e| e.replace("noise.", "noise_"))?;
+        if !(0.0..=1.0).contains(&self.dropout_probability) {
+            return Err(format!(
+                "dropout_probability must lie in [0, 1] (got {})",
+                self.dropout_probability
+            ));
+        }
+        if !(self.dropout_start.is_finite() && self.dropout_stop.is_finite()) {
+            return Err(format!(
+                "dropout_start and dropout_stop must be finite (got {}, {})",
+                self.dropout_start, self.dropout_stop
+            ));
+        }
+        if !(0.0..=std::f64::consts::PI).contains(&self.inclination) {
+            return Err(format!(
+                "inclination must lie in [0, pi] rad (got {})",
+                self.inclination
+            ));
+        }
+        finite_pos("j2_substep", self.j2_substep)?;
+        if self.truth_model == TruthModel::TwoBodyJ2 {
+            let a = (crate::orbit::MU_EARTH / (self.mean_motion * self.mean_motion)).cbrt();
+            if a <= R_EARTH {
+                return Err(format!(
+                    "truth_model two_body_j2: mean_motion {} rad/s is an orbit of radius {a:.0} m, \
+                     inside the Earth (radius {R_EARTH} m)",
+                    self.mean_motion
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    fn sensor(&self) -> RadioSensor {
+        RadioSensor::new(self.frame, self.sigma_range, self.sigma_angle)
+    }
+}
+
+/// The true relative motion.
+#[derive(Debug, Clone, Copy)]
+enum Truth {
+    /// Exact CW: the canonical state and the transition of the last step length.
+    Cw {
+        x: State,
+        model: CwModel,
+        cache: Option<(f64, Mat6, Mat63)>,
+    },
+    /// Two-body + J2 of both spacecraft.
+    TwoBodyJ2(TwoBodyJ2),
+}
+
+/// One measurement due at a communication point.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sample {
+    /// `(range, azimuth, elevation)` [m, rad, rad] with noise; `None` at zero range.
+    pub z: Option<Vec3>,
+    /// Whether it reached the navigation (not dropped, not at zero range).
+    pub valid: bool,
+}
+
+/// The plant: truth, sensor schedule, random generator.
+#[derive(Debug, Clone)]
+pub struct Plant {
+    cfg: PlantConfig,
+    sensor: RadioSensor,
+    truth: Truth,
+    rng: ChaCha8Rng,
+    t0: f64,
+    /// Index `m` of the next due measurement, at `t0 + m * measurement_period`.
+    next_sample: u64,
+}
+
+impl Plant {
+    /// A plant at `t0` in its initial state (nothing drawn yet: see [`Plant::sample`]).
+    pub fn new(cfg: PlantConfig, t0: f64) -> Result<Self, String> {
+        cfg.validate()?;
+        if !t0.is_finite() {
+            return Err(format!("start time must be finite (got {t0})"));
+        }
+        let x0 = cfg
+            .frame
+            .state_to_canonical(&State::from_row_slice(&cfg.x0));
+        let truth = match cfg.truth_model {
+            TruthModel::Cw => Truth::Cw {
+                x: x0,
+                model: CwModel::new(cfg.mean_motion),
+                cache: None,
+            },
+            TruthModel::TwoBodyJ2 => Truth::TwoBodyJ2(TwoBodyJ2::new(
+                cfg.mean_motion,
+                cfg.inclination,
+                &x0,
+                cfg.j2_substep,
+            )),
+        };
+        Ok(Self {
+            cfg,
+            sensor: cfg.sensor(),
+            truth,
+            rng: ChaCha8Rng::seed_from_u64(cfg.seed),
+            t0,
+            next_sample: 0,
+        })
+    }
+
+    /// The configuration.
+    pub fn config(&self) -> &PlantConfig {
+        &self.cfg
+    }
+
+    /// The true relative state in the I/O frame.
+    pub fn truth(&self) -> State {
+        self.cfg.frame.state_from_canonical(&self.truth_canonical())
+    }
+
+    /// The true relative state in the canonical Hill frame.
+    pub fn truth_canonical(&self) -> State {
+        match &self.truth {
+            Truth::Cw { x, .. } => *x,
+            Truth::TwoBodyJ2(t) => t.relative(),
+        }
+    }
+
+    /// Propagate the truth over `[t, t + h)` with `thrust` [N, I/O frame] held.
+    pub fn propagate(&mut self, thrust: &Vec3, t: f64, h: f64) -> Result<(), String> {
+        if !(h.is_finite() && h > 0.0) {
+            return Err(format!("step must be finite and > 0 (got {h})"));
+        }
+        if let Some(i) = thrust.iter().position(|v| !v.is_finite()) {
+            return Err(format!(
+                "thrust_{} must be finite (got {})",
+                ["x", "y", "z"][i],
+                thrust[i]
+            ));
+        }
+        let a = self.cfg.frame.vec_to_canonical(thrust) / self.cfg.chaser_mass;
+        match &mut self.truth {
+            Truth::Cw { x, model, cache } => {
+                let (phi, gamma) = match cache {
+                    Some((hc, p, g)) if hc.to_bits() == h.to_bits() => (*p, *g),
+                    _ => {
+                        let pg = (model.phi(h), model.gamma(h));
+                        *cache = Some((h, pg.0, pg.1));
+                        pg
+                    }
+                };
+                *x = phi * *x + gamma * a;
+            }
+            Truth::TwoBodyJ2(tb) => tb.step(&a, t, h),
+        }
+        Ok(())
+    }
+
+    /// The measurement due at communication point `t`, if one is (drawn now, from the
+    /// current truth); `None` if no measurement is due at `t`.
+    pub fn sample(&mut self, t: f64) -> Option<Sample> {
+        let period = self.cfg.measurement_period;
+        let tol = 1e-9 * period.max(t.abs());
+        let due = self.t0 + self.next_sample as f64 * period;
+        if t < due - tol {
+            return None;
+        }
+        // the next due time after `t` (a long step may skip several)
+        self.next_sample = ((t - self.t0 + tol) / period).floor().max(0.0) as u64 + 1;
+        let u: f64 = self.rng.random();
+        let mut ar = [0.0; 3];
+        let r = self.truth_canonical().fixed_rows::<3>(0).into_owned();
+        let z = self
+            .sensor
+            .measure_with(&r, &self.cfg.noise, &mut ar, &mut self.rng);
+        let in_window = t >= self.cfg.dropout_start && t < self.cfg.dropout_stop;
+        let valid = z.is_some() && !in_window && u >= self.cfg.dropout_probability;
+        Some(Sample { z, valid })
+    }
+
+    /// Bytes of the plant's dynamic state (truth, generator, schedule); the configuration
+    /// is the caller's (the FMU's parameters).
+    pub fn save(&self, w: &mut Writer<'_>) {
+        w.tag(b"PLNT");
+        match &self.truth {
+            Truth::Cw { x, .. } => {
+                w.u8(TruthModel::Cw as u8);
+                w.matrix(x);
+            }
+            Truth::TwoBodyJ2(t) => {
+                w.u8(TruthModel::TwoBodyJ2 as u8);
+                w.matrix(&t.target);
+                w.matrix(&t.chaser);
+            }
+        }
+        w.bytes(&self.rng.get_seed());
+        w.u64(self.rng.get_stream());
+        let pos = self.rng.get_word_pos();
+        w.u64(pos as u64);
+        w.u64((pos >> 64) as u64);
+        w.f64(self.t0);
+        w.u64(self.next_sample);
+    }
+
+    /// Read what [`Plant::save`] wrote into this plant (same configuration); on error
+    /// nothing changes.
+    pub fn load(&mut self, r: &mut Reader<'_>) -> Result<(), StateError> {
+        r.tag(b"PLNT")?;
+        let kind = r.u8("truth model")?;
+        let mut truth = self.truth;
+        match (&mut truth, kind) {
+            (Truth::Cw { x, .. }, 1) => *x = r.finite_matrix("true state")?,
+            (Truth::TwoBodyJ2(t), 2) => {
+                t.target = r.finite_matrix("target state")?;
+                t.chaser = r.finite_matrix("chaser state")?;
+            }
+            _ => {
+                return Err(refuse(format!(
+                    "truth model {kind} in the state, {} in this plant",
+                    self.cfg.truth_model as i32
+                )))
+            }
+        }
+        let mut seed = [0u8; 32];
+        seed.copy_from_slice(r.take(32, "generator seed")?);
+        let stream = r.u64("generator stream")?;
+        let lo = r.u64("generator position (low)")?;
+        let hi = r.u64("generator position (high)")?;
+        let t0 = r.finite("start time")?;
+        let next = r.u64("next measurement index")?;
+        let mut rng = ChaCha8Rng::from_seed(seed);
+        rng.set_stream(stream);
+        rng.set_word_pos(u128::from(lo) | (u128::from(hi) << 64));
+        self.truth = truth;
+        self.rng = rng;
+        self.t0 = t0;
+        self.next_sample = next;
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The CW truth with a burn equals `Phi`/`Gamma` chained by hand, and the schedule
+    /// takes a measurement every period with the configured draws.
+    #[test]
+    fn cw_truth_and_schedule() {
+        let cfg = PlantConfig {
+            measurement_period: 2.0,
+            ..PlantConfig::default()
+        };
+        let mut p = Plant::new(cfg, 0.0).unwrap_or_else(|e| panic!("{e}"));
+        assert!(p.sample(0.0).is_some_and(|s| s.valid));
+        let f = Vec3::new(1.0, -2.0, 0.5);
+        let m = CwModel::new(cfg.mean_motion);
+        let mut x = cfg
+            .frame
+            .state_to_canonical(&State::from_row_slice(&cfg.x0));
+        let mut count = 0;
+        for k in 0..10 {
+            p.propagate(&f, k as f64, 1.0)
+                .unwrap_or_else(|e| panic!("{e}"));
+            x = m.phi(1.0) * x + m.gamma(1.0) * (cfg.frame.vec_to_canonical(&f) / 1000.0);
+            count += usize::from(p.sample(k as f64 + 1.0).is_some());
+        }
+        assert_eq!(count, 5);
+        assert_eq!(p.truth_canonical(), x);
+    }
+
+    /// Saved and loaded state continues bit for bit (truth, generator, schedule).
+    #[test]
+    fn save_and_load_continue_bit_for_bit() {
+        let cfg = PlantConfig {
+            noise: NoiseModel::StudentT { dof: 4.0 },
+            dropout_probability: 0.3,
+            truth_model: TruthModel::TwoBodyJ2,
+            ..PlantConfig::default()
+        };
+        let mut a = Plant::new(cfg, 0.0).unwrap_or_else(|e| panic!("{e}"));
+        let run = |p: &mut Plant, k0: usize| -> Vec<Option<Sample>> {
+            (k0..k0 + 5)
+                .map(|k| {
+                    let _ = p.propagate(&Vec3::new(0.1, 0.0, 0.0), k as f64, 1.0);
+                    p.sample(k as f64 + 1.0)
+                })
+                .collect()
+        };
+        let _ = run(&mut a, 0);
+        let mut bytes = Vec::new();
+        a.save(&mut Writer::new(&mut bytes));
+        let after_a = run(&mut a, 5);
+        let mut b = Plant::new(cfg, 0.0).unwrap_or_else(|e| panic!("{e}"));
+        b.load(&mut Reader::new(&bytes))
+            .unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(run(&mut b, 5), after_a);
+        assert_eq!(a.truth(), b.truth());
+    }
+
+    #[test]
+    fn invalid_settings_are_named() {
+        let bad = PlantConfig {
+            sigma_range: 0.0,
+            ..PlantConfig::default()
+        };
+        assert!(bad.validate().is_err_and(|e| e.contains("sigma_range")));
+        let bad = PlantConfig {
+            truth_model: TruthModel::TwoBodyJ2,
+            mean_motion: 0.01,
+            ..PlantConfig::default()
+        };
+        assert!(bad
+            .validate()
+            .is_err_and(|e| e.contains("inside the Earth")));
+    }
+}
