@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Benchmarks: criterion (cargo bench) plus the filterpy, numpy-SIR and cvxpy H-infinity anchors in the same run; prints
-# medians and ratios as a Markdown table; then the Python package's bench (benches/bench_python.py). Usage: scripts/bench.sh
+# medians and ratios as a Markdown table, callgrind instruction counts beside them and the campaign
+# throughput (benches/instructions.py); then the Python package's bench (benches/bench_python.py). Usage: scripts/bench.sh
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
@@ -12,7 +13,11 @@ numpy_sir=$(.venv/bin/python benches/anchor_numpy_sir.py)
 # the H-infinity design anchor needs cvxpy + clarabel (bench only, not the test suite)
 .venv/bin/python -m pip install --disable-pip-version-check -q --no-input -r benches/requirements-bench.txt </dev/null
 cvxpy_hinf=$(.venv/bin/python benches/anchor_cvxpy_hinf.py 2>/dev/null)
-.venv/bin/python benches/summarize.py "$anchor" "$numpy_sir" "$cvxpy_hinf"
+# callgrind instruction counts (the stable figure) and campaign throughput (runs/s per scenario)
+cargo build --release --example hinf_profile --example kalman_profile --bin relnav
+counts=$(.venv/bin/python benches/instructions.py)
+uptime
+.venv/bin/python benches/summarize.py "$anchor" "$numpy_sir" "$cvxpy_hinf" "$counts"
 echo
 # the Python package (relnav.Estimator against filterpy, Estimator.run, campaigns on Dask)
 .venv/bin/python benches/bench_python.py --instructions

@@ -98,6 +98,12 @@ fn ukf_time_update_equals_kalman_for_linear_dynamics() {
         ekf.predict(&d, &a).unwrap();
         assert!((ukf.state() - ekf.state()).norm() < 1e-9);
         assert!((ukf.covariance() - ekf.covariance()).norm() < 1e-9 * ekf.covariance().norm());
+        // the sigma-point time update through the same linear map (the unscented transform
+        // the UKF's `predict` replaces by its exact Kalman form) agrees to rounding
+        let mut sigma = Ukf::new(x, p, params);
+        sigma.predict_with(&d.q, |s| Ok(d.apply(s, &a))).unwrap();
+        assert!((sigma.state() - ekf.state()).norm() < 1e-9);
+        assert!((sigma.covariance() - ekf.covariance()).norm() < 1e-9 * ekf.covariance().norm());
     }
 }
 

@@ -88,7 +88,19 @@ fn campaign(
         progress: true,
         cancel: Some(cancel.clone()),
     };
+    let t0 = std::time::Instant::now();
     let r = runner::run(s, &opts)?;
+    let secs = t0.elapsed().as_secs_f64();
+    // campaign throughput (issue 15 item 4; scripts/bench.sh collects these lines): the
+    // Monte Carlo runs alone, without the metrics, CSV and plots written below
+    eprintln!(
+        "throughput {}: {} runs of {} steps, {} filters in {secs:.3} s = {:.2} runs/s",
+        s.name,
+        r.runs,
+        r.t.len(),
+        r.filters.len(),
+        f64::from(r.runs) / secs
+    );
     let summary = metrics::summarize(&r);
     println!("{}", report::markdown_table(&r, &summary));
     let dir = out.join(&s.name);

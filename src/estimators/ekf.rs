@@ -11,8 +11,12 @@
 //! x+ = x- + K nu
 //! P+ = (I - K H) P- (I - K H)^T + K R K^T      (Joseph form: symmetric PSD by construction)
 //! ```
+//!
+//! Both covariance products use the CW structure (issue 15): `Phi` is block diagonal in
+//! the in-plane and out-of-plane components and `H = [H_r 0]` has zero velocity columns
+//! (`propagate_covariance`, `joseph_update` in the module `estimators`).
 
-use super::{finite, symmetrize, Estimator, FilterError, UpdateInfo};
+use super::{finite, joseph_update, propagate_covariance, Estimator, FilterError, UpdateInfo};
 use crate::dynamics::DiscreteModel;
 use crate::numerics::state::{Persist, Reader, StateError, Writer};
 use crate::sensors::MeasurementModel;
@@ -46,17 +50,18 @@ impl Ekf {
             nu.y = 0.0; // H row is zero too: the gain column vanishes (see sensors docs)
         }
         let r = sensor.noise_cov();
-        let h = g.h;
-        let ph = self.p * h.transpose();
-        let s = h * ph + r;
+        // H = [H_r 0]: the sensors measure the position (`Geometry::h`)
+        debug_assert!(g.h.fixed_columns::<3>(3).iter().all(|v| *v == 0.0));
+        let h_r: Mat3 = g.h.fixed_columns::<3>(0).into_owned();
+        let ph = self.p.fixed_columns::<3>(0) * h_r.transpose();
+        let s = h_r * ph.fixed_rows::<3>(0) + r;
         let chol = s
             .cholesky()
             .ok_or(FilterError::NotPositiveDefinite("innovation covariance S"))?;
         // K = P H^T S^-1  <=>  K^T = S^-1 (H P)   (S, P symmetric)
         let k = chol.solve(&ph.transpose()).transpose();
         let x = self.x + k * nu;
-        let ikh = Mat6::identity() - k * h;
-        let p = symmetrize(&(ikh * self.p * ikh.transpose() + k * r * k.transpose()));
+        let p = joseph_update(&self.p, &k, &h_r, &r);
         finite(&x, "updated state")?;
         finite(&p, "updated covariance")?;
         let nis = nu.dot(&chol.solve(&nu));
@@ -76,7 +81,7 @@ impl Ekf {
 impl Estimator for Ekf {
     fn predict(&mut self, model: &DiscreteModel, accel: &Vec3) -> Result<(), FilterError> {
         let x = model.apply(&self.x, accel);
-        let p = symmetrize(&(model.phi * self.p * model.phi.transpose() + model.q));
+        let p = propagate_covariance(&model.phi, &self.p, &model.q);
         finite(&x, "predicted state")?;
         finite(&p, "predicted covariance")?;
         self.x = x;

@@ -8,10 +8,12 @@
 //! Wm_0 = lambda / (n + lambda),  Wc_0 = Wm_0 + 1 - alpha^2 + beta,  W_i = 1 / (2 (n + lambda))
 //! ```
 //!
-//! Time update: every sigma point goes through the discrete model, `x- = sum Wm chi_i`,
-//! `P- = sum Wc (chi_i - x-)(chi_i - x-)^T + Q` (additive noise). For the linear CW model
-//! this equals the Kalman time update to rounding — the unscented transform is exact for
-//! linear maps — and the tests check exactly that.
+//! Time update: every sigma point goes through the process function, `x- = sum Wm chi_i`,
+//! `P- = sum Wc (chi_i - x-)(chi_i - x-)^T + Q` (additive noise; [`Ukf::predict_with`],
+//! used for nonlinear models). For the linear CW model this equals the Kalman time update
+//! — the unscented transform is exact for linear maps — so [`Estimator::predict`] with a
+//! [`DiscreteModel`] computes that form directly (issue 15: a quarter of the step's instructions);
+//! the tests check that both agree to rounding.
 //!
 //! Measurement update: sigma points are redrawn from `(x-, P-)`, passed through `h`, and
 //! * the predicted range and elevation are weighted means; the predicted **azimuth is a
@@ -27,7 +29,7 @@
 //! plus `Q` and stays positive definite; small `alpha` (1e-3, common in textbooks) gives
 //! `Wc_0 ~ -1e6` and loses about twelve digits of the covariance for this problem.
 
-use super::{finite, symmetrize, Estimator, FilterError, UpdateInfo};
+use super::{finite, propagate_covariance, symmetrize, Estimator, FilterError, UpdateInfo};
 use crate::dynamics::DiscreteModel;
 use crate::numerics::state::{Persist, Reader, StateError, Writer};
 use crate::sensors::{GeometryError, MeasurementModel};
@@ -267,8 +269,19 @@ impl Ukf {
 }
 
 impl Estimator for Ukf {
+    /// The time update through the linear discrete model. The unscented transform of a
+    /// linear map is exact, `sum Wc (Phi chi_i - Phi x)(...)^T = Phi P Phi^T`, so this is
+    /// the Kalman form `x- = Phi x + Gamma a`, `P- = Phi P Phi^T + Q` (CW block structure,
+    /// as the EKF's): the same result as [`Ukf::predict_with`] with `model.apply` to
+    /// rounding (tested) without the Cholesky factor and the 13 propagated sigma points.
     fn predict(&mut self, model: &DiscreteModel, accel: &Vec3) -> Result<(), FilterError> {
-        self.predict_with(&model.q, |x| Ok(model.apply(x, accel)))
+        let x = model.apply(&self.x, accel);
+        let p = propagate_covariance(&model.phi, &self.p, &model.q);
+        finite(&x, "predicted state")?;
+        finite(&p, "predicted covariance")?;
+        self.x = x;
+        self.p = p;
+        Ok(())
     }
 
     fn update<M: MeasurementModel>(

@@ -1,0 +1,64 @@
+"""Instruction counts (valgrind --tool=callgrind) of the main cases, the stable figure on a
+shared machine, and the campaign throughput of `relnav reproduce` per scenario (issue 15,
+items 4 and 5). Needs the release builds of examples/hinf_profile, examples/kalman_profile
+and the relnav CLI (scripts/bench.sh builds them). Prints one JSON line:
+
+  {"instructions": {case: count per design or per step}, "iterations": {design: "n"},
+   "throughput": {scenario: runs per second}}
+
+Per-step Kalman counts are (I(n2) - I(n1)) / (n2 - n1) less the same for the measurement
+generation alone (`kalman_profile none`), which cancels the setup.
+Usage: instructions.py [--no-callgrind] [--no-throughput] [--runs R]
+"""
+import argparse
+import json
+import pathlib
+import re
+import shutil
+import subprocess
+import tempfile
+
+root = pathlib.Path(__file__).resolve().parent.parent
+rel = root / "target" / "release"
+
+
+def callgrind(args):
+    p = subprocess.run(["valgrind", "--tool=callgrind", "--callgrind-out-file=/dev/null", *args],
+                       capture_output=True, text=True, check=True)
+    return int(p.stderr.split("Collected : ")[1].split()[0]), p.stdout
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--no-callgrind", action="store_true")
+    ap.add_argument("--no-throughput", action="store_true")
+    ap.add_argument("--runs", type=int, default=20)
+    a = ap.parse_args()
+    out = {"instructions": {}, "iterations": {}, "throughput": {}}
+    if not a.no_callgrind and shutil.which("valgrind"):
+        hp = str(rel / "examples" / "hinf_profile")
+        for d in ("paper", "observer", "mixed"):
+            n, text = callgrind([hp, d])
+            out["instructions"][f"hinf_design_{d}"] = n
+            m = re.search(r"iterations (\S+)", text)
+            out["iterations"][f"hinf_design_{d}"] = m.group(1) if m else "?"
+        kp = str(rel / "examples" / "kalman_profile")
+        n1, n2 = 100, 1100
+        gen = {n: callgrind([kp, "none", str(n)])[0] for n in (n1, n2)}  # the measurements alone
+        for f in ("ekf", "ukf"):
+            i1, _ = callgrind([kp, f, str(n1)])
+            i2, _ = callgrind([kp, f, str(n2)])
+            out["instructions"][f"{f}_step"] = ((i2 - gen[n2]) - (i1 - gen[n1])) / (n2 - n1)
+    if not a.no_throughput:
+        with tempfile.TemporaryDirectory() as tmp:
+            p = subprocess.run([str(rel / "relnav"), "reproduce", "--paper", "all", "--runs", str(a.runs),
+                                "--no-plots", "--out", tmp], capture_output=True, text=True, check=True)
+        for m in re.finditer(r"^throughput (\S+): (\d+) runs of (\d+) steps, (\d+) filters in \S+ s = (\S+) runs/s",
+                             p.stderr, re.M):
+            out["throughput"][m.group(1)] = {"runs_per_s": float(m.group(5)), "steps": int(m.group(3)),
+                                             "filters": int(m.group(4))}
+    print(json.dumps(out))
+
+
+if __name__ == "__main__":
+    main()
