@@ -10,7 +10,8 @@
 //! valgrind --tool=callgrind target/release/examples/pf_steps 100000 20 5 1
 //! ```
 //!
-//! Arguments: particles, warm-up steps, measured steps, threads (default 100000 20 1 1).
+//! Arguments: particles, warm-up steps, measured steps, threads, kind (`pf`, `rpf`, `upf`,
+//! `gapf`, `cgapf`; default 100000 20 1 1 pf).
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)] // example code
 
 use rand::SeedableRng;
@@ -28,6 +29,9 @@ fn main() {
             .map_or(d, |s| s.parse().expect("a non-negative integer"))
     };
     let (particles, warm, steps, threads) = (arg(1, 100_000), arg(2, 20), arg(3, 1), arg(4, 1));
+    let kind = std::env::args().nth(5).map_or(PfKind::Sir, |s| {
+        PfKind::from_name(&s).expect("a filter kind")
+    });
     let cfg = NavConfig::default();
     let f = cfg.frame;
     let model = CwModel::new(cfg.mean_motion);
@@ -43,7 +47,7 @@ fn main() {
         particles,
         seed: 7,
         threads,
-        ..PfParams::new(PfKind::Sir)
+        ..PfParams::new(kind)
     };
     let mut pf = ParticleFilter::new(cfg.initial_state(), cfg.initial_covariance(), params);
     for k in 0..warm + steps {
@@ -56,7 +60,8 @@ fn main() {
     }
     let m = pf.state();
     println!(
-        "particles {particles}, steps {}, threads {threads}: mean {:.6} {:.6} {:.6}",
+        "{} particles {particles}, steps {}, threads {threads}: mean {:.6} {:.6} {:.6}",
+        kind.name(),
         warm + steps,
         m[0],
         m[1],

@@ -130,7 +130,27 @@ impl Ukf {
         r: &Mat3,
         z: &Vec3,
     ) -> Result<(State, Mat6, UpdateInfo), FilterError> {
-        let s = self.sigma_points(x, p)?;
+        let l = p
+            .cholesky()
+            .ok_or(FilterError::NotPositiveDefinite("state covariance P"))?
+            .unpack();
+        self.measurement_update_factored(x, p, &l, sensor, r, z)
+    }
+
+    /// [`Ukf::measurement_update`] with the lower Cholesky factor `l` of `p` given (the
+    /// particle filters' unscented proposal: one covariance shared by every particle,
+    /// factored once per update instead of once per particle). Same result, bit for bit,
+    /// when `l` is `p`'s Cholesky factor.
+    pub fn measurement_update_factored<M: MeasurementModel>(
+        &self,
+        x: &State,
+        p: &Mat6,
+        l: &Mat6,
+        sensor: &M,
+        r: &Mat3,
+        z: &Vec3,
+    ) -> Result<(State, Mat6, UpdateInfo), FilterError> {
+        let s = self.sigma_points_of(x, l);
         let mut zs = [Vec3::zeros(); NS];
         for (i, zi) in zs.iter_mut().enumerate() {
             *zi = sensor
@@ -257,6 +277,11 @@ impl Ukf {
             .cholesky()
             .ok_or(FilterError::NotPositiveDefinite("state covariance P"))?
             .unpack();
+        Ok(self.sigma_points_of(x, &l))
+    }
+
+    /// The sigma points of `(x, L L^T)`.
+    fn sigma_points_of(&self, x: &State, l: &Mat6) -> Sigma {
         let mut s = Sigma::zeros();
         s.set_column(0, x);
         for i in 0..N {
@@ -264,7 +289,7 @@ impl Ukf {
             s.set_column(1 + i, &(x + d));
             s.set_column(1 + N + i, &(x - d));
         }
-        Ok(s)
+        s
     }
 }
 

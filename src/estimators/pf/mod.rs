@@ -405,8 +405,17 @@ impl<'a, M: MeasurementModel> Likelihood<'a, M> {
 
 /// `ln N(x; m, L L^T)` up to the constant `-3 ln 2 pi`, `L` lower triangular.
 fn log_gauss(x: &State, m: &State, l: &Mat6) -> f64 {
+    log_gauss_with(x, m, l, half_logdet(l))
+}
+
+/// `sum_i ln L_ii = ln det(L L^T) / 2`.
+fn half_logdet(l: &Mat6) -> f64 {
+    (0..N).map(|i| l[(i, i)].ln()).sum()
+}
+
+/// [`log_gauss`] with `half_logdet(l)` given (a factor shared by many particles).
+fn log_gauss_with(x: &State, m: &State, l: &Mat6, half_logdet: f64) -> f64 {
     let d = x - m;
-    let half_logdet: f64 = (0..N).map(|i| l[(i, i)].ln()).sum();
     match l.solve_lower_triangular(&d) {
         Some(u) => -0.5 * u.norm_squared() - half_logdet,
         None => f64::NEG_INFINITY,
@@ -584,6 +593,9 @@ struct ShrinkKernel {
     offset: State,
     cov: Mat6,
     l: Mat6,
+    /// the Cholesky factor of `cov` the UKF's sigma points use (computed once for every
+    /// particle; `None`: every particle's UKF step fails, as it would on its own)
+    ukf_l: Option<Mat6>,
 }
 
 impl ShrinkKernel {
@@ -598,6 +610,7 @@ impl ShrinkKernel {
             offset: pred_mean * (1.0 - a),
             cov,
             l,
+            ukf_l: cov.cholesky().map(|c| c.unpack()),
         })
     }
 }
@@ -613,6 +626,9 @@ struct Unscented<'a, M> {
     kernel: Option<ShrinkKernel>,
     /// square root of `Q` (the literal proposal's transition density)
     q_sqrt: Mat6,
+    /// `half_logdet` of the factor the weights' `ln N(x; mu_i, .)` uses (the kernel's or
+    /// `q_sqrt`: one for every particle)
+    prior_half_logdet: f64,
     carry: bool,
 }
 
@@ -620,21 +636,38 @@ impl<M: MeasurementModel> Unscented<'_, M> {
     /// Draw particle `i` from its UKF proposal: `(x, P_i, ln p(x|.) - ln q(x))`, `None`
     /// when the UKF step fails.
     fn draw(&self, xbar: &State, pc: &Mat6, rng: &mut PfRng) -> Option<(State, Mat6, f64)> {
-        let (mu, prior, prior_l) = match &self.kernel {
-            Some(k) => (xbar * k.a + k.offset, k.cov, k.l),
-            None => (*xbar, *pc, self.q_sqrt),
+        let (mu, prior_l, update) = match &self.kernel {
+            Some(k) => {
+                let mu = xbar * k.a + k.offset;
+                let u = self.ukf.measurement_update_factored(
+                    &mu,
+                    &k.cov,
+                    k.ukf_l.as_ref()?,
+                    self.sensor,
+                    &self.r,
+                    &self.z,
+                );
+                (mu, &k.l, u)
+            }
+            None => (
+                *xbar,
+                &self.q_sqrt,
+                self.ukf
+                    .measurement_update(xbar, pc, self.sensor, &self.r, &self.z),
+            ),
         };
-        let (m, p, _) = self
-            .ukf
-            .measurement_update(&mu, &prior, self.sensor, &self.r, &self.z)
-            .ok()?;
+        let (m, p, _) = update.ok()?;
         let l = chol(&p)?;
         let eps = gauss6(rng);
         let x = m + l * eps;
         let half_logdet: f64 = (0..N).map(|k| l[(k, k)].ln()).sum();
         let log_q = -0.5 * eps.norm_squared() - half_logdet;
         let pc_new = if self.carry { p } else { Mat6::zeros() };
-        Some((x, pc_new, log_gauss(&x, &mu, &prior_l) - log_q))
+        Some((
+            x,
+            pc_new,
+            log_gauss_with(&x, &mu, prior_l, self.prior_half_logdet) - log_q,
+        ))
     }
 
     /// The proposals of a run of particles: new particles, covariances, log-weights and
@@ -655,7 +688,8 @@ impl<M: MeasurementModel> Unscented<'_, M> {
         for i in 0..x.len() {
             let (xi, pci, corr) = match self.draw(&xbar[i], &pc[i], rng) {
                 Some(d) => d,
-                None => (x[i], pc[i], 0.0),
+                // without carrying, every covariance starts afresh at the next prediction
+                None => (x[i], if self.carry { pc[i] } else { Mat6::zeros() }, 0.0),
             };
             let ll = self.lik.log(&xi);
             x_new[i] = xi;
@@ -974,10 +1008,16 @@ impl ParticleFilter {
         if !self.pc.is_empty() {
             for (k, &i) in self.idx.iter().enumerate() {
                 self.xbar_tmp[k] = self.xbar[i];
-                self.pc_tmp[k] = self.pc[i];
             }
             std::mem::swap(&mut self.xbar, &mut self.xbar_tmp);
-            std::mem::swap(&mut self.pc, &mut self.pc_tmp);
+            // not carried, the covariances are all equal (zero after an update): nothing
+            // to reorder
+            if self.params.carry_covariance {
+                for (k, &i) in self.idx.iter().enumerate() {
+                    self.pc_tmp[k] = self.pc[i];
+                }
+                std::mem::swap(&mut self.pc, &mut self.pc_tmp);
+            }
         }
     }
 
@@ -1197,6 +1237,7 @@ impl ParticleFilter {
                         "process noise Q (the literal UPF and CGA-PF need a transition density)",
                     ));
                 };
+                let prior_half_logdet = half_logdet(kernel.as_ref().map_or(&self.q_sqrt, |k| &k.l));
                 let u = Unscented {
                     ukf: self.ukf.clone(),
                     lik: &lik,
@@ -1205,6 +1246,7 @@ impl ParticleFilter {
                     z: *z,
                     kernel,
                     q_sqrt: self.q_sqrt,
+                    prior_half_logdet,
                     carry: self.params.carry_covariance,
                 };
                 self.propose_unscented(&u);
@@ -1402,8 +1444,15 @@ impl Estimator for ParticleFilter {
         (self.q_key, self.q_sqrt, self.q_pd) = (model.q, l, lower);
         self.mean = mean;
         self.cov = OnceCell::from(cov);
-        for p in self.pc.iter_mut() {
-            *p = symmetrize(&(phi * *p * phi.transpose() + model.q));
+        if self.params.carry_covariance {
+            for p in self.pc.iter_mut() {
+                *p = symmetrize(&(phi * *p * phi.transpose() + model.q));
+            }
+        } else {
+            // not carried: every covariance is zero after an update (restarted), so each
+            // prediction is the one matrix `Phi 0 Phi^T + Q`, formed once
+            let p = symmetrize(&(phi * Mat6::zeros() * phi.transpose() + model.q));
+            self.pc.iter_mut().for_each(|c| *c = p);
         }
         if let Some((m, p)) = prior {
             (self.prior_mean, self.prior_cov) = (m, p);
