@@ -1,11 +1,13 @@
-//! Runs one H-infinity design (argument: `paper`, `observer`, `mixed` or `mixed_quiet`) and
+//! Runs one H-infinity design (argument: `paper`, `paper_full` (the same SDP posed with the
+//! filter matrices as variables), `observer`, `observer_full`, `mixed` or `mixed_quiet`) and
 //! prints gamma, H2 norm, interior-point iterations and wall time: the workload for
 //! `valgrind --tool=callgrind` instruction counts beside the criterion medians
 //! (`cargo run --release --example hinf_profile -- paper`).
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 use relnav::hinf::design::{
-    design_open_loop, design_open_loop_mixed, design_paper_spec, DesignOptions,
+    design_observer_full, design_open_loop, design_open_loop_mixed, design_paper_full,
+    design_paper_spec, DesignOptions,
 };
 use relnav::hinf::HinfSpec;
 
@@ -33,6 +35,20 @@ fn main() {
         let (gamma, h2, iters) = match which.as_str() {
             "paper" => {
                 let d = design_paper_spec(&spec, &opts).expect("paper design");
+                (d.gamma, d.h2_norm, format!("{}", d.iterations))
+            }
+            "paper_full" => {
+                let plant = relnav::hinf::HinfPlant::paper_closed_loop(
+                    &spec,
+                    &relnav::hinf::PAPER_K,
+                    relnav::hinf::PAPER_MASS,
+                );
+                let d = design_paper_full(&plant, spec.period, &opts).expect("paper design");
+                (d.gamma, d.h2_norm, format!("{}", d.iterations))
+            }
+            "observer_full" => {
+                let plant = relnav::hinf::HinfPlant::open_loop(&spec);
+                let d = design_observer_full(&plant, spec.period, &opts).expect("observer");
                 (d.gamma, d.h2_norm, format!("{}", d.iterations))
             }
             "observer" => {

@@ -20,6 +20,103 @@
 //!
 //! and `A_F = S^-1 Abar_F`, `B_F = S^-1 Bbar_F`, `C_F = Cbar_F` (eq. 21).
 //!
+//! # Elimination of the filter matrices (issue 15)
+//!
+//! Eq. 20 is affine in the filter variables and each of them is unstructured, so the
+//! projection (elimination) lemma of Gahinet & Apkarian (1994) applies: for symmetric
+//! `Psi` and an unstructured `Theta`,
+//!
+//! ```text
+//! exists Theta:  Psi + U^T Theta V + V^T Theta^T U < 0
+//!    <=>  N_U^T Psi N_U < 0  and  N_V^T Psi N_V < 0      (N_X: basis of ker X)
+//! ```
+//!
+//! *Step 1, `Theta = [Abar_F  Bbar_F]`.* Both enter the `R` row and the `S` row alike:
+//! `U = E_0 + E_1`, `V = [E_xf; C E_x + D E_v]` (`E_k` selects block `k` of eq. 20; blocks
+//! `0, 1` the `R`, `S` rows, then `x, x_f, w, v, z, d`). `Cbar_F` (the `(x_f, z)` block)
+//! stays in `Psi`; it is unstructured too and eliminated in step 2.
+//!
+//! - `ker V` (`xi_xf = 0`, `C xi_x + D xi_v = 0`): the `x_f` block and `Cbar_F` drop out;
+//!   rows `R` and `S` with the congruence `xi_1 -> xi_1 - xi_0` become `diag(-W, -S)`,
+//!   `W = R - S`, beside `[W; S] [A B Ha]`, and the Schur complement of that pair is the one
+//!   of a single row `-R` beside `R [A B Ha]` (`W W^-1 W + S S^-1 S = R`). With `D`
+//!   invertible, `ker [C D] = {(x, -D^-1 C x)}`, so (c) is, in the blocks `(R row, x, v,
+//!   w, d)` and restricted by the congruence `N = diag(I, [I; -D^-1 C], I)`:
+//!
+//!   ```text
+//!   (c)  N^T [ -R   R A                   0      R B    R Ha ]
+//!            [  *  -R + l Ea'Ea + L'L      0      0      0    ]
+//!            [  *   *                     -g2 I   0      0    ]  N  <  0
+//!            [  *   *                      *     -g2 I   0    ]
+//!            [  *   *                      *      *     -l I  ]
+//!   ```
+//!
+//!   (the `z` block `-I` beside `L'` is replaced by its Schur complement `+ L'L`; exact).
+//! - `ker U` (`xi_1 = -xi_0`): the `R` row minus the `S` row is free of the filter: the
+//!   condition (i) is eq. 20 without the `S` row, in the blocks `(W row, x, x_f, w, v, z, d)`
+//!   with the `W` row `[-W, W A, 0, W B, 0, 0, W Ha]`.
+//!
+//! *Step 2, `Cbar_F` in (i)*: `U = E_z`, `V = E_xf`. `ker V` (`xi_xf = 0`): (i) without
+//! `x_f`, which is
+//!
+//! ```text
+//! (b)  [ -W   W A                   W B    W Ha ]
+//!      [  *  -R + l Ea'Ea + L'L      0      0    ]  <  0
+//!      [  *   *                     -g2 I   0    ]
+//!      [  *   *                      *     -l I  ]
+//! ```
+//!
+//! and `ker U` (`xi_z = 0`): (i) without `z`, whose `(x, x_f)` part `[-R + l Ea'Ea, -S;
+//! -S, -S]` is, by the Schur complement of `-S` (`S > 0` is imposed anyway), `-W + l
+//! Ea'Ea`:
+//!
+//! ```text
+//! (a)  (b) with the x block -W + l Ea'Ea  (no L'L),   and S > 0.
+//! ```
+//!
+//! (The `v` blocks of (a), (b) are decoupled `-g2 I`.) So a filter exists iff `R, S, l, g2`
+//! satisfy (a), (b), (c) and `S > 0`: 44 scalars instead of 134, LMIs of sizes 21, 21, 21
+//! (with the thin factors below) instead of one of 45. The eliminated SDP has the same
+//! infimum as eq. 20 for the same bound `R <= rho I`; the margins `-eps I` now sit on (a),
+//! (b), (c), which is less conservative than `-eps I` on the 45 x 45 matrix: measured gamma
+//! 0.358760 against 0.358787 (7.6e-5 relative, docs/evaluation.md).
+//!
+//! *Thin factors.* `B` and `Ha` enter only beside `-g2 I` and `-l I`, i.e. through `W B B'
+//! W / g2` and `W Ha Ha' W / l`: any `F` with `F F' = B B'` gives the same LMI (congruence
+//! with an orthogonal matrix, the remaining columns decouple). `Ha` has rank 3 (rows 3-5),
+//! so its `d` block shrinks from 6 to 3. Numerical rank: eigenvalues of `M M'` above `1e-24`
+//! of the largest.
+//!
+//! *Why `D` invertible.* It is the noise input of the position measurement; a singular `D`
+//! (a noise-free axis) makes `ker [C D]` another subspace; [`design_paper`] then runs the
+//! literal SDP ([`design_paper_full`]).
+//!
+//! ## Reconstruction
+//!
+//! When `Theta` enters one block row `j` only (`Psi + E_j' Theta V + ...`, `V` zero in the
+//! columns of `j`), with `Q = -Psi_rr > 0` (the rest of the rows) and `Psi < 0` on `ker V`,
+//!
+//! ```text
+//! Theta = -Psi_jr Q^-1 V_r' (V_r Q^-1 V_r')^-1
+//! ```
+//!
+//! is a solution: it makes `Psi_jr + Theta V_r = Psi_jr Pi`, with `Pi` the `Q`-orthogonal
+//! projector onto `ker V_r`; by the Schur complement of `Psi_jj < 0` the LMI is `X'
+//! (-Psi_jj)^-1 X < Q` for `X = Psi_jr + Theta V_r`, and splitting `xi = Pi xi + (I - Pi)
+//! xi` (`Q`-orthogonal) gives `xi' (Q - Pi' G Pi) xi = k' (Q - G) k + m' Q m > 0`, `k = Pi xi
+//! in ker V_r`, `G = Psi_rj (-Psi_jj)^-1 Psi_jr` — positive by the condition on `ker V`
+//! and by `Q > 0`. Applied twice: `Cbar_F` from (i) (row `z`, `Psi_zz = -I`, `Q` = -(a)
+//! with the `x_f` block), then `[Abar_F Bbar_F]` from eq. 20 after the congruence
+//! `xi_1 -> xi_1 - xi_0`, where they enter the `S` row only (`Psi_jj = -S`, `Q` = -(i)).
+//! Eq. 20 is then assembled at the reconstructed filter and checked with nalgebra like
+//! before ([`crate::hinf::verify::lmi_paper`]); it is not the filter of [`design_paper_full`]
+//! (the optimal filter is not unique), its H2 norm differs (docs/evaluation.md).
+//!
+//! *Observer form.* `Y = P G` enters the `P` row only, beside `-(C E_e + D E_v)`: `ker
+//! U` gives `P > L'L`, `ker V` the 21 x 21 LMI in `(P row, e, w, d)` on `ker [C D]`
+//! (the `Y` terms vanish there; `z` by its Schur complement); `Y` by the formula above
+//! (`Psi_jj = -P`). 22 scalars instead of 40.
+//!
 //! # Observer (error-dynamics) design, for the open-loop plant
 //!
 //! Filter `xh(k+1) = A xh + Gamma a + G (y - C xh)`, estimate `xh`. With `e = x - xh`:
@@ -208,6 +305,16 @@ impl Lmi {
             dim: o,
             offsets,
             mats: vec![DMatrix::zeros(o, o); nvar + 1],
+        }
+    }
+
+    /// `N^T M(x) N` for every coefficient: the LMI restricted to the range of `N` (one
+    /// block of size `N.ncols()` afterwards).
+    fn congruence(&self, n: &DMatrix<f64>) -> Self {
+        Self {
+            dim: n.ncols(),
+            offsets: vec![0],
+            mats: self.mats.iter().map(|m| n.transpose() * m * n).collect(),
         }
     }
 
@@ -405,15 +512,15 @@ impl Sdp {
         let settings = DefaultSettings {
             max_iter: opts.max_iter,
             verbose: false,
-            equilibrate_enable: self.equilibrate,
             // Clarabel's own choice of LDL per KKT matrix (its `faer-sparse` feature, as in
             // its Python wheel): faer's supernodal factorisation where the KKT system is
-            // dense enough (flops / nnz(L) >= 40: the paper form's PSD blocks; 4.0 G -> 1.8
-            // G instructions), QDLDL elsewhere (the observer designs). docs/evaluation.md,
-            // "H-infinity design speed".
-            direct_solve_method: "auto".to_string(),
+            // dense enough (flops / nnz(L) >= 40: the literal paper form's PSD blocks; 4.0 G
+            // -> 1.8 G instructions), QDLDL elsewhere (the eliminated paper form, the
+            // observer designs). docs/evaluation.md, "H-infinity design speed".
             // one thread: deterministic, and the machine's cores belong to the caller
             max_threads: 1,
+            equilibrate_enable: self.equilibrate,
+            direct_solve_method: "auto".to_string(),
             ..DefaultSettings::default()
         };
         let mut solver =
@@ -499,10 +606,25 @@ pub fn balance(ha: &Mat6, ea: &Mat6) -> f64 {
     }
 }
 
-/// Paper 002, Corollary 1: minimise `gamma^2` over the LMI (eq. 20) for `plant` (built
-/// with [`HinfPlant::paper_closed_loop`]); `A_F = S^-1 Abar_F`, `B_F = S^-1 Bbar_F`,
-/// `C_F = Cbar_F`. Errors: [`HinfErrorKind::Infeasible`] when no filter exists (or the
-/// solution fails the independent check), [`HinfErrorKind::SolverFailed`] otherwise.
+/// No uncertainty (`delta_bar = 0`, `Ea = 0`): the channel is dropped as well, or `lambda`
+/// would have to grow without bound against `R Ha`.
+fn paper_plant(plant: &HinfPlant) -> HinfPlant {
+    let mut p = *plant;
+    if p.ea.norm() == 0.0 {
+        p.ha = Mat6::zeros();
+    }
+    p
+}
+
+/// Paper 002, Corollary 1: minimise `gamma^2` subject to eq. 20 for `plant` (built with
+/// [`HinfPlant::paper_closed_loop`]), with the filter matrices eliminated (module docs,
+/// "Elimination of the filter matrices"): the SDP is solved in `R, S, lambda, g2` only (44
+/// scalars, LMIs of sizes 30, 30, 24), then `Cbar_F` and `[Abar_F Bbar_F]` are
+/// reconstructed in closed form and eq. 20 is checked at them with nalgebra.
+/// `A_F = S^-1 Abar_F`, `B_F = S^-1 Bbar_F`, `C_F = Cbar_F`. When `D` is singular the
+/// kernel basis used here does not exist and [`design_paper_full`] runs instead. Errors:
+/// [`HinfErrorKind::Infeasible`] when no filter exists (or the solution fails the
+/// independent check), [`HinfErrorKind::SolverFailed`] otherwise.
 pub fn design_paper(
     plant: &HinfPlant,
     period: f64,
@@ -511,13 +633,297 @@ pub fn design_paper(
     check_opts(opts)?;
     check_plant(plant)?;
     let t0 = Instant::now();
-    // no uncertainty (delta_bar = 0, Ea = 0): drop the channel as well, or lambda would have
-    // to grow without bound against R Ha
-    let mut plant = *plant;
-    if plant.ea.norm() == 0.0 {
-        plant.ha = Mat6::zeros();
+    let plant = &paper_plant(plant);
+    robustly_stable(plant)?;
+    // ker [C D] = { (x, -D^-1 C x) }
+    let dinv_c = match plant.d.try_inverse() {
+        Some(di) if di.iter().all(|v| v.is_finite()) => dm(&(di * plant.c)),
+        _ => return design_paper_full(plant, period, opts),
+    };
+    let s = balance(&plant.ha, &plant.ea);
+    let ea = dm(&plant.ea) * s;
+    let a = dm(&plant.a);
+    // B and Ha enter only through B B^T and Ha Ha^T (module docs): thin factors
+    let (b, ha) = (
+        thin_factor(&dm(&plant.b)),
+        thin_factor(&(dm(&plant.ha) / s)),
+    );
+    let (pb, ph) = (b.ncols(), ha.ncols());
+    let l = dm(&plant.l);
+    // x-block constants: lambda Ea^T Ea (variable), L^T L (the Schur complement of z)
+    let eae = ea.transpose() * &ea;
+    let ltl = l.transpose() * &l;
+    let n = 6;
+    let mut vars = Vars { n: 0 };
+    let r = vars.sym(n);
+    let sv = vars.sym(n);
+    let lam = vars.scalar();
+    let g2 = vars.scalar();
+    let nvar = vars.n;
+    let eye = |k: usize| DMatrix::<f64>::identity(k, k);
+    // (a), (b): blocks W-row, x, w, d ; (c) before the kernel congruence: R-row, x, v, w, d
+    // (W = R - S; module docs)
+    let mut ma = Lmi::new(&[n, n, pb, ph], nvar);
+    let mut mb = Lmi::new(&[n, n, pb, ph], nvar);
+    let mut mc = Lmi::new(&[n, n, 3, pb, ph], nvar);
+    for (sign, vm) in [(1.0, &r), (-1.0, &sv)] {
+        for (k, e) in vm.basis() {
+            let w = e * sign;
+            for m in [&mut ma, &mut mb] {
+                m.add(Some(k), 0, 0, &(-&w));
+                m.add(Some(k), 0, 1, &(&w * &a));
+                m.add(Some(k), 0, 2, &(&w * &b));
+                m.add(Some(k), 0, 3, &(&w * &ha));
+            }
+            ma.add(Some(k), 1, 1, &(-&w));
+        }
     }
-    let plant = &plant;
+    for (k, e) in r.basis() {
+        mb.add(Some(k), 1, 1, &(-&e));
+        mc.add(Some(k), 0, 0, &(-&e));
+        mc.add(Some(k), 0, 1, &(&e * &a));
+        mc.add(Some(k), 0, 3, &(&e * &b));
+        mc.add(Some(k), 0, 4, &(&e * &ha));
+        mc.add(Some(k), 1, 1, &(-&e));
+    }
+    for m in [&mut ma, &mut mb, &mut mc] {
+        m.add(Some(lam), 1, 1, &eae);
+    }
+    for m in [&mut mb, &mut mc] {
+        m.add(None, 1, 1, &ltl);
+    }
+    ma.add(Some(g2), 2, 2, &(-eye(pb)));
+    ma.add(Some(lam), 3, 3, &(-eye(ph)));
+    mb.add(Some(g2), 2, 2, &(-eye(pb)));
+    mb.add(Some(lam), 3, 3, &(-eye(ph)));
+    mc.add(Some(g2), 2, 2, &(-eye(3)));
+    mc.add(Some(g2), 3, 3, &(-eye(pb)));
+    mc.add(Some(lam), 4, 4, &(-eye(ph)));
+    let mc = mc.congruence(&kernel_basis(&dinv_c, pb + ph));
+    let bound = upper_bound(&r, n, nvar, opts.bound);
+    let mut spos = Lmi::new(&[n], nvar);
+    for (k, e) in sv.basis() {
+        spos.add(Some(k), 0, 0, &(-e));
+    }
+    let mut cost = vec![0.0; nvar];
+    cost[g2] = 1.0;
+    let sdp = Sdp {
+        nvar,
+        cost,
+        lmis: vec![
+            (ma, opts.margin),
+            (mb, opts.margin),
+            (mc, opts.margin),
+            (bound, 0.0),
+            (spos, opts.margin),
+        ],
+        lower: vec![(lam, opts.margin), (g2, 0.0)],
+        equilibrate: false,
+    };
+    let sol = sdp.solve(opts)?;
+    let x = &sol.x;
+    let (rv, svv) = (r.value(x), sv.value(x));
+    let (lambda, gamma2) = (x[lam] * s * s, x[g2]);
+    let (abv, bbv, cbv) =
+        reconstruct_paper_filter(plant, &rv, &svv, lambda, gamma2).ok_or_else(|| HinfError {
+            kind: HinfErrorKind::Infeasible,
+            message: format!(
+                "the solver's R, S violate the eliminated LMIs (Clarabel {:?}): no filter \
+                 can be reconstructed",
+                sol.status
+            ),
+        })?;
+    finish_paper(
+        plant, period, &sol, &rv, &svv, &abv, &bbv, &cbv, lambda, gamma2, t0,
+    )
+}
+
+/// `N = diag(I_6, [I_6; -D^-1 C], I_rest)`: the basis of `{(row, x, v, rest) : C x + D v =
+/// 0}` for an LMI with blocks `(row 6, x 6, v 3, rest)`.
+fn kernel_basis(dinv_c: &DMatrix<f64>, rest: usize) -> DMatrix<f64> {
+    let mut kern = DMatrix::zeros(15 + rest, 12 + rest);
+    for i in 0..12 {
+        kern[(i, i)] = 1.0;
+    }
+    for i in 0..3 {
+        for j in 0..6 {
+            kern[(12 + i, 6 + j)] = -dinv_c[(i, j)];
+        }
+    }
+    for i in 0..rest {
+        kern[(15 + i, 12 + i)] = 1.0;
+    }
+    kern
+}
+
+/// A thin factor `F` (n x r) with `F F^T = M M^T` to working precision, `r` the numerical
+/// rank of `M` (eigenvalues of `M M^T` above `1e-24` of the largest are kept): an input
+/// that enters an LMI only as `X M` beside a block `-c I` can be replaced by `F` (module
+/// docs). `M` itself when the eigensolver fails (exact, just not smaller).
+fn thin_factor(m: &DMatrix<f64>) -> DMatrix<f64> {
+    let Some(eig) = crate::numerics::eigen::symmetric_eigen(m * m.transpose()) else {
+        return m.clone();
+    };
+    let top = eig.eigenvalues.iter().fold(0.0_f64, |a, b| a.max(*b));
+    let keep: Vec<usize> = (0..eig.eigenvalues.len())
+        .filter(|&i| eig.eigenvalues[i] > top * 1e-24)
+        .collect();
+    if keep.is_empty() {
+        // M = 0: one zero column keeps the block structure
+        return DMatrix::zeros(m.nrows(), 1);
+    }
+    let mut f = DMatrix::zeros(m.nrows(), keep.len());
+    for (c, &i) in keep.iter().enumerate() {
+        let sd = eig.eigenvalues[i].sqrt();
+        for row in 0..m.nrows() {
+            f[(row, c)] = eig.eigenvectors[(row, i)] * sd;
+        }
+    }
+    f
+}
+
+/// `Theta = -Psi_jr Q^-1 V_r^T (V_r Q^-1 V_r^T)^-1`, `Q = -Psi_rr`: a solution of `Psi +
+/// E_j^T Theta V + V^T Theta^T E_j < 0` when the variable enters one block row `j` only
+/// (`V` zero in those columns), `Psi_rr < 0` and `Psi` is negative on `ker V` (module
+/// docs, "Reconstruction"). `None` when `Q` is not positive definite or `V_r Q^-1 V_r^T`
+/// is singular.
+fn one_row_solution(
+    psi: &DMatrix<f64>,
+    rows: std::ops::Range<usize>,
+    v: &DMatrix<f64>,
+) -> Option<DMatrix<f64>> {
+    let rest: Vec<usize> = (0..psi.nrows()).filter(|i| !rows.contains(i)).collect();
+    let row: Vec<usize> = rows.collect();
+    let q = -psi.select_rows(&rest).select_columns(&rest);
+    let chol = q.cholesky()?;
+    let vr = v.select_columns(&rest);
+    let qi_vt = chol.solve(&vr.transpose());
+    let gram = (&vr * &qi_vt).cholesky()?;
+    let psi_jr = psi.select_rows(&row).select_columns(&rest);
+    Some(-(psi_jr * gram.solve(&qi_vt.transpose()).transpose()))
+}
+
+/// `(Abar_F, Bbar_F, Cbar_F)` from the eliminated design's `R, S, lambda, g2` (module docs,
+/// "Reconstruction"): `Cbar_F` first from condition (i), then `[Abar_F Bbar_F]` from eq. 20
+/// in the coordinates where it enters the `S` row only.
+fn reconstruct_paper_filter(
+    plant: &HinfPlant,
+    r: &DMatrix<f64>,
+    s: &DMatrix<f64>,
+    lambda: f64,
+    gamma2: f64,
+) -> Option<(DMatrix<f64>, DMatrix<f64>, DMatrix<f64>)> {
+    let (z6, z63) = (DMatrix::zeros(6, 6), DMatrix::zeros(6, 3));
+    // congruence T: xi_0 = xi_0', xi_1 = xi_1' - xi_0' (row 0' = row 0 - row 1)
+    let mut t = DMatrix::<f64>::identity(45, 45);
+    for i in 0..6 {
+        t[(6 + i, i)] = -1.0;
+    }
+    let transformed = |m: DMatrix<f64>| t.transpose() * m * &t;
+    let m0 = transformed(lmi_paper(plant, r, s, &z6, &z63, &z6, lambda, gamma2));
+    // condition (i): without the S row; blocks W-row 0, x 6, x_f 12, w 18, v 24, z 27, d 33
+    let keep: Vec<usize> = (0..6).chain(12..45).collect();
+    let cond_i = m0.select_rows(&keep).select_columns(&keep);
+    let mut v_c = DMatrix::zeros(6, 39);
+    for i in 0..6 {
+        v_c[(i, 12 + i)] = 1.0;
+    }
+    // the (z, x_f) block is -Cbar_F
+    let cb = -one_row_solution(&cond_i, 27..33, &v_c)?;
+    let m1 = transformed(lmi_paper(plant, r, s, &z6, &z63, &cb, lambda, gamma2));
+    // blocks W-row 0, S-row 6, x 12, x_f 18, w 24, v 30, z 33, d 39
+    let mut v_ab = DMatrix::zeros(9, 45);
+    for i in 0..6 {
+        v_ab[(i, 18 + i)] = 1.0;
+    }
+    for i in 0..3 {
+        for j in 0..6 {
+            v_ab[(6 + i, 12 + j)] = plant.c[(i, j)];
+        }
+        for j in 0..3 {
+            v_ab[(6 + i, 30 + j)] = plant.d[(i, j)];
+        }
+    }
+    let theta = one_row_solution(&m1, 6..12, &v_ab)?;
+    Some((
+        theta.columns(0, 6).into_owned(),
+        theta.columns(6, 3).into_owned(),
+        cb,
+    ))
+}
+
+/// The filter from `(R, S, Abar_F, Bbar_F, Cbar_F)`, eq. 20 re-checked with nalgebra.
+#[allow(clippy::too_many_arguments)]
+fn finish_paper(
+    plant: &HinfPlant,
+    period: f64,
+    sol: &SdpSolution,
+    rv: &DMatrix<f64>,
+    svv: &DMatrix<f64>,
+    abv: &DMatrix<f64>,
+    bbv: &DMatrix<f64>,
+    cbv: &DMatrix<f64>,
+    lambda: f64,
+    gamma2: f64,
+    t0: Instant,
+) -> Result<HinfDesign, HinfError> {
+    let s_inv = svv.clone().try_inverse().ok_or_else(|| HinfError {
+        kind: HinfErrorKind::Infeasible,
+        message: "the solver's S is singular: no filter can be recovered".to_string(),
+    })?;
+    let a_f = &s_inv * abv;
+    let b_f = &s_inv * bbv;
+    let matrices = HinfMatrices {
+        a_f: Mat6::from_fn(|i, j| a_f[(i, j)]),
+        b_f: Mat63::from_fn(|i, j| b_f[(i, j)]),
+        c_f: Mat6::from_fn(|i, j| cbv[(i, j)]),
+        e_f: Mat63::zeros(),
+        period,
+    };
+    // independent check: the LMI assembled from the recovered blocks with nalgebra
+    let lmi = lmi_paper(plant, rv, svv, abv, bbv, cbv, lambda, gamma2);
+    let max_eig = max_eig(&lmi);
+    if !(max_eig < 0.0) {
+        return Err(HinfError {
+            kind: HinfErrorKind::Infeasible,
+            message: format!(
+                "the solver's answer violates the strict LMI (largest eigenvalue {max_eig:e} \
+                 >= 0 at gamma {}, Clarabel {:?}): no filter with a certified gamma was found",
+                gamma2.sqrt(),
+                sol.status
+            ),
+        });
+    }
+    Ok(HinfDesign {
+        matrices,
+        gamma: gamma2.sqrt(),
+        lmi_max_eig: max_eig,
+        h2_norm: super::verify::filter_h2_norm(plant, &matrices),
+        h2_bound: f64::NAN,
+        status: status_name(sol.status),
+        iterations: sol.iterations,
+        solve_time: t0.elapsed().as_secs_f64(),
+    })
+}
+
+/// Paper 002, Corollary 1, posed literally: minimise `gamma^2` over the LMI (eq. 20) for
+/// `plant` (built with [`HinfPlant::paper_closed_loop`]) in all of its variables `R, S,
+/// Abar_F, Bbar_F, Cbar_F, lambda, g2` (134 scalars, one 45 x 45 LMI); `A_F = S^-1
+/// Abar_F`, `B_F = S^-1 Bbar_F`, `C_F = Cbar_F`. [`design_paper`] solves the same problem
+/// with the filter matrices eliminated (module docs, "Elimination of the filter
+/// matrices"); this form is kept as its reference (`tests/hinf.rs` compares the two) and
+/// as the fallback when `D` is singular. Errors: [`HinfErrorKind::Infeasible`] when no
+/// filter exists (or the solution fails the independent check),
+/// [`HinfErrorKind::SolverFailed`] otherwise.
+pub fn design_paper_full(
+    plant: &HinfPlant,
+    period: f64,
+    opts: &DesignOptions,
+) -> Result<HinfDesign, HinfError> {
+    check_opts(opts)?;
+    check_plant(plant)?;
+    let t0 = Instant::now();
+    let plant = &paper_plant(plant);
     robustly_stable(plant)?;
     let s = balance(&plant.ha, &plant.ea);
     let (ha, ea) = (dm(&plant.ha) / s, dm(&plant.ea) * s);
@@ -602,44 +1008,19 @@ pub fn design_paper(
         bb.value(x),
         cb.value(x),
     );
-    let s_inv = svv.clone().try_inverse().ok_or_else(|| HinfError {
-        kind: HinfErrorKind::Infeasible,
-        message: "the solver's S is singular: no filter can be recovered".to_string(),
-    })?;
-    let a_f = &s_inv * &abv;
-    let b_f = &s_inv * &bbv;
-    let matrices = HinfMatrices {
-        a_f: Mat6::from_fn(|i, j| a_f[(i, j)]),
-        b_f: Mat63::from_fn(|i, j| b_f[(i, j)]),
-        c_f: Mat6::from_fn(|i, j| cbv[(i, j)]),
-        e_f: Mat63::zeros(),
+    finish_paper(
+        plant,
         period,
-    };
-    let gamma2 = x[g2];
-    // independent check: the LMI assembled from the recovered blocks with nalgebra
-    let lmi = lmi_paper(plant, &rv, &svv, &abv, &bbv, &cbv, x[lam] * s * s, gamma2);
-    let max_eig = max_eig(&lmi);
-    if !(max_eig < 0.0) {
-        return Err(HinfError {
-            kind: HinfErrorKind::Infeasible,
-            message: format!(
-                "the solver's answer violates the strict LMI (largest eigenvalue {max_eig:e} \
-                 >= 0 at gamma {}, Clarabel {:?}): no filter with a certified gamma was found",
-                gamma2.sqrt(),
-                sol.status
-            ),
-        });
-    }
-    Ok(HinfDesign {
-        matrices,
-        gamma: gamma2.sqrt(),
-        lmi_max_eig: max_eig,
-        h2_norm: super::verify::filter_h2_norm(plant, &matrices),
-        h2_bound: f64::NAN,
-        status: status_name(sol.status),
-        iterations: sol.iterations,
-        solve_time: t0.elapsed().as_secs_f64(),
-    })
+        &sol,
+        &rv,
+        &svv,
+        &abv,
+        &bbv,
+        &cbv,
+        x[lam] * s * s,
+        x[g2],
+        t0,
+    )
 }
 
 /// Necessary condition of Theorem 1: the augmented error system contains the plant state,
@@ -685,9 +1066,94 @@ pub(crate) fn max_eig(m: &DMatrix<f64>) -> f64 {
 }
 
 /// The observer (error-dynamics) design for `plant` (any `A`, e.g.
-/// [`HinfPlant::open_loop`]): minimise `gamma^2` over the LMI in the module docs; returns
-/// `A_F = A - G C`, `B_F = G`, `C_F = I`, `E_F = plant.g`.
+/// [`HinfPlant::open_loop`]): minimise `gamma^2` over the LMI in the module docs with the
+/// gain variable `Y` eliminated (module docs, "Elimination of the filter matrices"): an SDP
+/// in `P, g2` (22 scalars, LMIs of sizes 21 and 6), then `Y` in closed form and the
+/// observer LMI checked at `G = P^-1 Y` with nalgebra. Returns `A_F = A - G C`, `B_F = G`,
+/// `C_F = I`, `E_F = plant.g`. [`design_observer_full`] when `D` is singular.
 pub fn design_observer(
+    plant: &HinfPlant,
+    period: f64,
+    opts: &DesignOptions,
+) -> Result<HinfDesign, HinfError> {
+    check_opts(opts)?;
+    check_plant(plant)?;
+    let t0 = Instant::now();
+    let dinv_c = match plant.d.try_inverse() {
+        Some(di) if di.iter().all(|v| v.is_finite()) => dm(&(di * plant.c)),
+        _ => return design_observer_full(plant, period, opts),
+    };
+    let a = dm(&plant.a);
+    let b = thin_factor(&dm(&plant.b));
+    // no rescaling of the robustness channel (module docs, conditioning 1)
+    let hae = thin_factor(&dm(&(plant.ha * plant.ea.norm())));
+    let l = dm(&plant.l);
+    let ltl = l.transpose() * &l;
+    let (pb, ph) = (b.ncols(), hae.ncols());
+    let n = 6;
+    let mut vars = Vars { n: 0 };
+    let p = vars.sym(n);
+    let g2 = vars.scalar();
+    let nvar = vars.n;
+    let eye = |k: usize| DMatrix::<f64>::identity(k, k);
+    // on ker [C D]: blocks P-row, e, v, w, d (z by its Schur complement L^T L)
+    let mut m = Lmi::new(&[n, n, 3, pb, ph], nvar);
+    // outside it: P - L^T L > 0
+    let mut out = Lmi::new(&[n], nvar);
+    for (k, e) in p.basis() {
+        m.add(Some(k), 0, 0, &(-&e));
+        m.add(Some(k), 0, 1, &(&e * &a));
+        m.add(Some(k), 0, 3, &(&e * &b));
+        m.add(Some(k), 0, 4, &(&e * &hae));
+        m.add(Some(k), 1, 1, &(-&e));
+        out.add(Some(k), 0, 0, &(-&e));
+    }
+    m.add(None, 1, 1, &ltl);
+    out.add(None, 0, 0, &ltl);
+    m.add(Some(g2), 2, 2, &(-eye(3)));
+    m.add(Some(g2), 3, 3, &(-eye(pb)));
+    m.add(Some(g2), 4, 4, &(-eye(ph)));
+    let m = m.congruence(&kernel_basis(&dinv_c, pb + ph));
+    let bound = upper_bound(&p, n, nvar, opts.bound);
+    let mut cost = vec![0.0; nvar];
+    cost[g2] = 1.0;
+    let sdp = Sdp {
+        nvar,
+        cost,
+        lmis: vec![(m, opts.margin), (out, opts.margin), (bound, 0.0)],
+        lower: vec![(g2, 0.0)],
+        equilibrate: true,
+    };
+    let sol = sdp.solve(opts)?;
+    let x = &sol.x;
+    let pv = p.value(x);
+    let gamma2 = x[g2];
+    // Y enters the P row only: blocks P-row 0, e 6, w 12, v 18, d 21, z 27
+    let psi = lmi_observer(plant, &pv, &Mat63::zeros(), gamma2);
+    let mut v = DMatrix::zeros(3, 33);
+    for i in 0..3 {
+        for j in 0..6 {
+            v[(i, 6 + j)] = -plant.c[(i, j)];
+        }
+        for j in 0..3 {
+            v[(i, 18 + j)] = -plant.d[(i, j)];
+        }
+    }
+    let yv = one_row_solution(&psi, 0..6, &v).ok_or_else(|| HinfError {
+        kind: HinfErrorKind::Infeasible,
+        message: format!(
+            "the solver's P violates the eliminated LMIs (Clarabel {:?}): no observer gain can \
+             be reconstructed",
+            sol.status
+        ),
+    })?;
+    finish_observer(plant, period, &sol, &pv, &yv, gamma2, t0)
+}
+
+/// The observer design posed literally, in `P, Y, g2` (40 scalars, one 33 x 33 LMI): the
+/// reference for [`design_observer`] (`tests/hinf.rs` compares the two) and its fallback
+/// when `D` is singular.
+pub fn design_observer_full(
     plant: &HinfPlant,
     period: f64,
     opts: &DesignOptions,
@@ -742,14 +1208,26 @@ pub fn design_observer(
     let sol = sdp.solve(opts)?;
     let x = &sol.x;
     let (pv, yv) = (p.value(x), y.value(x));
+    finish_observer(plant, period, &sol, &pv, &yv, x[g2], t0)
+}
+
+/// The observer from `(P, Y)`: `G = P^-1 Y`, the observer LMI re-checked with nalgebra.
+fn finish_observer(
+    plant: &HinfPlant,
+    period: f64,
+    sol: &SdpSolution,
+    pv: &DMatrix<f64>,
+    yv: &DMatrix<f64>,
+    gamma2: f64,
+    t0: Instant,
+) -> Result<HinfDesign, HinfError> {
     let p_inv = pv.clone().try_inverse().ok_or_else(|| HinfError {
         kind: HinfErrorKind::Infeasible,
         message: "the solver's P is singular: no observer gain can be recovered".to_string(),
     })?;
-    let gain = &p_inv * &yv;
+    let gain = &p_inv * yv;
     let g = Mat63::from_fn(|i, j| gain[(i, j)]);
-    let gamma2 = x[g2];
-    let lmi = lmi_observer(plant, &pv, &g, gamma2);
+    let lmi = lmi_observer(plant, pv, &g, gamma2);
     let max_eig = max_eig(&lmi);
     if !(max_eig < 0.0) {
         return Err(HinfError {
