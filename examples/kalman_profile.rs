@@ -4,13 +4,23 @@
 //! (`(I(n2) - I(n1)) / (n2 - n1)` cancels the setup) and a check that a change left the
 //! arithmetic bit for bit as it was (or by how much it moved).
 //! `none` generates the measurements only (their count is subtracted from the filters').
+//! `nav-ekf` / `capi-ekf` / `fmu-ekf` (and `-ukf`) run the same steps through the
+//! navigator, the C ABI (`relnav_estimator_step`) and one FMU master cycle (`fmi2SetReal` of
+//! the three measurements, `fmi2DoStep`, `fmi2GetReal` of the 12 estimate outputs: the
+//! `fmu_cycle_*` criterion bench); their counts less the bare filter's are the layers'
+//! overheads (issue 15 item 3).
 //! `cargo run --release --example kalman_profile -- ekf 600`.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 use rand::SeedableRng;
 use relnav::dynamics::{CwModel, Discretization};
 use relnav::estimators::{Ekf, Estimator, Ukf, UkfParams};
-use relnav::nav::NavConfig;
+use relnav::ffi;
+use relnav::fmi::description::guid;
+use relnav::fmi::functions::*;
+use relnav::fmi::types::*;
+use relnav::fmi::variables::vr;
+use relnav::nav::{FilterKind, NavConfig, Navigator};
 use relnav::sensors::RadioSensor;
 use relnav::types::{Mat3, Mat6, State, Vec3};
 
@@ -52,6 +62,125 @@ fn run<E: Estimator>(f: Option<E>, steps: usize) -> (State, Mat6) {
     (*f.state(), *f.covariance())
 }
 
+/// The measurements of [`run`] as `[range, azimuth, elevation]` rows.
+fn measurements(steps: usize) -> Vec<[f64; 3]> {
+    let cfg = NavConfig::default();
+    let fr = cfg.frame;
+    let model = CwModel::new(cfg.mean_motion);
+    let sensor = RadioSensor::new(fr, cfg.sigma_range, cfg.sigma_angle);
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(1);
+    let x0 = fr.state_to_canonical(&State::from_row_slice(&[
+        400.0, 500.0, 200.0, 0.0, 0.0, 0.0,
+    ]));
+    (0..steps)
+        .map(|k| {
+            let x = model.phi(k as f64) * x0;
+            let z = sensor
+                .measure(&x.fixed_rows::<3>(0).into_owned(), &mut rng)
+                .unwrap();
+            [z.x, z.y, z.z]
+        })
+        .collect()
+}
+
+/// `steps` navigator steps (measurement, no thrust, 1 s); the estimate in the user frame.
+fn run_nav(kind: FilterKind, steps: usize) -> Vec<f64> {
+    let zs = measurements(steps);
+    let cfg = NavConfig {
+        filter: kind,
+        ..Default::default()
+    };
+    let mut nav = Navigator::new(&cfg).unwrap();
+    for z in &zs {
+        nav.step(&[0.0; 3], Some(std::hint::black_box(z)), 1.0)
+            .unwrap();
+    }
+    let x: [f64; 6] = nav.state().into();
+    x.iter().chain(nav.sigma().iter()).copied().collect()
+}
+
+/// `steps` C ABI steps; the state and sigma (`relnav_estimator_get_state`, `_get_sigma`).
+fn run_capi(kind: FilterKind, steps: usize) -> Vec<f64> {
+    let zs = measurements(steps);
+    let mut c_cfg = ffi::relnav_config_default();
+    c_cfg.filter = kind as i32;
+    let mut est = std::ptr::null_mut();
+    let thrust = [0.0; 3];
+    let mut out = [0.0; 12];
+    // SAFETY: valid pointers, documented array lengths; the handle is freed once.
+    unsafe {
+        assert_eq!(
+            ffi::relnav_estimator_new(&c_cfg, &mut est),
+            ffi::relnav_status::RELNAV_OK
+        );
+        for z in &zs {
+            ffi::relnav_estimator_step(est, thrust.as_ptr(), std::hint::black_box(z.as_ptr()), 1.0);
+        }
+        ffi::relnav_estimator_get_state(est, out.as_mut_ptr());
+        ffi::relnav_estimator_get_sigma(est, out[6..].as_mut_ptr());
+        ffi::relnav_estimator_free(est);
+    }
+    out.to_vec()
+}
+
+/// `steps` FMU master cycles (set 3 inputs, doStep, get 12 outputs); the last outputs.
+fn run_fmu(kind: FilterKind, steps: usize) -> Vec<f64> {
+    let zs = measurements(steps);
+    let g = std::ffi::CString::new(guid()).unwrap();
+    let cb = fmi2CallbackFunctions {
+        logger: None,
+        allocateMemory: None,
+        freeMemory: None,
+        stepFinished: None,
+        componentEnvironment: std::ptr::null_mut(),
+    };
+    let ins = [vr::RANGE, vr::AZIMUTH, vr::ELEVATION];
+    let outs: Vec<u32> = (vr::X..=vr::SIGMA_VZ).collect();
+    let mut y = [0.0; 12];
+    // SAFETY: valid arguments, matching lengths; the instance is freed once.
+    unsafe {
+        let comp = fmi2Instantiate(
+            c"profile".as_ptr(),
+            fmi2CoSimulation,
+            g.as_ptr(),
+            std::ptr::null(),
+            &cb,
+            0,
+            0,
+        );
+        assert!(!comp.is_null());
+        fmi2SetInteger(comp, &vr::FILTER, 1, &(kind as i32));
+        fmi2SetupExperiment(comp, 0, 0.0, 0.0, 0, 0.0);
+        fmi2EnterInitializationMode(comp);
+        fmi2ExitInitializationMode(comp);
+        fmi2SetBoolean(comp, &vr::MEASUREMENT_VALID, 1, &1);
+        for (k, z) in zs.iter().enumerate() {
+            fmi2SetReal(comp, ins.as_ptr(), 3, std::hint::black_box(z.as_ptr()));
+            let st = fmi2DoStep(comp, k as f64, 1.0, 1);
+            assert_eq!(st, fmi2Status::fmi2OK);
+            fmi2GetReal(comp, outs.as_ptr(), 12, y.as_mut_ptr());
+            std::hint::black_box(&y);
+        }
+        fmi2FreeInstance(comp);
+    }
+    y.to_vec()
+}
+
+fn layered(which: &str, steps: usize) -> Option<Vec<f64>> {
+    let (layer, f) = which.split_once('-')?;
+    let kind = match f {
+        "ekf" => FilterKind::Ekf,
+        "ukf" => FilterKind::Ukf,
+        _ => return None,
+    };
+    match layer {
+        "nav" => Some(run_nav(kind, steps)),
+        "capi" => Some(run_capi(kind, steps)),
+        "fmu" => Some(run_fmu(kind, steps)),
+        _ => None,
+    }
+}
+
 fn main() {
     let which = std::env::args().nth(1).unwrap_or_else(|| "ekf".to_string());
     let steps: usize = std::env::args()
@@ -59,6 +188,11 @@ fn main() {
         .and_then(|s| s.parse().ok())
         .unwrap_or(600);
     let cfg = NavConfig::default();
+    if let Some(y) = layered(&which, steps) {
+        let h = y.iter().fold(0u64, |h, v| h.rotate_left(7) ^ v.to_bits());
+        println!("{which} {steps} steps: outputs {y:?} bits-hash {h:016x}");
+        return;
+    }
     let (x0, p0) = (cfg.initial_state(), cfg.initial_covariance());
     let (x, p) = match which.as_str() {
         "ekf" => run(Some(Ekf::new(x0, p0)), steps),

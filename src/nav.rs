@@ -1279,8 +1279,9 @@ impl Navigator {
         &self.cfg
     }
 
-    /// The discrete model for step `dt` (cached: recomputed only when `dt` changes).
-    fn discrete(&mut self, dt: f64) -> DiscreteModel {
+    /// Make `step_cache` the discrete model for step `dt` (recomputed only when `dt`
+    /// changes).
+    fn discrete(&mut self, dt: f64) {
         if self.step_cache.dt != dt {
             let qc = Mat3::identity() * self.cfg.accel_psd;
             let mut d = self.model.discretize(dt, &qc, self.cfg.discretization);
@@ -1301,7 +1302,6 @@ impl Navigator {
             d.q += self.cfg.frame.cov_to_canonical(&Mat6::from_diagonal(&qio));
             self.step_cache = d;
         }
-        self.step_cache
     }
 
     /// The longest accepted step [s]: [`MAX_STEP_PERIODS`] orbital periods.
@@ -1373,13 +1373,16 @@ impl Navigator {
         self.check_dt(dt)?;
         finite3("thrust", thrust)?;
         self.check_not_failed()?;
-        let model = self.discrete(dt);
         let accel = self
             .cfg
             .frame
             .vec_to_canonical(&Vec3::from_row_slice(thrust))
             / self.cfg.chaser_mass;
-        self.filter.predict(&model, &accel).map_err(NavError::from)
+        self.discrete(dt);
+        // the cached model by reference (no copy of its ~100 numbers per step)
+        self.filter
+            .predict(&self.step_cache, &accel)
+            .map_err(NavError::from)
     }
 
     /// Measurement update with `(range [m], azimuth [rad], elevation [rad])` in the I/O frame.
@@ -1468,9 +1471,12 @@ impl Navigator {
     /// has no covariance) gives NaN, never a reassuring 0. The C ABI, the FMU and the
     /// Python package all report this.
     pub fn sigma(&self) -> [f64; 6] {
-        let p = self.covariance();
+        let p = self
+            .cfg
+            .frame
+            .variances_from_canonical(self.filter.covariance());
         std::array::from_fn(|i| {
-            let v = p[(i, i)];
+            let v = p[i];
             if v >= 0.0 {
                 v.sqrt()
             } else {

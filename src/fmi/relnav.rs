@@ -132,6 +132,54 @@ fn particle_filter_selected(values: &[f64]) -> bool {
     (4.0..=8.0).contains(&values[vr::FILTER as usize])
 }
 
+/// Which diagnostic outputs a filter can change after it is built: the C ABI's getters
+/// give `None` (published as NaN, `hinf_certified` 0) for every other kind, always.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Diagnostics {
+    /// `ess`: the particle filters (codes 4-8).
+    ess: bool,
+    /// `q_vv_*`: the AQUKF (3).
+    q_vv: bool,
+    /// `hinf_gamma`, `hinf_h2_norm`, `hinf_certified`: the H-infinity filter (9).
+    hinf: bool,
+    /// `imm_mu_*`: the IMM (10).
+    modes: bool,
+}
+
+impl Diagnostics {
+    const ALL: Self = Self {
+        ess: true,
+        q_vv: true,
+        hinf: true,
+        modes: true,
+    };
+}
+
+/// [`Diagnostics`] of the `filter` parameter's code (the C ABI's `relnav_filter`; an
+/// unknown code: all of them).
+fn diagnostics_of(code: f64) -> Diagnostics {
+    use ffi::relnav_filter as F;
+    let is = |f: F| code == f64::from(f as i32);
+    let particle = [
+        F::RELNAV_FILTER_PF,
+        F::RELNAV_FILTER_RPF,
+        F::RELNAV_FILTER_UPF,
+    ]
+    .into_iter()
+    .chain([F::RELNAV_FILTER_GAPF, F::RELNAV_FILTER_CGAPF])
+    .any(is);
+    let known = (1.0..=10.0).contains(&code) && code.fract() == 0.0;
+    if !known {
+        return Diagnostics::ALL;
+    }
+    Diagnostics {
+        ess: particle,
+        q_vv: is(F::RELNAV_FILTER_AQUKF),
+        hinf: is(F::RELNAV_FILTER_HINF),
+        modes: is(F::RELNAV_FILTER_IMM),
+    }
+}
+
 fn write_outputs(values: &mut [f64], x: &[f64; 6], sigma: &[f64; 6]) {
     let outs = [vr::X, vr::Y, vr::Z, vr::VX, vr::VY, vr::VZ];
     let sigs = [
@@ -157,21 +205,57 @@ impl RelnavFmu {
         }
     }
 
-    fn publish_estimate(&self, values: &mut [f64]) -> Result<(), String> {
+    /// Write the estimate outputs. With `all`, every diagnostic too; else only those the
+    /// filter `code` can change (see [`diagnostics_of`]): the others stay what the last
+    /// full publication wrote (NaN, `hinf_certified` 0), which saves six C ABI calls per
+    /// step for a Kalman filter (issue 15 item 3).
+    fn publish_estimate(&self, values: &mut [f64], all: bool) -> Result<(), String> {
         let mut x = [0.0; 6];
         let mut s = [0.0; 6];
         // SAFETY: `estimator` is live (created at exit-init); the arrays hold 6 doubles.
         status_of(unsafe { ffi::relnav_estimator_get_state(self.estimator, x.as_mut_ptr()) })?;
         // SAFETY: as above.
         status_of(unsafe { ffi::relnav_estimator_get_sigma(self.estimator, s.as_mut_ptr()) })?;
-        let mut ess = f64::NAN;
-        // SAFETY: as above; `ess` is a writable local.
-        status_of(unsafe { ffi::relnav_estimator_get_ess(self.estimator, &mut ess) })?;
-        let mut q = [f64::NAN; 3];
-        // SAFETY: as above; `q` holds 3 doubles.
-        status_of(unsafe { ffi::relnav_estimator_get_q_vv(self.estimator, q.as_mut_ptr()) })?;
+        write_outputs(values, &x, &s);
+        let d = if all {
+            Diagnostics::ALL
+        } else {
+            diagnostics_of(values[vr::FILTER as usize])
+        };
+        if d.ess {
+            let mut ess = f64::NAN;
+            // SAFETY: as above; `ess` is a writable local.
+            status_of(unsafe { ffi::relnav_estimator_get_ess(self.estimator, &mut ess) })?;
+            values[vr::ESS as usize] = ess;
+        }
+        if d.q_vv {
+            let mut q = [f64::NAN; 3];
+            // SAFETY: as above; `q` holds 3 doubles.
+            status_of(unsafe { ffi::relnav_estimator_get_q_vv(self.estimator, q.as_mut_ptr()) })?;
+            values[vr::Q_VV_X as usize] = q[0];
+            values[vr::Q_VV_Y as usize] = q[1];
+            values[vr::Q_VV_Z as usize] = q[2];
+        }
+        if d.hinf {
+            self.publish_hinf(values)?;
+        }
+        if d.modes {
+            let mut mu = [f64::NAN; 3];
+            // SAFETY: as above; `mu` holds 3 doubles.
+            status_of(unsafe {
+                ffi::relnav_estimator_get_mode_probabilities(self.estimator, mu.as_mut_ptr())
+            })?;
+            values[vr::IMM_MU_1 as usize] = mu[0];
+            values[vr::IMM_MU_2 as usize] = mu[1];
+            values[vr::IMM_MU_3 as usize] = mu[2];
+        }
+        Ok(())
+    }
+
+    /// The H-infinity design's outputs (`hinf_gamma`, `hinf_h2_norm`, `hinf_certified`).
+    fn publish_hinf(&self, values: &mut [f64]) -> Result<(), String> {
         let mut gamma = f64::NAN;
-        // SAFETY: as above; `gamma` is a writable local.
+        // SAFETY: `estimator` is live (created at exit-init); `gamma` is a writable local.
         status_of(unsafe { ffi::relnav_estimator_get_hinf_gamma(self.estimator, &mut gamma) })?;
         let mut h2 = f64::NAN;
         // SAFETY: as above; `h2` is a writable local.
@@ -181,19 +265,6 @@ impl RelnavFmu {
         status_of(unsafe {
             ffi::relnav_estimator_get_hinf_certified(self.estimator, &mut certified)
         })?;
-        let mut mu = [f64::NAN; 3];
-        // SAFETY: as above; `mu` holds 3 doubles.
-        status_of(unsafe {
-            ffi::relnav_estimator_get_mode_probabilities(self.estimator, mu.as_mut_ptr())
-        })?;
-        values[vr::IMM_MU_1 as usize] = mu[0];
-        values[vr::IMM_MU_2 as usize] = mu[1];
-        values[vr::IMM_MU_3 as usize] = mu[2];
-        write_outputs(values, &x, &s);
-        values[vr::ESS as usize] = ess;
-        values[vr::Q_VV_X as usize] = q[0];
-        values[vr::Q_VV_Y as usize] = q[1];
-        values[vr::Q_VV_Z as usize] = q[2];
         values[vr::HINF_GAMMA as usize] = gamma;
         values[vr::HINF_H2_NORM as usize] = h2;
         values[vr::HINF_CERTIFIED as usize] = f64::from(u8::from(certified == 1));
@@ -317,7 +388,7 @@ impl Model for RelnavFmu {
         let st = unsafe { ffi::relnav_estimator_new(&cfg, &mut est) };
         status_of(st).map_err(|e| format!("invalid parameters: {e}"))?;
         self.estimator = est;
-        self.publish_estimate(values)?;
+        self.publish_estimate(values, true)?;
         let pf = if particle_filter_selected(values) {
             format!(
                 ", particles {}, resampler {}, resample_threshold {}, seed {}",
@@ -363,7 +434,7 @@ impl Model for RelnavFmu {
         // SAFETY: `estimator` is live in StepComplete; arrays hold 3 doubles.
         let st = unsafe { ffi::relnav_estimator_step(self.estimator, thrust.as_ptr(), zp, h) };
         status_of(st).map_err(|e| format!("fmi2DoStep at t = {tc}: {e}"))?;
-        self.publish_estimate(values)
+        self.publish_estimate(values, false)
     }
 
     fn reset(&mut self) {
@@ -409,6 +480,31 @@ impl Model for RelnavFmu {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The diagnostics skipped per step are exactly those the navigator has none of, for
+    /// every filter code (they would otherwise go stale in the FMU's outputs).
+    #[test]
+    fn skipped_diagnostics_are_the_ones_the_filter_does_not_have() {
+        use crate::nav::{FilterKind, NavConfig, Navigator};
+        for kind in FilterKind::ALL {
+            let cfg = NavConfig {
+                filter: kind,
+                particles: 50,
+                ..NavConfig::default()
+            };
+            let nav = Navigator::new(&cfg).unwrap();
+            let d = diagnostics_of(f64::from(kind as i32));
+            assert_eq!(d.ess, nav.ess().is_some(), "{kind:?}");
+            assert_eq!(d.q_vv, nav.q_vv().is_some(), "{kind:?}");
+            assert_eq!(d.hinf, nav.hinf_gamma().is_some(), "{kind:?}");
+            assert_eq!(d.hinf, nav.hinf_h2_norm().is_some(), "{kind:?}");
+            assert_eq!(d.hinf, nav.hinf_certified().is_some(), "{kind:?}");
+            assert_eq!(d.modes, nav.mode_probabilities().is_some(), "{kind:?}");
+        }
+        assert_eq!(diagnostics_of(0.0), Diagnostics::ALL);
+        assert_eq!(diagnostics_of(11.0), Diagnostics::ALL);
+        assert_eq!(diagnostics_of(2.5), Diagnostics::ALL);
+    }
 
     /// The permissive partner of `hinf_period` is the smallest mean motion the library
     /// accepts, so the early check refuses only periods no orbit admits.
