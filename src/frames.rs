@@ -112,30 +112,28 @@ impl Frame {
         t * p * t.transpose()
     }
 
-    /// The diagonal of [`Frame::cov_from_canonical`] alone, `(T6 P_c T6^T)_ii =
-    /// sum_jk T_ij P_jk T_ik` over the non-zero entries of `T` (one per row for the three
-    /// conventions, which are signed axis permutations: then exactly the permuted
-    /// diagonal of `P_c`, the same bits as the full product's for a finite `P_c`). The
-    /// FMU's and the C ABI's 1-sigma outputs need only these: 54 multiplications at most
-    /// instead of the full congruence's 432.
+    /// For each axis `i` of this frame, the canonical axis `j` and the sign `s` with
+    /// `e_i = s e_j^c`: the three conventions are signed axis permutations (`rotation`,
+    /// one non-zero `±1` per row; `tests::rotations_are_signed_permutations`).
+    pub fn axis_map(self) -> [(usize, f64); 3] {
+        match self {
+            Frame::RadialAlongNormal => [(0, 1.0), (1, 1.0), (2, 1.0)],
+            Frame::AlongRadialAntinormal => [(1, 1.0), (0, 1.0), (2, -1.0)],
+            Frame::AlongAntinormalNadir => [(1, 1.0), (2, -1.0), (0, -1.0)],
+        }
+    }
+
+    /// The diagonal of [`Frame::cov_from_canonical`] alone: `(T6 P_c T6^T)_ii = s^2 P_c,jj`
+    /// with `(j, s)` from [`Frame::axis_map`], i.e. the permuted diagonal of `P_c`, the
+    /// same bits as the full congruence's diagonal for a finite `P_c`. The 1-sigma
+    /// outputs of the navigator, the C ABI and the FMU need only these (six loads
+    /// instead of the full congruence's 432 multiplications).
     pub fn variances_from_canonical(self, p: &Mat6) -> [f64; 6] {
-        let t = self.rotation();
+        let m = self.axis_map();
         std::array::from_fn(|i| {
-            let (b, r) = (3 * (i / 3), i % 3);
-            let mut acc = 0.0;
-            for j in 0..3 {
-                let tj = t[(r, j)];
-                if tj == 0.0 {
-                    continue;
-                }
-                for k in 0..3 {
-                    let tk = t[(r, k)];
-                    if tk != 0.0 {
-                        acc += tj * p[(b + j, b + k)] * tk;
-                    }
-                }
-            }
-            acc
+            let (j, s) = m[i % 3];
+            let j = j + 3 * (i / 3);
+            s * p[(j, j)] * s
         })
     }
 
@@ -149,6 +147,25 @@ impl Frame {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `axis_map` is `rotation`, read as a signed permutation.
+    #[test]
+    fn rotations_are_signed_permutations() {
+        for f in [
+            Frame::RadialAlongNormal,
+            Frame::AlongRadialAntinormal,
+            Frame::AlongAntinormalNadir,
+        ] {
+            let t = f.rotation();
+            let m = f.axis_map();
+            for i in 0..3 {
+                for j in 0..3 {
+                    let want = if m[i].0 == j { m[i].1 } else { 0.0 };
+                    assert_eq!(t[(i, j)], want, "{f:?} ({i}, {j})");
+                }
+            }
+        }
+    }
 
     /// The variances alone equal the full congruence's diagonal bit for bit, in every
     /// convention, for a dense covariance.
