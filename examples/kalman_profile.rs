@@ -29,18 +29,7 @@ fn run<E: Estimator>(f: Option<E>, steps: usize) -> (State, Mat6) {
     let fr = cfg.frame;
     let model = CwModel::new(cfg.mean_motion);
     let sensor = RadioSensor::new(fr, cfg.sigma_range, cfg.sigma_angle);
-    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(1);
-    let x0 = fr.state_to_canonical(&State::from_row_slice(&[
-        400.0, 500.0, 200.0, 0.0, 0.0, 0.0,
-    ]));
-    let zs: Vec<Vec3> = (0..steps)
-        .map(|k| {
-            let x = model.phi(k as f64) * x0;
-            sensor
-                .measure(&x.fixed_rows::<3>(0).into_owned(), &mut rng)
-                .unwrap()
-        })
-        .collect();
+    let zs = measurement_vecs(steps);
     let mut d = model.discretize(1.0, &Mat3::zeros(), Discretization::Exact);
     d.q += fr.cov_to_canonical(&Mat6::from_diagonal(&State::from_row_slice(&[
         cfg.q_pos[0],
@@ -62,8 +51,8 @@ fn run<E: Estimator>(f: Option<E>, steps: usize) -> (State, Mat6) {
     (*f.state(), *f.covariance())
 }
 
-/// The measurements of [`run`] as `[range, azimuth, elevation]` rows.
-fn measurements(steps: usize) -> Vec<[f64; 3]> {
+/// Paper 000's seeded measurements along the truth (frame 2, 1 s apart).
+fn measurement_vecs(steps: usize) -> Vec<Vec3> {
     let cfg = NavConfig::default();
     let fr = cfg.frame;
     let model = CwModel::new(cfg.mean_motion);
@@ -75,11 +64,19 @@ fn measurements(steps: usize) -> Vec<[f64; 3]> {
     (0..steps)
         .map(|k| {
             let x = model.phi(k as f64) * x0;
-            let z = sensor
+            sensor
                 .measure(&x.fixed_rows::<3>(0).into_owned(), &mut rng)
-                .unwrap();
-            [z.x, z.y, z.z]
+                .unwrap()
         })
+        .collect()
+}
+
+/// The same measurements as `[range, azimuth, elevation]` rows (the C ABI's and the FMU's
+/// inputs).
+fn measurements(steps: usize) -> Vec<[f64; 3]> {
+    measurement_vecs(steps)
+        .iter()
+        .map(|z| [z.x, z.y, z.z])
         .collect()
 }
 
