@@ -155,12 +155,12 @@ pub(crate) fn joseph_update(p: &Mat6, k: &Mat63, h_r: &Mat3, r: &Mat3) -> Mat6 {
     symmetrize(&(b + k * r * k.transpose()))
 }
 
-/// Check that a matrix has only finite entries.
+/// Check that a matrix has only finite entries ([`crate::numerics::all_finite`]).
 pub(crate) fn finite<const R: usize, const C: usize>(
     m: &nalgebra::SMatrix<f64, R, C>,
     what: &'static str,
 ) -> Result<(), FilterError> {
-    if m.iter().all(|v| v.is_finite()) {
+    if crate::numerics::all_finite(m.as_slice()) {
         Ok(())
     } else {
         Err(FilterError::NonFinite(what))

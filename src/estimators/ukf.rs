@@ -151,21 +151,17 @@ impl Ukf {
         z: &Vec3,
     ) -> Result<(State, Mat6, UpdateInfo), FilterError> {
         let s = self.sigma_points_of(x, l);
-        let mut zs = [Vec3::zeros(); NS];
-        for (i, zi) in zs.iter_mut().enumerate() {
-            *zi = sensor
-                .predict(&s.fixed_view::<3, 1>(0, i).into_owned())
-                .ok_or(FilterError::Geometry(GeometryError::ZeroRange))?;
-        }
-        let z_hat = sensor.weighted_mean(&self.wm, &zs);
+        let pos: [Vec3; NS] = std::array::from_fn(|i| s.fixed_view::<3, 1>(0, i).into_owned());
+        let mut dzs = [Vec3::zeros(); NS];
+        let z_hat = sensor
+            .unscented(&pos, &self.wm, &mut dzs)
+            .ok_or(FilterError::Geometry(GeometryError::ZeroRange))?;
         // near the poles the azimuth carries no information (see sensors docs)
-        let azimuth_used = sensor
-            .linearize(&x.fixed_rows::<3>(0).into_owned())?
-            .azimuth_usable;
+        let azimuth_used = sensor.azimuth_usable(&x.fixed_rows::<3>(0).into_owned())?;
         let mut pzz: Mat3 = *r;
         let mut pxz = Mat63::zeros();
-        for (i, zi) in zs.iter().enumerate() {
-            let mut dz = sensor.diff(zi, &z_hat);
+        for (i, dz) in dzs.iter().enumerate() {
+            let mut dz = *dz;
             if !azimuth_used {
                 dz.y = 0.0;
             }

@@ -17,7 +17,7 @@ use crate::estimators::pf::ParticleFilter;
 use crate::estimators::{AqParams, Aqukf, Ekf, Estimator, Imm, Ukf, UkfParams};
 use crate::nav::AnyFilter;
 use crate::noise::NoiseModel;
-use crate::sensors::{CartesianSensor, Geometry, MeasurementModel, RadioSensor};
+use crate::sensors::{AngleTrig, CartesianSensor, Geometry, MeasurementModel, RadioSensor};
 use crate::types::{Mat3, Mat6, State, Vec3};
 use nalgebra::SMatrix;
 use rand::Rng;
@@ -68,6 +68,24 @@ impl MeasurementModel for AnySensor {
         match self {
             AnySensor::Radio(s) => s.invert(z),
             AnySensor::Cartesian(s) => s.invert(z),
+        }
+    }
+    fn residual_at(&self, z: &Vec3, trig: &AngleTrig, r: &Vec3) -> Option<Vec3> {
+        match self {
+            AnySensor::Radio(s) => s.residual_at(z, trig, r),
+            AnySensor::Cartesian(s) => s.residual_at(z, trig, r),
+        }
+    }
+    fn unscented(&self, r: &[Vec3], wm: &[f64], dz: &mut [Vec3]) -> Option<Vec3> {
+        match self {
+            AnySensor::Radio(s) => s.unscented(r, wm, dz),
+            AnySensor::Cartesian(s) => s.unscented(r, wm, dz),
+        }
+    }
+    fn azimuth_usable(&self, r: &Vec3) -> Result<bool, crate::sensors::GeometryError> {
+        match self {
+            AnySensor::Radio(s) => s.azimuth_usable(r),
+            AnySensor::Cartesian(s) => s.azimuth_usable(r),
         }
     }
 }

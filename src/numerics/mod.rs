@@ -10,6 +10,16 @@ pub mod blas;
 pub mod eigen;
 pub mod state;
 
+/// Whether every value is finite (neither NaN nor infinite). Branch-free: the per-value
+/// tests are and-ed without short-circuit, so the loop vectorises (a 6x6 covariance in a
+/// few vector instructions instead of 36 compare-and-branch rounds). The filters check
+/// their estimate and covariance after every step (issue 15: a tenth of the EKF's step
+/// went to the short-circuiting `iter().all(is_finite)`).
+#[inline]
+pub fn all_finite(v: &[f64]) -> bool {
+    v.iter().fold(true, |ok, x| ok & x.is_finite())
+}
+
 /// A number for an error message: plain when readable, scientific when tiny or huge.
 pub fn num(v: f64) -> String {
     let a = v.abs();
@@ -22,7 +32,26 @@ pub fn num(v: f64) -> String {
 
 #[cfg(test)]
 mod tests {
-    use super::num;
+    use super::{all_finite, num};
+
+    #[test]
+    fn all_finite_finds_every_non_finite_value() {
+        assert!(all_finite(&[]));
+        assert!(all_finite(&[
+            0.0,
+            -0.0,
+            f64::MAX,
+            f64::MIN_POSITIVE,
+            -1e-300
+        ]));
+        for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+            for at in 0..37 {
+                let mut v = [1.0; 37];
+                v[at] = bad;
+                assert!(!all_finite(&v), "{bad} at {at}");
+            }
+        }
+    }
 
     #[test]
     fn formats_readable_and_extreme_numbers() {

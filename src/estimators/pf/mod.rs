@@ -110,7 +110,7 @@ use super::{symmetrize, Estimator, FilterError, UpdateInfo};
 use crate::dynamics::DiscreteModel;
 use crate::noise::NoiseModel;
 use crate::numerics::state::{refuse, Persist, Reader, StateError, Writer};
-use crate::sensors::MeasurementModel;
+use crate::sensors::{AngleTrig, MeasurementModel};
 use crate::types::{Mat3, Mat6, State, Vec3};
 use genetic::{CloudParams, GeneticParams};
 use par::Pool;
@@ -368,8 +368,8 @@ struct Likelihood<'a, M> {
     gaussian: bool,
     /// `-0.5 / scale_k^2` (the Gaussian case)
     neg_half_inv_var: [f64; 3],
-    /// `(sin z_1, cos z_1)` for [`MeasurementModel::residual_at`]
-    az_sin_cos: (f64, f64),
+    /// the angles' sines and cosines for [`MeasurementModel::residual_at`]
+    trig: AngleTrig,
 }
 
 impl<'a, M: MeasurementModel> Likelihood<'a, M> {
@@ -381,7 +381,7 @@ impl<'a, M: MeasurementModel> Likelihood<'a, M> {
             scales: *scales,
             gaussian: matches!(noise, NoiseModel::Gaussian),
             neg_half_inv_var: scales.map(|s| -0.5 / (s * s)),
-            az_sin_cos: z.y.sin_cos(),
+            trig: AngleTrig::of(z),
         }
     }
 
@@ -389,7 +389,7 @@ impl<'a, M: MeasurementModel> Likelihood<'a, M> {
     /// noise model's log-density per component otherwise; `-inf` where `z` is undefined.
     fn log(&self, x: &State) -> f64 {
         let r = x.fixed_rows::<3>(0).into_owned();
-        let Some(d) = self.sensor.residual_at(&self.z, self.az_sin_cos, &r) else {
+        let Some(d) = self.sensor.residual_at(&self.z, &self.trig, &r) else {
             return f64::NEG_INFINITY;
         };
         if self.gaussian {
