@@ -1,7 +1,7 @@
 """Instruction counts (valgrind --tool=callgrind) of the main cases, the stable figure on a
 shared machine, and the campaign throughput of `relnav reproduce` per scenario (issue 15,
-items 4 and 5). Needs the release builds of examples/hinf_profile, examples/kalman_profile
-and the relnav CLI (scripts/bench.sh builds them). Prints one JSON line:
+items 4 and 5). Needs the release builds of examples/hinf_profile, examples/kalman_profile,
+examples/pf_steps and the relnav CLI (scripts/bench.sh builds them). Prints one JSON line:
 
   {"instructions": {case: count per design or per step}, "iterations": {design: "n"},
    "throughput": {scenario: runs per second}}
@@ -49,6 +49,14 @@ def main():
             i1, _ = callgrind([kp, f, str(n1)])
             i2, _ = callgrind([kp, f, str(n2)])
             out["instructions"][f"{f}_step"] = ((i2 - gen[n2]) - (i1 - gen[n1])) / (n2 - n1)
+        # particle steps at N = 1500 (examples/pf_steps): (I(20 + 10) - I(20 + 0)) / 10
+        pf = str(rel / "examples" / "pf_steps")
+        for name, kind, moves in (("sir_literal", "pf", "literal"), ("sir", "pf", "moves"),
+                                  ("rpf", "rpf", "moves"), ("gapf", "gapf", "moves"),
+                                  ("upf", "upf", "moves"), ("cgapf", "cgapf", "moves")):
+            i0, _ = callgrind([pf, "1500", "20", "0", "1", kind, moves])
+            i1, _ = callgrind([pf, "1500", "20", "10", "1", kind, moves])
+            out["instructions"][f"{name}_step_n1500"] = (i1 - i0) / 10
     if not a.no_throughput:
         with tempfile.TemporaryDirectory() as tmp:
             p = subprocess.run([str(rel / "relnav"), "reproduce", "--paper", "all", "--runs", str(a.runs),

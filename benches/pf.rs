@@ -1,7 +1,9 @@
 //! Criterion benchmarks of the particle filters: one step (update with the measurement,
-//! resampling when due, predict) on paper 000's model, in steady state. SIR at N = 1500
-//! and N = 100 000 (issue 4: ns per particle; target <= 100 us per step at N = 1500,
-//! single-threaded), RPF, UPF, GA-PF and CGA-PF at N = 1500; the thread scaling of the
+//! resampling when due, predict) on paper 000's model, in steady state. The literal SIR
+//! (no moves, the algorithm of the numpy anchor) at N = 1500 (issue 15: <= 40 us,
+//! single-threaded); with the moves (the default) at N = 1500 and N = 100 000 (ns per
+//! particle), RPF, UPF, GA-PF and CGA-PF at N = 1500 (issue 15's goals in
+//! `benches/summarize.py`); the thread scaling of the
 //! chunked path (issue 10) at N = 10^5 and 10^6 on 1 and 2 threads (`pf_scaling`, 10
 //! samples each; `cargo bench --bench pf -- threads`). `scripts/bench.sh` runs these
 //! with the vectorised numpy SIR anchor (`benches/anchor_numpy_sir.py`) and prints medians
@@ -49,18 +51,27 @@ fn setup(steps: usize) -> (DiscreteModel, RadioSensor, Vec<Vec3>) {
 }
 
 fn bench_pf(c: &mut Criterion, name: &str, kind: PfKind, particles: usize) {
-    bench_pf_threads(c, name, kind, particles, 0);
+    bench_pf_threads(c, name, kind, particles, 0, true);
 }
 
 /// As [`bench_pf`] with `threads` worker threads for the chunked particle loops (from
-/// 32768 particles on; 0: one per core); the results do not depend on it.
-fn bench_pf_threads(c: &mut Criterion, name: &str, kind: PfKind, particles: usize, threads: usize) {
+/// 32768 particles on; 0: one per core; the results do not depend on it) and the moves on
+/// or off ([`PfParams::moves`]).
+fn bench_pf_threads(
+    c: &mut Criterion,
+    name: &str,
+    kind: PfKind,
+    particles: usize,
+    threads: usize,
+    moves: bool,
+) {
     let cfg = NavConfig::default();
     let (d, sensor, zs) = setup(20_000);
     let params = PfParams {
         particles,
         seed: 7,
         threads,
+        moves,
         ..PfParams::new(kind)
     };
     let make = || {
@@ -89,6 +100,8 @@ fn bench_pf_threads(c: &mut Criterion, name: &str, kind: PfKind, particles: usiz
 }
 
 fn benches(c: &mut Criterion) {
+    // the literal SIR of paper 000 (no moves): the same algorithm as the numpy anchor
+    bench_pf_threads(c, "sir_literal_step_n1500", PfKind::Sir, 1500, 0, false);
     bench_pf(c, "sir_step_n1500", PfKind::Sir, 1500);
     bench_pf(c, "rpf_step_n1500", PfKind::Rpf, 1500);
     bench_pf(c, "gapf_step_n1500", PfKind::Gapf, 1500);
@@ -101,7 +114,14 @@ fn benches(c: &mut Criterion) {
 fn scaling(c: &mut Criterion) {
     for n in [100_000, 1_000_000] {
         for t in [1, 2] {
-            bench_pf_threads(c, &format!("sir_step_n{n}_threads{t}"), PfKind::Sir, n, t);
+            bench_pf_threads(
+                c,
+                &format!("sir_step_n{n}_threads{t}"),
+                PfKind::Sir,
+                n,
+                t,
+                true,
+            );
         }
     }
 }

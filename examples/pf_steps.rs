@@ -11,7 +11,8 @@
 //! ```
 //!
 //! Arguments: particles, warm-up steps, measured steps, threads, kind (`pf`, `rpf`, `upf`,
-//! `gapf`, `cgapf`; default 100000 20 1 1 pf).
+//! `gapf`, `cgapf`), moves (`moves` or `literal`: [`PfParams::moves`]; default
+//! 100000 20 1 1 pf moves).
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)] // example code
 
 use rand::SeedableRng;
@@ -32,6 +33,7 @@ fn main() {
     let kind = std::env::args().nth(5).map_or(PfKind::Sir, |s| {
         PfKind::from_name(&s).expect("a filter kind")
     });
+    let moves = std::env::args().nth(6).as_deref() != Some("literal");
     let cfg = NavConfig::default();
     let f = cfg.frame;
     let model = CwModel::new(cfg.mean_motion);
@@ -47,6 +49,7 @@ fn main() {
         particles,
         seed: 7,
         threads,
+        moves,
         ..PfParams::new(kind)
     };
     let mut pf = ParticleFilter::new(cfg.initial_state(), cfg.initial_covariance(), params);

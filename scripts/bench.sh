@@ -14,7 +14,7 @@ numpy_sir=$(.venv/bin/python benches/anchor_numpy_sir.py)
 .venv/bin/python -m pip install --disable-pip-version-check -q --no-input -r benches/requirements-bench.txt </dev/null
 cvxpy_hinf=$(.venv/bin/python benches/anchor_cvxpy_hinf.py 2>/dev/null)
 # callgrind instruction counts (the stable figure) and campaign throughput (runs/s per scenario)
-cargo build --release --example hinf_profile --example kalman_profile --bin relnav
+cargo build --release --example hinf_profile --example kalman_profile --example pf_steps --bin relnav
 counts=$(.venv/bin/python benches/instructions.py)
 uptime
 .venv/bin/python benches/summarize.py "$anchor" "$numpy_sir" "$cvxpy_hinf" "$counts"
