@@ -1428,7 +1428,7 @@ impl Estimator for ParticleFilter {
                 symmetrize(&(phi * self.prior_cov * phi.transpose() + model.q)),
             )
         });
-        let finite = |m: &[f64]| m.iter().all(|v| v.is_finite());
+        let finite = crate::numerics::all_finite;
         let prior_bad = prior.is_some_and(|(m, p)| !finite(m.as_slice()) || !finite(p.as_slice()));
         if !check.is_finite() || !finite(mean.as_slice()) || prior_bad {
             self.rng = rng_saved;
