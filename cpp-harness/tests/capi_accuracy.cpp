@@ -45,7 +45,7 @@ void check_defaults(const Paper000& p) {
 }
 
 // The truth must be right before it can judge anything.
-void check_truth() {
+void check_truth(bool with_rk4) {
     // 1. Step-by-step closed form == closed form from the epoch (no thrust).
     Paper000 p;
     const auto stepped = truth_trajectory(p);
@@ -60,15 +60,21 @@ void check_truth() {
     std::printf("truth check: stepped vs epoch closed form, max |diff| = %.3g\n", worst);
     CHECK(worst < 1e-9);
 
-    // 2. Closed form (with the zero-order-hold burn) == RK4 at 1 ms.
+    // 2. Closed form (with the zero-order-hold burn) == RK4 at 1 ms. It checks only this
+    // harness's own C++ (600 000 RK4 steps): skipped in the reduced (valgrind) run, where
+    // it took half the time and exercised no relnav memory; the plain test runs it.
     const Paper000 pb = paper000_with_burn();
     const auto cf = truth_trajectory(pb);
-    const auto rk = truth_trajectory_rk4(pb, 1e-3);
-    const double dpos = max_abs_diff(cf, rk, 0, 3), dvel = max_abs_diff(cf, rk, 3, 6);
-    std::printf("truth check: closed form vs RK4 (1 ms), burn scenario: max |dpos| = %.3g m, "
-                "max |dvel| = %.3g m/s\n", dpos, dvel);
-    CHECK(dpos < 1e-6);
-    CHECK(dvel < 1e-8);
+    if (with_rk4) {
+        const auto rk = truth_trajectory_rk4(pb, 1e-3);
+        const double dpos = max_abs_diff(cf, rk, 0, 3), dvel = max_abs_diff(cf, rk, 3, 6);
+        std::printf("truth check: closed form vs RK4 (1 ms), burn scenario: max |dpos| = %.3g m, "
+                    "max |dvel| = %.3g m/s\n", dpos, dvel);
+        CHECK(dpos < 1e-6);
+        CHECK(dvel < 1e-8);
+    } else {
+        std::printf("truth check: closed form vs RK4 skipped in the reduced run (the full run has it)\n");
+    }
 
     // 3. The burn must actually move the chaser (otherwise the burn case tests nothing).
     const Vec6& a = stepped.back();
@@ -391,7 +397,7 @@ int main(int argc, char** argv) {
     Paper000 plain;
     const Paper000 burn = paper000_with_burn();
     check_defaults(plain);
-    check_truth();
+    check_truth(runs >= kFullRuns);
     check_models();
 
     std::printf("\nerror = estimate at t+1 after the step at t minus truth at t+1; times 80..600 s\n");
@@ -406,10 +412,10 @@ int main(int argc, char** argv) {
     run_unreported_burn_case(std::min(runs, 8));
     if (runs >= kFullRuns) {
         run_pf_case(plain, 4, 1500);
-    } else {  // reduced (e.g. under valgrind): one 100 s run
+    } else {  // reduced (e.g. under valgrind): one 100 s run with 500 particles
         Paper000 short_run;
         short_run.steps = 100;
-        run_pf_case(short_run, 1, 1500);
+        run_pf_case(short_run, 1, 500);
     }
     return finish("capi_accuracy");
 }

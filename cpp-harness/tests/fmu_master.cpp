@@ -195,10 +195,12 @@ const char* kSigmaOutputs[6] = {"sigma_x", "sigma_y", "sigma_z", "sigma_vx", "si
 
 // Set every parameter explicitly, from the C ABI's configuration for `filter` (what the
 // C-ABI run uses), then setup experiment and initialise. Returns false if any call failed.
-bool initialise(Context& cx, Slave& s, int filter, double stop_time) {
+// `particles` > 0 sets the particle filters' particle count (otherwise the FMU's default).
+bool initialise(Context& cx, Slave& s, int filter, double stop_time, int particles = 0) {
     const relnav_config c = scenario_config(filter);
     const int before = failure_count();
     EXPECT_FMI(s.set_int("filter", c.filter), fmi2::OK);
+    if (particles > 0) EXPECT_FMI(s.set_int("particles", particles), fmi2::OK);
     EXPECT_FMI(s.set_int("frame", c.frame), fmi2::OK);
     EXPECT_FMI(s.set_int("discretization", c.discretization), fmi2::OK);
     EXPECT_FMI(s.set_int("seed", static_cast<int>(c.seed)), fmi2::OK);
@@ -692,8 +694,10 @@ bool contains(const std::string& s, const char* what) { return s.find(what) != s
 // instance that was only instantiated (the parameters come with the state). Both
 // continuations must be bit-identical to the uninterrupted run. Truncated or corrupted
 // bytes and another instance's state pointer are refused with a logged reason.
-void fmu_state(Context& cx) {
-    std::printf("\nFMU state (get, set, serialise, deserialise)\n");
+// `particles`: the particle filters' count (the reduced valgrind run uses fewer; the round
+// trip is the same code whatever the count).
+void fmu_state(Context& cx, int particles) {
+    std::printf("\nFMU state (get, set, serialise, deserialise), %d particles\n", particles);
     const Fmi2Api& api = *cx.api;
     Environment& env = *cx.env;
     Paper000 p = paper000_with_burn();
@@ -713,7 +717,7 @@ void fmu_state(Context& cx) {
         }
         env.echo = false;
         std::vector<double> head, tail, again, other;
-        const bool ok = initialise(cx, a, filter, p.steps * p.dt) && fmu_steps(cx, a, p, z, 0, k0, &head);
+        const bool ok = initialise(cx, a, filter, p.steps * p.dt, particles) && fmu_steps(cx, a, p, z, 0, k0, &head);
         fmi2FMUstate s = nullptr, s2 = nullptr, s3 = nullptr;
         EXPECT_FMI(api.fmi2GetFMUstate(a.get(), &s), fmi2::OK);
         size_t n = 0;
@@ -815,7 +819,7 @@ int main(int argc, char** argv) {
         gaps_and_reset_midway(cx);
         imm_mode_outputs(cx);
         error_cases(cx);
-        fmu_state(cx);
+        fmu_state(cx, runs >= kFullRuns ? 1500 : 200);
         logging(cx);
         for (const LogRecord& r : env.records)
             if (r.status >= fmi2::Error && r.message.empty()) record_failure(__FILE__, __LINE__, "empty error log message");
