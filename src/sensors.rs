@@ -134,16 +134,26 @@ impl AngleTrig {
 /// residuals are milliradians: the series replaces about 80 instructions by 10.
 #[inline]
 pub fn asin_small(s: f64) -> f64 {
+    if s.abs() <= ASIN_SERIES_MAX {
+        asin_series(s)
+    } else {
+        s.asin()
+    }
+}
+
+/// Where [`asin_series`] is `asin` to a quarter of an ulp: `|s| <= 2^-5`.
+pub const ASIN_SERIES_MAX: f64 = 0.031_25;
+
+/// The series of [`asin_small`] alone (no test, no branch: the caller checks
+/// `|s| <= ASIN_SERIES_MAX`), for loops that vectorise over many residuals.
+#[inline(always)]
+pub fn asin_series(s: f64) -> f64 {
     const C3: f64 = 1.0 / 6.0;
     const C5: f64 = 3.0 / 40.0;
     const C7: f64 = 5.0 / 112.0;
     const C9: f64 = 35.0 / 1152.0;
-    if s.abs() <= 0.031_25 {
-        let s2 = s * s;
-        s + s * s2 * (C3 + s2 * (C5 + s2 * (C7 + s2 * C9)))
-    } else {
-        s.asin()
-    }
+    let s2 = s * s;
+    s + s * s2 * (C3 + s2 * (C5 + s2 * (C7 + s2 * C9)))
 }
 
 /// What a filter needs of a sensor: the measurement function, its linearisation, the
@@ -171,6 +181,29 @@ pub trait MeasurementModel: Sync {
     fn residual_at(&self, z: &Vec3, trig: &AngleTrig, r: &Vec3) -> Option<Vec3> {
         let _ = trig;
         self.predict(r).map(|zh| self.diff(z, &zh))
+    }
+    /// [`MeasurementModel::residual_at`] for `n <= B` positions in structure-of-arrays form
+    /// (`r[k][i]` component `k` of position `i`): writes the residuals `d[k][i]` and
+    /// `ok[i]` (false where the measurement is undefined, `d` then unspecified); lanes from
+    /// `n` on are left unspecified. Default: `residual_at` lane by lane. The radio sensor
+    /// overrides it with a loop the compiler vectorises across positions (a particle
+    /// filter's likelihood).
+    fn residuals_at<const B: usize>(
+        &self,
+        z: &Vec3,
+        trig: &AngleTrig,
+        r: &[[f64; B]; 3],
+        n: usize,
+        d: &mut [[f64; B]; 3],
+        ok: &mut [bool; B],
+    ) {
+        for i in 0..n.min(B) {
+            let ri = Vec3::new(r[0][i], r[1][i], r[2][i]);
+            let v = self.residual_at(z, trig, &ri);
+            ok[i] = v.is_some();
+            let v = v.unwrap_or_default();
+            (d[0][i], d[1][i], d[2][i]) = (v.x, v.y, v.z);
+        }
     }
     /// The unscented transform of the measurement over sigma-point positions `r` with mean
     /// weights `wm` (same lengths as `dz`): returns `z_hat`, the weighted mean of the
@@ -254,6 +287,54 @@ impl MeasurementModel for RadioSensor {
             wrap_pi(z.y - wrap_2pi(p.y.atan2(p.x)))
         };
         Some(Vec3::new(z.x - rho, d_az, d_el))
+    }
+    /// [`RadioSensor::residual_at`]'s small-residual branch for a block of positions with
+    /// no branch in the loop (so it vectorises): every lane is evaluated by the series, and
+    /// a lane outside the series' domain (range below [`MIN_RANGE`], a residual cosine
+    /// below 1/2 or a sine beyond [`ASIN_SERIES_MAX`], NaN) is redone by `residual_at`
+    /// afterwards. The same values as `residual_at` lane by lane, bit for bit (tested).
+    fn residuals_at<const B: usize>(
+        &self,
+        z: &Vec3,
+        trig: &AngleTrig,
+        r: &[[f64; B]; 3],
+        n: usize,
+        d: &mut [[f64; B]; 3],
+        ok: &mut [bool; B],
+    ) {
+        let t = self.frame.rotation();
+        let (se, ce) = trig.el;
+        let (sa, ca) = trig.az;
+        let mut slow = [false; B];
+        for i in 0..B {
+            let ri = Vec3::new(r[0][i], r[1][i], r[2][i]);
+            let p = t * ri;
+            let rho_xy2 = p.x * p.x + p.y * p.y;
+            let rho = (rho_xy2 + p.z * p.z).sqrt();
+            let rho_xy = rho_xy2.sqrt();
+            let s_el = (se * rho_xy - ce * p.z) / rho;
+            let s_az = (sa * p.x - ca * p.y) / rho_xy;
+            let fast = (rho >= MIN_RANGE)
+                & (rho_xy > 0.0)
+                & (ce * rho_xy + se * p.z > 0.5 * rho)
+                & (ca * p.x + sa * p.y > 0.5 * rho_xy)
+                & (s_el.abs() <= ASIN_SERIES_MAX)
+                & (s_az.abs() <= ASIN_SERIES_MAX);
+            d[0][i] = z.x - rho;
+            d[1][i] = asin_series(s_az);
+            d[2][i] = asin_series(s_el);
+            slow[i] = !fast;
+        }
+        for i in 0..n.min(B) {
+            ok[i] = true;
+            if slow[i] {
+                let ri = Vec3::new(r[0][i], r[1][i], r[2][i]);
+                let v = self.residual_at(z, trig, &ri);
+                ok[i] = v.is_some();
+                let v = v.unwrap_or_default();
+                (d[0][i], d[1][i], d[2][i]) = (v.x, v.y, v.z);
+            }
+        }
     }
     /// The unscented transform without an `atan2` or `sin_cos` per sigma point. Each point's
     /// azimuth enters the circular mean through `(sin a_i, cos a_i) = (p_y, p_x) / rho_xy`
@@ -611,6 +692,56 @@ mod tests {
     /// The particle filters' residual (asin of the angle residuals' sines where they are
     /// small) equals `diff(z, predict(r))` everywhere: every frame, azimuths across 0 / 2 pi,
     /// residuals beyond 60 degrees (the atan2 fallback), near the poles.
+    /// The block form equals `residual_at` lane by lane, bit for bit, near the
+    /// measurement (the vectorised series) and far from it, on the pole and at zero range
+    /// (the lanes redone by `residual_at`), in every frame; the last block is short.
+    #[test]
+    #[allow(clippy::needless_range_loop)]
+    fn residuals_at_equal_residual_at_bitwise() {
+        use rand::Rng;
+        const B: usize = 16;
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(4);
+        for frame in [
+            Frame::RadialAlongNormal,
+            Frame::AlongRadialAntinormal,
+            Frame::AlongAntinormalNadir,
+        ] {
+            let s = RadioSensor::new(frame, 0.5, 1e-4);
+            let centre = Vec3::new(400.0, -500.0, 200.0);
+            let z = s.predict(&centre).unwrap() + Vec3::new(0.3, 1e-4, -2e-4);
+            let trig = AngleTrig::of(&z);
+            for k in 0..400 {
+                let n = if k % 7 == 6 { 5 } else { B };
+                let mut r = [[0.0; B]; 3];
+                for i in 0..B {
+                    let p = match (k + i) % 9 {
+                        0 => Vec3::from_fn(|_, _| rng.random_range(-1000.0..1000.0)),
+                        1 => Vec3::zeros(),
+                        2 => frame.vec_to_canonical(&Vec3::new(0.0, 0.0, 300.0)),
+                        3 => centre * rng.random_range(0.5..1.5),
+                        _ => centre + Vec3::from_fn(|_, _| rng.random_range(-2.0..2.0)),
+                    };
+                    (r[0][i], r[1][i], r[2][i]) = (p.x, p.y, p.z);
+                }
+                let mut d = [[f64::NAN; B]; 3];
+                let mut ok = [false; B];
+                s.residuals_at(&z, &trig, &r, n, &mut d, &mut ok);
+                for i in 0..n {
+                    let ri = Vec3::new(r[0][i], r[1][i], r[2][i]);
+                    match s.residual_at(&z, &trig, &ri) {
+                        Some(v) => {
+                            assert!(ok[i], "{ri:?}");
+                            for c in 0..3 {
+                                assert_eq!(d[c][i].to_bits(), v[c].to_bits(), "{ri:?} {c}");
+                            }
+                        }
+                        None => assert!(!ok[i], "{ri:?}"),
+                    }
+                }
+            }
+        }
+    }
+
     #[test]
     fn residual_at_equals_diff_of_predict() {
         use rand::Rng;

@@ -52,6 +52,20 @@ impl MeasurementModel for AnySensor {
             AnySensor::Cartesian(s) => s.diff(z, z_hat),
         }
     }
+    fn residuals_at<const B: usize>(
+        &self,
+        z: &Vec3,
+        trig: &crate::sensors::AngleTrig,
+        r: &[[f64; B]; 3],
+        n: usize,
+        d: &mut [[f64; B]; 3],
+        ok: &mut [bool; B],
+    ) {
+        match self {
+            AnySensor::Radio(s) => s.residuals_at(z, trig, r, n, d, ok),
+            AnySensor::Cartesian(s) => s.residuals_at(z, trig, r, n, d, ok),
+        }
+    }
     fn weighted_mean(&self, w: &[f64], zs: &[Vec3]) -> Vec3 {
         match self {
             AnySensor::Radio(s) => s.weighted_mean(w, zs),

@@ -110,6 +110,7 @@ use super::{symmetrize, Estimator, FilterError, UpdateInfo};
 use crate::dynamics::DiscreteModel;
 use crate::noise::NoiseModel;
 use crate::numerics::state::{refuse, Persist, Reader, StateError, Writer};
+use crate::numerics::vexp::exp_nonpos;
 use crate::sensors::{AngleTrig, MeasurementModel};
 use crate::types::{Mat3, Mat6, State, Vec3};
 use genetic::{CloudParams, GeneticParams};
@@ -403,6 +404,44 @@ impl<'a, M: MeasurementModel> Likelihood<'a, M> {
     }
 }
 
+impl<M: MeasurementModel> Likelihood<'_, M> {
+    /// [`Likelihood::log`] of every particle of `x` into `out` (same length), block by
+    /// block in structure-of-arrays form ([`MeasurementModel::residuals_at`]): the same
+    /// values as `log` particle by particle, bit for bit.
+    fn log_many(&self, x: &[State], out: &mut [f64]) {
+        let mut r = [[0.0; BLOCK]; 3];
+        let mut d = [[0.0; BLOCK]; 3];
+        let mut ok = [false; BLOCK];
+        for (xs, os) in x.chunks(BLOCK).zip(out.chunks_mut(BLOCK)) {
+            for (i, xi) in xs.iter().enumerate() {
+                (r[0][i], r[1][i], r[2][i]) = (xi[0], xi[1], xi[2]);
+            }
+            self.sensor
+                .residuals_at(&self.z, &self.trig, &r, xs.len(), &mut d, &mut ok);
+            if self.gaussian {
+                let c = &self.neg_half_inv_var;
+                let mut ll = [0.0; BLOCK];
+                for (i, l) in ll.iter_mut().enumerate() {
+                    let v = c[0] * d[0][i] * d[0][i] + c[1] * d[1][i] * d[1][i];
+                    let v = v + c[2] * d[2][i] * d[2][i];
+                    *l = if ok[i] { v } else { f64::NEG_INFINITY };
+                }
+                os.copy_from_slice(&ll[..os.len()]);
+            } else {
+                for (i, o) in os.iter_mut().enumerate() {
+                    *o = if ok[i] {
+                        (0..3)
+                            .map(|k| self.noise.log_density(d[k][i], self.scales[k]))
+                            .sum()
+                    } else {
+                        f64::NEG_INFINITY
+                    };
+                }
+            }
+        }
+    }
+}
+
 /// `ln N(x; m, L L^T)` up to the constant `-3 ln 2 pi`, `L` lower triangular.
 fn log_gauss(x: &State, m: &State, l: &Mat6) -> f64 {
     log_gauss_with(x, m, l, half_logdet(l))
@@ -560,28 +599,118 @@ struct Transition {
     l: Mat6,
 }
 
+/// Particles per block of the transition's structure-of-arrays loops: each block's
+/// states and normals are transposed into `[[f64; BLOCK]; 6]` arrays on the stack, whose
+/// fixed-length component loops the compiler vectorises across particles.
+const BLOCK: usize = 16;
+
+/// A block's states, transition means and new states, transposed (reused block to block).
+type SoaBlocks = ([[f64; BLOCK]; N], [[f64; BLOCK]; N], [[f64; BLOCK]; N]);
+
 impl Transition {
     /// Draw the new particles `out[i]` from `x[i]` (and store the transition means in
-    /// `xbar` when it is not empty); returns the sum of every new component (finite
-    /// unless a particle overflowed).
+    /// `xbar` when it is not empty); returns a number that is finite exactly when every
+    /// new component is (the sum of `0 * v` over them: NaN once one is not).
+    ///
+    /// Block by block: the block's `6 B` normals are drawn first, in the order particle by
+    /// particle and component by component (the same stream as one particle at a time),
+    /// with the generator in a local copy (kept in registers by the draw loop); then, for
+    /// the CW block structure with a diagonal `Q` (paper 000's model), the transition
+    /// `x_i <- Phi x_i + Gamma a + sqrt(Q) eps_i` runs on the transposed block, the same
+    /// operations in the same order per particle as the scalar form (so the same bits),
+    /// two particles per SSE2 instruction.
     fn run(&self, x: &[State], out: &mut [State], xbar: &mut [State], rng: &mut PfRng) -> f64 {
-        let mut check = 0.0;
-        for (i, (xi, xn)) in x.iter().zip(out.iter_mut()).enumerate() {
-            let xb = match &self.blocks {
-                Some(b) => b.apply(xi) + self.u,
-                None => self.phi * *xi + self.u,
-            };
-            if let Some(slot) = xbar.get_mut(i) {
-                *slot = xb;
+        let mut g = rng.clone();
+        let mut bad = 0.0;
+        let mut eps = [[0.0; BLOCK]; N];
+        let mut scratch = ([[0.0; BLOCK]; N], [[0.0; BLOCK]; N], [[0.0; BLOCK]; N]);
+        for (b, (xs, os)) in x.chunks(BLOCK).zip(out.chunks_mut(BLOCK)).enumerate() {
+            for i in 0..xs.len() {
+                for e in eps.iter_mut() {
+                    e[i] = StandardNormal.sample(&mut g);
+                }
             }
-            let e = gauss6(rng);
-            *xn = match &self.diag {
-                Some(d) => xb + e.component_mul(d),
-                None => xb + self.l * e,
-            };
-            check += xn.sum();
+            let xb_out = xbar.get_mut(b * BLOCK..(b * BLOCK + xs.len()));
+            match (&self.blocks, &self.diag) {
+                (Some(cw), Some(d)) => {
+                    bad += self.block_soa(cw, d, xs, os, xb_out, &eps, &mut scratch);
+                }
+                _ => {
+                    let mut xb_out = xb_out;
+                    for (i, (xi, xn)) in xs.iter().zip(os.iter_mut()).enumerate() {
+                        let xb = match &self.blocks {
+                            Some(cw) => cw.apply(xi) + self.u,
+                            None => self.phi * *xi + self.u,
+                        };
+                        if let Some(slot) = xb_out.as_mut().and_then(|s| s.get_mut(i)) {
+                            *slot = xb;
+                        }
+                        let e = State::from_fn(|k, _| eps[k][i]);
+                        *xn = match &self.diag {
+                            Some(d) => xb + e.component_mul(d),
+                            None => xb + self.l * e,
+                        };
+                        bad += xn.iter().fold(0.0, |a, v| a + v * 0.0);
+                    }
+                }
+            }
         }
-        check
+        *rng = g;
+        bad
+    }
+
+    /// One block of [`Transition::run`] in structure-of-arrays form (CW blocks, diagonal
+    /// `Q`): `xb = Phi x + u` with the 16 + 4 products of [`CwBlocks::apply`] in its order,
+    /// `x_new = xb + d * eps`.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments, clippy::needless_range_loop)]
+    fn block_soa(
+        &self,
+        cw: &CwBlocks,
+        d: &State,
+        xs: &[State],
+        os: &mut [State],
+        xb_out: Option<&mut [State]>,
+        eps: &[[f64; BLOCK]; N],
+        scratch: &mut SoaBlocks,
+    ) -> f64 {
+        let a = &mut scratch.0;
+        for (i, xi) in xs.iter().enumerate() {
+            for (k, ak) in a.iter_mut().enumerate() {
+                ak[i] = xi[k];
+            }
+        }
+        let xb = &mut scratch.1;
+        let (p, q) = (&cw.inp, &cw.out);
+        let u = &self.u;
+        for i in 0..BLOCK {
+            let v = [a[0][i], a[1][i], a[3][i], a[4][i]];
+            let w = [a[2][i], a[5][i]];
+            for (r, row) in CwBlocks::IN.iter().zip(p) {
+                xb[*r][i] = row[0] * v[0] + row[1] * v[1] + row[2] * v[2] + row[3] * v[3] + u[*r];
+            }
+            for (r, row) in CwBlocks::OUT.iter().zip(q) {
+                xb[*r][i] = row[0] * w[0] + row[1] * w[1] + u[*r];
+            }
+        }
+        let xn = &mut scratch.2;
+        let mut bad = [0.0; BLOCK];
+        for k in 0..N {
+            for i in 0..BLOCK {
+                xn[k][i] = xb[k][i] + eps[k][i] * d[k];
+                bad[i] += xn[k][i] * 0.0;
+            }
+        }
+        if let Some(xbo) = xb_out {
+            for (i, slot) in xbo.iter_mut().enumerate() {
+                *slot = State::from_fn(|k, _| xb[k][i]);
+            }
+        }
+        for (i, o) in os.iter_mut().enumerate() {
+            *o = State::from_fn(|k, _| xn[k][i]);
+        }
+        // only the block's own particles count (the padding holds stale values)
+        bad.iter().take(os.len()).sum()
     }
 }
 
@@ -1049,8 +1178,8 @@ impl ParticleFilter {
     /// The log-weights `logw_tmp` and log-likelihoods of the transition-proposal kinds.
     fn weigh<M: MeasurementModel>(&mut self, lik: &Likelihood<'_, M>) {
         let kernel = |x: &[State], lw: &[f64], lw_new: &mut [f64], ll: &mut [f64]| {
-            for (((xi, lw), lw_new), ll) in x.iter().zip(lw).zip(lw_new.iter_mut()).zip(ll) {
-                *ll = lik.log(xi);
+            lik.log_many(x, ll);
+            for ((lw, lw_new), ll) in lw.iter().zip(lw_new.iter_mut()).zip(ll.iter()) {
                 *lw_new = *lw + *ll;
             }
         };
@@ -1112,10 +1241,7 @@ impl ParticleFilter {
         if !self.chunked() {
             return normalize_log_weights(&self.logw_tmp, &mut self.scratch);
         }
-        let max = self
-            .logw_tmp
-            .iter()
-            .fold(f64::NEG_INFINITY, |m, &l| m.max(l));
+        let max = resample::max_ignoring_nan(&self.logw_tmp);
         if !max.is_finite() {
             // no weight, or infinite ones: the sequential rules (rare, exact either way)
             return normalize_log_weights(&self.logw_tmp, &mut self.scratch);
@@ -1128,12 +1254,10 @@ impl ParticleFilter {
         let sum: f64 = self
             .pool
             .map(jobs, |(lw, w)| {
-                let mut s = 0.0;
-                for (x, &l) in w.iter_mut().zip(lw) {
-                    *x = if l.is_nan() { 0.0 } else { (l - max).exp() };
-                    s += *x;
-                }
-                s
+                w.iter_mut()
+                    .zip(lw)
+                    .for_each(|(x, &l)| *x = if l.is_nan() { 0.0 } else { exp_nonpos(l - max) });
+                w.iter().sum::<f64>()
             })
             .into_iter()
             .sum();
@@ -1365,13 +1489,83 @@ fn weighted_sum(x: &[State], w: &[f64]) -> (State, f64) {
     (m, s)
 }
 
-/// [`Moments`] of `x` with weights `w` about `reference`.
-fn moments(reference: &State, x: &[State], w: &[f64]) -> Moments {
-    let mut acc = Moments::new(*reference);
-    for (xi, wi) in x.iter().zip(w) {
-        acc.add(xi, *wi);
+/// The 21 `(row, column)` pairs of the upper triangle of a 6 x 6 matrix, column by
+/// column (the order of [`Moments::s2`]).
+const TRIANGLE: [(usize, usize); 21] = {
+    let mut t = [(0, 0); 21];
+    let (mut c, mut k) = (0, 0);
+    while c < N {
+        let mut r = 0;
+        while r <= c {
+            t[k] = (r, c);
+            r += 1;
+            k += 1;
+        }
+        c += 1;
     }
-    acc
+    t
+};
+
+/// [`Moments`] of `x` with weights `w` about `reference`, in structure-of-arrays blocks:
+/// each block of [`BLOCK`] particles is transposed to `d[k][i] = x_i[k] - c[k]` on the
+/// stack and every sum is accumulated in partial sums that vectorise (the weights and
+/// first moments lane by lane, particle `i` of every block in lane `i`; each of the 21
+/// second-moment entries in two interleaved register sums per block, even and odd
+/// particles), the lanes added in order at the end. A short last block is padded with zero weight and zero offset,
+/// which add exact zeros. The order of the additions is fixed by the particle count, so
+/// the result is reproducible; it differs from the one-particle-at-a-time sums
+/// ([`Moments::add`]) at rounding level.
+#[allow(clippy::needless_range_loop)] // index loops over fixed lanes: they vectorise
+fn moments(reference: &State, x: &[State], w: &[f64]) -> Moments {
+    let mut s1 = [[0.0; BLOCK]; N];
+    let mut s2 = [[0.0; BLOCK]; 21];
+    let mut ws = [0.0; BLOCK];
+    let mut d = [[0.0; BLOCK]; N];
+    let mut wd = [[0.0; BLOCK]; N];
+    let mut wb = [0.0; BLOCK];
+    for (xs, wsl) in x.chunks(BLOCK).zip(w.chunks(BLOCK)) {
+        for i in 0..BLOCK {
+            let (di, wi) = match (xs.get(i), wsl.get(i)) {
+                (Some(xi), Some(wi)) => (xi - reference, *wi),
+                _ => (State::zeros(), 0.0),
+            };
+            wb[i] = wi;
+            for k in 0..N {
+                d[k][i] = di[k];
+            }
+        }
+        for i in 0..BLOCK {
+            ws[i] += wb[i];
+        }
+        for k in 0..N {
+            for i in 0..BLOCK {
+                wd[k][i] = d[k][i] * wb[i];
+                s1[k][i] += wd[k][i];
+            }
+        }
+        // per entry two partial sums over the block in registers (one SSE2 pair),
+        // added to the entry's lanes 0 and 1
+        for (acc, &(r, c)) in s2.iter_mut().zip(&TRIANGLE) {
+            let (mut a0, mut a1) = (0.0, 0.0);
+            for (dp, wp) in d[r].chunks_exact(2).zip(wd[c].chunks_exact(2)) {
+                a0 += dp[0] * wp[0];
+                a1 += dp[1] * wp[1];
+            }
+            acc[0] += a0;
+            acc[1] += a1;
+        }
+    }
+    let mut out = Moments::new(*reference);
+    for i in 0..BLOCK {
+        out.wsum += ws[i];
+        for k in 0..N {
+            out.s1[k] += s1[k][i];
+        }
+        for (o, s) in out.s2.iter_mut().zip(&s2) {
+            *o += s[i];
+        }
+    }
+    out
 }
 
 impl Estimator for ParticleFilter {
@@ -1727,6 +1921,34 @@ mod tests {
         let mut coupled = Mat6::identity();
         coupled[(0, 2)] = 1e-3;
         assert!(CwBlocks::of(&coupled).is_none());
+    }
+
+    /// The block likelihood equals the particle-by-particle one bit for bit (Gaussian and
+    /// heavy-tailed noise, undefined positions, a short last block).
+    #[test]
+    fn block_likelihood_equals_scalar() {
+        use crate::sensors::RadioSensor;
+        let s = RadioSensor::new(crate::frames::Frame::AlongRadialAntinormal, 0.5, 1e-4);
+        let c = Vec3::new(400.0, 500.0, -200.0);
+        let z = s.predict(&c).expect("defined") + Vec3::new(0.2, -1e-4, 3e-4);
+        let x: Vec<State> = (0..1003)
+            .map(|k| {
+                let f = |i: usize| ((i * 7 + k * 13) as f64).sin();
+                match k % 11 {
+                    0 => State::zeros(),
+                    1 => State::new(f(0) * 900.0, f(1) * 900.0, f(2) * 900.0, 0.0, 0.0, 0.0),
+                    _ => State::new(c.x + f(0), c.y + f(1), c.z + f(2), f(3), f(4), f(5)),
+                }
+            })
+            .collect();
+        for noise in [NoiseModel::Gaussian, NoiseModel::StudentT { dof: 4.0 }] {
+            let lik = Likelihood::new(&s, &z, &noise, &[0.5, 1e-4, 1e-4]);
+            let mut out = vec![0.0; x.len()];
+            lik.log_many(&x, &mut out);
+            for (xi, o) in x.iter().zip(&out) {
+                assert_eq!(o.to_bits(), lik.log(xi).to_bits(), "{xi:?}");
+            }
+        }
     }
 
     /// Merged partial moments equal the one-pass moments of the whole set.

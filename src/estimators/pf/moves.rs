@@ -97,7 +97,9 @@
 //! `pi` ([`super::genetic`]).
 
 use super::par::CHUNK;
-use super::{bandwidth, chol, gauss6, psd_sqrt, Kernel, Likelihood, Moments, ParticleFilter};
+use super::{
+    bandwidth, chol, gauss6, psd_sqrt, Kernel, Likelihood, Moments, ParticleFilter, BLOCK,
+};
 use crate::estimators::symmetrize;
 use crate::sensors::MeasurementModel;
 use crate::types::{Mat3, Mat6, State, Vec3};
@@ -146,7 +148,11 @@ impl<M: MeasurementModel> Rejuvenation<'_, M> {
             + res.z * res.z * self.rinv.z)
     }
 
-    /// One independence MH step for each particle of a run.
+    /// One independence MH step for each particle of a run, block by block: the block's
+    /// proposals and uniforms are drawn first (in the order of one particle at a time:
+    /// the pair's normals, then each particle's uniform), their likelihoods evaluated
+    /// together ([`Likelihood::log_many`]), then the particles accepted or kept — the same
+    /// numbers as particle by particle.
     fn run(
         &self,
         x: &mut [State],
@@ -162,30 +168,44 @@ impl<M: MeasurementModel> Rejuvenation<'_, M> {
             accepted: 0,
         };
         let mut pending: Option<State> = None;
-        for ((xi, lli), &wi) in x.iter_mut().zip(loglik.iter_mut()).zip(w) {
-            // antithetic pairs: a fresh draw, then its mirror image
-            let eps = match pending.take() {
-                Some(e) => -e,
-                None => {
-                    let e = gauss6(rng);
-                    pending = Some(e);
-                    e
-                }
-            };
-            let y = self.mq + self.lq * eps;
-            s.y.add(&y, wi);
-            let ll = self.lik.log(&y);
-            let lw_y = ll - self.log_g(&(self.c - self.hl * eps));
-            let lw_x = *lli - self.log_g(&(self.nu - self.h * (*xi - self.m0)));
-            s.tried += 1;
-            let u: f64 = rng.random();
-            if lw_y.is_finite() && u.ln() < lw_y - lw_x {
-                *xi = y;
-                *lli = ll;
-                s.accepted += 1;
-                s.accepted_w += wi;
+        let mut ys = [State::zeros(); BLOCK];
+        let mut es = [State::zeros(); BLOCK];
+        let mut us = [0.0f64; BLOCK];
+        let mut lly = [0.0; BLOCK];
+        for ((xb, llb), wb) in x
+            .chunks_mut(BLOCK)
+            .zip(loglik.chunks_mut(BLOCK))
+            .zip(w.chunks(BLOCK))
+        {
+            let n = xb.len();
+            for ((y, e), u) in ys.iter_mut().zip(es.iter_mut()).zip(us.iter_mut()).take(n) {
+                // antithetic pairs: a fresh draw, then its mirror image
+                *e = match pending.take() {
+                    Some(e) => -e,
+                    None => {
+                        let e = gauss6(rng);
+                        pending = Some(e);
+                        e
+                    }
+                };
+                *y = self.mq + self.lq * *e;
+                *u = rng.random();
             }
-            s.x.add(xi, wi);
+            self.lik.log_many(&ys[..n], &mut lly[..n]);
+            for (i, ((xi, lli), &wi)) in xb.iter_mut().zip(llb.iter_mut()).zip(wb).enumerate() {
+                let (y, eps, ll, u) = (ys[i], es[i], lly[i], us[i]);
+                s.y.add(&y, wi);
+                let lw_y = ll - self.log_g(&(self.c - self.hl * eps));
+                let lw_x = *lli - self.log_g(&(self.nu - self.h * (*xi - self.m0)));
+                s.tried += 1;
+                if lw_y.is_finite() && u.ln() < lw_y - lw_x {
+                    *xi = y;
+                    *lli = ll;
+                    s.accepted += 1;
+                    s.accepted_w += wi;
+                }
+                s.x.add(xi, wi);
+            }
         }
         s
     }
@@ -309,18 +329,29 @@ impl ParticleFilter {
             Some(u) => ll - 0.5 * u.norm_squared(),
             None => f64::NEG_INFINITY,
         };
+        // block by block: candidates and uniforms drawn in the order of one particle at a
+        // time, likelihoods together, then the accept step (the same numbers)
         let run = |x: &mut [State], loglik: &mut [f64], rng: &mut super::PfRng| {
             let mut counts = (0u64, 0u64);
-            for (xi, lli) in x.iter_mut().zip(loglik.iter_mut()) {
-                let cand = *xi + jitter.draw(rng);
-                let ll = lik.log(&cand);
-                let lp = log_pi(&cand, ll);
-                counts.0 += 1;
-                let u: f64 = rng.random();
-                if lp.is_finite() && u.ln() < lp - log_pi(xi, *lli) {
-                    *xi = cand;
-                    *lli = ll;
-                    counts.1 += 1;
+            let mut cands = [State::zeros(); BLOCK];
+            let mut us = [0.0f64; BLOCK];
+            let mut lls = [0.0; BLOCK];
+            for (xb, llb) in x.chunks_mut(BLOCK).zip(loglik.chunks_mut(BLOCK)) {
+                let n = xb.len();
+                for ((c, u), xi) in cands.iter_mut().zip(us.iter_mut()).zip(xb.iter()) {
+                    *c = *xi + jitter.draw(rng);
+                    *u = rng.random();
+                }
+                lik.log_many(&cands[..n], &mut lls[..n]);
+                for (i, (xi, lli)) in xb.iter_mut().zip(llb.iter_mut()).enumerate() {
+                    let (cand, ll, u) = (cands[i], lls[i], us[i]);
+                    let lp = log_pi(&cand, ll);
+                    counts.0 += 1;
+                    if lp.is_finite() && u.ln() < lp - log_pi(xi, *lli) {
+                        *xi = cand;
+                        *lli = ll;
+                        counts.1 += 1;
+                    }
                 }
             }
             counts

@@ -37,6 +37,7 @@
 //! and NaN weights count as zero; if no weight is positive (or the total is not finite) the
 //! weights are taken as uniform.
 
+use crate::numerics::vexp::exp_nonpos;
 use rand::Rng;
 use rand_distr::{Distribution, Exp1};
 
@@ -166,8 +167,7 @@ pub fn normalize_log_weights(logw: &[f64], w: &mut [f64]) -> Option<f64> {
         return None;
     }
     let pairs = || logw.iter().take(n);
-    // f64::max ignores NaN.
-    let max = pairs().fold(f64::NEG_INFINITY, |m, &l| m.max(l));
+    let max = max_ignoring_nan(&logw[..n]);
     if max == f64::NEG_INFINITY {
         w.iter_mut().take(n).for_each(|x| *x = 1.0 / n as f64);
         return None;
@@ -183,16 +183,33 @@ pub fn normalize_log_weights(logw: &[f64], w: &mut [f64]) -> Option<f64> {
         }
         return Some(f64::INFINITY);
     }
-    let mut sum = 0.0;
-    for (x, &l) in w.iter_mut().zip(logw) {
-        // exp(l - max) is in [0, 1]; the maximum contributes exactly 1, so sum >= 1.
-        let e = if l.is_nan() { 0.0 } else { (l - max).exp() };
-        *x = e;
-        sum += e;
-    }
+    // exp(l - max) is in [0, 1]; the maximum contributes exactly 1, so sum >= 1. The
+    // branch-free exponential (within 2 ulp of libm's) lets the loop vectorise.
+    w.iter_mut()
+        .zip(logw)
+        .for_each(|(x, &l)| *x = if l.is_nan() { 0.0 } else { exp_nonpos(l - max) });
+    let sum: f64 = w.iter().take(n).sum();
     let inv = 1.0 / sum;
     w.iter_mut().take(n).for_each(|x| *x *= inv);
     Some(sum.ln() + max - (n as f64).ln())
+}
+
+/// The largest of `v` ignoring NaN (`-inf` if there is none), in four interleaved
+/// partial maxima so that the loop vectorises (the maximum does not depend on the order).
+pub fn max_ignoring_nan(v: &[f64]) -> f64 {
+    // `if l > m` keeps `m` for a NaN `l`, as f64::max does
+    let mut lanes = [f64::NEG_INFINITY; 4];
+    let mut blocks = v.chunks_exact(4);
+    for b in &mut blocks {
+        for (m, &l) in lanes.iter_mut().zip(b) {
+            *m = if l > *m { l } else { *m };
+        }
+    }
+    let tail = blocks
+        .remainder()
+        .iter()
+        .fold(f64::NEG_INFINITY, |m, &l| if l > m { l } else { m });
+    lanes.iter().fold(tail, |m, &l| if l > m { l } else { m })
 }
 
 /// A weight of zero for negative and NaN inputs.
