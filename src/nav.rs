@@ -1457,7 +1457,21 @@ impl Navigator {
             Self::check_measurement(z)?;
         }
         self.check_not_failed()?;
-        // Kalman-type filters: a small snapshot on the stack to restore
+        // the EKF's update and prediction commit together (no snapshot to copy); the
+        // discrete model is a cache of `dt` alone
+        self.discrete(dt);
+        if let (AnyFilter::Ekf(f), Some(z)) = (&mut self.filter, measurement) {
+            let accel = self
+                .cfg
+                .frame
+                .vec_to_canonical(&Vec3::from_row_slice(thrust))
+                / self.cfg.chaser_mass;
+            let zv = Vec3::from_row_slice(z);
+            let info = f.update_predict(&self.kalman_sensor, &zv, &self.step_cache, &accel)?;
+            self.last_update = Some(info);
+            return Ok(());
+        }
+        // other Kalman-type filters: a small snapshot on the stack to restore
         let saved = self.filter.snapshot();
         let last = self.last_update;
         let mut updated = false;
