@@ -479,6 +479,16 @@ enum relnav_status relnav_estimator_get_covariance(const struct relnav_estimator
 enum relnav_status relnav_estimator_get_sigma(const struct relnav_estimator *estimator,
                                               double *out);
 
+// Copy the estimate and its 1-sigma in one call (12 doubles: x, y, z [m], vx, vy, vz
+// [m/s] as [`relnav_estimator_get_state`], then their 1-sigma as
+// [`relnav_estimator_get_sigma`], the same bits). One boundary instead of two for a
+// caller that reads both every step (the FMU publishes its 12 estimate outputs with it).
+//
+// # Safety
+// `estimator` is a live handle or null; `out` is null or 12 writable doubles.
+enum relnav_status relnav_estimator_get_estimate(const struct relnav_estimator *estimator,
+                                                 double *out);
+
 // Return to the initial estimate of the configuration.
 //
 // # Safety

@@ -500,8 +500,9 @@ fn non_negative(name: &str, v: f64) -> Result<(), NavError> {
     }
 }
 
+#[inline]
 fn finite3(name: &str, v: &[f64; 3]) -> Result<(), NavError> {
-    if v.iter().all(|x| x.is_finite()) {
+    if v.iter().fold(true, |ok, x| ok & x.is_finite()) {
         Ok(())
     } else {
         Err(NavError::invalid(format!(
@@ -1309,7 +1310,21 @@ impl Navigator {
         MAX_STEP_PERIODS * std::f64::consts::TAU / self.cfg.mean_motion
     }
 
+    /// [`Navigator::check_dt_in_full`] without a call in the common case: `0 < dt <=`
+    /// [`Navigator::max_step`] (false for NaN; `max_step` is finite) and no filter with a
+    /// fixed period.
+    #[inline(always)]
     fn check_dt(&self, dt: f64) -> Result<(), NavError> {
+        if dt > 0.0 && dt <= self.max_step() && !matches!(self.filter, AnyFilter::Hinf(_)) {
+            Ok(())
+        } else {
+            self.check_dt_in_full(dt)
+        }
+    }
+
+    #[cold]
+    #[inline(never)]
+    fn check_dt_in_full(&self, dt: f64) -> Result<(), NavError> {
         positive("step size h", dt)?;
         if dt > self.max_step() {
             return Err(NavError::invalid(format!(
@@ -1335,7 +1350,21 @@ impl Navigator {
         Ok(())
     }
 
+    /// [`Navigator::check_measurement_in_full`] without a call in the common case (finite,
+    /// range `>= 0`, elevation in `[-pi/2, pi/2]`).
+    #[inline(always)]
     fn check_measurement(z: &[f64; 3]) -> Result<(), NavError> {
+        let finite = z.iter().fold(true, |ok, v| ok & v.is_finite());
+        if finite && z[0] >= 0.0 && z[2].abs() <= std::f64::consts::FRAC_PI_2 {
+            Ok(())
+        } else {
+            Self::check_measurement_in_full(z)
+        }
+    }
+
+    #[cold]
+    #[inline(never)]
+    fn check_measurement_in_full(z: &[f64; 3]) -> Result<(), NavError> {
         finite3("measurement (range, azimuth, elevation)", z)?;
         if z[0] < 0.0 {
             return Err(NavError::invalid(format!(
@@ -1373,6 +1402,11 @@ impl Navigator {
         self.check_dt(dt)?;
         finite3("thrust", thrust)?;
         self.check_not_failed()?;
+        self.predict_checked(thrust, dt)
+    }
+
+    /// [`Navigator::predict`] once its inputs are checked.
+    fn predict_checked(&mut self, thrust: &[f64; 3], dt: f64) -> Result<(), NavError> {
         let accel = self
             .cfg
             .frame
@@ -1391,6 +1425,11 @@ impl Navigator {
     pub fn update(&mut self, z: &[f64; 3]) -> Result<UpdateInfo, NavError> {
         Self::check_measurement(z)?;
         self.check_not_failed()?;
+        self.update_checked(z)
+    }
+
+    /// [`Navigator::update`] once its input is checked.
+    fn update_checked(&mut self, z: &[f64; 3]) -> Result<UpdateInfo, NavError> {
         let zv = Vec3::from_row_slice(z);
         let r = match &mut self.filter {
             AnyFilter::Pf(pf) => pf.update_with(&self.sensor, &zv, &self.noise, &self.scales),
@@ -1418,15 +1457,30 @@ impl Navigator {
             Self::check_measurement(z)?;
         }
         self.check_not_failed()?;
-        // Kalman-type filters: a small snapshot on the stack to restore
+        // the EKF's update and prediction commit together (no snapshot to copy); the
+        // discrete model is a cache of `dt` alone
+        self.discrete(dt);
+        if let (AnyFilter::Ekf(f), Some(z)) = (&mut self.filter, measurement) {
+            let accel = self
+                .cfg
+                .frame
+                .vec_to_canonical(&Vec3::from_row_slice(thrust))
+                / self.cfg.chaser_mass;
+            let zv = Vec3::from_row_slice(z);
+            let info = f.update_predict(&self.kalman_sensor, &zv, &self.step_cache, &accel)?;
+            self.last_update = Some(info);
+            return Ok(());
+        }
+        // other Kalman-type filters: a small snapshot on the stack to restore
         let saved = self.filter.snapshot();
         let last = self.last_update;
         let mut updated = false;
+        // checked above, once
         let result = match measurement {
-            Some(z) => self.update(z).map(|_| updated = true),
+            Some(z) => self.update_checked(z).map(|_| updated = true),
             None => Ok(()),
         }
-        .and_then(|()| self.predict(thrust, dt));
+        .and_then(|()| self.predict_checked(thrust, dt));
         if result.is_err() {
             match saved {
                 // a particle filter's failed update or prediction changed nothing by

@@ -769,3 +769,52 @@ fn imm_mode_probabilities() {
         );
     }
 }
+
+/// `relnav_estimator_get_estimate` gives the bits of `relnav_estimator_get_state` then
+/// `relnav_estimator_get_sigma` (Kalman filters, a particle filter, the H-infinity filter's
+/// NaN sigma) and checks its pointers.
+#[test]
+fn get_estimate_is_state_then_sigma() {
+    let mut out = [0.0; 12];
+    // SAFETY: null handle and null output are the cases under test.
+    unsafe {
+        assert_eq!(
+            relnav_estimator_get_estimate(std::ptr::null(), out.as_mut_ptr()),
+            relnav_status::RELNAV_ERROR_NULL_POINTER
+        );
+        assert!(last_error().contains("estimator"), "{}", last_error());
+    }
+    let mut filters = vec![
+        relnav_filter::RELNAV_FILTER_EKF,
+        relnav_filter::RELNAV_FILTER_UKF,
+        relnav_filter::RELNAV_FILTER_AQUKF,
+        relnav_filter::RELNAV_FILTER_PF,
+        relnav_filter::RELNAV_FILTER_IMM,
+    ];
+    if cfg!(feature = "hinf") {
+        filters.push(relnav_filter::RELNAV_FILTER_HINF);
+    }
+    for filter in filters {
+        let e = Est::new(&pf_config(filter, 200, 3));
+        // SAFETY: null output under test.
+        let st = unsafe { relnav_estimator_get_estimate(e.0, std::ptr::null_mut()) };
+        assert_eq!(st, relnav_status::RELNAV_ERROR_NULL_POINTER);
+        assert!(last_error().contains("out"), "{}", last_error());
+        for k in 0..5 {
+            if k > 0 {
+                assert_eq!(e.step(Some(&z(k))), OK, "{filter:?}: {}", last_error());
+            }
+            // SAFETY: live handle, 12 doubles.
+            let st = unsafe { relnav_estimator_get_estimate(e.0, out.as_mut_ptr()) };
+            assert_eq!(st, OK);
+            let want: Vec<u64> = e
+                .state()
+                .iter()
+                .chain(e.sigma().iter())
+                .map(|v| v.to_bits())
+                .collect();
+            let got: Vec<u64> = out.iter().map(|v| v.to_bits()).collect();
+            assert_eq!(got, want, "{filter:?} step {k}");
+        }
+    }
+}

@@ -44,6 +44,42 @@ impl Ekf {
         sensor: &M,
         z: &Vec3,
     ) -> Result<(UpdateInfo, Mat3), FilterError> {
+        let (x, p, info, s) = self.updated(sensor, z)?;
+        self.x = x;
+        self.p = p;
+        Ok((info, s))
+    }
+
+    /// One step, transactional: the measurement update with `z`, then the time update
+    /// with `model` and `accel`, committed only when both succeed (the same arithmetic as
+    /// [`Estimator::update`] then [`Estimator::predict`], so the same bits; the navigator
+    /// needs no snapshot to undo the update when the prediction fails).
+    pub fn update_predict<M: MeasurementModel>(
+        &mut self,
+        sensor: &M,
+        z: &Vec3,
+        model: &DiscreteModel,
+        accel: &Vec3,
+    ) -> Result<UpdateInfo, FilterError> {
+        let (x, p, info, _) = self.updated(sensor, z)?;
+        // the time update of `Estimator::predict`, from the uncommitted update
+        let x = model.apply(&x, accel);
+        let p = propagate_covariance(&model.phi, &p, &model.q);
+        finite(&x, "predicted state")?;
+        finite(&p, "predicted covariance")?;
+        self.x = x;
+        self.p = p;
+        Ok(info)
+    }
+
+    /// The measurement update, checked, not committed: the updated state and covariance,
+    /// the update's diagnostics and `S`.
+    #[inline(always)]
+    fn updated<M: MeasurementModel>(
+        &self,
+        sensor: &M,
+        z: &Vec3,
+    ) -> Result<(State, Mat6, UpdateInfo, Mat3), FilterError> {
         let g = sensor.linearize(&self.x.fixed_rows::<3>(0).into_owned())?;
         let mut nu = sensor.diff(z, &g.z);
         if !g.azimuth_usable {
@@ -65,9 +101,9 @@ impl Ekf {
         finite(&x, "updated state")?;
         finite(&p, "updated covariance")?;
         let nis = nu.dot(&chol.solve(&nu));
-        self.x = x;
-        self.p = p;
         Ok((
+            x,
+            p,
             UpdateInfo {
                 innovation: nu,
                 nis,
@@ -124,5 +160,46 @@ impl Persist for Ekf {
         *x = r.finite_matrix("EKF state")?;
         *p = r.finite_matrix("EKF covariance")?;
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dynamics::{CwModel, Discretization};
+    use crate::frames::Frame;
+    use crate::sensors::RadioSensor;
+
+    /// `update_predict` is `update` then `predict` bit for bit, and a prediction that fails
+    /// after the update leaves the filter as it was.
+    #[test]
+    fn update_predict_is_update_then_predict_and_transactional() {
+        let x0 = State::from_row_slice(&[500.0, 400.0, -200.0, 0.1, -0.2, 0.05]);
+        let p0 = Mat6::from_diagonal(&State::from_row_slice(&[
+            2500.0, 2500.0, 2500.0, 1.0, 1.0, 1.0,
+        ]));
+        let sensor = RadioSensor::new(Frame::AlongRadialAntinormal, 0.5, 1.7e-4);
+        let model = CwModel::new(std::f64::consts::TAU / 7200.0);
+        let d = model.discretize(1.0, &(Mat3::identity() * 1e-8), Discretization::Exact);
+        let accel = Vec3::new(1e-3, -2e-3, 5e-4);
+        let truth = Vec3::new(505.0, 395.0, -198.0);
+        let z = sensor.h(&truth).unwrap() + Vec3::new(0.3, 1e-4, -2e-4);
+        let mut a = Ekf::new(x0, p0);
+        let mut b = a.clone();
+        for _ in 0..3 {
+            let ia = a.update(&sensor, &z).unwrap();
+            a.predict(&d, &accel).unwrap();
+            let ib = b.update_predict(&sensor, &z, &d, &accel).unwrap();
+            assert_eq!(ia, ib);
+            let bits = |f: &Ekf| -> Vec<u64> {
+                f.x.iter().chain(f.p.iter()).map(|v| v.to_bits()).collect()
+            };
+            assert_eq!(bits(&a), bits(&b));
+        }
+        let mut bad = d;
+        bad.q[(0, 0)] = f64::INFINITY;
+        let before = b.clone();
+        assert!(b.update_predict(&sensor, &z, &bad, &accel).is_err());
+        assert_eq!(b, before);
     }
 }

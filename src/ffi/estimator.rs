@@ -219,6 +219,32 @@ pub unsafe extern "C" fn relnav_estimator_get_sigma(
     })
 }
 
+/// Copy the estimate and its 1-sigma in one call (12 doubles: x, y, z [m], vx, vy, vz
+/// [m/s] as [`relnav_estimator_get_state`], then their 1-sigma as
+/// [`relnav_estimator_get_sigma`], the same bits). One boundary instead of two for a
+/// caller that reads both every step (the FMU publishes its 12 estimate outputs with it).
+///
+/// # Safety
+/// `estimator` is a live handle or null; `out` is null or 12 writable doubles.
+#[no_mangle]
+pub unsafe extern "C" fn relnav_estimator_get_estimate(
+    estimator: *const relnav_estimator,
+    out: *mut f64,
+) -> relnav_status {
+    const F: &str = "relnav_estimator_get_estimate";
+    boundary(F, || {
+        // SAFETY: pointer contracts are the caller's, checked for null.
+        let nav = unsafe { estimator_ref(estimator, F) }?;
+        let x = nav.state();
+        let s = nav.sigma();
+        let mut a = [0.0; 12];
+        a[..6].copy_from_slice(x.as_slice());
+        a[6..].copy_from_slice(&s);
+        // SAFETY: as above.
+        unsafe { write_array(out, &a, "out", F) }
+    })
+}
+
 /// Return to the initial estimate of the configuration.
 ///
 /// # Safety

@@ -9,7 +9,7 @@ use super::description::guid_of;
 use super::instance::{error, FmiFailure, FmuInstance, Logger, ModelState, ANY_STATE};
 use super::model::Model;
 use super::types::*;
-use super::variables::VarType;
+use super::variables::TypeClass;
 use std::ffi::{c_char, c_int, CStr};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
@@ -206,16 +206,6 @@ fn integer_arg(v: fmi2Integer) -> String {
 }
 fn boolean_arg(v: fmi2Boolean) -> String {
     bool_arg(v).to_string()
-}
-
-fn is_real(t: &VarType) -> bool {
-    matches!(t, VarType::Real(_))
-}
-fn is_integer(t: &VarType) -> bool {
-    matches!(t, VarType::Integer | VarType::Code(_))
-}
-fn is_boolean(t: &VarType) -> bool {
-    matches!(t, VarType::Boolean)
 }
 
 // ---------------------------------------------------------------- inquiry
@@ -459,7 +449,7 @@ struct Access<T> {
     /// Function name (`fmi2GetReal` or `fmi2SetReal`, ...).
     func: &'static str,
     /// Which variable types it reads or writes.
-    want: fn(&VarType) -> bool,
+    class: TypeClass,
     /// Stored value -> FMI value.
     get: fn(f64) -> T,
     /// FMI value -> stored value.
@@ -492,7 +482,7 @@ fn boolean_to_f64(v: fmi2Boolean) -> f64 {
 const fn real(func: &'static str) -> Access<fmi2Real> {
     Access {
         func,
-        want: is_real,
+        class: TypeClass::Real,
         get: real_to_f64,
         set: real_to_f64,
         show: real_arg,
@@ -501,7 +491,7 @@ const fn real(func: &'static str) -> Access<fmi2Real> {
 const fn integer(func: &'static str) -> Access<fmi2Integer> {
     Access {
         func,
-        want: is_integer,
+        class: TypeClass::Integer,
         get: integer_from_f64,
         set: f64::from,
         show: integer_arg,
@@ -510,7 +500,7 @@ const fn integer(func: &'static str) -> Access<fmi2Integer> {
 const fn boolean(func: &'static str) -> Access<fmi2Boolean> {
     Access {
         func,
-        want: is_boolean,
+        class: TypeClass::Boolean,
         get: boolean_from_f64,
         set: boolean_to_f64,
         show: boolean_arg,
@@ -528,7 +518,7 @@ unsafe fn get_values<M: Model, T: Copy>(
 ) -> fmi2Status {
     let Access {
         func,
-        want,
+        class,
         get: conv,
         show,
         ..
@@ -544,7 +534,7 @@ unsafe fn get_values<M: Model, T: Copy>(
                 let refs = slice(vr, nvr, "vr")?;
                 let out = slice_mut(value, nvr, "value")?;
                 for (r, o) in refs.iter().zip(out.iter_mut()) {
-                    *o = conv(inst.get(*r, func, want)?);
+                    *o = conv(inst.get(*r, func, class)?);
                 }
                 // logged once the values are known
                 inst.log_call(|| {
@@ -570,7 +560,7 @@ unsafe fn set_values<M: Model, T: Copy>(
 ) -> fmi2Status {
     let Access {
         func,
-        want,
+        class,
         set: conv,
         show,
         ..
@@ -582,7 +572,7 @@ unsafe fn set_values<M: Model, T: Copy>(
             let refs = slice(vr, nvr, "vr")?;
             let vals = slice(value, nvr, "value")?;
             for (r, v) in refs.iter().zip(vals.iter()) {
-                inst.set(*r, conv(*v), func, want)?;
+                inst.set(*r, conv(*v), func, class)?;
             }
             Ok(())
         })

@@ -8,7 +8,7 @@ use super::description::LOG_CATEGORIES;
 use super::model::Model;
 use super::relnav::RelnavFmu;
 use super::types::*;
-use super::variables::{Causality, VarDef, VarType};
+use super::variables::{Causality, TypeClass, VarAccess, VarDef, VarType};
 use std::ffi::{c_int, CStr, CString};
 
 /// States of the FMI 2.0 co-simulation state machine (bit flags for "allowed in" masks).
@@ -123,6 +123,9 @@ pub struct FmuInstance<M: Model> {
     /// Current state of the state machine.
     pub state: ModelState,
     values: Vec<f64>,
+    /// [`VarDef::access`] of every variable, by value reference (built once from the
+    /// model's table): the get/set dispatch's one indexed load per value.
+    access: Box<[VarAccess]>,
     model: M,
     time: f64,
     start_time: f64,
@@ -166,6 +169,7 @@ impl<M: Model> FmuInstance<M> {
             categories: [true; LOG_CATEGORIES.len()],
             state: ModelState::Instantiated,
             values: Vec::new(),
+            access: M::info().variables.iter().map(VarDef::access).collect(),
             model: M::new(),
             time: 0.0,
             start_time: 0.0,
@@ -347,33 +351,74 @@ impl<M: Model> FmuInstance<M> {
             .ok_or_else(|| error(format!("{func}: unknown value reference {r}")))
     }
 
-    /// Read a variable of the expected base type (`want` is a predicate on its type).
+    /// Read a variable of the expected base type: one indexed load of its
+    /// [`VarAccess`] and one of its value; the refusals (unknown value reference, other
+    /// type) are built by [`FmuInstance::get_refusal`].
+    #[inline(always)]
     pub fn get(
         &self,
         r: fmi2ValueReference,
         func: &str,
-        want: fn(&VarType) -> bool,
+        class: TypeClass,
     ) -> Result<f64, FmiFailure> {
-        let d = self.def(r, func)?;
-        if !want(&d.ty) {
-            return Err(error(format!(
+        // `values` and `access` both have one entry per variable
+        let values = &self.values[..self.access.len()];
+        match self.access.get(r as usize) {
+            Some(a) if a.class == class => Ok(values[r as usize]),
+            _ => Err(self.get_refusal(r, func)),
+        }
+    }
+
+    /// Why [`FmuInstance::get`] refused `r`.
+    #[cold]
+    fn get_refusal(&self, r: fmi2ValueReference, func: &str) -> FmiFailure {
+        match self.def(r, func) {
+            Ok(d) => error(format!(
                 "{func}: variable {} (vr {r}) has another type",
                 d.name
-            )));
+            )),
+            Err(e) => e,
         }
-        Ok(self.values[r as usize])
     }
 
     /// Write a variable of the expected base type, checking causality, state and domain.
+    /// A master's input after initialisation is a plain store (its [`VarAccess`] says
+    /// so); everything else takes [`FmuInstance::set_checked`].
+    #[inline(always)]
     pub fn set(
         &mut self,
         r: fmi2ValueReference,
         value: f64,
         func: &str,
-        want: fn(&VarType) -> bool,
+        class: TypeClass,
+    ) -> Result<(), FmiFailure> {
+        let state = self.state as u32;
+        let n = self.access.len();
+        match (
+            self.access.get(r as usize),
+            self.values[..n].get_mut(r as usize),
+        ) {
+            (Some(a), Some(v)) if a.class == class && u32::from(a.direct_set) & state != 0 => {
+                *v = value;
+                Ok(())
+            }
+            _ => self.set_checked(r, value, func, class),
+        }
+    }
+
+    /// [`FmuInstance::set`] with every check: type, causality and state, code lists, the
+    /// model's early parameter check; a set before initialisation refreshes the initial
+    /// outputs.
+    #[inline(never)]
+    fn set_checked(
+        &mut self,
+        r: fmi2ValueReference,
+        value: f64,
+        func: &str,
+        class: TypeClass,
     ) -> Result<(), FmiFailure> {
         let d = self.def(r, func)?;
-        if !want(&d.ty) {
+        if TypeClass::of(&d.ty) != class {
             return Err(error(format!(
                 "{func}: variable {} (vr {r}) has another type",
                 d.name
@@ -457,6 +502,42 @@ impl<M: Model> FmuInstance<M> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The access table's direct stores are exactly the sets the full path accepts with
+    /// no other check or effect, for every variable of every model and every state.
+    #[test]
+    fn direct_sets_are_the_unchecked_ones() {
+        use super::super::{guidance, plant, relnav};
+        let tables = [
+            relnav::INFO.variables,
+            plant::INFO.variables,
+            guidance::INFO.variables,
+        ];
+        let states = [
+            ModelState::Instantiated,
+            ModelState::InitializationMode,
+            ModelState::StepComplete,
+            ModelState::Terminated,
+            ModelState::Error,
+        ];
+        for vars in tables {
+            for d in vars {
+                let a = d.access();
+                assert_eq!(a.class, TypeClass::of(&d.ty));
+                for st in states {
+                    let direct = u32::from(a.direct_set) & st as u32 != 0;
+                    let unchecked = settable(d, st)
+                        && d.causality != Causality::Parameter
+                        && !matches!(d.ty, VarType::Code(_))
+                        && !matches!(
+                            st,
+                            ModelState::Instantiated | ModelState::InitializationMode
+                        );
+                    assert_eq!(direct, unchecked, "{} in {st:?}", d.name);
+                }
+            }
+        }
+    }
 
     #[test]
     fn log_messages_are_printf_formats() {

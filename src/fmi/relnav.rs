@@ -31,6 +31,9 @@ pub static INFO: ModelInfo = ModelInfo {
 #[derive(Debug)]
 pub struct RelnavFmu {
     estimator: *mut relnav_estimator,
+    /// The diagnostics the estimator's filter can change ([`diagnostics_of`] its `filter`
+    /// parameter), set with `estimator`: read per step without looking at the code again.
+    diagnostics: Diagnostics,
 }
 
 impl Drop for RelnavFmu {
@@ -180,6 +183,32 @@ fn diagnostics_of(code: f64) -> Diagnostics {
     }
 }
 
+/// The value references of the estimate outputs `x .. vz, sigma_x .. sigma_vz`: one
+/// contiguous range in the order of `relnav_estimator_get_estimate`'s 12 doubles
+/// (checked at compile time).
+const ESTIMATE_OUTPUTS: std::ops::Range<usize> = vr::X as usize..vr::X as usize + 12;
+const _: () = {
+    let order = [
+        vr::X,
+        vr::Y,
+        vr::Z,
+        vr::VX,
+        vr::VY,
+        vr::VZ,
+        vr::SIGMA_X,
+        vr::SIGMA_Y,
+        vr::SIGMA_Z,
+        vr::SIGMA_VX,
+        vr::SIGMA_VY,
+        vr::SIGMA_VZ,
+    ];
+    let mut i = 0;
+    while i < 12 {
+        assert!(order[i] == vr::X + i as u32);
+        i += 1;
+    }
+};
+
 fn write_outputs(values: &mut [f64], x: &[f64; 6], sigma: &[f64; 6]) {
     let outs = [vr::X, vr::Y, vr::Z, vr::VX, vr::VY, vr::VZ];
     let sigs = [
@@ -210,17 +239,17 @@ impl RelnavFmu {
     /// full publication wrote (NaN, `hinf_certified` 0), which saves six C ABI calls per
     /// step for a Kalman filter (issue 15 item 3).
     fn publish_estimate(&self, values: &mut [f64], all: bool) -> Result<(), String> {
-        let mut x = [0.0; 6];
-        let mut s = [0.0; 6];
-        // SAFETY: `estimator` is live (created at exit-init); the arrays hold 6 doubles.
-        status_of(unsafe { ffi::relnav_estimator_get_state(self.estimator, x.as_mut_ptr()) })?;
-        // SAFETY: as above.
-        status_of(unsafe { ffi::relnav_estimator_get_sigma(self.estimator, s.as_mut_ptr()) })?;
-        write_outputs(values, &x, &s);
+        // the 12 estimate outputs are contiguous in the table, in the C ABI's order
+        // (`ESTIMATE_OUTPUTS`): one call writes them in place
+        let out = values
+            .get_mut(ESTIMATE_OUTPUTS)
+            .ok_or_else(|| "the variable table lacks the estimate outputs".to_string())?;
+        // SAFETY: `estimator` is live (created at exit-init); `out` holds 12 doubles.
+        status_of(unsafe { ffi::relnav_estimator_get_estimate(self.estimator, out.as_mut_ptr()) })?;
         let d = if all {
             Diagnostics::ALL
         } else {
-            diagnostics_of(values[vr::FILTER as usize])
+            self.diagnostics
         };
         if d.ess {
             let mut ess = f64::NAN;
@@ -298,6 +327,7 @@ impl Model for RelnavFmu {
     fn new() -> Self {
         Self {
             estimator: std::ptr::null_mut(),
+            diagnostics: Diagnostics::ALL,
         }
     }
 
@@ -388,6 +418,7 @@ impl Model for RelnavFmu {
         let st = unsafe { ffi::relnav_estimator_new(&cfg, &mut est) };
         status_of(st).map_err(|e| format!("invalid parameters: {e}"))?;
         self.estimator = est;
+        self.diagnostics = diagnostics_of(values[vr::FILTER as usize]);
         self.publish_estimate(values, true)?;
         let pf = if particle_filter_selected(values) {
             format!(
@@ -472,6 +503,7 @@ impl Model for RelnavFmu {
         }
         if current.is_null() {
             self.estimator = created;
+            self.diagnostics = diagnostics_of(values[vr::FILTER as usize]);
         }
         Ok(())
     }

@@ -99,6 +99,59 @@ pub struct VarDef {
     pub description: &'static str,
 }
 
+/// The FMI base type class a `fmi2Get*` / `fmi2Set*` function reads or writes: Real,
+/// Integer (Integer variables and codes), Boolean.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[repr(u8)]
+pub enum TypeClass {
+    /// `fmi2GetReal` / `fmi2SetReal`.
+    Real = 1,
+    /// `fmi2GetInteger` / `fmi2SetInteger` (Integer and code variables).
+    Integer = 2,
+    /// `fmi2GetBoolean` / `fmi2SetBoolean`.
+    Boolean = 3,
+}
+
+impl TypeClass {
+    /// The class of a variable type.
+    pub const fn of(ty: &VarType) -> Self {
+        match ty {
+            VarType::Real(_) => Self::Real,
+            VarType::Integer | VarType::Code(_) => Self::Integer,
+            VarType::Boolean => Self::Boolean,
+        }
+    }
+}
+
+/// What the get/set dispatch needs of one variable, derived from its [`VarDef`] (so the
+/// table stays the one source; [`VarDef::access`]): its [`TypeClass`] and the
+/// instance states (bit mask of `instance::ModelState`) in which `fmi2Set*` may write it
+/// **directly**, with no other check and no other effect. That is an input after
+/// initialisation (`StepComplete` = 4): parameters are checked by the model and a set
+/// before initialisation refreshes the initial outputs, which the full path does
+/// (the same rules and messages either way, only faster for the master's inputs).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct VarAccess {
+    /// Base type class.
+    pub class: TypeClass,
+    /// States in which a set is a plain store.
+    pub direct_set: u8,
+}
+
+impl VarDef {
+    /// This variable's [`VarAccess`].
+    pub const fn access(&self) -> VarAccess {
+        VarAccess {
+            class: TypeClass::of(&self.ty),
+            direct_set: match self.causality {
+                // ModelState::StepComplete
+                Causality::Input => 4,
+                Causality::Parameter | Causality::Output => 0,
+            },
+        }
+    }
+}
+
 /// Units used by the table, as (name, exponents of kg, m, s, rad).
 pub const UNITS: &[(&str, [i32; 4])] = &[
     ("N", [1, 1, -2, 0]),
