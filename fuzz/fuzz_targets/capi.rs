@@ -256,6 +256,14 @@ fn observe(est: *mut relnav_estimator) -> ([f64; 6], [f64; 36]) {
             "get_covariance",
         );
         check(relnav_estimator_get_sigma(est, s.as_mut_ptr()), "get_sigma");
+        let mut e = [0.0; 12];
+        check(
+            relnav_estimator_get_estimate(est, e.as_mut_ptr()),
+            "get_estimate",
+        );
+        // the one-call getter is the state then the sigma, bit for bit
+        assert!(same_bits(&e[..6], &x), "get_estimate state != get_state");
+        assert!(same_bits(&e[6..], &s), "get_estimate sigma != get_sigma");
         check(
             relnav_estimator_get_innovation(est, nu.as_mut_ptr(), &mut nis),
             "get_innovation",
