@@ -1,6 +1,7 @@
 //! LMI designs of the robust H-infinity filter as semidefinite programs in Clarabel's PSD
 //! cone (cargo feature `hinf`): the paper's gamma-optimal filter, the gamma-optimal
-//! observer and the mixed H2/H-infinity observer.
+//! observer (by default through the Riccati route of [`crate::hinf::riccati`], the SDP as
+//! reference and fallback) and the mixed H2/H-infinity observer.
 //!
 //! # Paper design (Theorem 1 / Corollary 1 of paper 002)
 //!
@@ -152,6 +153,18 @@
 //! uncertainty the observer form bounds the error gain from `(w, v, d)` jointly instead
 //! of using the S-procedure on `x`, which the open-loop plant would make unbounded.
 //!
+//! *Riccati route (issue 15).* For a fixed `g2` the LMI is, by duality and completing the
+//! square in `G`, equivalent to a Riccati inequality of the a-priori H-infinity filter, so
+//! [`design_observer`] does not solve it as an SDP: it bisects on `gamma` with the
+//! stabilising solution of the Riccati equation deciding each trial (structure-preserving
+//! doubling), builds the central gain in closed form and checks this LMI at `P = g2 X^-1`
+//! with nalgebra ([`crate::hinf::riccati`], with the derivation and references). The SDP
+//! ([`design_observer_sdp`], [`design_observer_full`]) stays as the reference and as the
+//! fallback, taken automatically and recorded in [`HinfDesign::route`] and
+//! [`HinfDesign::riccati_failure`]. The Riccati route is not bounded by `P <= rho I`, so
+//! it reaches the infimum where the SDP's bound binds (the quiet-truth noise:
+//! docs/evaluation.md).
+//!
 //! # Mixed H2/H-infinity observer design (issue 12)
 //!
 //! The gamma-optimal observer is the best filter against the worst noise; against the
@@ -197,12 +210,16 @@
 //! dropped; paper 000's orbit and geometry, 1 s period), where the same problem in paper
 //! 002's units reaches it. So the LMIs are posed in `e' = diag(I, tau I) e` (an exact change
 //! of coordinates: every transfer is unchanged), `tau = sqrt(trace X_pp / trace X_vv)` of
-//! the steady-state error covariance of the gamma-optimal observer, and solved once more
-//! with the `tau` of the result when that differs by more than a factor 2. In the quiet
-//! case `tau` = 63 s (the result's own: 106 s, one solve; H2 norm 0.072 m at `f = 1.5`
-//! against 0.092 m unscaled; without the H-infinity constraint, at `tau` = 100 s, the
-//! Kalman bound is reached to 0.02 %); in paper 002's case 0.31 s, then 3.5 s (two
-//! solves). The
+//! the steady-state error covariance of a start gain, and solved once more with the `tau`
+//! of the result when that differs by more than a factor 2. With the gamma-optimal
+//! observer as start gain: in the quiet case `tau` = 63 s (the result's own: 106 s, one
+//! solve; H2 norm 0.072 m at `f = 1.5` against 0.092 m unscaled; without the H-infinity
+//! constraint, at `tau` = 100 s, the Kalman bound is reached to 0.02 %); in paper 002's
+//! case 0.31 s, then 3.5 s (two solves). The Riccati route's gamma-optimal observer (the
+//! central filter) has `tau` = 316 s in the quiet case, which made that case take two
+//! solves too; [`design_open_loop_mixed`] therefore starts from the Kalman predictor's
+//! gain ([`crate::hinf::riccati::kalman_gain`]; the mixed design minimises the same H2
+//! criterion under a bound), one solve in both cases (21 and 42 iterations). The
 //! strict inequalities carry the same margin `eps` as the other designs.
 //!
 //! # Conditioning and the unattained minimum (why the problem is not posed literally)
@@ -1394,8 +1411,8 @@ pub fn design_open_loop(spec: &HinfSpec, opts: &DesignOptions) -> Result<HinfDes
 /// observer design"): minimise the bound `trace Z` on the squared H2 norm from `(w, v)` to
 /// the error subject to the certified H-infinity bound `gamma_bound` on the gain from `(w,
 /// v, d)` (the robustness channel included, as in [`design_observer`]). `start_gain` is a
-/// stabilising observer gain (the gamma-optimal one) that sets the first coordinate
-/// scaling. Returns `A_F = A - G C`, `B_F = G`, `C_F = I`, `E_F = plant.g` with `gamma =
+/// stabilising observer gain (the Kalman predictor's or the gamma-optimal one) that sets
+/// the first coordinate scaling. Returns `A_F = A - G C`, `B_F = G`, `C_F = I`, `E_F = plant.g` with `gamma =
 /// gamma_bound`; the H2 norm is computed again without the solver
 /// ([`crate::hinf::verify::observer_h2_norm`]). `iterations` and `solve_time` cover every
 /// solve (one or two, see the module docs).
@@ -1620,7 +1637,8 @@ pub struct MixedDesign {
 /// The mixed design on the open-loop CW plant ([`HinfPlant::open_loop`]): first the
 /// gamma-optimal observer, then [`design_mixed`] with `gamma_bound = gamma_factor *
 /// gamma_opt` (`gamma_factor > 1`: at 1 the bound is the optimum itself and only the
-/// optimal filter, if any, meets it).
+/// optimal filter, if any, meets it), started from the Kalman predictor's gain (module
+/// docs, "Scaling").
 pub fn design_open_loop_mixed(
     spec: &HinfSpec,
     gamma_factor: f64,
@@ -1634,12 +1652,10 @@ pub fn design_open_loop_mixed(
     }
     let plant = HinfPlant::open_loop(spec);
     let pure = design_observer(&plant, spec.period, opts)?;
-    let mixed = design_mixed(
-        &plant,
-        spec.period,
-        gamma_factor * pure.gamma,
-        &pure.matrices.b_f,
-        opts,
-    )?;
+    // the first coordinate scaling from the Kalman predictor, whose error covariance is
+    // closer to the mixed design's than the gamma-optimal observer's (module docs,
+    // "Scaling"); the gamma-optimal gain when there is no Kalman gain (singular D)
+    let start = super::riccati::kalman_gain(&plant).unwrap_or(pure.matrices.b_f);
+    let mixed = design_mixed(&plant, spec.period, gamma_factor * pure.gamma, &start, opts)?;
     Ok(MixedDesign { pure, mixed })
 }

@@ -108,7 +108,12 @@
 //! when the doubling algorithm converges to a finite `X` with `X > 0` and `g2 I - L X L^T >
 //! 0` (Cholesky) and `A (I + X Gm)^-1` has spectral radius below 1 (the stabilising
 //! solution); anything else — `I + G_k H_k` singular, divergence, no convergence in
-//! [`MAX_DOUBLINGS`], a failed test — is infeasible. The returned gamma is the upper end:
+//! [`MAX_DOUBLINGS`], a failed test — is infeasible. The doubling iterate `H_k` is the
+//! Riccati recursion's value at horizon `2^k` (started from `X = 0`, the estimator's known
+//! initial state), i.e. the finite-horizon a-priori filter's; its existence condition
+//! `g2 I - L H_k L^T > 0` (Hassibi, Sayed & Kailath) is necessary for the infinite horizon
+//! (the stationary filter restricted to `2^k` steps is a finite-horizon one at the same
+//! level), so a trial stops as soon as an iterate violates it instead of doubling on. The returned gamma is the upper end:
 //! feasible, and within the tolerance of the infimum of the perturbed problem.
 //!
 //! # The doubling algorithm
@@ -214,17 +219,25 @@ pub fn symmetric(m: &Mat6) -> Mat6 {
 /// `None` when `I + G_k H_k` is singular, a number is not finite or the scaled change has
 /// not fallen below the tolerance in [`MAX_DOUBLINGS`] steps. Returns `X` and the steps.
 pub fn sda(f: &Mat6, g: &Mat6, h: &Mat6) -> Option<(Mat6, u32)> {
+    sda_while(f, g, h, |_| true).0
+}
+
+/// [`sda`] that also stops (with `None`) as soon as an iterate `H_k` fails
+/// `admissible`; returns the doubling steps taken in either case.
+fn sda_while(
+    f: &Mat6,
+    g: &Mat6,
+    h: &Mat6,
+    admissible: impl Fn(&Mat6) -> bool,
+) -> (Option<(Mat6, u32)>, u32) {
     let (mut fk, mut gk, mut hk) = (*f, *g, *h);
     for it in 1..=MAX_DOUBLINGS {
-        let lu = (Mat6::identity() + gk * hk).lu();
-        let wf = lu.solve(&fk)?;
-        let wg = lu.solve(&gk)?;
-        let f_next = fk * wf;
-        let g_next = symmetric(&(gk + fk * wg * fk.transpose()));
-        let h_next = symmetric(&(hk + fk.transpose() * hk * wf));
-        if !(f_next.iter().chain(g_next.iter()).chain(h_next.iter())).all(|v| v.is_finite()) {
-            return None;
+        if !admissible(&hk) {
+            return (None, it);
         }
+        let Some((f_next, g_next, h_next)) = doubling(&fk, &gk, &hk) else {
+            return (None, it);
+        };
         let mut change = 0.0_f64;
         for i in 0..6 {
             for j in 0..6 {
@@ -237,10 +250,23 @@ pub fn sda(f: &Mat6, g: &Mat6, h: &Mat6) -> Option<(Mat6, u32)> {
         gk = g_next;
         hk = h_next;
         if change <= SDA_TOLERANCE {
-            return Some((hk, it));
+            return (Some((hk, it)), it);
         }
     }
-    None
+    (None, MAX_DOUBLINGS)
+}
+
+/// One doubling step `(F_k, G_k, H_k) -> (F_k+1, G_k+1, H_k+1)` (module docs); `None` when
+/// `I + G_k H_k` is singular or a number is not finite.
+fn doubling(fk: &Mat6, gk: &Mat6, hk: &Mat6) -> Option<(Mat6, Mat6, Mat6)> {
+    let lu = (Mat6::identity() + gk * hk).lu();
+    let wf = lu.solve(fk)?;
+    let wg = lu.solve(gk)?;
+    let f_next = fk * wf;
+    let g_next = symmetric(&(gk + fk * wg * fk.transpose()));
+    let h_next = symmetric(&(hk + fk.transpose() * hk * wf));
+    let finite = (f_next.iter().chain(g_next.iter()).chain(h_next.iter())).all(|v| v.is_finite());
+    finite.then_some((f_next, g_next, h_next))
 }
 
 /// Spectral radius of a 6 x 6 matrix through its real Schur form (stack only), `None`
@@ -290,8 +316,17 @@ impl Problem {
         } else {
             self.cri
         };
-        let Some((x, steps)) = sda(&self.a.transpose(), &gm, &self.q) else {
-            return (None, MAX_DOUBLINGS);
+        // H_k is the Riccati recursion's value at horizon 2^k: a finite horizon that
+        // already violates g2 I - L H_k L^T > 0 proves the infinite one infeasible
+        let g2 = g * g;
+        let (solution, steps) = sda_while(&self.a.transpose(), &gm, &self.q, |hk| {
+            !g.is_finite()
+                || (Mat6::identity() * g2 - self.l * hk * self.l.transpose())
+                    .cholesky()
+                    .is_some()
+        });
+        let Some((x, steps)) = solution else {
+            return (None, steps);
         };
         let ok = x.cholesky().is_some()
             && (!g.is_finite()
@@ -316,6 +351,18 @@ impl Problem {
         let gain = self.a * m.solve(&cxt).transpose();
         gain.iter().all(|v| v.is_finite()).then_some(gain)
     }
+}
+
+/// The Kalman (H2-optimal one-step predictor) gain of `plant` for the unit white noises
+/// `(w, v, d)`: the stabilising solution at `g = infinity` and `G = A X C^T (R + C X
+/// C^T)^-1`; `None` when `D` is singular or there is no stabilising solution.
+pub fn kalman_gain(plant: &HinfPlant) -> Option<Mat63> {
+    let p = Problem::new(plant).ok()?;
+    let x = p.trial(f64::INFINITY).0?;
+    let cx = p.c * x;
+    let m = (p.r + cx * p.c.transpose()).cholesky()?;
+    let gain = p.a * m.solve(&cx).transpose();
+    gain.iter().all(|v| v.is_finite()).then_some(gain)
 }
 
 /// The gamma-optimal observer gain of `plant` by bisection on the H-infinity filtering
