@@ -662,9 +662,10 @@ fn balanced(plant: &HinfPlant, tau: f64) -> HinfPlant {
 /// The Riccati route (`src/hinf/riccati.rs`) against the SDP on one plant: it designs the
 /// filter (no fallback), its certificate passes the literal LMI check, its gamma is never
 /// above an SDP's (it is the infimum to its 1e-6 bisection tolerance and 1e-6
-/// perturbation) and equals, to 1e-4 relative, the SDP posed in balanced units (`tau =
-/// sqrt(trace X_pp / trace X_vv)` of the designed observer's error covariance, like the
-/// mixed design's scaling); the solver-independent verifier bounds the certified channel's
+/// perturbation) and equals the SDP's to 1e-4 relative — the better of the SDP posed in
+/// metres and m/s and posed in balanced units (`tau = sqrt(trace X_pp / trace X_vv)` of
+/// the designed observer's error covariance, like the mixed design's scaling; on the
+/// quiet-truth noise only the balanced one reaches the optimum); the solver-independent verifier bounds the certified channel's
 /// norm by gamma, the (w, v) norm over the delta grid by the small-gain bound below, with
 /// stable error dynamics.
 fn check_riccati_route(
@@ -708,7 +709,10 @@ fn check_riccati_route(
     );
     assert!(r.gamma <= sdp.gamma * (1.0 + 3e-6), "{name}");
     assert!(r.gamma <= bal.gamma * (1.0 + 3e-6), "{name}");
-    assert!((r.gamma - bal.gamma).abs() <= 1e-4 * bal.gamma, "{name}");
+    // the SDP's answer: the better of its two certified solutions (both are above the
+    // infimum by their margins `eps`, `P <= rho I`; measured 1.1e-5 to 8.7e-5 relative)
+    let best = sdp.gamma.min(bal.gamma);
+    assert!((r.gamma - best).abs() <= 1e-4 * best, "{name}");
     assert!(certified <= r.gamma, "{name}");
     assert!(grid.max_spectral_radius < 1.0, "{name}: {grid:?}");
     // With the orbit-rate error inside the error dynamics, `(A(delta) - A) e = Hae d` with

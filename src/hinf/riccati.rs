@@ -88,7 +88,7 @@
 //!
 //! At the equation's solution the Riccati inequality holds with equality, so the dual LMI
 //! is only semidefinite. The route therefore solves the equation with `Q` replaced by `Qe =
-//! Q + eps_q diag(X_K)` ([`Q_PERTURBATION`]; `X_K` is the Kalman predictor's covariance,
+//! Q + eps_q diag(X_K)` (`Q_PERTURBATION`; `X_K` is the Kalman predictor's covariance,
 //! `g = infinity`, which sets a scale per coordinate and keeps `Qe` invariant under the
 //! diagonal changes of units that matter here, metres against m/s). At the gain `G*` from
 //! that solution the residual is exactly `-eps_q diag(X_K) < 0`: `X` is a strict dual
@@ -104,11 +104,11 @@
 //! solution grows as `g` falls (`Gm` decreases; comparison theorem), so `X_K` bounds it
 //! from below and `g2 I - L X L^T > 0` needs `g > g_lo = sqrt(lambda_max(L X_K L^T))`: the
 //! lower end. The upper end doubles from there until a trial succeeds; then the bracket
-//! is halved in `log g` until `g_hi / g_lo - 1 <= ` [`GAMMA_TOLERANCE`]. A trial succeeds
+//! is halved in `log g` until `g_hi / g_lo - 1 <= ` `GAMMA_TOLERANCE`. A trial succeeds
 //! when the doubling algorithm converges to a finite `X` with `X > 0` and `g2 I - L X L^T >
 //! 0` (Cholesky) and `A (I + X Gm)^-1` has spectral radius below 1 (the stabilising
 //! solution); anything else — `I + G_k H_k` singular, divergence, no convergence in
-//! [`MAX_DOUBLINGS`], a failed test — is infeasible. The doubling iterate `H_k` is the
+//! `MAX_DOUBLINGS`, a failed test — is infeasible. The doubling iterate `H_k` is the
 //! Riccati recursion's value at horizon `2^k` (started from `X = 0`, the estimator's known
 //! initial state), i.e. the finite-horizon a-priori filter's; its existence condition
 //! `g2 I - L H_k L^T > 0` (Hassibi, Sayed & Kailath) is necessary for the infinite horizon
@@ -141,14 +141,14 @@ use std::fmt;
 
 /// Relative width `g_hi / g_lo - 1` at which the bisection stops (100 times finer than
 /// the 1e-4 to which the result must equal the SDP's).
-pub const GAMMA_TOLERANCE: f64 = 1e-6;
+pub(crate) const GAMMA_TOLERANCE: f64 = 1e-6;
 /// `eps_q` of the perturbation `Qe = Q + eps_q diag(X_K)` that makes the certificate
 /// strict (module docs, "Strictness and the certificate").
-pub const Q_PERTURBATION: f64 = 1e-6;
+pub(crate) const Q_PERTURBATION: f64 = 1e-6;
 /// Doubling steps per trial before it counts as not converged.
-pub const MAX_DOUBLINGS: u32 = 64;
+pub(crate) const MAX_DOUBLINGS: u32 = 64;
 /// Doublings of the upper end of the bracket before the route gives up.
-pub const MAX_EXPANSIONS: u32 = 40;
+pub(crate) const MAX_EXPANSIONS: u32 = 40;
 /// Scaled change `|dH_ij| / sqrt(H_ii H_jj)` at which a doubling run has converged.
 const SDA_TOLERANCE: f64 = 1e-13;
 
@@ -190,9 +190,9 @@ pub struct RiccatiObserver {
     pub gamma_lower: f64,
     /// The stabilising solution `X` at `gamma` (dual certificate; `P = gamma^2 X^-1`).
     pub x: Mat6,
-    /// Trials (Riccati solves) after the Kalman one: expansion plus bisection steps.
+    /// Trials (Riccati solves) after the two Kalman ones: expansion plus bisection steps.
     pub steps: u32,
-    /// Doubling steps over all solves, the Kalman one included.
+    /// Doubling steps over all solves, the Kalman ones included.
     pub doublings: u32,
 }
 
@@ -217,7 +217,7 @@ pub fn symmetric(m: &Mat6) -> Mat6 {
 
 /// Stabilising solution of `X = F^T X (I + G X)^-1 F + H` by the SDA (module docs),
 /// `None` when `I + G_k H_k` is singular, a number is not finite or the scaled change has
-/// not fallen below the tolerance in [`MAX_DOUBLINGS`] steps. Returns `X` and the steps.
+/// not fallen below the tolerance in `MAX_DOUBLINGS` steps. Returns `X` and the steps.
 pub fn sda(f: &Mat6, g: &Mat6, h: &Mat6) -> Option<(Mat6, u32)> {
     sda_while(f, g, h, |_| true).0
 }
