@@ -149,6 +149,8 @@ pub(crate) const Q_PERTURBATION: f64 = 1e-6;
 pub(crate) const MAX_DOUBLINGS: u32 = 64;
 /// Doublings of the upper end of the bracket before the route gives up.
 pub(crate) const MAX_EXPANSIONS: u32 = 40;
+/// Bisection steps before the route gives up (20 are needed from a factor-2 bracket).
+pub(crate) const MAX_BISECTIONS: u32 = 64;
 /// Scaled change `|dH_ij| / sqrt(H_ii H_jj)` at which a doubling run has converged.
 const SDA_TOLERANCE: f64 = 1e-13;
 
@@ -394,6 +396,9 @@ pub fn observer(plant: &HinfPlant) -> Result<RiccatiObserver, RiccatiFailure> {
     let mut x_hi = None;
     for _ in 0..MAX_EXPANSIONS {
         hi *= 2.0;
+        if !hi.is_finite() {
+            break;
+        }
         let (x, n) = p.trial(hi);
         steps += 1;
         doublings += n;
@@ -404,8 +409,15 @@ pub fn observer(plant: &HinfPlant) -> Result<RiccatiObserver, RiccatiFailure> {
         lo = hi;
     }
     let mut x_hi = x_hi.ok_or(RiccatiFailure::NoFeasibleGamma)?;
+    // the log-width halves per step: from a factor 2 to GAMMA_TOLERANCE takes 20 steps;
+    // the cap only guards against a non-finite bracket
+    let mut bisections = 0;
     while hi / lo - 1.0 > GAMMA_TOLERANCE {
+        bisections += 1;
         let g = (lo * hi).sqrt();
+        if bisections > MAX_BISECTIONS || !(g.is_finite() && g > lo && g < hi) {
+            return Err(RiccatiFailure::NoFeasibleGamma);
+        }
         let (x, n) = p.trial(g);
         steps += 1;
         doublings += n;
