@@ -4,7 +4,11 @@
 //! `observer_sdp_quiet` (filter 9's quiet-truth noise), `mixed` or `mixed_quiet`) and
 //! prints gamma, H2 norm, interior-point iterations and wall time: the workload for
 //! `valgrind --tool=callgrind` instruction counts beside the criterion medians
-//! (`cargo run --release --example hinf_profile -- paper [repetitions [bound]]`).
+//! (`cargo run --release --example hinf_profile -- paper [repetitions [bound]]`). For the
+//! observer designs, `RELNAV_PRINT_CERTIFICATE=1` prints the Riccati route's bracket,
+//! trials and the eigenvalue range of its certificate `P = g2 X^-1`, and
+//! `RELNAV_SDP_TAU=<tau>` also runs the eliminated SDP in the coordinates `diag(I, tau I)
+//! e` (docs/evaluation.md, "Riccati route for the gamma-optimal observer").
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 use relnav::hinf::design::{
