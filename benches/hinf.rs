@@ -1,5 +1,6 @@
 //! H-infinity filter (paper 002): the LMI design solves (assembly included) — paper form,
-//! gamma-optimal observer, mixed H2/H-infinity observer (issue 12; both of its solves: the
+//! gamma-optimal observer (the Riccati route; its SDP as `hinf_design_observer_sdp`; also
+//! on the quiet-truth noise), mixed H2/H-infinity observer (issue 12; both of its solves: the
 //! gamma-optimal observer it is bounded by, then the mixed SDP) on paper 002's noise and on
 //! the noise model filter 9 derives for a quiet truth — and one runtime filter step.
 //! Targets: design <= 0.5 s, step <= 200 ns.
@@ -7,7 +8,7 @@
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use relnav::hinf::design::{
-    design_open_loop, design_open_loop_mixed, design_paper_spec, DesignOptions,
+    design_observer_sdp, design_open_loop, design_open_loop_mixed, design_paper_spec, DesignOptions,
 };
 use relnav::hinf::{HinfFilter, HinfSpec};
 use relnav::types::{State, Vec3};
@@ -24,6 +25,12 @@ fn bench(c: &mut Criterion) {
     g.bench_function("hinf_design_observer", |b| {
         b.iter(|| design_open_loop(black_box(&spec), &opts).unwrap())
     });
+    // the previous route of the gamma-optimal observer (the eliminated SDP, issue 15), kept
+    // as its reference and fallback: the before/after pair in one binary
+    let open = relnav::hinf::HinfPlant::open_loop(&spec);
+    g.bench_function("hinf_design_observer_sdp", |b| {
+        b.iter(|| design_observer_sdp(black_box(&open), spec.period, &opts).unwrap())
+    });
     g.bench_function("hinf_design_mixed", |b| {
         b.iter(|| design_open_loop_mixed(black_box(&spec), 1.5, &opts).unwrap())
     });
@@ -37,6 +44,9 @@ fn bench(c: &mut Criterion) {
     }
     .hinf_spec()
     .unwrap();
+    g.bench_function("hinf_design_observer_quiet", |b| {
+        b.iter(|| design_open_loop(black_box(&quiet), &opts).unwrap())
+    });
     g.bench_function("hinf_design_mixed_quiet", |b| {
         b.iter(|| design_open_loop_mixed(black_box(&quiet), 1.5, &opts).unwrap())
     });

@@ -1,13 +1,19 @@
 //! Runs one H-infinity design (argument: `paper`, `paper_full` (the same SDP posed with the
-//! filter matrices as variables), `observer`, `observer_full`, `mixed` or `mixed_quiet`) and
+//! filter matrices as variables), `observer` (the Riccati route, SDP fallback),
+//! `observer_sdp` (the eliminated SDP), `observer_full`, `observer_quiet`,
+//! `observer_sdp_quiet` (filter 9's quiet-truth noise), `mixed` or `mixed_quiet`) and
 //! prints gamma, H2 norm, interior-point iterations and wall time: the workload for
 //! `valgrind --tool=callgrind` instruction counts beside the criterion medians
-//! (`cargo run --release --example hinf_profile -- paper`).
+//! (`cargo run --release --example hinf_profile -- paper [repetitions [bound]]`). For the
+//! observer designs, `RELNAV_PRINT_CERTIFICATE=1` prints the Riccati route's bracket,
+//! trials and the eigenvalue range of its certificate `P = g2 X^-1`, and
+//! `RELNAV_SDP_TAU=<tau>` also runs the eliminated SDP in the coordinates `diag(I, tau I)
+//! e` (docs/evaluation.md, "Riccati route for the gamma-optimal observer").
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 use relnav::hinf::design::{
-    design_observer_full, design_open_loop, design_open_loop_mixed, design_paper_full,
-    design_paper_spec, DesignOptions,
+    design_observer, design_observer_full, design_observer_sdp, design_open_loop_mixed,
+    design_paper_full, design_paper_spec, DesignOptions,
 };
 use relnav::hinf::HinfSpec;
 
@@ -19,7 +25,11 @@ fn main() {
         .nth(2)
         .and_then(|s| s.parse().ok())
         .unwrap_or(1);
-    let opts = DesignOptions::default();
+    // optional third argument: the certificate bound rho of the SDPs (default 1e4)
+    let mut opts = DesignOptions::default();
+    if let Some(rho) = std::env::args().nth(3).and_then(|s| s.parse().ok()) {
+        opts.bound = rho;
+    }
     let spec = HinfSpec::paper();
     let quiet = relnav::nav::NavConfig {
         filter: relnav::nav::FilterKind::Hinf,
@@ -51,9 +61,65 @@ fn main() {
                 let d = design_observer_full(&plant, spec.period, &opts).expect("observer");
                 (d.gamma, d.h2_norm, format!("{}", d.iterations))
             }
-            "observer" => {
-                let d = design_open_loop(&spec, &opts).expect("observer design");
-                (d.gamma, d.h2_norm, format!("{}", d.iterations))
+            "observer" | "observer_quiet" | "observer_sdp" | "observer_sdp_quiet" => {
+                let sp = if which.ends_with("quiet") {
+                    &quiet
+                } else {
+                    &spec
+                };
+                let plant = relnav::hinf::HinfPlant::open_loop(sp);
+                if std::env::var_os("RELNAV_PRINT_CERTIFICATE").is_some() {
+                    let r = relnav::hinf::riccati::observer(&plant).expect("riccati");
+                    let p = r.x.try_inverse().expect("X invertible") * (r.gamma * r.gamma);
+                    let ev = p.symmetric_eigenvalues();
+                    println!(
+                        "Riccati certificate P = g2 X^-1: eigenvalues {:.3e} .. {:.3e}; \
+                         bracket [{}, {}], {} trials, {} doublings",
+                        ev.min(),
+                        ev.max(),
+                        r.gamma_lower,
+                        r.gamma,
+                        r.steps,
+                        r.doublings
+                    );
+                }
+                if let Some(tau) = std::env::var("RELNAV_SDP_TAU")
+                    .ok()
+                    .and_then(|s| s.parse::<f64>().ok())
+                {
+                    // the same SDP in the coordinates e' = diag(I, tau I) e
+                    let s = relnav::types::Mat6::from_diagonal(
+                        &relnav::types::State::from_row_slice(&[1.0, 1.0, 1.0, tau, tau, tau]),
+                    );
+                    let si = s.try_inverse().unwrap();
+                    let sp = relnav::hinf::HinfPlant {
+                        a: s * plant.a * si,
+                        b: s * plant.b,
+                        c: plant.c * si,
+                        l: plant.l * si,
+                        ha: s * plant.ha,
+                        g: s * plant.g,
+                        ..plant
+                    };
+                    let d = design_observer_sdp(&sp, 1.0, &opts).expect("scaled SDP");
+                    println!(
+                        "SDP at tau {tau}: gamma {:.8} ({} iterations)",
+                        d.gamma, d.iterations
+                    );
+                }
+                let d = if which.starts_with("observer_sdp") {
+                    design_observer_sdp(&plant, sp.period, &opts).expect("observer SDP")
+                } else {
+                    design_observer(&plant, sp.period, &opts).expect("observer design")
+                };
+                (
+                    d.gamma,
+                    d.h2_norm,
+                    format!(
+                        "{} ({:?}, {} Riccati trials, fallback {:?})",
+                        d.iterations, d.route, d.riccati_steps, d.riccati_failure
+                    ),
+                )
             }
             "mixed" | "mixed_quiet" => {
                 let sp = if which == "mixed" { &spec } else { &quiet };

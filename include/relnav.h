@@ -348,7 +348,8 @@ typedef struct relnav_hinf_result {
   double gamma;
   // Largest eigenvalue of the LMI assembled from the solution (nalgebra; < 0).
   double lmi_max_eig;
-  // Clarabel iterations.
+  // Clarabel iterations (0 when the gamma-optimal observer was designed by the Riccati
+  // route, which needs no interior-point solver; the SDP runs only as its fallback).
   int32_t iterations;
   // Wall time of assembly and solve [s].
   double solve_time;

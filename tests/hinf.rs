@@ -9,9 +9,11 @@
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)] // test code
 
 use relnav::hinf::design::{
-    design_observer, design_observer_full, design_open_loop, design_open_loop_mixed, design_paper,
-    design_paper_full, DesignOptions, HinfDesign,
+    design_observer, design_observer_full, design_observer_sdp, design_open_loop,
+    design_open_loop_mixed, design_paper, design_paper_full, DesignOptions, DesignRoute,
+    HinfDesign,
 };
+use relnav::hinf::riccati::RiccatiFailure;
 use relnav::hinf::verify::{
     delta_grid, dlyap, h2_norm, observer_certified_norm, observer_error_covariance,
     observer_error_norm, observer_h2_norm, spectral_radius, verify_filter,
@@ -156,8 +158,10 @@ fn open_loop_needs_the_observer_form() {
     let d = design_observer(&plant, spec.period, &DesignOptions::default())
         .unwrap_or_else(|e| panic!("{e}"));
     assert!(d.lmi_max_eig < 0.0);
-    // pinned (docs/evaluation.md): the mixed design's bound is relative to it
-    assert!((d.gamma - 0.50003).abs() < 2e-5, "gamma {}", d.gamma);
+    // pinned (docs/evaluation.md): the mixed design's bound is relative to it (the Riccati
+    // route's 0.500014; the SDP's was 0.500029)
+    assert_eq!(d.route, DesignRoute::Riccati);
+    assert!((d.gamma - 0.500014).abs() < 5e-6, "gamma {}", d.gamma);
     let g = d.matrices.b_f;
     let v = observer_error_norm(&plant, &g, &delta_grid(spec.delta_bar, 11), |dl| {
         HinfPlant::open_loop_at(&spec, dl)
@@ -188,7 +192,7 @@ fn observer_design_reduces_to_the_paper_result() {
     assert!((p.gamma - o.gamma).abs() < 1e-3 * p.gamma);
 }
 
-/// The designs with the filter matrices eliminated (`design_paper`, `design_observer`;
+/// The designs with the filter matrices eliminated (`design_paper`, `design_observer_sdp`;
 /// `src/hinf/design.rs`, "Elimination of the filter matrices") against the literal SDPs in
 /// all variables: the same certified gamma to 1e-4 relative, both LMIs checked with
 /// nalgebra. The eliminated one may only be less conservative (its margins sit on the
@@ -207,7 +211,7 @@ fn eliminated_designs_match_the_literal_sdps() {
         ),
         (
             "observer",
-            design_observer(&open, spec.period, &opts),
+            design_observer_sdp(&open, spec.period, &opts),
             design_observer_full(&open, spec.period, &opts),
         ),
     ];
@@ -637,4 +641,160 @@ fn acquisition_hands_over_keeps_and_reacquires() {
     assert!((f.state() - x).norm() < 1e-6, "{}", f.state() - x);
     f.set_estimate(x0, p0);
     assert!(!f.certified());
+}
+
+/// The plant in the coordinates `e' = diag(I3, tau I3) e` (an exact change of coordinates:
+/// every transfer from `(w, v, d)` to `z_e` is unchanged, so is the optimal gamma).
+fn balanced(plant: &HinfPlant, tau: f64) -> HinfPlant {
+    let s = Mat6::from_diagonal(&State::from_row_slice(&[1.0, 1.0, 1.0, tau, tau, tau]));
+    let si = s.try_inverse().unwrap();
+    HinfPlant {
+        a: s * plant.a * si,
+        b: s * plant.b,
+        c: plant.c * si,
+        l: plant.l * si,
+        ha: s * plant.ha,
+        g: s * plant.g,
+        ..*plant
+    }
+}
+
+/// The Riccati route (`src/hinf/riccati.rs`) against the SDP on one plant: it designs the
+/// filter (no fallback), its certificate passes the literal LMI check, its gamma is never
+/// above an SDP's (it is the infimum to its 1e-6 bisection tolerance and 1e-6
+/// perturbation) and equals the SDP's to 1e-4 relative — the better of the SDP posed in
+/// metres and m/s and posed in balanced units (`tau = sqrt(trace X_pp / trace X_vv)` of
+/// the designed observer's error covariance, like the mixed design's scaling; on the
+/// quiet-truth noise only the balanced one reaches the optimum); the solver-independent verifier bounds the certified channel's
+/// norm by gamma, the (w, v) norm over the delta grid by the small-gain bound below, with
+/// stable error dynamics.
+fn check_riccati_route(
+    name: &str,
+    plant: &HinfPlant,
+    period: f64,
+    delta_bar: f64,
+    at: impl Fn(f64) -> Mat6,
+) -> HinfDesign {
+    let opts = DesignOptions::default();
+    let r = design_observer(plant, period, &opts).unwrap_or_else(|e| panic!("{name}: {e}"));
+    assert_eq!(
+        r.route,
+        DesignRoute::Riccati,
+        "{name}: {:?}",
+        r.riccati_failure
+    );
+    assert_eq!((r.riccati_failure, r.iterations), (None, 0), "{name}");
+    assert!(r.lmi_max_eig < 0.0, "{name}");
+    let g = r.matrices.b_f;
+    let x = observer_error_covariance(plant, &g).unwrap();
+    let tau = ((x[(0, 0)] + x[(1, 1)] + x[(2, 2)]) / (x[(3, 3)] + x[(4, 4)] + x[(5, 5)])).sqrt();
+    let sdp = design_observer_sdp(plant, period, &opts).unwrap_or_else(|e| panic!("{name}: {e}"));
+    let bal = design_observer_sdp(&balanced(plant, tau), period, &opts)
+        .unwrap_or_else(|e| panic!("{name}: {e}"));
+    let certified = observer_certified_norm(plant, &g);
+    let grid = observer_error_norm(plant, &g, &delta_grid(delta_bar, 11), at);
+    eprintln!(
+        "{name}: Riccati gamma {:.8} ({} trials, {:.2} ms) | SDP {:.8} ({} it.) | SDP at tau \
+         {tau:.3} s {:.8} ({} it.) | certified-channel norm {certified:.8}, worst (w, v) \
+         norm over delta {:.8}, max spectral radius {:.8}",
+        r.gamma,
+        r.riccati_steps,
+        r.solve_time * 1e3,
+        sdp.gamma,
+        sdp.iterations,
+        bal.gamma,
+        bal.iterations,
+        grid.worst_norm,
+        grid.max_spectral_radius
+    );
+    assert!(r.gamma <= sdp.gamma * (1.0 + 3e-6), "{name}");
+    assert!(r.gamma <= bal.gamma * (1.0 + 3e-6), "{name}");
+    // the SDP's answer: the better of its two certified solutions (both are above the
+    // infimum by their margins `eps`, `P <= rho I`; measured 1.1e-5 to 8.7e-5 relative)
+    let best = sdp.gamma.min(bal.gamma);
+    assert!((r.gamma - best).abs() <= 1e-4 * best, "{name}");
+    assert!(certified <= r.gamma, "{name}");
+    assert!(grid.max_spectral_radius < 1.0, "{name}: {grid:?}");
+    // With the orbit-rate error inside the error dynamics, `(A(delta) - A) e = Hae d` with
+    // `|d| <= |e|` (`|F Ea| <= |Ea|`, Frobenius) is a feedback around the certified
+    // channel: `|e|^2 <= g^2 (|w, v|^2 + |e|^2)`, so the certificate bounds the grid's (w,
+    // v) norm by `g / sqrt(1 - g^2)` (L = I), not by `g` itself. The gamma-optimal filter
+    // exceeds `g` there (measured: by 7.6e-6 relative on the quiet truth, 8.4e-4 in the
+    // other frame, both at delta = -0.05); the SDP's filters met `g` on paper 002's noise
+    // because their gamma is above the optimum.
+    let small_gain = r.gamma / (1.0 - r.gamma * r.gamma).sqrt();
+    assert!(grid.worst_norm <= small_gain, "{name}: {grid:?}");
+    r
+}
+
+/// Issue 15, item 1: the gamma-optimal observer by the Riccati route on paper 002's noise,
+/// on the quiet-truth noise filter 9 derives (12 orders of magnitude), and on three other
+/// orbits / frames / periods. On the quiet noise the SDP posed in metres and m/s stops
+/// well above the infimum (its certificate bound `P <= 1e4 I` binds: the Riccati
+/// certificate reaches 6.7e6 there; docs/evaluation.md); posed in balanced units it agrees.
+#[test]
+fn riccati_route_matches_the_sdp() {
+    use relnav::frames::Frame;
+    let paper = HinfSpec::paper();
+    let quiet = quiet_config(
+        Frame::AlongRadialAntinormal,
+        [405.0, 505.0, 205.0, 0.1, 0.1, 0.1],
+    )
+    .hinf_spec()
+    .unwrap();
+    let quiet_far = quiet_config(
+        Frame::RadialAlongNormal,
+        [-2000.0, 4500.0, 1000.0, 0.0, 0.0, 0.0],
+    )
+    .hinf_spec()
+    .unwrap();
+    let leo = HinfSpec {
+        w0: std::f64::consts::TAU / 5400.0,
+        period: 1.0,
+        delta_bar: 0.02,
+        ..HinfSpec::paper()
+    };
+    let slow = HinfSpec {
+        w0: std::f64::consts::TAU / (12.0 * 3600.0),
+        period: 10.0,
+        ..HinfSpec::paper()
+    };
+    for (name, spec) in [
+        ("paper 002", &paper),
+        ("quiet truth", &quiet),
+        ("quiet truth, other frame and range", &quiet_far),
+        ("LEO, T = 1 s, delta_bar 0.02", &leo),
+        ("12 h orbit, T = 10 s", &slow),
+    ] {
+        let plant = HinfPlant::open_loop(spec);
+        check_riccati_route(name, &plant, spec.period, spec.delta_bar, |d| {
+            HinfPlant::open_loop_at(spec, d)
+        });
+    }
+}
+
+/// The fallback: with a noise-free measurement axis (`D` singular) the Riccati route cannot
+/// apply (`R = D D^T` has no inverse); the SDP designs the filter — the literal one, as the
+/// eliminated SDP needs `D^-1` too — and the design says so. The answer is the literal
+/// SDP's, certified the same way.
+#[test]
+fn riccati_route_falls_back_to_the_sdp_when_d_is_singular() {
+    let spec = HinfSpec::paper();
+    let mut plant = HinfPlant::open_loop(&spec);
+    plant.d[(2, 2)] = 0.0;
+    let opts = DesignOptions::default();
+    let d = design_observer(&plant, spec.period, &opts).unwrap_or_else(|e| panic!("{e}"));
+    eprintln!(
+        "singular D: route {:?} ({:?}), gamma {:.8}, {} iterations",
+        d.route, d.riccati_failure, d.gamma, d.iterations
+    );
+    assert_eq!(d.route, DesignRoute::SdpLiteral);
+    assert_eq!(
+        d.riccati_failure,
+        Some(RiccatiFailure::SingularMeasurementNoise)
+    );
+    assert!(d.lmi_max_eig < 0.0 && d.iterations > 0);
+    assert!(observer_certified_norm(&plant, &d.matrices.b_f) <= d.gamma);
+    let f = design_observer_full(&plant, spec.period, &opts).unwrap();
+    assert_eq!(d.gamma, f.gamma);
 }

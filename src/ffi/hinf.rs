@@ -80,7 +80,8 @@ pub struct relnav_hinf_result {
     pub gamma: f64,
     /// Largest eigenvalue of the LMI assembled from the solution (nalgebra; < 0).
     pub lmi_max_eig: f64,
-    /// Clarabel iterations.
+    /// Clarabel iterations (0 when the gamma-optimal observer was designed by the Riccati
+    /// route, which needs no interior-point solver; the SDP runs only as its fallback).
     pub iterations: i32,
     /// Wall time of assembly and solve [s].
     pub solve_time: f64,

@@ -1,6 +1,7 @@
 //! LMI designs of the robust H-infinity filter as semidefinite programs in Clarabel's PSD
 //! cone (cargo feature `hinf`): the paper's gamma-optimal filter, the gamma-optimal
-//! observer and the mixed H2/H-infinity observer.
+//! observer (by default through the Riccati route of [`crate::hinf::riccati`], the SDP as
+//! reference and fallback) and the mixed H2/H-infinity observer.
 //!
 //! # Paper design (Theorem 1 / Corollary 1 of paper 002)
 //!
@@ -152,6 +153,18 @@
 //! uncertainty the observer form bounds the error gain from `(w, v, d)` jointly instead
 //! of using the S-procedure on `x`, which the open-loop plant would make unbounded.
 //!
+//! *Riccati route (issue 15).* For a fixed `g2` the LMI is, by duality and completing the
+//! square in `G`, equivalent to a Riccati inequality of the a-priori H-infinity filter, so
+//! [`design_observer`] does not solve it as an SDP: it bisects on `gamma` with the
+//! stabilising solution of the Riccati equation deciding each trial (structure-preserving
+//! doubling), builds the central gain in closed form and checks this LMI at `P = g2 X^-1`
+//! with nalgebra ([`crate::hinf::riccati`], with the derivation and references). The SDP
+//! ([`design_observer_sdp`], [`design_observer_full`]) stays as the reference and as the
+//! fallback, taken automatically and recorded in [`HinfDesign::route`] and
+//! [`HinfDesign::riccati_failure`]. The Riccati route is not bounded by `P <= rho I`, so
+//! it reaches the infimum where the SDP's bound binds (the quiet-truth noise:
+//! docs/evaluation.md).
+//!
 //! # Mixed H2/H-infinity observer design (issue 12)
 //!
 //! The gamma-optimal observer is the best filter against the worst noise; against the
@@ -197,12 +210,16 @@
 //! dropped; paper 000's orbit and geometry, 1 s period), where the same problem in paper
 //! 002's units reaches it. So the LMIs are posed in `e' = diag(I, tau I) e` (an exact change
 //! of coordinates: every transfer is unchanged), `tau = sqrt(trace X_pp / trace X_vv)` of
-//! the steady-state error covariance of the gamma-optimal observer, and solved once more
-//! with the `tau` of the result when that differs by more than a factor 2. In the quiet
-//! case `tau` = 63 s (the result's own: 106 s, one solve; H2 norm 0.072 m at `f = 1.5`
-//! against 0.092 m unscaled; without the H-infinity constraint, at `tau` = 100 s, the
-//! Kalman bound is reached to 0.02 %); in paper 002's case 0.31 s, then 3.5 s (two
-//! solves). The
+//! the steady-state error covariance of a start gain, and solved once more with the `tau`
+//! of the result when that differs by more than a factor 2. With the gamma-optimal
+//! observer as start gain: in the quiet case `tau` = 63 s (the result's own: 106 s, one
+//! solve; H2 norm 0.072 m at `f = 1.5` against 0.092 m unscaled; without the H-infinity
+//! constraint, at `tau` = 100 s, the Kalman bound is reached to 0.02 %); in paper 002's
+//! case 0.31 s, then 3.5 s (two solves). The Riccati route's gamma-optimal observer (the
+//! central filter) has `tau` = 316 s in the quiet case, which made that case take two
+//! solves too; [`design_open_loop_mixed`] therefore starts from the Kalman predictor's
+//! gain ([`crate::hinf::riccati::kalman_gain`]; the mixed design minimises the same H2
+//! criterion under a bound), one solve in both cases (21 and 42 iterations). The
 //! strict inequalities carry the same margin `eps` as the other designs.
 //!
 //! # Conditioning and the unattained minimum (why the problem is not posed literally)
@@ -229,6 +246,7 @@
 //!    ([`crate::hinf::verify`]); a solution whose assembled LMI is not negative definite is
 //!    reported as infeasible, never returned.
 
+use super::riccati::RiccatiFailure;
 use super::verify::{lmi_mixed, lmi_observer, lmi_paper};
 use super::{HinfError, HinfErrorKind, HinfMatrices, HinfPlant, HinfSpec};
 use crate::types::{Mat6, Mat63};
@@ -283,6 +301,26 @@ pub struct HinfDesign {
     pub iterations: u32,
     /// Wall time of assembly and solve [s].
     pub solve_time: f64,
+    /// The route that designed the filter.
+    pub route: DesignRoute,
+    /// Why the Riccati route was not taken, when the gamma-optimal observer fell back to
+    /// the SDP ([`design_observer`]); `None` otherwise.
+    pub riccati_failure: Option<RiccatiFailure>,
+    /// Riccati trials of the bisection (Riccati route only; 0 otherwise).
+    pub riccati_steps: u32,
+}
+
+/// Which computation designed a filter.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DesignRoute {
+    /// Bisection on the H-infinity filtering Riccati equation ([`crate::hinf::riccati`];
+    /// gamma-optimal observer only). `iterations` is 0 (no interior-point solver).
+    Riccati,
+    /// The SDP with the filter matrices eliminated ([`design_paper`],
+    /// [`design_observer_sdp`], the mixed design).
+    Sdp,
+    /// The SDP posed literally ([`design_paper_full`], [`design_observer_full`]).
+    SdpLiteral,
 }
 
 /// A symmetric affine matrix function `M(x) = M0 + sum x_i M_i` on a block structure.
@@ -734,7 +772,18 @@ pub fn design_paper(
             ),
         })?;
     finish_paper(
-        plant, period, &sol, &rv, &svv, &abv, &bbv, &cbv, lambda, gamma2, t0,
+        plant,
+        period,
+        &sol,
+        &rv,
+        &svv,
+        &abv,
+        &bbv,
+        &cbv,
+        lambda,
+        gamma2,
+        t0,
+        DesignRoute::Sdp,
     )
 }
 
@@ -866,6 +915,7 @@ fn finish_paper(
     lambda: f64,
     gamma2: f64,
     t0: Instant,
+    route: DesignRoute,
 ) -> Result<HinfDesign, HinfError> {
     let s_inv = svv.clone().try_inverse().ok_or_else(|| HinfError {
         kind: HinfErrorKind::Infeasible,
@@ -903,6 +953,9 @@ fn finish_paper(
         status: status_name(sol.status),
         iterations: sol.iterations,
         solve_time: t0.elapsed().as_secs_f64(),
+        route,
+        riccati_failure: None,
+        riccati_steps: 0,
     })
 }
 
@@ -1020,6 +1073,7 @@ pub fn design_paper_full(
         x[lam] * s * s,
         x[g2],
         t0,
+        DesignRoute::SdpLiteral,
     )
 }
 
@@ -1065,13 +1119,82 @@ pub(crate) fn max_eig(m: &DMatrix<f64>) -> f64 {
     }
 }
 
-/// The observer (error-dynamics) design for `plant` (any `A`, e.g.
-/// [`HinfPlant::open_loop`]): minimise `gamma^2` over the LMI in the module docs with the
-/// gain variable `Y` eliminated (module docs, "Elimination of the filter matrices"): an SDP
-/// in `P, g2` (22 scalars, LMIs of sizes 21 and 6), then `Y` in closed form and the
-/// observer LMI checked at `G = P^-1 Y` with nalgebra. Returns `A_F = A - G C`, `B_F = G`,
-/// `C_F = I`, `E_F = plant.g`. [`design_observer_full`] when `D` is singular.
+/// The gamma-optimal observer (error-dynamics) design for `plant` (any `A`, e.g.
+/// [`HinfPlant::open_loop`]): minimise `gamma` over the observer LMI in the module docs.
+/// First the Riccati route ([`design_observer_riccati`]: bisection on the H-infinity
+/// filtering Riccati equation, the gain in closed form, certified on the literal LMI);
+/// when it fails (singular `D`, no stabilising solution, failed certificate) the SDP
+/// ([`design_observer_sdp`]) designs the filter and [`HinfDesign::route`] /
+/// [`HinfDesign::riccati_failure`] say so. Returns `A_F = A - G C`, `B_F = G`, `C_F = I`,
+/// `E_F = plant.g`.
 pub fn design_observer(
+    plant: &HinfPlant,
+    period: f64,
+    opts: &DesignOptions,
+) -> Result<HinfDesign, HinfError> {
+    check_opts(opts)?;
+    check_plant(plant)?;
+    let t0 = Instant::now();
+    match design_observer_riccati(plant, period) {
+        Ok(d) => Ok(d),
+        Err(failure) => {
+            let mut d = design_observer_sdp(plant, period, opts)?;
+            d.riccati_failure = Some(failure);
+            d.solve_time = t0.elapsed().as_secs_f64();
+            Ok(d)
+        }
+    }
+}
+
+/// The gamma-optimal observer by the Riccati route ([`crate::hinf::riccati`]): the
+/// bisection gives `gamma`, the stabilising solution `X` and the central gain `G`; the
+/// observer LMI (module docs) is then assembled with nalgebra at `P = gamma^2 X^-1`, `G`,
+/// `gamma^2` and must be negative definite (the same check as the SDP's answer), or the
+/// route reports [`RiccatiFailure::CertificationFailed`]. No interior-point solver:
+/// `iterations` is 0, `riccati_steps` the bisection's trials, `status` `"Riccati"`.
+pub fn design_observer_riccati(
+    plant: &HinfPlant,
+    period: f64,
+) -> Result<HinfDesign, RiccatiFailure> {
+    let t0 = Instant::now();
+    let r = super::riccati::observer(plant)?;
+    let gamma2 = r.gamma * r.gamma;
+    let p =
+        r.x.try_inverse()
+            .map(|xi| super::riccati::symmetric(&(xi * gamma2)))
+            .ok_or(RiccatiFailure::CertificationFailed)?;
+    let lmi = lmi_observer(plant, &dm(&p), &r.gain, gamma2);
+    let max_eig = max_eig(&lmi);
+    if !(max_eig < 0.0) {
+        return Err(RiccatiFailure::CertificationFailed);
+    }
+    Ok(HinfDesign {
+        matrices: HinfMatrices {
+            a_f: plant.a - r.gain * plant.c,
+            b_f: r.gain,
+            c_f: Mat6::identity(),
+            e_f: plant.g,
+            period,
+        },
+        gamma: r.gamma,
+        lmi_max_eig: max_eig,
+        h2_norm: super::verify::observer_h2_norm(plant, &r.gain),
+        h2_bound: f64::NAN,
+        status: "Riccati",
+        iterations: 0,
+        solve_time: t0.elapsed().as_secs_f64(),
+        route: DesignRoute::Riccati,
+        riccati_failure: None,
+        riccati_steps: r.steps,
+    })
+}
+
+/// The gamma-optimal observer as an SDP with the gain variable `Y` eliminated (module
+/// docs, "Elimination of the filter matrices"): an SDP in `P, g2` (22 scalars, LMIs of
+/// sizes 21 and 6), then `Y` in closed form and the observer LMI checked at `G = P^-1 Y`
+/// with nalgebra. [`design_observer_full`] when `D` is singular. The reference of the
+/// Riccati route and the fallback of [`design_observer`].
+pub fn design_observer_sdp(
     plant: &HinfPlant,
     period: f64,
     opts: &DesignOptions,
@@ -1147,7 +1270,7 @@ pub fn design_observer(
             sol.status
         ),
     })?;
-    finish_observer(plant, period, &sol, &pv, &yv, gamma2, t0)
+    finish_observer(plant, period, &sol, &pv, &yv, gamma2, t0, DesignRoute::Sdp)
 }
 
 /// The observer design posed literally, in `P, Y, g2` (40 scalars, one 33 x 33 LMI): the
@@ -1208,10 +1331,20 @@ pub fn design_observer_full(
     let sol = sdp.solve(opts)?;
     let x = &sol.x;
     let (pv, yv) = (p.value(x), y.value(x));
-    finish_observer(plant, period, &sol, &pv, &yv, x[g2], t0)
+    finish_observer(
+        plant,
+        period,
+        &sol,
+        &pv,
+        &yv,
+        x[g2],
+        t0,
+        DesignRoute::SdpLiteral,
+    )
 }
 
 /// The observer from `(P, Y)`: `G = P^-1 Y`, the observer LMI re-checked with nalgebra.
+#[allow(clippy::too_many_arguments)]
 fn finish_observer(
     plant: &HinfPlant,
     period: f64,
@@ -1220,6 +1353,7 @@ fn finish_observer(
     yv: &DMatrix<f64>,
     gamma2: f64,
     t0: Instant,
+    route: DesignRoute,
 ) -> Result<HinfDesign, HinfError> {
     let p_inv = pv.clone().try_inverse().ok_or_else(|| HinfError {
         kind: HinfErrorKind::Infeasible,
@@ -1253,6 +1387,9 @@ fn finish_observer(
         status: status_name(sol.status),
         iterations: sol.iterations,
         solve_time: t0.elapsed().as_secs_f64(),
+        route,
+        riccati_failure: None,
+        riccati_steps: 0,
     })
 }
 
@@ -1274,8 +1411,8 @@ pub fn design_open_loop(spec: &HinfSpec, opts: &DesignOptions) -> Result<HinfDes
 /// observer design"): minimise the bound `trace Z` on the squared H2 norm from `(w, v)` to
 /// the error subject to the certified H-infinity bound `gamma_bound` on the gain from `(w,
 /// v, d)` (the robustness channel included, as in [`design_observer`]). `start_gain` is a
-/// stabilising observer gain (the gamma-optimal one) that sets the first coordinate
-/// scaling. Returns `A_F = A - G C`, `B_F = G`, `C_F = I`, `E_F = plant.g` with `gamma =
+/// stabilising observer gain (the Kalman predictor's or the gamma-optimal one) that sets
+/// the first coordinate scaling. Returns `A_F = A - G C`, `B_F = G`, `C_F = I`, `E_F = plant.g` with `gamma =
 /// gamma_bound`; the H2 norm is computed again without the solver
 /// ([`crate::hinf::verify::observer_h2_norm`]). `iterations` and `solve_time` cover every
 /// solve (one or two, see the module docs).
@@ -1481,6 +1618,9 @@ fn solve_mixed(
         status: status_name(sol.status),
         iterations: sol.iterations,
         solve_time: 0.0,
+        route: DesignRoute::Sdp,
+        riccati_failure: None,
+        riccati_steps: 0,
     })
 }
 
@@ -1497,7 +1637,8 @@ pub struct MixedDesign {
 /// The mixed design on the open-loop CW plant ([`HinfPlant::open_loop`]): first the
 /// gamma-optimal observer, then [`design_mixed`] with `gamma_bound = gamma_factor *
 /// gamma_opt` (`gamma_factor > 1`: at 1 the bound is the optimum itself and only the
-/// optimal filter, if any, meets it).
+/// optimal filter, if any, meets it), started from the Kalman predictor's gain (module
+/// docs, "Scaling").
 pub fn design_open_loop_mixed(
     spec: &HinfSpec,
     gamma_factor: f64,
@@ -1511,12 +1652,10 @@ pub fn design_open_loop_mixed(
     }
     let plant = HinfPlant::open_loop(spec);
     let pure = design_observer(&plant, spec.period, opts)?;
-    let mixed = design_mixed(
-        &plant,
-        spec.period,
-        gamma_factor * pure.gamma,
-        &pure.matrices.b_f,
-        opts,
-    )?;
+    // the first coordinate scaling from the Kalman predictor, whose error covariance is
+    // closer to the mixed design's than the gamma-optimal observer's (module docs,
+    // "Scaling"); the gamma-optimal gain when there is no Kalman gain (singular D)
+    let start = super::riccati::kalman_gain(&plant).unwrap_or(pure.matrices.b_f);
+    let mixed = design_mixed(&plant, spec.period, gamma_factor * pure.gamma, &start, opts)?;
     Ok(MixedDesign { pure, mixed })
 }

@@ -39,6 +39,7 @@ use crate::types::{Mat3, Mat36, Mat6, Mat63, State, Vec3};
 
 #[cfg(feature = "hinf")]
 pub mod design;
+pub mod riccati;
 pub mod verify;
 
 /// Dimensions: state `n = 6`, measurement `m = 3`, process noise `p = 6`, measurement
