@@ -141,11 +141,12 @@ pub fn asin_small(s: f64) -> f64 {
     }
 }
 
-/// Where [`asin_series`] is `asin` to a quarter of an ulp: `|s| <= 2^-5`.
-pub const ASIN_SERIES_MAX: f64 = 0.031_25;
+/// Where [`asin_series`] is `asin` to a quarter of an ulp: `|s| <= 2^-5`. Crate-private, so
+/// that cbindgen leaves it out of the C header (it is no part of the C ABI).
+pub(crate) const ASIN_SERIES_MAX: f64 = 0.031_25;
 
 /// The series of [`asin_small`] alone (no test, no branch: the caller checks
-/// `|s| <= ASIN_SERIES_MAX`), for loops that vectorise over many residuals.
+/// `|s| <= 2^-5`, where it is `asin` to a quarter of an ulp), for loops that vectorise over many residuals.
 #[inline(always)]
 pub fn asin_series(s: f64) -> f64 {
     const C3: f64 = 1.0 / 6.0;
@@ -291,7 +292,7 @@ impl MeasurementModel for RadioSensor {
     /// [`RadioSensor::residual_at`]'s small-residual branch for a block of positions with
     /// no branch in the loop (so it vectorises): every lane is evaluated by the series, and
     /// a lane outside the series' domain (range below [`MIN_RANGE`], a residual cosine
-    /// below 1/2 or a sine beyond [`ASIN_SERIES_MAX`], NaN) is redone by `residual_at`
+    /// below 1/2 or a sine beyond `2^-5`, the series' domain, NaN) is redone by `residual_at`
     /// afterwards. The same values as `residual_at` lane by lane, bit for bit (tested).
     fn residuals_at<const B: usize>(
         &self,
