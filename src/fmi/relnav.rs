@@ -209,19 +209,15 @@ const _: () = {
     }
 };
 
+/// The estimate outputs (`ESTIMATE_OUTPUTS`: the state, then its 1-sigma) from `x` and
+/// `sigma` (the initial outputs; each step writes them through the C ABI getter).
 fn write_outputs(values: &mut [f64], x: &[f64; 6], sigma: &[f64; 6]) {
-    let outs = [vr::X, vr::Y, vr::Z, vr::VX, vr::VY, vr::VZ];
-    let sigs = [
-        vr::SIGMA_X,
-        vr::SIGMA_Y,
-        vr::SIGMA_Z,
-        vr::SIGMA_VX,
-        vr::SIGMA_VY,
-        vr::SIGMA_VZ,
-    ];
-    for i in 0..6 {
-        values[outs[i] as usize] = x[i];
-        values[sigs[i] as usize] = sigma[i];
+    if let Some((xs, ss)) = values
+        .get_mut(ESTIMATE_OUTPUTS)
+        .map(|out| out.split_at_mut(6))
+    {
+        xs.copy_from_slice(x);
+        ss.copy_from_slice(sigma);
     }
 }
 
