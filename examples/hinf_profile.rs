@@ -88,19 +88,7 @@ fn main() {
                     .and_then(|s| s.parse::<f64>().ok())
                 {
                     // the same SDP in the coordinates e' = diag(I, tau I) e
-                    let s = relnav::types::Mat6::from_diagonal(
-                        &relnav::types::State::from_row_slice(&[1.0, 1.0, 1.0, tau, tau, tau]),
-                    );
-                    let si = s.try_inverse().unwrap();
-                    let sp = relnav::hinf::HinfPlant {
-                        a: s * plant.a * si,
-                        b: s * plant.b,
-                        c: plant.c * si,
-                        l: plant.l * si,
-                        ha: s * plant.ha,
-                        g: s * plant.g,
-                        ..plant
-                    };
+                    let (sp, _) = relnav::hinf::design::scaled_plant(&plant, tau);
                     let d = design_observer_sdp(&sp, 1.0, &opts).expect("scaled SDP");
                     println!(
                         "SDP at tau {tau}: gamma {:.8} ({} iterations)",

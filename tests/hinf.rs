@@ -10,8 +10,8 @@
 
 use relnav::hinf::design::{
     design_observer, design_observer_full, design_observer_sdp, design_open_loop,
-    design_open_loop_mixed, design_paper, design_paper_full, DesignOptions, DesignRoute,
-    HinfDesign,
+    design_open_loop_mixed, design_paper, design_paper_full, scaled_plant, DesignOptions,
+    DesignRoute, HinfDesign,
 };
 use relnav::hinf::riccati::RiccatiFailure;
 use relnav::hinf::verify::{
@@ -643,22 +643,6 @@ fn acquisition_hands_over_keeps_and_reacquires() {
     assert!(!f.certified());
 }
 
-/// The plant in the coordinates `e' = diag(I3, tau I3) e` (an exact change of coordinates:
-/// every transfer from `(w, v, d)` to `z_e` is unchanged, so is the optimal gamma).
-fn balanced(plant: &HinfPlant, tau: f64) -> HinfPlant {
-    let s = Mat6::from_diagonal(&State::from_row_slice(&[1.0, 1.0, 1.0, tau, tau, tau]));
-    let si = s.try_inverse().unwrap();
-    HinfPlant {
-        a: s * plant.a * si,
-        b: s * plant.b,
-        c: plant.c * si,
-        l: plant.l * si,
-        ha: s * plant.ha,
-        g: s * plant.g,
-        ..*plant
-    }
-}
-
 /// The Riccati route (`src/hinf/riccati.rs`) against the SDP on one plant: it designs the
 /// filter (no fallback), its certificate passes the literal LMI check, its gamma is never
 /// above an SDP's (it is the infimum to its 1e-6 bisection tolerance and 1e-6
@@ -689,7 +673,7 @@ fn check_riccati_route(
     let x = observer_error_covariance(plant, &g).unwrap();
     let tau = ((x[(0, 0)] + x[(1, 1)] + x[(2, 2)]) / (x[(3, 3)] + x[(4, 4)] + x[(5, 5)])).sqrt();
     let sdp = design_observer_sdp(plant, period, &opts).unwrap_or_else(|e| panic!("{name}: {e}"));
-    let bal = design_observer_sdp(&balanced(plant, tau), period, &opts)
+    let bal = design_observer_sdp(&scaled_plant(plant, tau).0, period, &opts)
         .unwrap_or_else(|e| panic!("{name}: {e}"));
     let certified = observer_certified_norm(plant, &g);
     let grid = observer_error_norm(plant, &g, &delta_grid(delta_bar, 11), at);

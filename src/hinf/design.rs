@@ -1459,8 +1459,10 @@ fn error_time_scale(plant: &HinfPlant, g: &Mat63) -> Option<f64> {
 
 /// The plant in the coordinates `e' = S e`, `S = diag(I3, tau I3)`: `S A S^-1`, `S B`,
 /// `C S^-1`, `L S^-1`, `S Ha`, `S Gamma` (`Ea` acts on the plant state, not on `e`, and is
-/// kept). Every transfer from `(w, v, d)` to `z_e` is unchanged.
-fn scaled_plant(plant: &HinfPlant, tau: f64) -> (HinfPlant, Mat6) {
+/// kept). Every transfer from `(w, v, d)` to `z_e` is unchanged, so is the optimal gamma.
+/// Returns the plant and `S^-1`. (Also used by the tests and `examples/hinf_profile.rs` to
+/// pose the observer SDP in balanced units.)
+pub fn scaled_plant(plant: &HinfPlant, tau: f64) -> (HinfPlant, Mat6) {
     let s = Mat6::from_diagonal(&crate::types::State::from_row_slice(&[
         1.0, 1.0, 1.0, tau, tau, tau,
     ]));
