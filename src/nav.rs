@@ -500,9 +500,15 @@ fn non_negative(name: &str, v: f64) -> Result<(), NavError> {
     }
 }
 
+/// The thrust `thrust` [N, I/O frame] as the canonical acceleration `F / m` [m/s^2].
+#[inline]
+fn canonical_accel(cfg: &NavConfig, thrust: &[f64; 3]) -> Vec3 {
+    cfg.frame.vec_to_canonical(&Vec3::from_row_slice(thrust)) / cfg.chaser_mass
+}
+
 #[inline]
 fn finite3(name: &str, v: &[f64; 3]) -> Result<(), NavError> {
-    if v.iter().fold(true, |ok, x| ok & x.is_finite()) {
+    if crate::numerics::all_finite(v) {
         Ok(())
     } else {
         Err(NavError::invalid(format!(
@@ -1354,8 +1360,10 @@ impl Navigator {
     /// range `>= 0`, elevation in `[-pi/2, pi/2]`).
     #[inline(always)]
     fn check_measurement(z: &[f64; 3]) -> Result<(), NavError> {
-        let finite = z.iter().fold(true, |ok, v| ok & v.is_finite());
-        if finite && z[0] >= 0.0 && z[2].abs() <= std::f64::consts::FRAC_PI_2 {
+        if crate::numerics::all_finite(z)
+            && z[0] >= 0.0
+            && z[2].abs() <= std::f64::consts::FRAC_PI_2
+        {
             Ok(())
         } else {
             Self::check_measurement_in_full(z)
@@ -1407,11 +1415,7 @@ impl Navigator {
 
     /// [`Navigator::predict`] once its inputs are checked.
     fn predict_checked(&mut self, thrust: &[f64; 3], dt: f64) -> Result<(), NavError> {
-        let accel = self
-            .cfg
-            .frame
-            .vec_to_canonical(&Vec3::from_row_slice(thrust))
-            / self.cfg.chaser_mass;
+        let accel = canonical_accel(&self.cfg, thrust);
         self.discrete(dt);
         // the cached model by reference (no copy of its ~100 numbers per step)
         self.filter
@@ -1461,11 +1465,7 @@ impl Navigator {
         // discrete model is a cache of `dt` alone
         self.discrete(dt);
         if let (AnyFilter::Ekf(f), Some(z)) = (&mut self.filter, measurement) {
-            let accel = self
-                .cfg
-                .frame
-                .vec_to_canonical(&Vec3::from_row_slice(thrust))
-                / self.cfg.chaser_mass;
+            let accel = canonical_accel(&self.cfg, thrust);
             let zv = Vec3::from_row_slice(z);
             let info = f.update_predict(&self.kalman_sensor, &zv, &self.step_cache, &accel)?;
             self.last_update = Some(info);
