@@ -3,6 +3,8 @@
 #
 #   bash scripts/fuzz.sh smoke            # each target for RELNAV_FUZZ_SMOKE_SECONDS (20) s
 #   bash scripts/fuzz.sh long RUNS        # each target for RUNS executions (10^7: hours)
+#   bash scripts/fuzz.sh build            # only build the targets (scripts/test.sh starts this
+#                                         # early, in the background, and runs `smoke` later)
 #
 # RELNAV_FUZZ_SANITIZER=none builds without AddressSanitizer (about three times the
 # executions per second; separate target dir fuzz/target-nosan) for long campaigns; the
@@ -39,6 +41,9 @@ if [ "$san" = none ]; then
     build_args+=(--target-dir fuzz/target-nosan)
 fi
 nice -n 10 cargo +nightly fuzz build "${build_args[@]}"
+if [ "$mode" = build ]; then
+    exit 0
+fi
 rc=0
 for t in "${TARGETS[@]}"; do
     mkdir -p "$scratch/$t" "fuzz/corpus/$t"

@@ -10,7 +10,8 @@
 #   * creates .venv at the repository root and installs scripts/requirements.txt into it
 #     (skipped when the venv already matches the requirements file).
 #   * installs cargo-fuzz with `cargo install` when nightly Rust is present and cargo-fuzz
-#     is not (for the fuzz smoke run; RELNAV_NO_FUZZ=1 skips it).
+#     is not (for the fuzz smoke run; RELNAV_NO_FUZZ=1 skips it), in the background while
+#     the venv's packages download and install.
 #   * builds the Python package relnav (python/, PyO3) as a wheel with maturin (release,
 #     in the shared target/; a no-op for cargo when nothing changed) into target/wheels/
 #     and installs it into .venv (RELNAV_SKIP_PYTHON_PACKAGE=1 skips this step).
@@ -100,10 +101,25 @@ if [ "${RELNAV_NO_FUZZ:-0}" != 1 ] && command -v cargo >/dev/null 2>&1 \
     && rustup toolchain list 2>/dev/null | grep -q '^nightly' \
     && cargo +nightly --version >/dev/null 2>&1 \
     && ! cargo +nightly fuzz --version >/dev/null 2>&1; then
-    log "installing cargo-fuzz (nightly Rust is present)"
-    cargo install --locked -q -j "${RELNAV_JOBS:-2}" cargo-fuzz </dev/null \
-        || log "warning: cargo-fuzz did not install: the fuzz smoke run will be skipped"
+    # in the background, beside the Python packages' download and install (network-bound);
+    # waited for before the Python package's build below
+    log "installing cargo-fuzz (nightly Rust is present), in the background"
+    FUZZ_LOG="$(mktemp)"
+    cargo install --locked -q -j "${RELNAV_JOBS:-2}" cargo-fuzz >"$FUZZ_LOG" 2>&1 </dev/null &
+    FUZZ_PID=$!
 fi
+wait_cargo_fuzz() {
+    if [ -n "${FUZZ_PID:-}" ]; then
+        if wait "$FUZZ_PID"; then
+            log "cargo-fuzz installed"
+        else
+            cat "$FUZZ_LOG"
+            log "warning: cargo-fuzz did not install: the fuzz smoke run will be skipped"
+        fi
+        rm -f "$FUZZ_LOG"
+        FUZZ_PID=""
+    fi
+}
 
 # ---------------------------------------------------------------- Python venv
 if [ -x "$VENV/bin/python" ] && ! "$VENV/bin/python" -c 'import sys' >/dev/null 2>&1; then
@@ -126,6 +142,8 @@ else
     echo "$want" >"$STAMP"
     log "venv ready ($("$VENV/bin/python" -c 'import fmpy, numpy; print("fmpy", fmpy.__version__, "numpy", numpy.__version__)'))"
 fi
+
+wait_cargo_fuzz
 
 # ---------------------------------------------------------------- Python package relnav
 # maturin (from PyPI, in the venv) drives cargo on python/Cargo.toml, a member of the

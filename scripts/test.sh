@@ -9,6 +9,11 @@
 #   -> C++ harness under ASan+UBSan (second build dir) -> fuzz smoke run (scripts/fuzz.sh
 #   smoke, 20 s per target, only when nightly Rust and cargo-fuzz are installed)
 #
+# The fuzz targets' build (cargo-fuzz: one codegen unit, AddressSanitizer, its own target
+# dir; the longest single build of the run) starts in the background, at nice 10, right
+# after the release build, so that it uses the core that pytest and the valgrind runs of the
+# C++ harness (single-threaded) leave idle; the fuzz smoke stage waits for it.
+#
 # Every stage is run and reported; a stage that later ones need (setup, release build,
 # FMU) stops the run when it fails. Exits non-zero if any stage failed; the last line is
 # the summary ("stages: N passed, N failed"). Non-interactive: works with CI=true and no
@@ -98,12 +103,49 @@ run_cpp_harness_sanitized() {
             ctest --test-dir cpp-harness/build-asan --output-on-failure
 }
 
+have_fuzz() {
+    rustup toolchain list 2>/dev/null | grep -q '^nightly' \
+        && cargo +nightly --version >/dev/null 2>&1 \
+        && cargo +nightly fuzz --version >/dev/null 2>&1
+}
+
+# The fuzz targets' build in the background (see the header); its output goes to a log that
+# the fuzz smoke stage prints.
+FUZZ_BUILD_PID=""
+FUZZ_BUILD_LOG=""
+start_fuzz_build() {
+    if have_fuzz; then
+        FUZZ_BUILD_LOG="$(mktemp)"
+        # its own process group (setsid), so that an early exit stops cargo and rustc too
+        setsid bash scripts/fuzz.sh build >"$FUZZ_BUILD_LOG" 2>&1 </dev/null &
+        FUZZ_BUILD_PID=$!
+        echo "fuzz targets: building in the background (pid $FUZZ_BUILD_PID, nice 10)"
+    fi
+}
+stop_fuzz_build() {
+    if [ -n "$FUZZ_BUILD_PID" ]; then
+        kill -- "-$FUZZ_BUILD_PID" 2>/dev/null || kill "$FUZZ_BUILD_PID" 2>/dev/null || true
+    fi
+    if [ -n "$FUZZ_BUILD_LOG" ]; then
+        rm -f "$FUZZ_BUILD_LOG"
+    fi
+}
+trap stop_fuzz_build EXIT
+
 # A short run of each cargo-fuzz target (fuzz/README.md), only when nightly Rust and
 # cargo-fuzz are installed (scripts/setup.sh installs cargo-fuzz when nightly exists).
 run_fuzz_smoke() {
-    if rustup toolchain list 2>/dev/null | grep -q '^nightly' \
-        && cargo +nightly --version >/dev/null 2>&1 \
-        && cargo +nightly fuzz --version >/dev/null 2>&1; then
+    if [ -n "$FUZZ_BUILD_PID" ]; then
+        local rc=0 t0=$SECONDS
+        wait "$FUZZ_BUILD_PID" || rc=$?
+        FUZZ_BUILD_PID=""
+        echo "fuzz targets' background build: exit $rc (waited $((SECONDS - t0)) s for it)"
+        tail -n 40 "$FUZZ_BUILD_LOG"
+        if [ "$rc" -ne 0 ]; then
+            return "$rc"
+        fi
+    fi
+    if have_fuzz; then
         bash scripts/fuzz.sh smoke
     else
         echo "fuzz smoke run SKIPPED: nightly Rust (rustup toolchain 'nightly') or cargo-fuzz is not installed"
@@ -116,6 +158,7 @@ stage "cargo clippy" optional cargo clippy --workspace --all-targets -j"$JOBS" -
 stage "cargo test" optional cargo test --all-targets -j"$JOBS"
 stage "cargo test --doc" optional cargo test --doc -j"$JOBS"
 stage "cargo build --release" required cargo build --release -j"$JOBS"
+start_fuzz_build
 stage "build FMUs" required bash fmu/build.sh -j"$JOBS"
 stage "pytest tests/python" optional run_pytest
 stage "C++ harness" optional run_cpp_harness
