@@ -169,6 +169,51 @@ typedef enum relnav_adaptation {
   RELNAV_ADAPTATION_GATED = 2,
 } relnav_adaptation;
 
+// Which H-infinity design `relnav_hinf_design` solves.
+typedef enum relnav_hinf_form {
+  // Observer (error-dynamics) form for the open-loop CW plant, the known thrust as
+  // feed-forward (the form filter code 9 runs).
+  RELNAV_HINF_OBSERVER = 1,
+  // Paper 002's Theorem 1 / Corollary 1 on its closed loop `u = K x` (its `K` and
+  // 1000 kg chaser; Euler `A = I + T (A1 + G0 K)`).
+  RELNAV_HINF_PAPER = 2,
+  // Mixed H2/H-infinity observer for the open-loop CW plant (the default of filter code
+  // 9): first the gamma-optimal observer, then the least H2 norm under `gamma <=
+  // gamma_factor * gamma_opt`.
+  RELNAV_HINF_MIXED = 3,
+} relnav_hinf_form;
+
+// Which computation designed an H-infinity filter (`relnav_hinf_design_info`).
+typedef enum relnav_hinf_route {
+  // Not an H-infinity estimator (filter code other than 9).
+  RELNAV_HINF_ROUTE_NONE = 0,
+  // Bisection on the H-infinity filtering Riccati equation, certified on the observer
+  // LMI (the gamma-optimal observer; no interior-point solver).
+  RELNAV_HINF_ROUTE_RICCATI = 1,
+  // The SDP (Clarabel) with the filter matrices eliminated: the mixed design, and the
+  // gamma-optimal observer's fallback when the Riccati route fails.
+  RELNAV_HINF_ROUTE_SDP = 2,
+  // The SDP posed literally (not used by filter 9).
+  RELNAV_HINF_ROUTE_SDP_LITERAL = 3,
+} relnav_hinf_route;
+
+// Why the gamma-optimal observer's Riccati route was not taken
+// (`relnav_hinf_design_info::riccati_failure`).
+typedef enum relnav_hinf_riccati_failure {
+  // The route was taken (or the estimator is not an H-infinity filter).
+  RELNAV_HINF_RICCATI_OK = 0,
+  // `D D^T` is singular (a noise-free measurement axis): the Riccati equation needs its
+  // inverse.
+  RELNAV_HINF_RICCATI_SINGULAR_MEASUREMENT_NOISE = 1,
+  // The Kalman Riccati equation has no stabilising solution (no lower end for the
+  // bisection).
+  RELNAV_HINF_RICCATI_NO_KALMAN_SOLUTION = 2,
+  // No gamma in the bisection's bracket admits a stabilising solution.
+  RELNAV_HINF_RICCATI_NO_FEASIBLE_GAMMA = 3,
+  // The constructed observer failed the literal LMI check.
+  RELNAV_HINF_RICCATI_CERTIFICATION_FAILED = 4,
+} relnav_hinf_riccati_failure;
+
 // Opaque estimator handle.
 typedef struct relnav_estimator relnav_estimator;
 
@@ -295,6 +340,25 @@ typedef struct relnav_config {
   // do not depend on it.
   int32_t pf_threads;
 } relnav_config;
+
+// How the H-infinity filter of an estimator (filter code 9) was designed
+// (`relnav_estimator_get_hinf_design`).
+typedef struct relnav_hinf_design_info {
+  // A `relnav_hinf_route` code: the route that designed the filter that runs
+  // (`RELNAV_HINF_ROUTE_NONE` for the other filters).
+  int32_t route;
+  // A `relnav_hinf_route` code: the route of the gamma-optimal observer (for the mixed
+  // design, its first stage; the same as `route` for the gamma-optimal design).
+  int32_t observer_route;
+  // A `relnav_hinf_riccati_failure` code for the gamma-optimal observer's Riccati route.
+  int32_t riccati_failure;
+  // Trials of the Riccati bisection (0 when the route was not taken).
+  int32_t riccati_steps;
+  // Interior-point (Clarabel) iterations, both stages of the mixed design together.
+  int32_t iterations;
+  // Wall time of the design [s] (NaN for the other filters).
+  double solve_time;
+} relnav_hinf_design_info;
 
 // Inputs of an H-infinity design (canonical frame = paper 002's, SI units).
 typedef struct relnav_hinf_spec {
@@ -570,6 +634,17 @@ enum relnav_status relnav_estimator_get_hinf_certified(const struct relnav_estim
 // `estimator` is a live handle or null; `out` is null or 3 writable doubles.
 enum relnav_status relnav_estimator_get_mode_probabilities(const struct relnav_estimator *estimator,
                                                            double *out);
+
+// How the H-infinity filter of an estimator created with filter 9 was designed: the
+// route (Riccati bisection or SDP), the gamma-optimal stage's route and why its Riccati
+// route was not taken if it was not, the bisection's trials, Clarabel's iterations and
+// the design time. Every other filter gets `RELNAV_HINF_ROUTE_NONE`, zero counts and a NaN
+// time (status `RELNAV_OK`).
+//
+// # Safety
+// `estimator` is a live handle or null; `out` is null or writable.
+enum relnav_status relnav_estimator_get_hinf_design(const struct relnav_estimator *estimator,
+                                                    struct relnav_hinf_design_info *out);
 
 // Design an H-infinity filter (LMI solved with Clarabel; see `relnav::hinf`). On
 // success `*out` holds the matrices and the report; an infeasible request returns

@@ -1206,10 +1206,16 @@ fn build_filter(cfg: &NavConfig) -> Result<AnyFilter, NavError> {
             use crate::hinf::design::{design_open_loop, design_open_loop_mixed, DesignOptions};
             let spec = cfg.hinf_spec()?;
             let opts = DesignOptions::default();
-            let d = match cfg.hinf_design {
-                HinfDesignKind::GammaOptimal => design_open_loop(&spec, &opts),
+            let (d, info) = match cfg.hinf_design {
+                HinfDesignKind::GammaOptimal => design_open_loop(&spec, &opts).map(|d| {
+                    let info = d.info();
+                    (d, info)
+                }),
                 HinfDesignKind::Mixed => {
-                    design_open_loop_mixed(&spec, cfg.hinf_gamma_factor, &opts).map(|m| m.mixed)
+                    design_open_loop_mixed(&spec, cfg.hinf_gamma_factor, &opts).map(|m| {
+                        let info = m.info();
+                        (m.mixed, info)
+                    })
                 }
             }
             .map_err(|e| NavError {
@@ -1219,7 +1225,8 @@ fn build_filter(cfg: &NavConfig) -> Result<AnyFilter, NavError> {
             let invalid = |e: crate::hinf::HinfError| NavError::invalid(format!("hinf: {e}"));
             let mut f = HinfEstimator::new(d.matrices, d.gamma, x0)
                 .map_err(invalid)?
-                .with_h2_norm(d.h2_norm);
+                .with_h2_norm(d.h2_norm)
+                .with_design_info(info);
             if cfg.hinf_acquisition {
                 let plant = crate::hinf::HinfPlant::open_loop(&spec);
                 f = f.with_acquisition(&plant, p0).map_err(invalid)?;
@@ -1598,6 +1605,15 @@ impl Navigator {
     pub fn hinf_gamma(&self) -> Option<f64> {
         match &self.filter {
             AnyFilter::Hinf(f) => Some(f.gamma()),
+            _ => None,
+        }
+    }
+
+    /// How the H-infinity filter was designed (filter code 9; route, Riccati record,
+    /// iterations: [`crate::hinf::HinfDesignInfo`]), `None` otherwise.
+    pub fn hinf_design_info(&self) -> Option<crate::hinf::HinfDesignInfo> {
+        match &self.filter {
+            AnyFilter::Hinf(f) => f.design_info().copied(),
             _ => None,
         }
     }

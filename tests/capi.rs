@@ -574,6 +574,63 @@ fn hinf_design_and_estimator() {
 /// request filter 9 makes (derived noise matrices), `relnav_hinf_design` with it returns
 /// the gamma and H2 norm the estimator reports; unknown codes and bad factors are refused.
 #[cfg(feature = "hinf")]
+/// `relnav_estimator_get_hinf_design`: the mixed design (filter 9's default) runs the SDP
+/// from a gamma-optimal stage designed by the Riccati route; the gamma-optimal design is
+/// the Riccati route alone (no interior-point iteration); other filters report no route.
+#[test]
+fn hinf_design_route_is_reported() {
+    let info = |c: &relnav_config| {
+        let mut est = std::ptr::null_mut();
+        let mut i = relnav_hinf_design_info {
+            route: -1,
+            observer_route: -1,
+            riccati_failure: -1,
+            riccati_steps: -1,
+            iterations: -1,
+            solve_time: -1.0,
+        };
+        // SAFETY: valid pointers; the handle is freed after use.
+        unsafe {
+            assert_eq!(relnav_estimator_new(c, &mut est), OK, "{}", last_error());
+            assert_eq!(relnav_estimator_get_hinf_design(est, &mut i), OK);
+            assert_eq!(
+                relnav_estimator_get_hinf_design(est, std::ptr::null_mut()),
+                relnav_status::RELNAV_ERROR_NULL_POINTER
+            );
+            relnav_estimator_free(est);
+        }
+        i
+    };
+    let riccati = relnav_hinf_route::RELNAV_HINF_ROUTE_RICCATI as i32;
+    let ok = relnav_hinf_riccati_failure::RELNAV_HINF_RICCATI_OK as i32;
+    let base = relnav_config_default();
+    let mixed = info(&relnav_config {
+        filter: relnav_filter::RELNAV_FILTER_HINF as i32,
+        ..base
+    });
+    assert_eq!(mixed.route, relnav_hinf_route::RELNAV_HINF_ROUTE_SDP as i32);
+    assert_eq!((mixed.observer_route, mixed.riccati_failure), (riccati, ok));
+    assert!(mixed.riccati_steps > 0 && mixed.iterations > 0, "{mixed:?}");
+    assert!(mixed.solve_time > 0.0 && mixed.solve_time.is_finite());
+    let optimal = info(&relnav_config {
+        filter: relnav_filter::RELNAV_FILTER_HINF as i32,
+        hinf_design: 1,
+        ..base
+    });
+    assert_eq!((optimal.route, optimal.observer_route), (riccati, riccati));
+    assert_eq!((optimal.riccati_failure, optimal.iterations), (ok, 0));
+    assert!(optimal.riccati_steps > 0, "{optimal:?}");
+    let ekf = info(&base);
+    assert_eq!(ekf.route, relnav_hinf_route::RELNAV_HINF_ROUTE_NONE as i32);
+    assert_eq!((ekf.riccati_steps, ekf.iterations), (0, 0));
+    assert!(ekf.solve_time.is_nan());
+    // SAFETY: a null handle is reported, not dereferenced.
+    let st = unsafe {
+        relnav_estimator_get_hinf_design(std::ptr::null(), &mut relnav_hinf_design_info { ..ekf })
+    };
+    assert_eq!(st, relnav_status::RELNAV_ERROR_NULL_POINTER);
+}
+
 #[test]
 fn hinf_mixed_design_matches_the_estimator() {
     let c = relnav_config {

@@ -565,6 +565,32 @@ void check_success_paths() {
     }
 }
 
+// relnav_estimator_get_hinf_design: the route record of filter 9's design, a null-safe
+// getter, and "no route" for the other filters.
+void check_hinf_design_record() {
+    std::printf("=== H-infinity design record ===\n");
+    relnav_config c = relnav_config_default();
+    c.filter = RELNAV_FILTER_HINF;
+    c.hinf_design = RELNAV_HINF_OBSERVER;  // the gamma-optimal observer: the Riccati route
+    relnav_estimator* e = nullptr;
+    CHECK(relnav_estimator_new(&c, &e) == RELNAV_OK);
+    if (!e) return;
+    relnav_hinf_design_info info{};
+    CHECK(relnav_estimator_get_hinf_design(e, &info) == RELNAV_OK);
+    CHECK(info.route == RELNAV_HINF_ROUTE_RICCATI && info.observer_route == RELNAV_HINF_ROUTE_RICCATI);
+    CHECK(info.riccati_failure == RELNAV_HINF_RICCATI_OK && info.riccati_steps > 0 && info.iterations == 0);
+    CHECK(std::isfinite(info.solve_time) && info.solve_time > 0.0);
+    CHECK(relnav_estimator_get_hinf_design(e, nullptr) == RELNAV_ERROR_NULL_POINTER);
+    CHECK(relnav_estimator_get_hinf_design(nullptr, &info) == RELNAV_ERROR_NULL_POINTER);
+    relnav_estimator_free(e);
+    c = relnav_config_default();  // the EKF: no design
+    CHECK(relnav_estimator_new(&c, &e) == RELNAV_OK);
+    if (!e) return;
+    CHECK(relnav_estimator_get_hinf_design(e, &info) == RELNAV_OK);
+    CHECK(info.route == RELNAV_HINF_ROUTE_NONE && info.iterations == 0 && std::isnan(info.solve_time));
+    relnav_estimator_free(e);
+}
+
 }  // namespace
 
 int main() {
@@ -593,6 +619,7 @@ int main() {
     check_singular_geometry();
     check_success_paths();
     check_overflowing_initial_covariance();
+    check_hinf_design_record();
     std::printf("%d cases\n", g_cases);
     return finish("capi_errors");
 }

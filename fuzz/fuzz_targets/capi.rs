@@ -274,6 +274,25 @@ fn observe(est: *mut relnav_estimator) -> ([f64; 6], [f64; 36]) {
             relnav_estimator_get_hinf_gamma(est, &mut g),
             "get_hinf_gamma",
         );
+        let mut info = relnav_hinf_design_info {
+            route: -1,
+            observer_route: -1,
+            riccati_failure: -1,
+            riccati_steps: -1,
+            iterations: -1,
+            solve_time: f64::NAN,
+        };
+        check(
+            relnav_estimator_get_hinf_design(est, &mut info),
+            "get_hinf_design",
+        );
+        // no design record, no gamma; a design record has a design time
+        let none = info.route == relnav_hinf_route::RELNAV_HINF_ROUTE_NONE as i32;
+        assert!(!none || g.is_nan(), "no design route but gamma {g}");
+        assert!(
+            none || (info.solve_time.is_finite() && info.riccati_steps >= 0),
+            "design record {info:?}"
+        );
     }
     (x, p)
 }

@@ -445,3 +445,34 @@ pub unsafe extern "C" fn relnav_estimator_get_mode_probabilities(
         unsafe { write_array(out, &mu, "out", F) }
     })
 }
+
+/// How the H-infinity filter of an estimator created with filter 9 was designed: the
+/// route (Riccati bisection or SDP), the gamma-optimal stage's route and why its Riccati
+/// route was not taken if it was not, the bisection's trials, Clarabel's iterations and
+/// the design time. Every other filter gets `RELNAV_HINF_ROUTE_NONE`, zero counts and a NaN
+/// time (status `RELNAV_OK`).
+///
+/// # Safety
+/// `estimator` is a live handle or null; `out` is null or writable.
+#[no_mangle]
+pub unsafe extern "C" fn relnav_estimator_get_hinf_design(
+    estimator: *const relnav_estimator,
+    out: *mut super::hinf::relnav_hinf_design_info,
+) -> relnav_status {
+    const F: &str = "relnav_estimator_get_hinf_design";
+    boundary(F, || {
+        // SAFETY: pointer contracts are the caller's, checked for null.
+        let nav = unsafe { estimator_ref(estimator, F) }?;
+        // SAFETY: as above.
+        let o = unsafe { out.as_mut() }.ok_or_else(|| null("out", F))?;
+        *o = design_info_of(nav);
+        Ok(())
+    })
+}
+
+fn design_info_of(nav: &Navigator) -> super::hinf::relnav_hinf_design_info {
+    nav.hinf_design_info()
+        .map_or(super::hinf::relnav_hinf_design_info::NONE, |i| {
+            super::hinf::relnav_hinf_design_info::of(&i)
+        })
+}

@@ -395,3 +395,102 @@ pub unsafe extern "C" fn relnav_hinf_filter_free(filter: *mut relnav_hinf_filter
         }));
     }
 }
+
+/// Which computation designed an H-infinity filter (`relnav_hinf_design_info`).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum relnav_hinf_route {
+    /// Not an H-infinity estimator (filter code other than 9).
+    RELNAV_HINF_ROUTE_NONE = 0,
+    /// Bisection on the H-infinity filtering Riccati equation, certified on the observer
+    /// LMI (the gamma-optimal observer; no interior-point solver).
+    RELNAV_HINF_ROUTE_RICCATI = 1,
+    /// The SDP (Clarabel) with the filter matrices eliminated: the mixed design, and the
+    /// gamma-optimal observer's fallback when the Riccati route fails.
+    RELNAV_HINF_ROUTE_SDP = 2,
+    /// The SDP posed literally (not used by filter 9).
+    RELNAV_HINF_ROUTE_SDP_LITERAL = 3,
+}
+
+/// Why the gamma-optimal observer's Riccati route was not taken
+/// (`relnav_hinf_design_info::riccati_failure`).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum relnav_hinf_riccati_failure {
+    /// The route was taken (or the estimator is not an H-infinity filter).
+    RELNAV_HINF_RICCATI_OK = 0,
+    /// `D D^T` is singular (a noise-free measurement axis): the Riccati equation needs its
+    /// inverse.
+    RELNAV_HINF_RICCATI_SINGULAR_MEASUREMENT_NOISE = 1,
+    /// The Kalman Riccati equation has no stabilising solution (no lower end for the
+    /// bisection).
+    RELNAV_HINF_RICCATI_NO_KALMAN_SOLUTION = 2,
+    /// No gamma in the bisection's bracket admits a stabilising solution.
+    RELNAV_HINF_RICCATI_NO_FEASIBLE_GAMMA = 3,
+    /// The constructed observer failed the literal LMI check.
+    RELNAV_HINF_RICCATI_CERTIFICATION_FAILED = 4,
+}
+
+/// How the H-infinity filter of an estimator (filter code 9) was designed
+/// (`relnav_estimator_get_hinf_design`).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct relnav_hinf_design_info {
+    /// A `relnav_hinf_route` code: the route that designed the filter that runs
+    /// (`RELNAV_HINF_ROUTE_NONE` for the other filters).
+    pub route: i32,
+    /// A `relnav_hinf_route` code: the route of the gamma-optimal observer (for the mixed
+    /// design, its first stage; the same as `route` for the gamma-optimal design).
+    pub observer_route: i32,
+    /// A `relnav_hinf_riccati_failure` code for the gamma-optimal observer's Riccati route.
+    pub riccati_failure: i32,
+    /// Trials of the Riccati bisection (0 when the route was not taken).
+    pub riccati_steps: i32,
+    /// Interior-point (Clarabel) iterations, both stages of the mixed design together.
+    pub iterations: i32,
+    /// Wall time of the design [s] (NaN for the other filters).
+    pub solve_time: f64,
+}
+
+impl relnav_hinf_design_info {
+    /// The record of a filter that is not an H-infinity filter.
+    pub(super) const NONE: Self = Self {
+        route: relnav_hinf_route::RELNAV_HINF_ROUTE_NONE as i32,
+        observer_route: relnav_hinf_route::RELNAV_HINF_ROUTE_NONE as i32,
+        riccati_failure: relnav_hinf_riccati_failure::RELNAV_HINF_RICCATI_OK as i32,
+        riccati_steps: 0,
+        iterations: 0,
+        solve_time: f64::NAN,
+    };
+
+    /// The C record of a design record.
+    pub(super) fn of(info: &crate::hinf::HinfDesignInfo) -> Self {
+        use crate::hinf::riccati::RiccatiFailure;
+        use crate::hinf::DesignRoute;
+        let route = |r: DesignRoute| match r {
+            DesignRoute::Riccati => relnav_hinf_route::RELNAV_HINF_ROUTE_RICCATI,
+            DesignRoute::Sdp => relnav_hinf_route::RELNAV_HINF_ROUTE_SDP,
+            DesignRoute::SdpLiteral => relnav_hinf_route::RELNAV_HINF_ROUTE_SDP_LITERAL,
+        } as i32;
+        use relnav_hinf_riccati_failure as F;
+        let failure = match info.riccati_failure {
+            None => F::RELNAV_HINF_RICCATI_OK,
+            Some(RiccatiFailure::SingularMeasurementNoise) => {
+                F::RELNAV_HINF_RICCATI_SINGULAR_MEASUREMENT_NOISE
+            }
+            Some(RiccatiFailure::NoKalmanSolution) => F::RELNAV_HINF_RICCATI_NO_KALMAN_SOLUTION,
+            Some(RiccatiFailure::NoFeasibleGamma) => F::RELNAV_HINF_RICCATI_NO_FEASIBLE_GAMMA,
+            Some(RiccatiFailure::CertificationFailed) => {
+                F::RELNAV_HINF_RICCATI_CERTIFICATION_FAILED
+            }
+        } as i32;
+        Self {
+            route: route(info.route),
+            observer_route: route(info.observer_route),
+            riccati_failure: failure,
+            riccati_steps: i32::try_from(info.riccati_steps).unwrap_or(i32::MAX),
+            iterations: i32::try_from(info.iterations).unwrap_or(i32::MAX),
+            solve_time: info.solve_time,
+        }
+    }
+}

@@ -296,6 +296,23 @@ impl RelnavFmu {
         Ok(())
     }
 
+    /// How the H-infinity filter was designed, in words for the initialisation log (the
+    /// route of the filter that runs, the gamma-optimal stage's for the mixed design, and
+    /// why the Riccati route fell back to the SDP when it did).
+    fn hinf_design_words(&self) -> Result<String, String> {
+        let mut info = ffi::relnav_hinf_design_info {
+            route: 0,
+            observer_route: 0,
+            riccati_failure: 0,
+            riccati_steps: 0,
+            iterations: 0,
+            solve_time: f64::NAN,
+        };
+        // SAFETY: `estimator` is live (created at exit-init); `info` is a writable local.
+        status_of(unsafe { ffi::relnav_estimator_get_hinf_design(self.estimator, &mut info) })?;
+        Ok(hinf_design_words(&info))
+    }
+
     /// The C ABI's saved state of the estimator, if it exists.
     fn estimator_state(&self) -> Result<Option<Vec<u8>>, String> {
         let est = self.estimator;
@@ -441,7 +458,7 @@ impl Model for RelnavFmu {
                 values[vr::HINF_GAMMA as usize],
                 values[vr::HINF_H2_NORM as usize],
                 if cfg.hinf_acquisition != 0 { "on" } else { "off" }
-            )
+            ) + &self.hinf_design_words()?
         } else {
             String::new()
         };
@@ -505,6 +522,57 @@ impl Model for RelnavFmu {
     }
 }
 
+/// `relnav_hinf_design_info` in words: ", designed by <route> (...)" for the log.
+fn hinf_design_words(info: &ffi::relnav_hinf_design_info) -> String {
+    use ffi::relnav_hinf_riccati_failure as F;
+    use ffi::relnav_hinf_route as R;
+    let route = |code: i32| {
+        if code == R::RELNAV_HINF_ROUTE_RICCATI as i32 {
+            format!("Riccati bisection ({} trials)", info.riccati_steps)
+        } else if code == R::RELNAV_HINF_ROUTE_SDP as i32 {
+            "SDP (Clarabel)".to_string()
+        } else if code == R::RELNAV_HINF_ROUTE_SDP_LITERAL as i32 {
+            "literal SDP (Clarabel)".to_string()
+        } else {
+            format!("route {code}")
+        }
+    };
+    let mut w = if info.route == info.observer_route {
+        format!(", designed by {}", route(info.route))
+    } else {
+        format!(
+            ", designed by {} from the gamma-optimal observer by {}",
+            route(info.route),
+            route(info.observer_route)
+        )
+    };
+    let why = match info.riccati_failure {
+        x if x == F::RELNAV_HINF_RICCATI_OK as i32 => None,
+        x if x == F::RELNAV_HINF_RICCATI_SINGULAR_MEASUREMENT_NOISE as i32 => {
+            Some("D D^T is singular (a noise-free measurement axis)")
+        }
+        x if x == F::RELNAV_HINF_RICCATI_NO_KALMAN_SOLUTION as i32 => {
+            Some("the Kalman Riccati equation has no stabilising solution")
+        }
+        x if x == F::RELNAV_HINF_RICCATI_NO_FEASIBLE_GAMMA as i32 => {
+            Some("no gamma in the bracket admits a stabilising solution")
+        }
+        x if x == F::RELNAV_HINF_RICCATI_CERTIFICATION_FAILED as i32 => {
+            Some("the constructed observer failed the literal LMI check")
+        }
+        _ => Some("unknown reason"),
+    };
+    if let Some(why) = why {
+        w += &format!(" (the Riccati route fell back to the SDP: {why})");
+    }
+    w += &format!(
+        ", {} interior-point iterations, {:.1} ms",
+        info.iterations,
+        info.solve_time * 1e3
+    );
+    w
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -561,6 +629,49 @@ mod tests {
         assert_eq!(hinf, Some(true));
         let hinf = lookup(vr::HINF_PERIOD).map(|d| RelnavFmu::check_alone(d, 5.1e8).is_err());
         assert_eq!(hinf, Some(true));
+    }
+
+    /// The initialisation message of filter 9 names the design route (issue 15): the
+    /// gamma-optimal design by the Riccati bisection, the mixed design by the SDP from a
+    /// Riccati stage.
+    #[test]
+    fn initialisation_log_names_the_hinf_design_route() {
+        use super::super::instance::start_values;
+        for (design, want) in [
+            (1.0, ", designed by Riccati bisection ("),
+            (
+                3.0,
+                ", designed by SDP (Clarabel) from the gamma-optimal observer by Riccati bisection (",
+            ),
+        ] {
+            let mut values = start_values(VARIABLES);
+            values[vr::FILTER as usize] = 9.0;
+            values[vr::HINF_DESIGN as usize] = design;
+            let mut m = RelnavFmu::new();
+            let msg = m.initialize(&mut values, 0.0).unwrap_or_else(|e| e);
+            assert!(msg.contains(want), "{msg}");
+            assert!(!msg.contains("fell back"), "{msg}");
+        }
+    }
+
+    /// The words for a fallback name the reason.
+    #[test]
+    fn fallback_reason_in_words() {
+        use ffi::relnav_hinf_riccati_failure as F;
+        use ffi::relnav_hinf_route as R;
+        let w = hinf_design_words(&ffi::relnav_hinf_design_info {
+            route: R::RELNAV_HINF_ROUTE_SDP as i32,
+            observer_route: R::RELNAV_HINF_ROUTE_SDP as i32,
+            riccati_failure: F::RELNAV_HINF_RICCATI_SINGULAR_MEASUREMENT_NOISE as i32,
+            riccati_steps: 0,
+            iterations: 17,
+            solve_time: 0.0123,
+        });
+        assert_eq!(
+            w,
+            ", designed by SDP (Clarabel) (the Riccati route fell back to the SDP: D D^T is \
+             singular (a noise-free measurement axis)), 17 interior-point iterations, 12.3 ms"
+        );
     }
 
     /// Every start value passes the early check (nothing valid is refused early).

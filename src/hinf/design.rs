@@ -248,7 +248,8 @@
 
 use super::riccati::RiccatiFailure;
 use super::verify::{lmi_mixed, lmi_observer, lmi_paper};
-use super::{HinfError, HinfErrorKind, HinfMatrices, HinfPlant, HinfSpec};
+pub use super::DesignRoute;
+use super::{HinfDesignInfo, HinfError, HinfErrorKind, HinfMatrices, HinfPlant, HinfSpec};
 use crate::types::{Mat6, Mat63};
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{DefaultSettings, DefaultSolver, IPSolver, SolverStatus, SupportedConeT};
@@ -310,17 +311,35 @@ pub struct HinfDesign {
     pub riccati_steps: u32,
 }
 
-/// Which computation designed a filter.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum DesignRoute {
-    /// Bisection on the H-infinity filtering Riccati equation ([`crate::hinf::riccati`];
-    /// gamma-optimal observer only). `iterations` is 0 (no interior-point solver).
-    Riccati,
-    /// The SDP with the filter matrices eliminated ([`design_paper`],
-    /// [`design_observer_sdp`], the mixed design).
-    Sdp,
-    /// The SDP posed literally ([`design_paper_full`], [`design_observer_full`]).
-    SdpLiteral,
+impl HinfDesign {
+    /// The record of this design for [`super::HinfEstimator::with_design_info`] (a
+    /// gamma-optimal design: it is its own observer stage).
+    pub fn info(&self) -> HinfDesignInfo {
+        HinfDesignInfo {
+            route: self.route,
+            observer_route: self.route,
+            riccati_failure: self.riccati_failure,
+            riccati_steps: self.riccati_steps,
+            iterations: self.iterations,
+            solve_time: self.solve_time,
+        }
+    }
+}
+
+impl MixedDesign {
+    /// The record of the mixed design: the route of the filter that runs (the mixed
+    /// SDP), its gamma-optimal stage's route and Riccati record, both stages' iterations
+    /// and time.
+    pub fn info(&self) -> HinfDesignInfo {
+        HinfDesignInfo {
+            route: self.mixed.route,
+            observer_route: self.pure.route,
+            riccati_failure: self.pure.riccati_failure,
+            riccati_steps: self.pure.riccati_steps,
+            iterations: self.pure.iterations + self.mixed.iterations,
+            solve_time: self.pure.solve_time + self.mixed.solve_time,
+        }
+    }
 }
 
 /// A symmetric affine matrix function `M(x) = M0 + sum x_i M_i` on a block structure.

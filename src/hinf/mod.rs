@@ -42,6 +42,42 @@ pub mod design;
 pub mod riccati;
 pub mod verify;
 
+/// Which computation designed a filter.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DesignRoute {
+    /// Bisection on the H-infinity filtering Riccati equation ([`crate::hinf::riccati`];
+    /// gamma-optimal observer only). `iterations` is 0 (no interior-point solver).
+    Riccati,
+    /// The SDP with the filter matrices eliminated (`design::design_paper`,
+    /// `design::design_observer_sdp`, the mixed design).
+    Sdp,
+    /// The SDP posed literally (`design::design_paper_full`, `design::design_observer_full`).
+    SdpLiteral,
+}
+
+/// How an H-infinity filter's matrices were designed: the record
+/// [`HinfEstimator::design_info`] keeps from the design (`design::HinfDesign`), for
+/// reports and logs. It describes the construction, not the running filter: it is not part
+/// of the saved state (a restored estimator was built from the same configuration, and the
+/// design is deterministic).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HinfDesignInfo {
+    /// The route that designed the filter that runs.
+    pub route: DesignRoute,
+    /// The route of the gamma-optimal observer: the same as `route` for the gamma-optimal
+    /// design; for the mixed design, that of its first stage (the bound's reference).
+    pub observer_route: DesignRoute,
+    /// Why the gamma-optimal observer's Riccati route was not taken (its SDP fallback ran);
+    /// `None` when it was taken.
+    pub riccati_failure: Option<riccati::RiccatiFailure>,
+    /// Trials of the Riccati bisection (0 when the route was not taken).
+    pub riccati_steps: u32,
+    /// Interior-point (Clarabel) iterations, both stages of the mixed design together.
+    pub iterations: u32,
+    /// Wall time of the design [s], both stages together.
+    pub solve_time: f64,
+}
+
 /// Dimensions: state `n = 6`, measurement `m = 3`, process noise `p = 6`, measurement
 /// noise `q = 3`, estimated signal `l = 6`, uncertainty channel `h = 6`.
 pub const N: usize = 6;
@@ -632,6 +668,7 @@ pub struct HinfEstimator {
     h2_norm: f64,
     acquisition: Option<HinfAcquisition>,
     nan: Mat6,
+    design: Option<HinfDesignInfo>,
 }
 
 impl HinfEstimator {
@@ -644,6 +681,7 @@ impl HinfEstimator {
             h2_norm: f64::NAN,
             acquisition: None,
             nan: Mat6::from_element(f64::NAN),
+            design: None,
         })
     }
     /// Record the design's H2 norm (reported by [`HinfEstimator::h2_norm`]).
@@ -669,6 +707,15 @@ impl HinfEstimator {
             HinfError::invalid("the observer gain is not stabilising".to_string())
         })?);
         Ok(self)
+    }
+    /// Record how the matrices were designed (reported by [`HinfEstimator::design_info`]).
+    pub fn with_design_info(mut self, info: HinfDesignInfo) -> Self {
+        self.design = Some(info);
+        self
+    }
+    /// How the matrices were designed, when recorded ([`HinfEstimator::with_design_info`]).
+    pub fn design_info(&self) -> Option<&HinfDesignInfo> {
+        self.design.as_ref()
     }
     /// The design's `gamma`.
     pub fn gamma(&self) -> f64 {
@@ -864,6 +911,7 @@ impl Persist for HinfEstimator {
             h2_norm,
             acquisition,
             nan: _,
+            design: _,
         } = self;
         filter.save_state(w);
         w.opt_matrix(pending.as_ref());
@@ -886,6 +934,7 @@ impl Persist for HinfEstimator {
             h2_norm,
             acquisition,
             nan: _,
+            design: _,
         } = self;
         filter.load_state(r)?;
         *pending = r.opt_matrix("H-infinity held measurement")?;
