@@ -40,8 +40,12 @@ def main():
         for d in ("paper", "observer", "mixed"):
             n, text = callgrind([hp, d])
             out["instructions"][f"hinf_design_{d}"] = n
+            # "N", "N+M" (mixed: both stages) or "0 (Riccati, T Riccati trials, ...)"
             m = re.search(r"iterations (\S+)", text)
             out["iterations"][f"hinf_design_{d}"] = m.group(1) if m else "?"
+            t = re.search(r"\((Riccati), (\d+) Riccati trials", text)
+            if t:
+                out["iterations"][f"hinf_design_{d}"] += f" (Riccati, {t.group(2)} trials)"
         kp = str(rel / "examples" / "kalman_profile")
         n1, n2 = 100, 1100
         gen = {n: callgrind([kp, "none", str(n)])[0] for n in (n1, n2)}  # the measurements alone
