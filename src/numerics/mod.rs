@@ -11,6 +11,7 @@ pub mod blas;
 pub mod eigen;
 pub mod state;
 pub mod vexp;
+pub mod ziggurat;
 
 /// Whether every value is finite (neither NaN nor infinite). Branch-free: the per-value
 /// tests are and-ed without short-circuit, so the loop vectorises (a 6x6 covariance in a
