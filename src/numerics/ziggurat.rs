@@ -70,7 +70,7 @@ fn split(w: u64) -> (usize, f64) {
 
 impl Ziggurat {
     /// The right edge of the base layer for 256 layers (Marsaglia & Tsang 2000).
-    pub const R: f64 = 3.654_152_885_361_008_8;
+    pub const R: f64 = 3.654_152_885_361_009;
     /// The area of each layer (base layer: rectangle up to `R` plus the tail).
     pub const V: f64 = 0.004_928_673_233_99;
 
