@@ -3,7 +3,8 @@
 //! value decompositions every caller uses instead of nalgebra's uncapped ones ([`eigen`]),
 //! the thread setting of the BLAS linked for the H-infinity design, and [`state`] (the
 //! explicit bytes of saved state) and [`vexp`] (a branch-free `e^x` for `x <= 0` that
-//! vectorises, for the particle weights). Lives below its users; imports nothing from them.
+//! vectorises, for the particle weights) and [`ziggurat`] (exact standard normals in batches,
+//! for the particle filters). Lives below its users; imports nothing from them.
 
 #[cfg(feature = "hinf")]
 #[allow(unsafe_code)]
@@ -11,6 +12,7 @@ pub mod blas;
 pub mod eigen;
 pub mod state;
 pub mod vexp;
+pub mod ziggurat;
 
 /// Whether every value is finite (neither NaN nor infinite). Branch-free: the per-value
 /// tests are and-ed without short-circuit, so the loop vectorises (a 6x6 covariance in a

@@ -111,12 +111,12 @@ use crate::dynamics::DiscreteModel;
 use crate::noise::NoiseModel;
 use crate::numerics::state::{refuse, Persist, Reader, StateError, Writer};
 use crate::numerics::vexp::exp_nonpos;
+use crate::numerics::ziggurat::Ziggurat;
 use crate::sensors::{AngleTrig, MeasurementModel};
 use crate::types::{Mat3, Mat6, State, Vec3};
 use genetic::{CloudParams, GeneticParams};
 use par::Pool;
 use rand::{Rng, SeedableRng};
-use rand_distr::{Distribution, StandardNormal};
 use rand_xoshiro::Xoshiro256PlusPlus;
 use std::cell::OnceCell;
 
@@ -603,6 +603,7 @@ struct Transition {
 /// states and normals are transposed into `[[f64; BLOCK]; 6]` arrays on the stack, whose
 /// fixed-length component loops the compiler vectorises across particles.
 const BLOCK: usize = 16;
+const _: () = assert!(BLOCK == Ziggurat::BATCH);
 
 /// A block's states, transition means and new states, transposed (reused block to block).
 type SoaBlocks = ([[f64; BLOCK]; N], [[f64; BLOCK]; N], [[f64; BLOCK]; N]);
@@ -612,22 +613,24 @@ impl Transition {
     /// `xbar` when it is not empty); returns a number that is finite exactly when every
     /// new component is (the sum of `0 * v` over them: NaN once one is not).
     ///
-    /// Block by block: the block's `6 B` normals are drawn first, in the order particle by
-    /// particle and component by component (the same stream as one particle at a time),
-    /// with the generator in a local copy (kept in registers by the draw loop); then, for
+    /// Block by block: the block's `6 B` normals are drawn first, component by component
+    /// (each component's `B` values in one batch of [`Ziggurat::fill`]), with the
+    /// generator in a local copy (kept in registers by the draw loop); then, for
     /// the CW block structure with a diagonal `Q` (paper 000's model), the transition
     /// `x_i <- Phi x_i + Gamma a + sqrt(Q) eps_i` runs on the transposed block, the same
     /// operations in the same order per particle as the scalar form (so the same bits),
     /// two particles per SSE2 instruction.
     fn run(&self, x: &[State], out: &mut [State], xbar: &mut [State], rng: &mut PfRng) -> f64 {
         let mut g = rng.clone();
+        let zig = Ziggurat::get();
         let mut bad = 0.0;
         let mut eps = [[0.0; BLOCK]; N];
         let mut scratch = ([[0.0; BLOCK]; N], [[0.0; BLOCK]; N], [[0.0; BLOCK]; N]);
         for (b, (xs, os)) in x.chunks(BLOCK).zip(out.chunks_mut(BLOCK)).enumerate() {
-            for i in 0..xs.len() {
-                for e in eps.iter_mut() {
-                    e[i] = StandardNormal.sample(&mut g);
+            for e in eps.iter_mut() {
+                match e.get_mut(..xs.len()) {
+                    Some(e) if xs.len() < BLOCK => zig.fill(&mut g, e),
+                    _ => zig.fill_batch(&mut g, e),
                 }
             }
             let xb_out = xbar.get_mut(b * BLOCK..(b * BLOCK + xs.len()));
@@ -891,12 +894,11 @@ pub struct ParticleFilter {
     moves_accepted: u64,
 }
 
+/// Six independent standard normals (one batch of [`Ziggurat::fill`]).
 #[inline(always)]
 fn gauss6<R: Rng + ?Sized>(rng: &mut R) -> State {
     let mut e = [0.0; N];
-    for v in &mut e {
-        *v = StandardNormal.sample(rng);
-    }
+    Ziggurat::get().fill(rng, &mut e);
     State::from(e)
 }
 
