@@ -139,10 +139,12 @@ fn cw_structured(phi: &Mat6) -> bool {
 /// `e_y` ([`cw_structured`], checked on the matrix itself at every call: the model's fields
 /// are public and callers change `q` after discretising, so a flag cached at construction
 /// could go stale). Then `Phi P Phi^T` splits into `F P_ii F^T` (4 x 4), `F P_io G^T`
-/// (4 x 2) and `G P_oo G^T` (2 x 2) with `F`, `G` the in-plane and out-of-plane blocks,
-/// the products with `F` skip its three zeros in the `y` column, and only the lower
-/// triangle of the symmetric result is computed and mirrored: 132 multiplications instead
-/// of 432 (dense) or 192 (blocks alone). `Q` enters as `sym(Q)` (the same bits as `Q` when
+/// (4 x 2) and `G P_oo G^T` (2 x 2) with `F`, `G` the in-plane and out-of-plane blocks.
+/// `T = F P_i.` (the in-plane rows of `P`, all six columns) and then `T_i F^T`, `T_o G^T`
+/// are computed column by column as 4-vector axpys (vectorised by the compiler), skipping
+/// the `y` column of `F`; of the symmetric result only the lower triangle is kept and
+/// mirrored: 150 multiplications instead of 432 (dense) or 192 (blocks alone; issue 15,
+/// third pass in `docs/evaluation.md`). `Q` enters as `sym(Q)` (the same bits as `Q` when
 /// `Q` is symmetric). Any other transition takes the dense product; the two agree to
 /// rounding (unit test).
 pub(crate) fn propagate_covariance(phi: &Mat6, p: &Mat6, q: &Mat6) -> Mat6 {
@@ -249,17 +251,17 @@ pub(crate) fn joseph_update(p: &Mat6, k: &Mat63, h_r: &Mat3, r: &Mat3) -> Mat6 {
     // M = K H_r and K R, column by column
     let mut m = [[0.0; 6]; 3];
     let mut kr = [[0.0; 6]; 3];
-    for j in 0..3 {
-        for l in 0..3 {
-            axpy6(&mut m[j], &kc[l], hr[j][l]);
-            axpy6(&mut kr[j], &kc[l], rc[j][l]);
+    for (j, (mj, krj)) in m.iter_mut().zip(kr.iter_mut()).enumerate() {
+        for (l, kl) in kc.iter().enumerate() {
+            axpy6(mj, kl, hr[j][l]);
+            axpy6(krj, kl, rc[j][l]);
         }
     }
     // A = P - M P_r (P_r the position rows of P): column j = P_j - sum_l M_l P[l][j]
     let mut a = pc;
     for (aj, pj) in a.iter_mut().zip(pc.iter()) {
-        for l in 0..3 {
-            axpy6(aj, &m[l], -pj[l]);
+        for (ml, pl) in m.iter().zip(pj.iter()) {
+            axpy6(aj, ml, -pl);
         }
     }
     // B = A - A_c M^T (A_c the position columns of A), plus K R K^T:
@@ -267,19 +269,16 @@ pub(crate) fn joseph_update(p: &Mat6, k: &Mat63, h_r: &Mat3, r: &Mat3) -> Mat6 {
     let mut out = [[0.0; 6]; 6];
     for (j, oj) in out.iter_mut().enumerate() {
         let mut c = a[j];
-        for l in 0..3 {
-            axpy6(&mut c, &a[l], -m[l][j]);
-            axpy6(&mut c, &kr[l], kc[l][j]);
+        for ((al, ml), (krl, kl)) in a.iter().zip(m.iter()).zip(kr.iter().zip(kc.iter())) {
+            axpy6(&mut c, al, -ml[j]);
+            axpy6(&mut c, krl, kl[j]);
         }
         *oj = c;
     }
     // the symmetric result: the lower triangle, mirrored
-    for j in 1..6 {
-        for i in 0..j {
-            out[j][i] = out[i][j];
-        }
-    }
-    Mat6::from_data(nalgebra::ArrayStorage(out))
+    let mut out = Mat6::from_data(nalgebra::ArrayStorage(out));
+    out.fill_upper_triangle_with_lower_triangle();
+    out
 }
 
 /// `y += a x` on 6-vectors (vectorised by the compiler: three 2-wide multiply-adds with
