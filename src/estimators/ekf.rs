@@ -16,11 +16,13 @@
 //! the in-plane and out-of-plane components and `H = [H_r 0]` has zero velocity columns
 //! (`propagate_covariance`, `joseph_update` in the module `estimators`).
 
-use super::{finite, joseph_update, propagate_covariance, Estimator, FilterError, UpdateInfo};
+use super::{
+    chol3, finite, joseph_update, propagate_covariance, Estimator, FilterError, UpdateInfo,
+};
 use crate::dynamics::DiscreteModel;
 use crate::numerics::state::{Persist, Reader, StateError, Writer};
 use crate::sensors::MeasurementModel;
-use crate::types::{Mat3, Mat6, State, Vec3};
+use crate::types::{Mat3, Mat6, Mat63, State, Vec3};
 
 /// Extended Kalman filter with a Joseph-form update.
 #[derive(Debug, Clone, PartialEq)]
@@ -91,16 +93,23 @@ impl Ekf {
         let h_r: Mat3 = g.h.fixed_columns::<3>(0).into_owned();
         let ph = self.p.fixed_columns::<3>(0) * h_r.transpose();
         let s = h_r * ph.fixed_rows::<3>(0) + r;
-        let chol = s
-            .cholesky()
-            .ok_or(FilterError::NotPositiveDefinite("innovation covariance S"))?;
-        // K = P H^T S^-1  <=>  K^T = S^-1 (H P)   (S, P symmetric)
-        let k = chol.solve(&ph.transpose()).transpose();
+        // closed-form Cholesky of S (lower triangle), on the stack
+        let chol = chol3(&s).ok_or(FilterError::NotPositiveDefinite("innovation covariance S"))?;
+        // K = P H^T S^-1  <=>  K^T = S^-1 (H P)   (S, P symmetric): one solve per row of P H^T
+        let mut k = Mat63::zeros();
+        for i in 0..6 {
+            let row = Vec3::new(ph[(i, 0)], ph[(i, 1)], ph[(i, 2)]);
+            let ki = chol.solve(&row);
+            k[(i, 0)] = ki.x;
+            k[(i, 1)] = ki.y;
+            k[(i, 2)] = ki.z;
+        }
         let x = self.x + k * nu;
         let p = joseph_update(&self.p, &k, &h_r, &r);
         finite(&x, "updated state")?;
         finite(&p, "updated covariance")?;
-        let nis = nu.dot(&chol.solve(&nu));
+        // nu^T S^-1 nu = |L^-1 nu|^2
+        let nis = chol.forward(&nu).norm_squared();
         Ok((
             x,
             p,
