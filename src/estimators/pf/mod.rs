@@ -814,7 +814,7 @@ impl<M: MeasurementModel> Unscented<'_, M> {
     /// when the UKF step fails.
     fn draw(&self, xbar: &State, pc: &Mat6, rng: &mut PfRng) -> Option<(State, Mat6, f64)> {
         if let Some(sd) = &self.shared {
-            if sd.pc.as_ref().is_none_or(|p| p == pc) {
+            if sd.pc.as_ref().map_or(true, |p| p == pc) {
                 return self.draw_shared(sd, xbar, rng);
             }
         }
