@@ -814,7 +814,12 @@ impl<M: MeasurementModel> Unscented<'_, M> {
     /// when the UKF step fails.
     fn draw(&self, xbar: &State, pc: &Mat6, rng: &mut PfRng) -> Option<(State, Mat6, f64)> {
         if let Some(sd) = &self.shared {
-            if sd.pc.as_ref().map_or(true, |p| p == pc) {
+            // (compared as slices: nalgebra's `==` walks an iterator, about 800 instructions)
+            if sd
+                .pc
+                .as_ref()
+                .map_or(true, |p| p.as_slice() == pc.as_slice())
+            {
                 return self.draw_shared(sd, xbar, rng);
             }
         }
