@@ -226,6 +226,28 @@ pub trait MeasurementModel: Sync {
     fn azimuth_usable(&self, r: &Vec3) -> Result<bool, GeometryError> {
         self.linearize(r).map(|g| g.azimuth_usable)
     }
+    /// The unscented update's measurement side when the sigma points sit at seven distinct
+    /// positions: the centre `c` and `c ± o_j`, `j = 0, 1, 2` (sigma points from a lower
+    /// triangular factor `L` of a 6-state covariance: `L`'s velocity columns have no
+    /// position part, so those six points share the centre's position). `wm = (w_c, w)`:
+    /// the mean weight of the centre (all points at it together) and of each other point.
+    /// Writes the deviations `diff(h(p_i), z_hat)` into `dz` (order `c`, `c + o_0..2`,
+    /// `c - o_0..2`) and returns the innovation `diff(z, z_hat)` with
+    /// [`MeasurementModel::azimuth_usable`] at `c`; `None` where a measurement is
+    /// undefined. `trig`: the angles of `z` ([`AngleTrig`]). Default
+    /// ([`unscented_seven_generic`]): [`MeasurementModel::unscented`] over the seven
+    /// points, `diff` and `azimuth_usable`.
+    fn unscented_seven(
+        &self,
+        z: &Vec3,
+        trig: &AngleTrig,
+        c: &Vec3,
+        o: &[Vec3; 3],
+        wm: (f64, f64),
+        dz: &mut [Vec3; 7],
+    ) -> Option<(Vec3, bool)> {
+        unscented_seven_generic(self, z, trig, c, o, wm, dz)
+    }
     /// Log-likelihood of `z` at canonical position `r`, up to a constant, as a particle
     /// filter weighs it. Default: the Gaussian of [`MeasurementModel::noise_cov`]'s
     /// diagonal, `-0.5 sum_i d_i^2 / R_ii` with `d = diff(z, predict(r))`; `-inf` where
@@ -240,6 +262,34 @@ pub trait MeasurementModel: Sync {
             None => f64::NEG_INFINITY,
         }
     }
+}
+
+/// The default of [`MeasurementModel::unscented_seven`] (also the radio sensor's fallback):
+/// the seven positions through [`MeasurementModel::unscented`], the innovation by
+/// [`MeasurementModel::diff`], the pole test by [`MeasurementModel::azimuth_usable`].
+pub fn unscented_seven_generic<M: MeasurementModel + ?Sized>(
+    m: &M,
+    z: &Vec3,
+    trig: &AngleTrig,
+    c: &Vec3,
+    o: &[Vec3; 3],
+    wm: (f64, f64),
+    dz: &mut [Vec3; 7],
+) -> Option<(Vec3, bool)> {
+    let _ = trig;
+    let r = [
+        *c,
+        c + o[0],
+        c + o[1],
+        c + o[2],
+        c - o[0],
+        c - o[1],
+        c - o[2],
+    ];
+    let (w0, w) = wm;
+    let z_hat = m.unscented(&r, &[w0, w, w, w, w, w, w], dz)?;
+    let usable = m.azimuth_usable(c).ok()?;
+    Some((m.diff(z, &z_hat), usable))
 }
 
 impl MeasurementModel for RadioSensor {
@@ -390,6 +440,97 @@ impl MeasurementModel for RadioSensor {
             *di = Vec3::new(di.x - rho_m, d_az, di.z - el_m);
         }
         Some(Vec3::new(rho_m, az_m, el_m))
+    }
+    /// The seven-position unscented transform relative to the centre, without `atan2`,
+    /// `sin_cos` or `libm`'s `asin` per point. With `a_c, e_c` the centre's azimuth and
+    /// elevation (their sines and cosines `p_y / rho_xy`, `p_x / rho_xy`, `p_z / rho`,
+    /// `rho_xy / rho`), each point's angles enter as their differences from the centre's,
+    ///
+    /// ```text
+    /// sin(a_i - a_c) = (p_y cos a_c - p_x sin a_c) / rho_xy,  cos(a_i - a_c) = (p_x cos a_c + p_y sin a_c) / rho_xy
+    /// sin(e_i - e_c) = (p_z cos e_c - rho_xy sin e_c) / rho,  cos(e_i - e_c) = (rho_xy cos e_c + p_z sin e_c) / rho
+    /// ```
+    ///
+    /// each difference the [`asin_series`] of its sine. The circular mean of the azimuths is
+    /// `a_c + atan2(sum w sin(a_i - a_c), sum w cos(a_i - a_c))` (the same `atan2` as
+    /// [`MeasurementModel::weighted_mean`]'s, rotated by `a_c`), the elevations' mean
+    /// `e_c + sum w (e_i - e_c)` (the weights sum to one); the deviations and the
+    /// innovation are differences of these small angles, the innovation's from
+    /// `z - (a_c, e_c)` by the same identities with `trig`. Where a point is outside the
+    /// series' domain (a difference whose cosine is below 1/2 or whose sine exceeds
+    /// `2^-5`, a point on the pole or at zero range, an innovation angle beyond 60 degrees
+    /// or an elevation measurement outside `[-pi, pi]`) the whole transform is
+    /// [`unscented_seven_generic`]'s. The same values as that to rounding (tested).
+    fn unscented_seven(
+        &self,
+        z: &Vec3,
+        trig: &AngleTrig,
+        c: &Vec3,
+        o: &[Vec3; 3],
+        wm: (f64, f64),
+        dz: &mut [Vec3; 7],
+    ) -> Option<(Vec3, bool)> {
+        let t = self.frame.rotation();
+        let pc = t * c;
+        let rxy2 = pc.x * pc.x + pc.y * pc.y;
+        let rho_c = (rxy2 + pc.z * pc.z).sqrt();
+        let rxy_c = rxy2.sqrt();
+        // the centre's azimuth and elevation (sin, cos); NaN on the pole or at zero range
+        let (sa, ca) = (pc.y / rxy_c, pc.x / rxy_c);
+        let (se, ce) = (pc.z / rho_c, rxy_c / rho_c);
+        // the measurement's angles relative to the centre's
+        let (sz, cz) = trig.az;
+        let (sn_a, cn_a) = (sz * ca - cz * sa, cz * ca + sz * sa);
+        let (sz, cz) = trig.el;
+        let (sn_e, cn_e) = (sz * ce - cz * se, cz * ce + sz * se);
+        let mut fast =
+            rho_c >= MIN_RANGE && rxy_c > 0.0 && cn_a > 0.5 && cn_e > 0.5 && z.z.abs() <= PI;
+        let (w0, w) = wm;
+        let (mut rho_s, mut sa_s, mut ca_s, mut de_s) = (0.0, 0.0, 0.0, 0.0);
+        let to: [Vec3; 3] = std::array::from_fn(|j| t * o[j]);
+        for k in 0..6 {
+            let p = if k < 3 { pc + to[k] } else { pc - to[k - 3] };
+            let rxy2 = p.x * p.x + p.y * p.y;
+            let rho = (rxy2 + p.z * p.z).sqrt();
+            let rxy = rxy2.sqrt();
+            let (sd_a, cd_a) = ((p.y * ca - p.x * sa) / rxy, (p.x * ca + p.y * sa) / rxy);
+            let (sd_e, cd_e) = ((p.z * ce - rxy * se) / rho, (rxy * ce + p.z * se) / rho);
+            fast &= (rho >= MIN_RANGE)
+                & (rxy > 0.0)
+                & (cd_a > 0.5)
+                & (cd_e > 0.5)
+                & (sd_a.abs() <= ASIN_SERIES_MAX)
+                & (sd_e.abs() <= ASIN_SERIES_MAX);
+            let de = asin_series(sd_e);
+            rho_s += rho;
+            sa_s += sd_a;
+            ca_s += cd_a;
+            de_s += de;
+            dz[1 + k] = Vec3::new(rho, asin_series(sd_a), de);
+        }
+        if !fast {
+            return unscented_seven_generic(self, z, trig, c, o, wm, dz);
+        }
+        let rho_m = w0 * rho_c + w * rho_s;
+        // the circular mean's offset from a_c (the centre's own term is sin 0, cos 1)
+        let (s_m, c_m) = (w * sa_s, w0 + w * ca_s);
+        let h = (s_m * s_m + c_m * c_m).sqrt();
+        let da_m = if c_m > 0.5 * h {
+            asin_small((s_m / h).clamp(-1.0, 1.0))
+        } else {
+            s_m.atan2(c_m)
+        };
+        let de_m = w * de_s;
+        dz[0] = Vec3::new(rho_c - rho_m, -da_m, -de_m);
+        for d in dz.iter_mut().skip(1) {
+            *d = Vec3::new(d.x - rho_m, d.y - da_m, d.z - de_m);
+        }
+        let nu = Vec3::new(
+            z.x - rho_m,
+            wrap_pi(asin_small(sn_a.clamp(-1.0, 1.0)) - da_m),
+            asin_small(sn_e.clamp(-1.0, 1.0)) - de_m,
+        );
+        Some((nu, rxy_c / rho_c >= POLE_COS))
     }
     /// `rho_xy / rho >= POLE_COS`, as [`RadioSensor::geometry`] decides it.
     fn azimuth_usable(&self, r: &Vec3) -> Result<bool, GeometryError> {

@@ -32,7 +32,7 @@
 use super::{finite, propagate_covariance, symmetrize, Estimator, FilterError, UpdateInfo};
 use crate::dynamics::DiscreteModel;
 use crate::numerics::state::{Persist, Reader, StateError, Writer};
-use crate::sensors::{GeometryError, MeasurementModel};
+use crate::sensors::{AngleTrig, GeometryError, MeasurementModel};
 use crate::types::{Mat3, Mat6, Mat63, State, Vec3};
 use nalgebra::{SMatrix, SVector};
 
@@ -193,6 +193,25 @@ impl Ukf {
         ))
     }
 
+    /// The parts of the measurement update that depend only on the covariance `P = L L^T`
+    /// (`l` its lower Cholesky factor), formed once for many states that share `P` (the
+    /// particle filters' unscented proposal). `None` unless the twelve outer sigma points
+    /// have one weight (they do for every [`UkfParams`]).
+    pub fn shared_prior(&self, l: &Mat6) -> Option<SharedPrior> {
+        let (wm, wc) = (self.wm[1], self.wc[1]);
+        if !(self.wm[1..].iter().all(|&v| v == wm) && self.wc[1..].iter().all(|&v| v == wc)) {
+            return None;
+        }
+        Some(SharedPrior {
+            l: *l,
+            o: std::array::from_fn(|j| l.fixed_view::<3, 1>(0, j) * self.gamma),
+            gamma: self.gamma,
+            // the velocity columns' six points sit at the centre's position
+            wm: (self.wm[0] + 6.0 * wm, wm),
+            wc: (self.wc[0] + 6.0 * wc, wc),
+        })
+    }
+
     /// Generic unscented time update (paper 001, sec. 2.1, steps 2-3): every sigma point of
     /// `(x, P)` goes through the process function `f` (any model: the CW transition, or an
     /// RK4 step of a nonlinear orbit), `x- = sum Wm chi_i`,
@@ -289,6 +308,184 @@ impl Ukf {
     }
 }
 
+/// What the unscented measurement update of any state `x` with the covariance
+/// `P = L L^T` shares with every other such state ([`Ukf::shared_prior`]). The sigma points
+/// are `x` and `x ± gamma L_j`; `L` is lower triangular, so its velocity columns
+/// `j = 3, 4, 5` have no position part, and as the measurement depends on the position
+/// alone those six points are measured at the centre: seven distinct positions
+/// ([`MeasurementModel::unscented_seven`]). With `dZ_i` the measurement deviations and
+/// `W_c`, `W` the centre's (all seven centre points) and every other point's covariance
+/// weight (`x_i - x = ± gamma L_j`, the centre's term vanishes):
+///
+/// ```text
+/// Pzz = R + W_c dZ_0 dZ_0^T + W sum_(i>0) dZ_i dZ_i^T
+/// Pxz = gamma L E,   E = [d_0 d_1 d_2 0 0 0]^T,   d_j = W (dZ_(+j) - dZ_(-j))
+/// ```
+///
+/// In the prior's whitened coordinates (`x = x- + L u`) with `Pzz = C C^T` (3 x 3
+/// Cholesky) and `V = gamma E C^-T` (its last three rows zero), the gain's step and the
+/// posterior are
+///
+/// ```text
+/// L^-1 (x+ - x-) = V C^-1 nu,     L^-1 P+ L^-T = I - V V^T = blockdiag(M M^T, I_3)
+/// ```
+///
+/// so `P+`'s Cholesky factor is `L blockdiag(M, I_3)` (a product of lower triangular
+/// factors), `M` the 3 x 3 Cholesky factor of `I_3 - V_3 V_3^T`, and
+/// `ln det P+ = ln det P + 2 ln(M_00 M_11 M_22)`. Per state: seven measurements, `Pzz`
+/// (six entries), two 3 x 3 Cholesky factors and a few 3-vector solves, instead of
+/// thirteen measurements, thirteen outer products of `Pzz` and `Pxz`, the 6 x 6 gain, the
+/// posterior covariance and its 6 x 6 factor. The same update as
+/// [`Ukf::measurement_update`] to rounding (tested in every frame, poles and outliers
+/// included).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SharedPrior {
+    l: Mat6,
+    /// the position parts of `gamma L_j`, `j = 0, 1, 2`
+    o: [Vec3; 3],
+    gamma: f64,
+    /// mean weights `(W_c, W)`
+    wm: (f64, f64),
+    /// covariance weights `(W_c, W)`
+    wc: (f64, f64),
+}
+
+/// One state's update with a [`SharedPrior`], in the prior's whitened coordinates.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WhitenedUpdate {
+    /// `L^-1 (x+ - x-)` (its last three components are zero)
+    pub step: Vec3,
+    /// `M`: `P+ = L blockdiag(M M^T, I_3) L^T`, lower triangular
+    pub m: Mat3,
+    /// Innovation, NIS and the pole test, as [`Ukf::measurement_update`] reports them.
+    pub info: UpdateInfo,
+}
+
+impl SharedPrior {
+    /// The prior covariance's lower Cholesky factor `L`.
+    pub fn factor(&self) -> &Mat6 {
+        &self.l
+    }
+
+    /// The update of the state `x` with measurement `z` (angles `trig`, [`AngleTrig::of`])
+    /// and noise covariance `r` (see the type's documentation). Fails where
+    /// [`Ukf::measurement_update`] does (zero range, a covariance that is not positive
+    /// definite, non-finite results).
+    pub fn update<M: MeasurementModel>(
+        &self,
+        x: &State,
+        sensor: &M,
+        r: &Mat3,
+        z: &Vec3,
+        trig: &AngleTrig,
+    ) -> Result<WhitenedUpdate, FilterError> {
+        let c = Vec3::new(x[0], x[1], x[2]);
+        let mut dz = [Vec3::zeros(); 7];
+        let (mut nu, azimuth_used) = sensor
+            .unscented_seven(z, trig, &c, &self.o, self.wm, &mut dz)
+            .ok_or(FilterError::Geometry(GeometryError::ZeroRange))?;
+        // near the poles the azimuth carries no information (see sensors docs)
+        if !azimuth_used {
+            nu.y = 0.0;
+            dz.iter_mut().for_each(|d| d.y = 0.0);
+        }
+        // Pzz's six entries
+        let (w0, w) = self.wc;
+        let outer = |d: &Vec3| {
+            [
+                d.x * d.x,
+                d.x * d.y,
+                d.x * d.z,
+                d.y * d.y,
+                d.y * d.z,
+                d.z * d.z,
+            ]
+        };
+        let mut s = [0.0; 6];
+        for d in &dz[1..] {
+            let o = outer(d);
+            for k in 0..6 {
+                s[k] += o[k];
+            }
+        }
+        let o0 = outer(&dz[0]);
+        let p: [f64; 6] = std::array::from_fn(|k| w0 * o0[k] + w * s[k]);
+        let pzz_err = FilterError::NotPositiveDefinite("innovation covariance Pzz");
+        let cz = chol3(&[
+            r[(0, 0)] + p[0],
+            r[(1, 0)] + p[1],
+            r[(2, 0)] + p[2],
+            r[(1, 1)] + p[3],
+            r[(2, 1)] + p[4],
+            r[(2, 2)] + p[5],
+        ])
+        .ok_or(pzz_err)?;
+        // V's rows v_j = C^-1 (gamma d_j)
+        let gw = self.gamma * w;
+        let v: [Vec3; 3] = std::array::from_fn(|j| forward3(&cz, &((dz[1 + j] - dz[4 + j]) * gw)));
+        let y = forward3(&cz, &nu);
+        let step = Vec3::new(v[0].dot(&y), v[1].dot(&y), v[2].dot(&y));
+        let m = chol3(&[
+            1.0 - v[0].dot(&v[0]),
+            -v[1].dot(&v[0]),
+            -v[2].dot(&v[0]),
+            1.0 - v[1].dot(&v[1]),
+            -v[2].dot(&v[1]),
+            1.0 - v[2].dot(&v[2]),
+        ])
+        .ok_or(FilterError::NotPositiveDefinite("updated covariance"))?;
+        if !crate::numerics::all_finite(step.as_slice()) {
+            return Err(FilterError::NonFinite("updated state"));
+        }
+        Ok(WhitenedUpdate {
+            step,
+            m,
+            info: UpdateInfo {
+                innovation: nu,
+                nis: y.norm_squared(),
+                azimuth_used,
+            },
+        })
+    }
+}
+
+impl WhitenedUpdate {
+    /// The updated state `x + L (step, 0)`.
+    pub fn mean(&self, x: &State, prior: &SharedPrior) -> State {
+        x + prior.l.fixed_columns::<3>(0) * self.step
+    }
+
+    /// The updated covariance's lower Cholesky factor `L blockdiag(M, I_3)`.
+    pub fn factor(&self, prior: &SharedPrior) -> Mat6 {
+        let mut b = Mat6::identity();
+        b.fixed_view_mut::<3, 3>(0, 0).copy_from(&self.m);
+        prior.l * b
+    }
+}
+
+/// The lower Cholesky factor of the symmetric 3 x 3 matrix with lower triangle
+/// `(a00, a10, a20, a11, a21, a22)`; `None` unless positive definite (NaN included).
+fn chol3(a: &[f64; 6]) -> Option<Mat3> {
+    let c00 = a[0].sqrt();
+    let c10 = a[1] / c00;
+    let c20 = a[2] / c00;
+    let d1 = a[3] - c10 * c10;
+    let c11 = d1.sqrt();
+    let c21 = (a[4] - c20 * c10) / c11;
+    let d2 = a[5] - c20 * c20 - c21 * c21;
+    let c22 = d2.sqrt();
+    let m = Mat3::new(c00, 0.0, 0.0, c10, c11, 0.0, c20, c21, c22);
+    (a[0] > 0.0 && d1 > 0.0 && d2 > 0.0 && crate::numerics::all_finite(m.as_slice())).then_some(m)
+}
+
+/// `C^-1 b` for a lower triangular `C` with a positive diagonal (forward substitution).
+fn forward3(c: &Mat3, b: &Vec3) -> Vec3 {
+    let y0 = b.x / c[(0, 0)];
+    let y1 = (b.y - c[(1, 0)] * y0) / c[(1, 1)];
+    let y2 = (b.z - c[(2, 0)] * y0 - c[(2, 1)] * y1) / c[(2, 2)];
+    Vec3::new(y0, y1, y2)
+}
+
 impl Estimator for Ukf {
     /// The time update through the linear discrete model. The unscented transform of a
     /// linear map is exact, `sum Wc (Phi chi_i - Phi x)(...)^T = Phi P Phi^T`, so this is
@@ -357,5 +554,134 @@ impl Persist for Ukf {
         *x = r.finite_matrix("UKF state")?;
         *p = r.finite_matrix("UKF covariance")?;
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::frames::Frame;
+    use crate::sensors::RadioSensor;
+    use rand::{Rng, SeedableRng};
+
+    /// `max |a - b| / max |b|` over the entries.
+    fn rel<const R: usize, const C: usize>(a: &SMatrix<f64, R, C>, b: &SMatrix<f64, R, C>) -> f64 {
+        (a - b).amax() / b.amax().max(f64::MIN_POSITIVE)
+    }
+
+    /// The shared-factor update ([`SharedPrior`]) equals [`Ukf::measurement_update_factored`]
+    /// on random states, covariances and measurements in every frame: small and large
+    /// spreads (the radio model's series path and its fallback), outlier measurements,
+    /// points on and near the poles (azimuth ignored) and at zero range (both fail).
+    #[test]
+    fn shared_prior_update_equals_the_generic_update() {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(11);
+        let mut checked = 0;
+        for params in [
+            UkfParams::default(),
+            UkfParams {
+                alpha: 0.5,
+                beta: 2.0,
+                kappa: 0.0,
+            },
+        ] {
+            for frame in Frame::ALL {
+                let s = RadioSensor::new(frame, 0.5, 1e-3);
+                let ukf = Ukf::new(State::zeros(), Mat6::identity(), params);
+                for k in 0..3000 {
+                    let spread = [1e-2, 1.0, 30.0, 400.0][k % 4];
+                    let a = Mat6::from_fn(|_, _| rng.random_range(-1.0..1.0));
+                    let p = (a * a.transpose() + Mat6::identity() * 0.05) * (spread * spread);
+                    let Some(l) = p.cholesky().map(|c| c.unpack()) else {
+                        continue;
+                    };
+                    let pos = match k % 11 {
+                        // on the pole and within 1e-7 of it (sensor frame)
+                        0 => Vec3::new(0.0, 0.0, 300.0),
+                        1 => Vec3::new(1e-5, -1e-5, -100.0),
+                        // zero range
+                        2 if k % 3 == 0 => Vec3::zeros(),
+                        // on the azimuth cut
+                        3 => Vec3::new(500.0, 0.0, 100.0),
+                        _ => Vec3::from_fn(|_, _| rng.random_range(-1000.0..1000.0)),
+                    };
+                    let (l, p) = if k % 11 == 1 {
+                        // near the pole: the series path with the azimuth ignored
+                        let l = l * 1e-9;
+                        (l, l * l.transpose())
+                    } else {
+                        (l, p)
+                    };
+                    let mut x = State::from_fn(|_, _| rng.random_range(-1.0..1.0));
+                    x.fixed_rows_mut::<3>(0)
+                        .copy_from(&frame.vec_to_canonical(&pos));
+                    let truth = x.fixed_rows::<3>(0)
+                        + Vec3::from_fn(|_, _| rng.random_range(-2.0..2.0) * spread);
+                    let mut z = s.h(&truth).unwrap_or_default()
+                        + Vec3::new(
+                            rng.random_range(-1.0..1.0),
+                            rng.random_range(-1e-3..1e-3),
+                            rng.random_range(-1e-3..1e-3),
+                        );
+                    if k % 7 == 0 {
+                        // an outlier: any direction
+                        z.y = rng.random_range(0.0..std::f64::consts::TAU);
+                        z.z = rng.random_range(-1.5..1.5);
+                    }
+                    let r = s.noise_cov() * [1.0, 10.0][k % 2];
+                    let want = ukf.measurement_update_factored(&x, &p, &l, &s, &r, &z);
+                    let sp = ukf.shared_prior(&l).expect("equal outer weights");
+                    let got = sp.update(&x, &s, &r, &z, &AngleTrig::of(&z));
+                    let (Ok((m, pn, info)), Ok(g)) = (&want, &got) else {
+                        assert_eq!(want.is_ok(), got.is_ok(), "{k}: {want:?} {got:?}");
+                        continue;
+                    };
+                    let f = g.factor(&sp);
+                    let dm = m - x;
+                    let gm = g.mean(&x, &sp) - x;
+                    // the step relative to itself or to the prior's spread, whichever is
+                    // larger, plus the rounding of `m` itself (a few ulp of `x`)
+                    let step_scale = dm.amax().max(1e-6 * p.diagonal().amax().sqrt());
+                    // within 1e-6 of the pole (azimuth ignored) the generic update's
+                    // elevations `asin(p_z / rho)` are conditioned as `1 / cos(el)` > 1e6:
+                    // good to about 1e-9 rad, as large as the sigma points' elevation
+                    // differences there (1e-9 m spreads), so its step and `P+` are no
+                    // reference; innovation, NIS and the pole test still are
+                    let near_pole = k % 11 == 1;
+                    assert!(
+                        near_pole
+                            || (gm - dm).amax()
+                                <= 1e-10 * step_scale + 4.0 * f64::EPSILON * x.amax(),
+                        "{k}: step {gm} {dm}"
+                    );
+                    assert!(
+                        near_pole || rel(&(f * f.transpose()), pn) <= 1e-10,
+                        "{k}: P+ {pn}"
+                    );
+                    // the generic elevation `asin(p_z / rho)` is conditioned as
+                    // `1 / cos(el)`: within 1e-7 of the pole it is good to 1e-9 only
+                    let q = frame.vec_from_canonical(&x.fixed_rows::<3>(0).into_owned());
+                    let el_tol = 8.0 * f64::EPSILON * q.norm() / q.xy().norm();
+                    let (mut gi, mut wi) = (g.info.innovation, info.innovation);
+                    assert!((gi.z - wi.z).abs() <= 1e-10 * wi.amax() + el_tol, "{k}: el");
+                    (gi.z, wi.z) = (0.0, 0.0);
+                    // (the range innovation `z - rho_m` cancels: plus a few ulp of `z`)
+                    assert!(
+                        (gi - wi).amax() <= 1e-10 * wi.amax() + 8.0 * f64::EPSILON * z.x.abs(),
+                        "{k}: nu {} {} P {}",
+                        g.info.innovation,
+                        info.innovation,
+                        p.diagonal()
+                    );
+                    // (the elevation's rounding enters through `Pzz^-1/2 nu`, `Pzz >= R`)
+                    let nis_tol = 1e-10 * info.nis.max(1e-12)
+                        + 2.0 * info.nis.sqrt() * el_tol / r.diagonal().min().sqrt();
+                    assert!((g.info.nis - info.nis).abs() <= nis_tol, "{k}: nis");
+                    assert_eq!(g.info.azimuth_used, info.azimuth_used);
+                    checked += 1;
+                }
+            }
+        }
+        assert!(checked > 15_000, "{checked}");
     }
 }

@@ -102,6 +102,20 @@ impl MeasurementModel for AnySensor {
             AnySensor::Cartesian(s) => s.azimuth_usable(r),
         }
     }
+    fn unscented_seven(
+        &self,
+        z: &Vec3,
+        trig: &AngleTrig,
+        c: &Vec3,
+        o: &[Vec3; 3],
+        wm: (f64, f64),
+        dz: &mut [Vec3; 7],
+    ) -> Option<(Vec3, bool)> {
+        match self {
+            AnySensor::Radio(s) => s.unscented_seven(z, trig, c, o, wm, dz),
+            AnySensor::Cartesian(s) => s.unscented_seven(z, trig, c, o, wm, dz),
+        }
+    }
 }
 
 /// A filter ready to be instantiated for each run.

@@ -105,7 +105,7 @@ pub mod resample;
 
 pub use par::{CHUNK, MAX_THREADS, PARALLEL_MIN_PARTICLES};
 
-use super::ukf::{Ukf, UkfParams};
+use super::ukf::{SharedPrior, Ukf, UkfParams};
 use super::{symmetrize, Estimator, FilterError, UpdateInfo};
 use crate::dynamics::DiscreteModel;
 use crate::noise::NoiseModel;
@@ -762,12 +762,70 @@ struct Unscented<'a, M> {
     /// `q_sqrt`: one for every particle)
     prior_half_logdet: f64,
     carry: bool,
+    /// the shared-factor form of the UKF step, where every particle's UKF covariance is
+    /// the one matrix (`None`: the per-particle UKF of [`Ukf::measurement_update`])
+    shared: Option<SharedDraw>,
+    /// the angles of `z`
+    trig: AngleTrig,
+}
+
+/// The unscented proposal when every particle's UKF starts from one covariance
+/// `P = L L^T` (the shrinkage kernel's; the literal proposal's `Q` when the covariances
+/// are not carried): the UKF step of [`SharedPrior`] in `P`'s whitened coordinates,
+/// `x = mu + L u`, `u = (step + M eps_(0..3), eps_(3..6))` with `eps ~ N(0, I)` (the
+/// draw `m + L+ eps` with `L+ = L blockdiag(M, I)`, the same six normals in the same
+/// order), and the weights' densities without a triangular solve per particle:
+///
+/// ```text
+/// ln q(x)       = -|eps|^2 / 2 - ln det L - ln(M_00 M_11 M_22)
+/// ln N(x; mu, .) = -|A u|^2 / 2 - ln det L_p,     A = L_p^-1 L (formed once; I when L_p = L)
+/// ```
+///
+/// `L_p` the factor of the weights' prior density (the kernel's, or `sqrt Q`).
+struct SharedDraw {
+    prior: SharedPrior,
+    /// `L_p^-1 L` (`None`: the identity)
+    a: Option<Mat6>,
+    /// `ln det L`
+    half_logdet: f64,
+    /// the covariance a particle must have for this path (the literal proposal, checked
+    /// per particle; `None`: every particle, the kernel's)
+    pc: Option<Mat6>,
+}
+
+impl SharedDraw {
+    /// The shared form for UKF factor `l` and the weights' prior factor `prior_l`, with
+    /// `ukf`'s sigma-point weights; `None` where it does not apply (every particle then
+    /// takes the per-particle path).
+    fn new(ukf: &Ukf, l: &Mat6, prior_l: &Mat6, pc: Option<Mat6>) -> Option<Self> {
+        let a = if prior_l == l {
+            None
+        } else {
+            Some(prior_l.solve_lower_triangular(l)?)
+        };
+        Some(Self {
+            prior: ukf.shared_prior(l)?,
+            a,
+            half_logdet: half_logdet(l),
+            pc,
+        })
+    }
 }
 
 impl<M: MeasurementModel> Unscented<'_, M> {
     /// Draw particle `i` from its UKF proposal: `(x, P_i, ln p(x|.) - ln q(x))`, `None`
     /// when the UKF step fails.
     fn draw(&self, xbar: &State, pc: &Mat6, rng: &mut PfRng) -> Option<(State, Mat6, f64)> {
+        if let Some(sd) = &self.shared {
+            // (compared as slices: nalgebra's `==` walks an iterator, about 800 instructions)
+            if sd
+                .pc
+                .as_ref()
+                .map_or(true, |p| p.as_slice() == pc.as_slice())
+            {
+                return self.draw_shared(sd, xbar, rng);
+            }
+        }
         let (mu, prior_l, update) = match &self.kernel {
             Some(k) => {
                 let mu = xbar * k.a + k.offset;
@@ -800,6 +858,45 @@ impl<M: MeasurementModel> Unscented<'_, M> {
             pc_new,
             log_gauss_with(&x, &mu, prior_l, self.prior_half_logdet) - log_q,
         ))
+    }
+
+    /// [`Unscented::draw`] by the shared-factor algebra ([`SharedDraw`]).
+    fn draw_shared(
+        &self,
+        sd: &SharedDraw,
+        xbar: &State,
+        rng: &mut PfRng,
+    ) -> Option<(State, Mat6, f64)> {
+        let mu = match &self.kernel {
+            Some(k) => xbar * k.a + k.offset,
+            None => *xbar,
+        };
+        let wu = sd
+            .prior
+            .update(&mu, self.sensor, &self.r, &self.z, &self.trig)
+            .ok()?;
+        let eps = gauss6(rng);
+        let m = &wu.m;
+        let u = State::new(
+            wu.step.x + m[(0, 0)] * eps[0],
+            wu.step.y + m[(1, 0)] * eps[0] + m[(1, 1)] * eps[1],
+            wu.step.z + m[(2, 0)] * eps[0] + m[(2, 1)] * eps[1] + m[(2, 2)] * eps[2],
+            eps[3],
+            eps[4],
+            eps[5],
+        );
+        let x = mu + sd.prior.factor() * u;
+        let log_q =
+            -0.5 * eps.norm_squared() - sd.half_logdet - (m[(0, 0)] * m[(1, 1)] * m[(2, 2)]).ln();
+        let up = sd.a.as_ref().map_or(u, |a| a * u);
+        let log_p = -0.5 * up.norm_squared() - self.prior_half_logdet;
+        let pc_new = if self.carry {
+            let f = wu.factor(&sd.prior);
+            f * f.transpose()
+        } else {
+            Mat6::zeros()
+        };
+        Some((x, pc_new, log_p - log_q))
     }
 
     /// The proposals of a run of particles: new particles, covariances, log-weights and
@@ -1364,6 +1461,18 @@ impl ParticleFilter {
                     ));
                 };
                 let prior_half_logdet = half_logdet(kernel.as_ref().map_or(&self.q_sqrt, |k| &k.l));
+                let shared = match &kernel {
+                    Some(k) => k
+                        .ukf_l
+                        .and_then(|l| SharedDraw::new(&self.ukf, &l, &k.l, None)),
+                    // the literal proposal: every covariance is the predicted `Q` unless
+                    // carried (checked per particle all the same)
+                    None if !self.params.carry_covariance => self.pc.first().and_then(|p| {
+                        let l = p.cholesky()?.unpack();
+                        SharedDraw::new(&self.ukf, &l, &self.q_sqrt, Some(*p))
+                    }),
+                    None => None,
+                };
                 let u = Unscented {
                     ukf: self.ukf.clone(),
                     lik: &lik,
@@ -1374,6 +1483,8 @@ impl ParticleFilter {
                     q_sqrt: self.q_sqrt,
                     prior_half_logdet,
                     carry: self.params.carry_covariance,
+                    shared,
+                    trig: AngleTrig::of(z),
                 };
                 self.propose_unscented(&u);
             }
