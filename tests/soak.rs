@@ -652,11 +652,16 @@ fn soak_cgapf() {
 
 /// Regression of the soak's loss of track (issue 11 item 5; `docs/evaluation.md`, "Soak
 /// through the FMU"): the soak's first 1 200 steps (seed 11, 500 particles). Without its
-/// moves (`pf_move = false`) the SIR loses the target at step 1 147, right after a
-/// measurement that follows a 10 s step: the likelihood (0.5 m, 2e-4 rad) is narrower
-/// than the spread of the predicted particles, the weights fall onto a few particles,
-/// resampling copies them and the transition cannot separate the copies again (white
-/// acceleration 1e-9 m^2/s^3). With the moves (the default) the same filter follows the
+/// moves (`pf_move = false`) the SIR collapses: the likelihood (0.5 m, 2e-4 rad) is
+/// narrower than the spread of the predicted particles after a long step, the weights
+/// fall onto a few particles, resampling copies them and the transition cannot separate
+/// the copies again (white acceleration 1e-9 m^2/s^3). Where the collapse shows depends on
+/// the random stream: with rand_distr's normals it lost the target (error above 100 m) at
+/// step 1 147; with the batched ziggurat (issue 15) it drifts away with a mean NEES of
+/// 1.9e10 and 88 m of error at step 1 200. The control below therefore checks the
+/// collapse, not the crossing of 100 m: lost, or a mean NEES a hundred times above the
+/// chi-square(6) band's upper end (the filter's covariance no longer describes its
+/// error). With the moves (the default) the same filter follows the
 /// EKF: no error above 100 m, position RMS within issue 10's 1.3 times the EKF's on the
 /// same steps, and a mean NEES inside the chi-square(6) 95 % band of one step.
 #[test]
@@ -681,9 +686,10 @@ fn sir_keeps_track_where_the_literal_sir_loses_it() {
     );
     // the mechanism is still there without the moves (so the check below can fail)
     assert!(
-        literal.lost_at.is_some(),
-        "the literal SIR kept track (RMS {} m)",
-        rms(&literal)
+        literal.lost_at.is_some() || nees(&literal) > 100.0 * NEES_BAND.1,
+        "the literal SIR kept track (RMS {} m, mean NEES {})",
+        rms(&literal),
+        nees(&literal)
     );
     assert_eq!(
         moved.errors + moved.nan + moved.mismatches + moved.not_pd,

@@ -24,7 +24,7 @@
 //! ([`Ziggurat::sample`]) once a slow path draws words (they come after the batch's).
 //!
 //! Tables: with `f(x) = exp(-x^2 / 2)`, the base layer's right edge `R`
-//! ([`Ziggurat::R`]) and the common area `V = R f(R) + int_R^inf f` ([`Ziggurat::V`]) of
+//! (`Ziggurat::R`) and the common area `V = R f(R) + int_R^inf f` (`Ziggurat::V`) of
 //! the 256 layers, `X_1 = R`, `X_0 = V / f(R)`, `X_{i+1} = f^-1(V / X_i + f(X_i))`,
 //! `X_256 = 0`; computed once at first use (`OnceLock`, no heap).
 
@@ -70,9 +70,9 @@ fn split(w: u64) -> (usize, f64) {
 
 impl Ziggurat {
     /// The right edge of the base layer for 256 layers (Marsaglia & Tsang 2000).
-    pub const R: f64 = 3.654_152_885_361_009;
+    pub(crate) const R: f64 = 3.654_152_885_361_009;
     /// The area of each layer (base layer: rectangle up to `R` plus the tail).
-    pub const V: f64 = 0.004_928_673_233_99;
+    pub(crate) const V: f64 = 0.004_928_673_233_99;
 
     /// The shared tables (computed on first use).
     pub fn get() -> &'static Ziggurat {
@@ -110,7 +110,7 @@ impl Ziggurat {
     }
 
     /// Values per batch of [`Ziggurat::fill_batch`].
-    pub const BATCH: usize = 16;
+    pub(crate) const BATCH: usize = 16;
 
     /// Fill `out` with independent standard normal draws: whole batches of
     /// [`Ziggurat::BATCH`] by [`Ziggurat::fill_batch`], the remainder one at a time
