@@ -143,10 +143,12 @@ def campaign_benches(runs: int) -> list:
     return out
 
 
-def cg_worker(mode: str, n: int, name: str) -> None:
-    """What --instructions runs under callgrind: n steps of one kind."""
-    zs = np.array(anchor.measurements(max(n, 1)))
-    u = np.zeros((max(n, 1), 3))
+def cg_worker(mode: str, n: int, name: str, total: int) -> None:
+    """What --instructions runs under callgrind: n steps of one kind. The `total`
+    measurements are generated whatever n is (also for the baseline with n = 0), so that
+    their generation (a Python loop in the anchor) cancels in the difference."""
+    zs = np.array(anchor.measurements(max(total, n, 1)))
+    u = np.zeros((max(total, n, 1), 3))
     est = relnav.Estimator(filter=name)
     if mode == "run" and n:
         est.run(u[:n], zs[:n])
@@ -173,7 +175,7 @@ def instruction_counts(n: int = 6000) -> None:
     def count(mode, steps, name):
         env = {**os.environ, "PYTHONHASHSEED": "0"}
         p = subprocess.run(["valgrind", "--tool=callgrind", "--callgrind-out-file=/dev/null", sys.executable,
-                            __file__, "--cg-worker", mode, str(steps), name],
+                            __file__, "--cg-worker", mode, str(steps), name, str(n)],
                            capture_output=True, text=True, env=env, check=True)
         return int(p.stderr.split("Collected : ")[1].split()[0])
 
@@ -195,13 +197,17 @@ def instruction_counts(n: int = 6000) -> None:
 
 def main():
     if len(sys.argv) > 1 and sys.argv[1] == "--cg-worker":
-        cg_worker(sys.argv[2], int(sys.argv[3]), sys.argv[4])
+        cg_worker(sys.argv[2], int(sys.argv[3]), sys.argv[4], int(sys.argv[5]))
         return
     ap = argparse.ArgumentParser()
     ap.add_argument("--runs", type=int, default=16, help="paper 003 runs per campaign (default 16: four chunks)")
     ap.add_argument("--skip-campaign", action="store_true")
     ap.add_argument("--instructions", action="store_true", help="also count instructions per step (callgrind)")
+    ap.add_argument("--instructions-only", action="store_true", help="only the callgrind counts")
     args = ap.parse_args()
+    if args.instructions_only:
+        instruction_counts()
+        return
 
     (fp, fp_min), rows = step_benches()
     print("| Python package, paper 000 (600 steps, 1 s, radio) | per step, median (min) "
