@@ -315,11 +315,13 @@ pub(crate) fn chol3(s: &Mat3) -> Option<Chol3> {
     if !(d2 > 0.0) {
         return None;
     }
-    let i2 = 1.0 / d2.sqrt();
+    let l22 = d2.sqrt();
+    let i2 = 1.0 / l22;
     Some(Chol3 {
         l10,
         l20,
         l21,
+        diag: [l00, l11, l22],
         inv: [i0, i1, i2],
     })
 }
@@ -331,10 +333,29 @@ pub(crate) struct Chol3 {
     l10: f64,
     l20: f64,
     l21: f64,
+    diag: [f64; 3],
     inv: [f64; 3],
 }
 
 impl Chol3 {
+    /// Whether every entry of the factor is finite.
+    pub(crate) fn is_finite(&self) -> bool {
+        crate::numerics::all_finite(&[
+            self.diag[0],
+            self.diag[1],
+            self.diag[2],
+            self.l10,
+            self.l20,
+            self.l21,
+        ])
+    }
+
+    /// The factor `L` as a matrix.
+    pub(crate) fn factor(&self) -> Mat3 {
+        let [l00, l11, l22] = self.diag;
+        Mat3::new(l00, 0.0, 0.0, self.l10, l11, 0.0, self.l20, self.l21, l22)
+    }
+
     /// `y = L^-1 b` (forward substitution).
     #[inline]
     pub(crate) fn forward(&self, b: &Vec3) -> Vec3 {

@@ -422,8 +422,8 @@ impl SharedPrior {
         .ok_or(pzz_err)?;
         // V's rows v_j = C^-1 (gamma d_j)
         let gw = self.gamma * w;
-        let v: [Vec3; 3] = std::array::from_fn(|j| forward3(&cz, &((dz[1 + j] - dz[4 + j]) * gw)));
-        let y = forward3(&cz, &nu);
+        let v: [Vec3; 3] = std::array::from_fn(|j| cz.forward(&((dz[1 + j] - dz[4 + j]) * gw)));
+        let y = cz.forward(&nu);
         let step = Vec3::new(v[0].dot(&y), v[1].dot(&y), v[2].dot(&y));
         let m = chol3(&[
             1.0 - v[0].dot(&v[0]),
@@ -433,7 +433,8 @@ impl SharedPrior {
             -v[2].dot(&v[1]),
             1.0 - v[2].dot(&v[2]),
         ])
-        .ok_or(FilterError::NotPositiveDefinite("updated covariance"))?;
+        .ok_or(FilterError::NotPositiveDefinite("updated covariance"))?
+        .factor();
         if !crate::numerics::all_finite(step.as_slice()) {
             return Err(FilterError::NonFinite("updated state"));
         }
@@ -463,27 +464,14 @@ impl WhitenedUpdate {
     }
 }
 
-/// The lower Cholesky factor of the symmetric 3 x 3 matrix with lower triangle
-/// `(a00, a10, a20, a11, a21, a22)`; `None` unless positive definite (NaN included).
-fn chol3(a: &[f64; 6]) -> Option<Mat3> {
-    let c00 = a[0].sqrt();
-    let c10 = a[1] / c00;
-    let c20 = a[2] / c00;
-    let d1 = a[3] - c10 * c10;
-    let c11 = d1.sqrt();
-    let c21 = (a[4] - c20 * c10) / c11;
-    let d2 = a[5] - c20 * c20 - c21 * c21;
-    let c22 = d2.sqrt();
-    let m = Mat3::new(c00, 0.0, 0.0, c10, c11, 0.0, c20, c21, c22);
-    (a[0] > 0.0 && d1 > 0.0 && d2 > 0.0 && crate::numerics::all_finite(m.as_slice())).then_some(m)
-}
-
-/// `C^-1 b` for a lower triangular `C` with a positive diagonal (forward substitution).
-fn forward3(c: &Mat3, b: &Vec3) -> Vec3 {
-    let y0 = b.x / c[(0, 0)];
-    let y1 = (b.y - c[(1, 0)] * y0) / c[(1, 1)];
-    let y2 = (b.z - c[(2, 0)] * y0 - c[(2, 1)] * y1) / c[(2, 2)];
-    Vec3::new(y0, y1, y2)
+/// The Cholesky factor of the symmetric 3 x 3 matrix with lower triangle `(a00, a10,
+/// a20, a11, a21, a22)` ([`super::chol3`]); `None` unless positive definite (NaN included)
+/// with a finite factor.
+fn chol3(a: &[f64; 6]) -> Option<super::Chol3> {
+    super::chol3(&Mat3::new(
+        a[0], a[1], a[2], a[1], a[3], a[4], a[2], a[4], a[5],
+    ))
+    .filter(super::Chol3::is_finite)
 }
 
 impl Estimator for Ukf {
