@@ -703,6 +703,12 @@ enum relnav_status relnav_hinf_filter_get_state(const struct relnav_hinf_filter 
 // `filter` is null or a handle from `relnav_hinf_filter_new` not yet freed.
 void relnav_hinf_filter_free(struct relnav_hinf_filter *filter);
 
+// A static, readable reason for a `relnav_hinf_riccati_failure` code (why the
+// gamma-optimal observer's Riccati route fell back to the SDP): the text of
+// `relnav::hinf::riccati::RiccatiFailure`; `"none"` for `RELNAV_HINF_RICCATI_OK`,
+// `"unknown Riccati failure code"` for other codes.
+const char *relnav_hinf_riccati_failure_string(int32_t code);
+
 // Save the estimator's state into `buf` (capacity `cap` bytes); `*len` receives the size
 // the state needs, in every case.
 //

@@ -629,6 +629,25 @@ fn hinf_design_route_is_reported() {
         relnav_estimator_get_hinf_design(std::ptr::null(), &mut relnav_hinf_design_info { ..ekf })
     };
     assert_eq!(st, relnav_status::RELNAV_ERROR_NULL_POINTER);
+    // the reasons: one distinct text per failure code, fixed texts otherwise
+    // SAFETY: the function returns static NUL-terminated strings.
+    let text = |c: i32| {
+        unsafe { CStr::from_ptr(relnav_hinf_riccati_failure_string(c)) }
+            .to_string_lossy()
+            .into_owned()
+    };
+    let reasons: Vec<String> = (1..=4).map(text).collect();
+    assert!(reasons
+        .iter()
+        .all(|r| !r.is_empty() && !r.contains("unknown")));
+    for i in 0..4 {
+        assert!(!reasons[i + 1..].contains(&reasons[i]), "{reasons:?}");
+    }
+    assert!(reasons[0].contains("singular"), "{}", reasons[0]);
+    assert_eq!(text(ok), "none");
+    for c in [5, -1, i32::MAX, i32::MIN] {
+        assert_eq!(text(c), "unknown Riccati failure code");
+    }
 }
 
 #[test]

@@ -589,6 +589,19 @@ void check_hinf_design_record() {
     CHECK(relnav_estimator_get_hinf_design(e, &info) == RELNAV_OK);
     CHECK(info.route == RELNAV_HINF_ROUTE_NONE && info.iterations == 0 && std::isnan(info.solve_time));
     relnav_estimator_free(e);
+    // the readable reasons of the Riccati route's failure codes
+    CHECK(std::string(relnav_hinf_riccati_failure_string(RELNAV_HINF_RICCATI_OK)) == "none");
+    std::vector<std::string> reasons;
+    for (int code = RELNAV_HINF_RICCATI_SINGULAR_MEASUREMENT_NOISE; code <= RELNAV_HINF_RICCATI_CERTIFICATION_FAILED;
+         ++code) {
+        const char* r = relnav_hinf_riccati_failure_string(code);
+        CHECK(r != nullptr && r[0] != '\0' && std::string(r).find("unknown") == std::string::npos);
+        if (r) reasons.emplace_back(r);
+    }
+    std::sort(reasons.begin(), reasons.end());
+    CHECK(reasons.size() == 4 && std::unique(reasons.begin(), reasons.end()) == reasons.end());
+    for (int code : {5, -1, INT_MAX, INT_MIN})
+        CHECK(std::string(relnav_hinf_riccati_failure_string(code)) == "unknown Riccati failure code");
 }
 
 }  // namespace

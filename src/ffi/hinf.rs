@@ -465,25 +465,13 @@ impl relnav_hinf_design_info {
 
     /// The C record of a design record.
     pub(super) fn of(info: &crate::hinf::HinfDesignInfo) -> Self {
-        use crate::hinf::riccati::RiccatiFailure;
         use crate::hinf::DesignRoute;
         let route = |r: DesignRoute| match r {
             DesignRoute::Riccati => relnav_hinf_route::RELNAV_HINF_ROUTE_RICCATI,
             DesignRoute::Sdp => relnav_hinf_route::RELNAV_HINF_ROUTE_SDP,
             DesignRoute::SdpLiteral => relnav_hinf_route::RELNAV_HINF_ROUTE_SDP_LITERAL,
         } as i32;
-        use relnav_hinf_riccati_failure as F;
-        let failure = match info.riccati_failure {
-            None => F::RELNAV_HINF_RICCATI_OK,
-            Some(RiccatiFailure::SingularMeasurementNoise) => {
-                F::RELNAV_HINF_RICCATI_SINGULAR_MEASUREMENT_NOISE
-            }
-            Some(RiccatiFailure::NoKalmanSolution) => F::RELNAV_HINF_RICCATI_NO_KALMAN_SOLUTION,
-            Some(RiccatiFailure::NoFeasibleGamma) => F::RELNAV_HINF_RICCATI_NO_FEASIBLE_GAMMA,
-            Some(RiccatiFailure::CertificationFailed) => {
-                F::RELNAV_HINF_RICCATI_CERTIFICATION_FAILED
-            }
-        } as i32;
+        let failure = info.riccati_failure.map_or(0, failure_code);
         Self {
             route: route(info.route),
             observer_route: route(info.observer_route),
@@ -493,4 +481,57 @@ impl relnav_hinf_design_info {
             solve_time: info.solve_time,
         }
     }
+}
+
+/// The Riccati route's failures in the order of their `relnav_hinf_riccati_failure` codes
+/// (code = position + 1).
+const RICCATI_FAILURES: [crate::hinf::riccati::RiccatiFailure; 4] = {
+    use crate::hinf::riccati::RiccatiFailure as R;
+    [
+        R::SingularMeasurementNoise,
+        R::NoKalmanSolution,
+        R::NoFeasibleGamma,
+        R::CertificationFailed,
+    ]
+};
+const _: () = assert!(
+    relnav_hinf_riccati_failure::RELNAV_HINF_RICCATI_CERTIFICATION_FAILED as usize
+        == RICCATI_FAILURES.len()
+);
+
+/// The `relnav_hinf_riccati_failure` code of a failure.
+fn failure_code(f: crate::hinf::riccati::RiccatiFailure) -> i32 {
+    RICCATI_FAILURES
+        .iter()
+        .position(|&x| x == f)
+        .map_or(0, |i| i32::try_from(i + 1).unwrap_or(0))
+}
+
+/// A static, readable reason for a `relnav_hinf_riccati_failure` code (why the
+/// gamma-optimal observer's Riccati route fell back to the SDP): the text of
+/// `relnav::hinf::riccati::RiccatiFailure`; `"none"` for `RELNAV_HINF_RICCATI_OK`,
+/// `"unknown Riccati failure code"` for other codes.
+#[no_mangle]
+pub extern "C" fn relnav_hinf_riccati_failure_string(code: i32) -> *const std::ffi::c_char {
+    use std::ffi::CString;
+    use std::sync::OnceLock;
+    static TEXT: OnceLock<Vec<CString>> = OnceLock::new();
+    let unknown = c"unknown Riccati failure code".as_ptr();
+    if code == relnav_hinf_riccati_failure::RELNAV_HINF_RICCATI_OK as i32 {
+        return c"none".as_ptr();
+    }
+    catch_unwind(|| {
+        let text = TEXT.get_or_init(|| {
+            RICCATI_FAILURES
+                .iter()
+                .map(|f| CString::new(f.to_string()).unwrap_or_default())
+                .collect()
+        });
+        usize::try_from(code)
+            .ok()
+            .and_then(|c| c.checked_sub(1))
+            .and_then(|i| text.get(i))
+            .map_or(unknown, |t| t.as_ptr())
+    })
+    .unwrap_or(unknown)
 }

@@ -546,22 +546,15 @@ fn hinf_design_words(info: &ffi::relnav_hinf_design_info) -> String {
             route(info.observer_route)
         )
     };
-    let why = match info.riccati_failure {
-        x if x == F::RELNAV_HINF_RICCATI_OK as i32 => None,
-        x if x == F::RELNAV_HINF_RICCATI_SINGULAR_MEASUREMENT_NOISE as i32 => {
-            Some("D D^T is singular (a noise-free measurement axis)")
+    let why = (info.riccati_failure != F::RELNAV_HINF_RICCATI_OK as i32).then(|| {
+        // SAFETY: the C ABI returns a static NUL-terminated string for every code.
+        unsafe {
+            CStr::from_ptr(ffi::relnav_hinf_riccati_failure_string(
+                info.riccati_failure,
+            ))
         }
-        x if x == F::RELNAV_HINF_RICCATI_NO_KALMAN_SOLUTION as i32 => {
-            Some("the Kalman Riccati equation has no stabilising solution")
-        }
-        x if x == F::RELNAV_HINF_RICCATI_NO_FEASIBLE_GAMMA as i32 => {
-            Some("no gamma in the bracket admits a stabilising solution")
-        }
-        x if x == F::RELNAV_HINF_RICCATI_CERTIFICATION_FAILED as i32 => {
-            Some("the constructed observer failed the literal LMI check")
-        }
-        _ => Some("unknown reason"),
-    };
+        .to_string_lossy()
+    });
     if let Some(why) = why {
         w += &format!(" (the Riccati route fell back to the SDP: {why})");
     }
