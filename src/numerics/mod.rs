@@ -4,12 +4,13 @@
 //! the thread setting of the BLAS linked for the H-infinity design, and [`state`] (the
 //! explicit bytes of saved state) and [`vexp`] (a branch-free `e^x` for `x <= 0` that
 //! vectorises, for the particle weights) and [`ziggurat`] (exact standard normals in batches,
-//! for the particle filters). Lives below its users; imports nothing from them.
+//! for the particle filters), and [`simd`] (run-time dispatch of hot loops to AVX2, same bits). Lives below its users; imports nothing from them.
 
 #[cfg(feature = "hinf")]
 #[allow(unsafe_code)]
 pub mod blas;
 pub mod eigen;
+pub mod simd;
 pub mod state;
 pub mod vexp;
 pub mod ziggurat;
