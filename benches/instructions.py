@@ -56,8 +56,10 @@ def main():
         # particle steps at N = 1500 (examples/pf_steps): (I(20 + 10) - I(20 + 0)) / 10
         pf = str(rel / "examples" / "pf_steps")
         for name, kind, moves in (("sir_literal", "pf", "literal"), ("sir", "pf", "moves"),
-                                  ("rpf", "rpf", "moves"), ("gapf", "gapf", "moves"),
-                                  ("upf", "upf", "moves"), ("cgapf", "cgapf", "moves")):
+                                  ("rpf_literal", "rpf", "literal"), ("rpf", "rpf", "moves"),
+                                  ("gapf_literal", "gapf", "literal"), ("gapf", "gapf", "moves"),
+                                  ("upf_literal", "upf", "literal"), ("upf", "upf", "moves"),
+                                  ("cgapf_literal", "cgapf", "literal"), ("cgapf", "cgapf", "moves")):
             i0, _ = callgrind([pf, "1500", "20", "0", "1", kind, moves])
             i1, _ = callgrind([pf, "1500", "20", "10", "1", kind, moves])
             out["instructions"][f"{name}_step_n1500"] = (i1 - i0) / 10
