@@ -1200,15 +1200,6 @@ impl ParticleFilter {
         Ok(())
     }
 
-    /// `ln N(x; m-, P-)` up to a constant, the Gaussian of the predictive: the prior part
-    /// of the move steps' target (`pred_l` set by the update).
-    fn log_predictive(&self, x: &State) -> f64 {
-        match self.pred_l.solve_lower_triangular(&(x - self.pred_mean)) {
-            Some(u) => -0.5 * u.norm_squared(),
-            None => f64::NEG_INFINITY,
-        }
-    }
-
     /// Reorder every per-particle array by `self.idx` (after resampling).
     fn apply_resampling(&mut self) {
         if self.chunked() {
