@@ -273,20 +273,28 @@ impl<'a, 'b, M: MeasurementModel> Target<'a, 'b, M> {
     fn log_predictive(&self, c: &[[f64; B]; 6], out: &mut [f64; B]) {
         let mut u = [[0.0; B]; 6];
         for i in 0..6 {
+            let mut s = [0.0; B];
             for lane in 0..B {
-                let mut s = c[i][lane] - self.m[i];
-                for (j, uj) in u.iter().enumerate().take(i) {
-                    s -= self.l[i][j] * uj[lane];
+                s[lane] = c[i][lane] - self.m[i];
+            }
+            for j in 0..i {
+                let lij = self.l[i][j];
+                for lane in 0..B {
+                    s[lane] -= lij * u[j][lane];
                 }
-                u[i][lane] = s * self.inv_diag[i];
+            }
+            for lane in 0..B {
+                u[i][lane] = s[lane] * self.inv_diag[i];
             }
         }
-        for (lane, o) in out.iter_mut().enumerate() {
-            let mut q = 0.0;
-            for ui in &u {
-                q += ui[lane] * ui[lane];
+        let mut q = [0.0; B];
+        for ui in &u {
+            for lane in 0..B {
+                q[lane] += ui[lane] * ui[lane];
             }
-            *o = -0.5 * q;
+        }
+        for (o, &qi) in out.iter_mut().zip(&q) {
+            *o = -0.5 * qi;
         }
     }
 
@@ -568,12 +576,15 @@ impl ParticleFilter {
                     #[inline(always)]
                     |l| {
                         for i in 0..6 {
-                            for lane in 0..B {
-                                let mut s = 0.0;
-                                for j in 0..6 {
-                                    s += d[i][j] * l.eps[j][lane];
+                            let mut s = [0.0; B];
+                            for j in 0..6 {
+                                let dij = d[i][j];
+                                for lane in 0..B {
+                                    s[lane] += dij * l.eps[j][lane];
                                 }
-                                l.c[i][lane] = l.x[i][lane] + s;
+                            }
+                            for lane in 0..B {
+                                l.c[i][lane] = l.x[i][lane] + s[lane];
                             }
                         }
                     },
