@@ -54,6 +54,24 @@
 //!   `x'_j = x_j ± |En'_j| sqrt(-2 ln mu_i)` (the "Y-condition" cloud generator): fit
 //!   particles take short steps, poor ones long steps;
 //! * "iterate while tightening": `generations` rounds, round `g` using `c3 (g + 1)`.
+//!
+//! **Implementation (issue 15).** Within a generation the operators act on disjoint pairs
+//! (crossover) and on distinct particles (mutation), with the population statistics fixed,
+//! so they run in blocks without changing the algorithm: the selection draws (the cloud
+//! drops' normals by [`Ziggurat::fill_batch`], sixteen at a time, then sixteen uniforms) and
+//! the adaptive probabilities for sixteen items at once; the selected pairs' candidates
+//! (eight pairs, sixteen lanes) and the selected particles' mutations (sixteen lanes, six
+//! batches of normals, component-major) in structure-of-arrays form; their likelihood by
+//! [`MeasurementModel::residuals_at`] and the predictive density by forward substitution
+//! across the lanes; all inside [`simd::dispatch`] (the same bits on the AVX2 and the
+//! baseline path, tested). The Metropolis–Hastings test compares the uniform in the linear
+//! domain, `v < e^la` ([`exp_nonpos`]; the same event as `ln v < la`), and the cloud
+//! mutation's Hastings ratio is formed without a logarithm per component (see
+//! `hastings_cloud`). Fitness `exp(l - best)` is [`exp_nonpos`] (within 2 ulp of `exp`).
+//! The random stream is the blocks' order (documented at `ParticleFilter::genetic_moves`
+//! and `ParticleFilter::cloud_moves`); it changed with this batching (every pair and
+//! particle draws its selection drop and uniform whether needed or not; the shuffle is
+//! Lemire's exact bounded integer, not rand's `random_range`).
 
 use super::{bandwidth, psd_sqrt, Kernel, Likelihood, ParticleFilter, PfRng, BLOCK};
 use crate::numerics::simd;
@@ -269,6 +287,8 @@ impl<'a, 'b, M: MeasurementModel> Target<'a, 'b, M> {
     }
 
     /// `ln N(c; m-, P-)` up to a constant, `-|L-^-1 (c - m-)|^2 / 2`, for every lane.
+    // lane-indexed loops over several arrays: the form that vectorises across lanes
+    #[allow(clippy::needless_range_loop)]
     #[inline(always)]
     fn log_predictive(&self, c: &[[f64; B]; 6], out: &mut [f64; B]) {
         let mut u = [[0.0; B]; 6];
@@ -546,6 +566,8 @@ impl ParticleFilter {
     /// per selected pair a word for `u` and the sign, then the acceptance uniform; the
     /// mutation uniforms; per block of sixteen mutated particles six batches of normals
     /// (component-major), then the acceptance uniforms.
+    // lane-indexed loops over several arrays: the form that vectorises across lanes
+    #[allow(clippy::needless_range_loop)]
     pub(super) fn genetic_moves<M: MeasurementModel>(
         &mut self,
         lik: &Likelihood<'_, M>,
@@ -611,6 +633,8 @@ impl ParticleFilter {
     /// and uniforms; per block of sixteen mutated particles six batches of sixteen normals
     /// (component-major: the drops `En'_k`), then a word for the six signs (bits 0..6) and
     /// the acceptance uniform of each.
+    // lane-indexed loops over several arrays: the form that vectorises across lanes
+    #[allow(clippy::needless_range_loop)]
     pub(super) fn cloud_moves<M: MeasurementModel>(&mut self, lik: &Likelihood<'_, M>) {
         let c = self.params.cloud;
         let n = self.x.len();
