@@ -510,31 +510,53 @@ impl Pop<'_> {
     }
 
     /// Select items `0..n` for an operator: item `j` is kept when `u_j < p_j`, the uniforms
-    /// drawn in blocks of sixteen in item order; `prob` fills a block's probabilities
-    /// (from the block's first item index and, per block, sixteen standard normals drawn
-    /// before the uniforms when `normals`). Returns the count, the items in `sel`.
+    /// drawn sixteen at a time in item order. Without `cloud`, `p_j = k`. With it, `p_j` is
+    /// the cloud probability of the item's fitness (`fit` fills a block's, from the block's
+    /// first item): its drop `En'` is drawn only where it can matter, `u_j < k` (every
+    /// cloud probability is at most `k`) and `f_j >= f_avg` (below, `p_j = k`), from a pool
+    /// of standard normals refilled sixteen at a time by [`Ziggurat::fill_batch`] — the same
+    /// selection law as a drop for every item. Returns the count, the items in `sel`.
     #[inline(always)]
     fn select(
         &mut self,
         n: usize,
-        normals: bool,
-        mut prob: impl FnMut(&Self, usize, &[f64; B], &mut [f64; B]),
+        k: f64,
+        cloud: Option<CloudDrop>,
+        mut fit: impl FnMut(&Self, usize, &mut [f64; B]),
     ) -> usize {
         let z = Ziggurat::get();
+        let mut pool = [0.0; B];
+        let mut used = B;
+        let mut f = [0.0; B];
         let mut g = [0.0; B];
-        let mut p = [0.0; B];
+        let mut p = [k; B];
         let mut count = 0;
         let mut start = 0;
         while start < n {
             let m = B.min(n - start);
-            if normals {
-                z.fill_batch(self.rng, &mut g);
-            }
             let mut u = [0.0; B];
             for ui in u.iter_mut() {
                 *ui = unit(self.rng.next_u64());
             }
-            prob(self, start, &g, &mut p);
+            if let Some(cd) = cloud {
+                fit(self, start, &mut f);
+                let mut need = [false; B];
+                for lane in 0..B {
+                    need[lane] = u[lane] < k && f[lane] >= cd.f_avg && cd.f_max > cd.f_avg;
+                }
+                for lane in 0..m {
+                    g[lane] = 0.0;
+                    if need[lane] {
+                        if used == B {
+                            z.fill_batch(self.rng, &mut pool);
+                            used = 0;
+                        }
+                        g[lane] = pool[used];
+                        used += 1;
+                    }
+                }
+                cloud_probabilities(&f, &g, cd.f_avg, cd.f_max, cd.c1, cd.c2, k, &mut p);
+            }
             for lane in 0..m {
                 self.sel[count] = start + lane;
                 count += usize::from(u[lane] < p[lane]);
@@ -543,6 +565,15 @@ impl Pop<'_> {
         }
         count
     }
+}
+
+/// The population statistics and divisors of the adaptive probabilities' cloud drops.
+#[derive(Debug, Clone, Copy)]
+struct CloudDrop {
+    f_avg: f64,
+    f_max: f64,
+    c1: f64,
+    c2: f64,
 }
 
 impl ParticleFilter {
@@ -585,13 +616,13 @@ impl ParticleFilter {
             || {
                 t.densities(pop.x, pop.loglik, pop.logpi);
                 pop.shuffle();
-                let count = pop.select(n / 2, false, |_, _, _, p| *p = [g.crossover; B]);
+                let count = pop.select(n / 2, g.crossover, None, |_, _, _| {});
                 pop.crossover_block(&t, count, None);
                 let Some(d) = d else {
                     return;
                 };
                 let d: [[f64; 6]; 6] = std::array::from_fn(|i| std::array::from_fn(|j| d[(i, j)]));
-                let count = pop.select(n, false, |_, _, _, p| *p = [g.mutation; B]);
+                let count = pop.select(n, g.mutation, None, |_, _, _| {});
                 pop.mutate_blocks(
                     &t,
                     count,
@@ -651,19 +682,24 @@ impl ParticleFilter {
                     }
                     // crossover
                     pop.shuffle();
+                    let cd = Some(CloudDrop {
+                        f_avg,
+                        f_max,
+                        c1: c.c1,
+                        c2: c.c2,
+                    });
                     let count = pop.select(
                         n / 2,
-                        true,
+                        c.k_crossover,
+                        cd,
                         #[inline(always)]
-                        |pop, start, g, p| {
-                            let mut f = [0.0; B];
+                        |pop, start, f| {
                             let m = B.min(n / 2 - start);
                             for (lane, fl) in f.iter_mut().enumerate().take(m) {
                                 let j = start + lane;
                                 let (a, b) = (pop.perm[2 * j], pop.perm[2 * j + 1]);
                                 *fl = pop.fit[a].max(pop.fit[b]);
                             }
-                            cloud_probabilities(&f, g, f_avg, f_max, c.c1, c.c2, c.k_crossover, p);
                         },
                     );
                     pop.crossover_block(&t, count, Some(best));
@@ -684,13 +720,12 @@ impl ParticleFilter {
                     let live: [bool; 6] = std::array::from_fn(|k| he[k] > 0.0);
                     let count = pop.select(
                         n,
-                        true,
+                        c.k_mutation,
+                        cd,
                         #[inline(always)]
-                        |pop, start, g, p| {
-                            let mut f = [0.0; B];
+                        |pop, start, f| {
                             let m = B.min(n - start);
                             f[..m].copy_from_slice(&pop.fit[start..start + m]);
-                            cloud_probabilities(&f, g, f_avg, f_max, c.c1, c.c2, c.k_mutation, p);
                         },
                     );
                     // certainty mapped linearly from fitness, the drop placed at that
