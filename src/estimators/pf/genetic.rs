@@ -69,9 +69,10 @@
 //! mutation's Hastings ratio is formed without a logarithm per component (see
 //! `hastings_cloud`). Fitness `exp(l - best)` is [`exp_nonpos`] (within 2 ulp of `exp`).
 //! The random stream is the blocks' order (documented at `ParticleFilter::genetic_moves`
-//! and `ParticleFilter::cloud_moves`); it changed with this batching (every pair and
-//! particle draws its selection drop and uniform whether needed or not; the shuffle is
-//! Lemire's exact bounded integer, not rand's `random_range`).
+//! and `ParticleFilter::cloud_moves`); it changed with this batching (the selection
+//! uniforms of a block come first, the cloud drops after them from a pool of batched
+//! normals and only where they can matter; the acceptance uniforms come with the blocks;
+//! the shuffle is Lemire's exact bounded integer, not rand's `random_range`).
 
 use super::{bandwidth, psd_sqrt, Kernel, Likelihood, ParticleFilter, PfRng, BLOCK};
 use crate::numerics::simd;
@@ -658,10 +659,11 @@ impl ParticleFilter {
 
     /// The CGA-PF's cloud-genetic resampling of paper 003 (see the module documentation).
     /// The random stream (since the batched operators), per generation: the shuffle; per
-    /// block of sixteen pairs sixteen normals (the crossover probabilities' cloud drops),
-    /// then sixteen uniforms; per selected pair a word for `u` and the sign, then the
-    /// acceptance uniform; per block of sixteen particles the mutation probabilities' drops
-    /// and uniforms; per block of sixteen mutated particles six batches of sixteen normals
+    /// block of sixteen pairs sixteen uniforms, then the cloud drops of the pairs that need
+    /// one (`Pop::select`: from a pool of normals refilled sixteen at a time, the pool
+    /// restarted for each selection); per selected pair a word for `u` and the sign, then
+    /// the acceptance uniform; the mutation selection likewise per block of sixteen
+    /// particles; per block of sixteen mutated particles six batches of sixteen normals
     /// (component-major: the drops `En'_k`), then a word for the six signs (bits 0..6) and
     /// the acceptance uniform of each.
     // lane-indexed loops over several arrays: the form that vectorises across lanes
