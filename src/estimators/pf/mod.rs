@@ -954,8 +954,10 @@ pub struct ParticleFilter {
     loglik_tmp: Vec<f64>,
     /// log target density of each particle during the genetic move steps
     logpi: Vec<f64>,
+    /// resampling indices; after resampling, the genetic operators' selected items
     idx: Vec<usize>,
     perm: Vec<usize>,
+    /// the spare weight buffer; after resampling, the genetic operators' fitness
     scratch: Vec<f64>,
     mean: State,
     /// covariance: computed from the particles when first asked for (a SIR step without
