@@ -105,10 +105,11 @@ pub mod resample;
 
 pub use par::{CHUNK, MAX_THREADS, PARALLEL_MIN_PARTICLES};
 
-use super::ukf::{SharedPrior, Ukf, UkfParams};
+use super::ukf::{SharedPrior, Ukf, UkfParams, WhitenedBlock};
 use super::{symmetrize, Estimator, FilterError, UpdateInfo};
 use crate::dynamics::DiscreteModel;
 use crate::noise::NoiseModel;
+use crate::numerics::simd;
 use crate::numerics::state::{refuse, Persist, Reader, StateError, Writer};
 use crate::numerics::vexp::exp_nonpos;
 use crate::numerics::ziggurat::Ziggurat;
@@ -899,6 +900,183 @@ impl<M: MeasurementModel> Unscented<'_, M> {
         Some((x, pc_new, log_p - log_q))
     }
 
+    /// [`Unscented::run`] on one block of at most [`BLOCK`] particles by the shared-factor
+    /// algebra (covariances not carried), in structure-of-arrays form: the particles'
+    /// whitened updates at once ([`SharedPrior::update_block`], lanes outside its fast path
+    /// redone by [`SharedPrior::update`]), then the normals particle by particle in the
+    /// old order (a particle whose update fails draws none, a particle whose covariance
+    /// is not the shared one takes [`Unscented::draw`]), then the draws `x = mu + L u`
+    /// and both log-densities at once, and the likelihoods by [`Likelihood::log_many`].
+    /// The same operations in the same order per particle as [`Unscented::draw_shared`]
+    /// and [`Likelihood::log`], so the same bits (tested); the arithmetic loops run in
+    /// [`simd::dispatch`].
+    #[allow(clippy::too_many_arguments, clippy::needless_range_loop)]
+    fn run_shared_block(
+        &self,
+        sd: &SharedDraw,
+        x: &[State],
+        xbar: &[State],
+        pc: &[Mat6],
+        logw: &[f64],
+        x_new: &mut [State],
+        pc_new: &mut [Mat6],
+        logw_new: &mut [f64],
+        loglik: &mut [f64],
+        rng: &mut PfRng,
+        wb: &mut WhitenedBlock<BLOCK>,
+    ) {
+        let n = x.len();
+        debug_assert!(n <= BLOCK);
+        // transition means, transposed, and the shrinkage kernel's centres
+        let mut mu = [[0.0; BLOCK]; N];
+        for (i, xb) in xbar.iter().enumerate() {
+            for k in 0..N {
+                mu[k][i] = xb[k];
+            }
+        }
+        if let Some(kn) = &self.kernel {
+            let (a, off) = (kn.a, kn.offset);
+            for k in 0..N {
+                for i in 0..BLOCK {
+                    mu[k][i] = mu[k][i] * a + off[k];
+                }
+            }
+        }
+        let c = [mu[0], mu[1], mu[2]];
+        simd::dispatch(
+            #[inline(always)]
+            || {
+                sd.prior
+                    .update_block(&c, self.sensor, &self.r, &self.z, &self.trig, wb)
+            },
+        );
+        // lane by lane in order: the per-particle fallbacks and the normals
+        let mut eps = [[0.0; BLOCK]; N];
+        // 0: failed (no draw), 1: the shared draw, 2: `draw`'s own result (in `x_new`)
+        let mut lane = [0u8; BLOCK];
+        let mut own_corr = [0.0; BLOCK];
+        for i in 0..n {
+            let eligible = sd
+                .pc
+                .as_ref()
+                .map_or(true, |p| p.as_slice() == pc[i].as_slice());
+            if !eligible {
+                if let Some((xi, _, corr)) = self.draw(&xbar[i], &pc[i], rng) {
+                    x_new[i] = xi;
+                    own_corr[i] = corr;
+                    lane[i] = 2;
+                }
+                continue;
+            }
+            if !wb.fast[i] {
+                let m = State::from_fn(|k, _| mu[k][i]);
+                match sd
+                    .prior
+                    .update(&m, self.sensor, &self.r, &self.z, &self.trig)
+                {
+                    Ok(wu) => {
+                        for k in 0..3 {
+                            wb.step[k][i] = wu.step[k];
+                        }
+                        let mm = &wu.m;
+                        let ml = [
+                            mm[(0, 0)],
+                            mm[(1, 0)],
+                            mm[(2, 0)],
+                            mm[(1, 1)],
+                            mm[(2, 1)],
+                            mm[(2, 2)],
+                        ];
+                        for k in 0..6 {
+                            wb.m[k][i] = ml[k];
+                        }
+                    }
+                    Err(_) => continue,
+                }
+            }
+            let e = gauss6(rng);
+            for k in 0..N {
+                eps[k][i] = e[k];
+            }
+            lane[i] = 1;
+        }
+        // the draws and the densities (without the logarithm), every lane
+        let l = sd.prior.factor();
+        let mut xs = [[0.0; BLOCK]; N];
+        let mut prod = [0.0; BLOCK];
+        let mut log_p = [0.0; BLOCK];
+        let mut half_e2 = [0.0; BLOCK];
+        let (hl, phl) = (sd.half_logdet, self.prior_half_logdet);
+        simd::dispatch(
+            #[inline(always)]
+            || {
+                for i in 0..BLOCK {
+                    let (st, m) = (&wb.step, &wb.m);
+                    let e: [f64; N] = std::array::from_fn(|k| eps[k][i]);
+                    let u = [
+                        st[0][i] + m[0][i] * e[0],
+                        st[1][i] + m[1][i] * e[0] + m[3][i] * e[1],
+                        st[2][i] + m[2][i] * e[0] + m[4][i] * e[1] + m[5][i] * e[2],
+                        e[3],
+                        e[4],
+                        e[5],
+                    ];
+                    // `mu + L u`, L lower triangular, in nalgebra's column order
+                    for r in 0..N {
+                        let mut y = l[(r, 0)] * u[0];
+                        for j in 1..=r {
+                            y += l[(r, j)] * u[j];
+                        }
+                        xs[r][i] = mu[r][i] + y;
+                    }
+                    // `|A u|^2` (A = I: `|u|^2`), summed from zero as nalgebra does
+                    let up: [f64; N] = match &sd.a {
+                        Some(a) => std::array::from_fn(|r| {
+                            let mut y = a[(r, 0)] * u[0];
+                            for j in 1..N {
+                                y += a[(r, j)] * u[j];
+                            }
+                            y
+                        }),
+                        None => u,
+                    };
+                    let mut s = 0.0;
+                    for v in up {
+                        s += v * v;
+                    }
+                    log_p[i] = -0.5 * s - phl;
+                    let mut s = 0.0;
+                    for v in e {
+                        s += v * v;
+                    }
+                    half_e2[i] = -0.5 * s - hl;
+                    prod[i] = m[0][i] * m[3][i] * m[5][i];
+                }
+            },
+        );
+        for i in 0..n {
+            match lane[i] {
+                1 => {
+                    x_new[i] = State::from_fn(|k, _| xs[k][i]);
+                    let log_q = half_e2[i] - prod[i].ln();
+                    own_corr[i] = log_p[i] - log_q;
+                }
+                2 => {}
+                _ => {
+                    x_new[i] = x[i];
+                    own_corr[i] = 0.0;
+                }
+            }
+            pc_new[i] = Mat6::zeros();
+        }
+        let mut ll = [0.0; BLOCK];
+        self.lik.log_many(x_new, &mut ll[..n]);
+        for i in 0..n {
+            logw_new[i] = logw[i] + ll[i] + own_corr[i];
+            loglik[i] = ll[i];
+        }
+    }
+
     /// The proposals of a run of particles: new particles, covariances, log-weights and
     /// log-likelihoods into the spare buffers.
     #[allow(clippy::too_many_arguments)]
@@ -914,6 +1092,26 @@ impl<M: MeasurementModel> Unscented<'_, M> {
         loglik: &mut [f64],
         rng: &mut PfRng,
     ) {
+        if let (Some(sd), false) = (&self.shared, self.carry) {
+            let mut wb = WhitenedBlock::<BLOCK>::default();
+            for (b, xs) in x.chunks(BLOCK).enumerate() {
+                let r = b * BLOCK..b * BLOCK + xs.len();
+                self.run_shared_block(
+                    sd,
+                    xs,
+                    &xbar[r.clone()],
+                    &pc[r.clone()],
+                    &logw[r.clone()],
+                    &mut x_new[r.clone()],
+                    &mut pc_new[r.clone()],
+                    &mut logw_new[r.clone()],
+                    &mut loglik[r],
+                    rng,
+                    &mut wb,
+                );
+            }
+            return;
+        }
         for i in 0..x.len() {
             let (xi, pci, corr) = match self.draw(&xbar[i], &pc[i], rng) {
                 Some(d) => d,
