@@ -2234,6 +2234,139 @@ mod tests {
         assert!(CwBlocks::of(&coupled).is_none());
     }
 
+    /// The unscented proposal's shared-factor blocks ([`Unscented::run_shared_block`])
+    /// equal the particle-by-particle path ([`Unscented::draw`] and [`Likelihood::log`])
+    /// bit for bit, with the same normals drawn in the same order, on the dispatched and the
+    /// baseline path: the shrinkage kernel and the literal proposal (some particles with
+    /// another covariance: `draw`'s per-particle UKF), particles in the series domain,
+    /// far off (the per-particle fallback), on the pole and at zero range (failures), a
+    /// short last block, in every frame.
+    #[test]
+    fn shared_blocks_equal_the_per_particle_proposal() {
+        use crate::numerics::simd::with_baseline;
+        use crate::sensors::RadioSensor;
+        let mut g = rand_chacha::ChaCha8Rng::seed_from_u64(5);
+        let q = Mat6::from_diagonal(&State::new(0.09, 6.25e-4, 2.5e-3, 1e-6, 1e-6, 1e-6));
+        let mut fast_lanes = 0;
+        for frame in crate::frames::Frame::ALL {
+            let s = RadioSensor::new(frame, 0.5, 1e-3);
+            let c = frame.vec_to_canonical(&Vec3::new(400.0, 500.0, -200.0));
+            let z = s.predict(&c).expect("defined") + Vec3::new(0.2, -1e-3, 3e-3);
+            let noise = NoiseModel::Gaussian;
+            let lik = Likelihood::new(&s, &z, &noise, &[0.5, 1e-3, 1e-3]);
+            let n = 403;
+            let x: Vec<State> = (0..n)
+                .map(|k| {
+                    let mut v = State::from_fn(|i, _| {
+                        g.random_range(-1.0..1.0) * if i < 3 { 3.0 } else { 0.01 }
+                    });
+                    let pole = frame.vec_to_canonical(&Vec3::new(0.0, 0.0, 300.0));
+                    let base = match k % 37 {
+                        0 => {
+                            v.fill(0.0);
+                            Vec3::zeros()
+                        }
+                        1 => {
+                            v.fixed_rows_mut::<3>(0).fill(0.0);
+                            pole
+                        }
+                        2 => c * 1.5,
+                        3 => Vec3::zeros(),
+                        _ => c,
+                    };
+                    for i in 0..3 {
+                        v[i] += base[i];
+                    }
+                    v
+                })
+                .collect();
+            let mean = x.iter().sum::<State>() / n as f64;
+            let pred_cov = Mat6::from_diagonal(&State::new(4.0, 4.0, 4.0, 1e-4, 1e-4, 1e-4));
+            let ukf = Ukf::new(State::zeros(), Mat6::identity(), UkfParams::default());
+            let q_sqrt = psd_sqrt(&q).expect("PSD");
+            let pq = q.cholesky().expect("PD").unpack();
+            for literal in [false, true] {
+                let kernel = if literal {
+                    None
+                } else {
+                    Some(ShrinkKernel::new(&mean, &pred_cov, &q, n).expect("PD"))
+                };
+                let shared = match &kernel {
+                    Some(k) => SharedDraw::new(&ukf, &k.ukf_l.expect("PD"), &k.l, None),
+                    None => SharedDraw::new(&ukf, &pq, &q_sqrt, Some(q)),
+                };
+                let u = Unscented {
+                    ukf: ukf.clone(),
+                    lik: &lik,
+                    sensor: &s,
+                    r: s.noise_cov(),
+                    z,
+                    prior_half_logdet: half_logdet(kernel.as_ref().map_or(&q_sqrt, |k| &k.l)),
+                    kernel,
+                    q_sqrt,
+                    carry: false,
+                    shared,
+                    trig: AngleTrig::of(&z),
+                };
+                let sd = u.shared.as_ref().expect("the shared form applies");
+                // the literal proposal: every fifth particle with another covariance
+                let pc: Vec<Mat6> = (0..n)
+                    .map(|k| if literal && k % 5 == 0 { q * 2.0 } else { q })
+                    .collect();
+                let logw: Vec<f64> = (0..n).map(|k| -(k as f64) * 1e-3).collect();
+                let rng0 = PfRng::seed_from_u64(9);
+                // the per-particle reference
+                let mut rng = rng0.clone();
+                let mut want = Vec::new();
+                for i in 0..n {
+                    let (xi, corr) = match u.draw(&x[i], &pc[i], &mut rng) {
+                        Some((xi, _, corr)) => (xi, corr),
+                        None => (x[i], 0.0),
+                    };
+                    let ll = lik.log(&xi);
+                    want.push((xi, logw[i] + ll + corr, ll));
+                }
+                let after = rng.random::<u64>();
+                let run = || {
+                    let mut rng = rng0.clone();
+                    let mut xn = vec![State::zeros(); n];
+                    let mut pcn = vec![Mat6::identity(); n];
+                    let (mut lwn, mut ll) = (vec![0.0; n], vec![0.0; n]);
+                    u.run(
+                        &x, &x, &pc, &logw, &mut xn, &mut pcn, &mut lwn, &mut ll, &mut rng,
+                    );
+                    assert!(pcn.iter().all(|p| *p == Mat6::zeros()));
+                    (xn, lwn, ll, rng.random::<u64>())
+                };
+                for (xn, lwn, ll, next) in [run(), with_baseline(run)] {
+                    assert_eq!(next, after, "the same normals are drawn");
+                    for i in 0..n {
+                        let (wx, wlw, wll) = &want[i];
+                        let same = xn[i]
+                            .iter()
+                            .zip(wx.iter())
+                            .all(|(a, b)| a.to_bits() == b.to_bits());
+                        assert!(same, "{frame:?} {literal} {i}: {} {}", xn[i], wx);
+                        assert_eq!(lwn[i].to_bits(), wlw.to_bits(), "{frame:?} {literal} {i}");
+                        assert_eq!(ll[i].to_bits(), wll.to_bits(), "{frame:?} {literal} {i}");
+                    }
+                }
+                // most particles take the block's fast path
+                let mut wb = WhitenedBlock::<BLOCK>::default();
+                for xs in x.chunks(BLOCK) {
+                    let mut cb = [[0.0; BLOCK]; 3];
+                    for (i, xi) in xs.iter().enumerate() {
+                        let m = u.kernel.as_ref().map_or(*xi, |k| xi * k.a + k.offset);
+                        (cb[0][i], cb[1][i], cb[2][i]) = (m[0], m[1], m[2]);
+                    }
+                    sd.prior.update_block(&cb, &s, &u.r, &z, &u.trig, &mut wb);
+                    fast_lanes += wb.fast[..xs.len()].iter().filter(|f| **f).count();
+                }
+            }
+        }
+        assert!(fast_lanes > 3 * 2 * 403 * 8 / 10, "{fast_lanes}");
+    }
+
     /// The block likelihood equals the particle-by-particle one bit for bit (Gaussian and
     /// heavy-tailed noise, undefined positions, a short last block).
     #[test]
