@@ -583,37 +583,70 @@ impl SharedPrior {
                 }
             }
         }
+        // the factor of Pzz, lanes innermost (each loop below vectorises across states;
+        // the intermediate values in local arrays)
+        let (mut cl, mut ci, mut ok) = ([[0.0; B]; 6], [[0.0; B]; 3], [false; B]);
         for i in 0..B {
-            let d: [[f64; 3]; 7] = std::array::from_fn(|p| [dz[p][0][i], dz[p][1][i], dz[p][2][i]]);
-            let o0 = outer(&d[0]);
+            let o0 = outer(&[dz[0][0][i], dz[0][1][i], dz[0][2][i]]);
             let a: [f64; 6] = std::array::from_fn(|k| rl[k] + (w0 * o0[k] + w * s[k][i]));
-            let (cl, ci, ok_c) = chol3_lane(a);
-            let v: [[f64; 3]; 3] = std::array::from_fn(|j| {
-                let e = [
-                    (d[1 + j][0] - d[4 + j][0]) * gw,
-                    (d[1 + j][1] - d[4 + j][1]) * gw,
-                    (d[1 + j][2] - d[4 + j][2]) * gw,
-                ];
-                forward_lane(&cl, &ci, e)
-            });
-            let y = forward_lane(&cl, &ci, [nu[0][i], nu[1][i], nu[2][i]]);
-            let step = [dot3(&v[0], &y), dot3(&v[1], &y), dot3(&v[2], &y)];
-            let (ml, _, ok_m) = chol3_lane([
+            let (l, inv, ok_c) = chol3_lane(a);
+            for k in 0..6 {
+                cl[k][i] = l[k];
+            }
+            for k in 0..3 {
+                ci[k][i] = inv[k];
+            }
+            ok[i] = ok_c;
+        }
+        // V's rows v_j = C^-1 (gamma d_j), y = C^-1 nu, the step and I - V V^T
+        let (mut step, mut g) = ([[0.0; B]; 3], [[0.0; B]; 6]);
+        for i in 0..B {
+            let l = [cl[0][i], cl[1][i], cl[2][i], cl[3][i], cl[4][i], cl[5][i]];
+            let inv = [ci[0][i], ci[1][i], ci[2][i]];
+            let e = |j: usize| {
+                let (p, q) = (&dz[1 + j], &dz[4 + j]);
+                [
+                    (p[0][i] - q[0][i]) * gw,
+                    (p[1][i] - q[1][i]) * gw,
+                    (p[2][i] - q[2][i]) * gw,
+                ]
+            };
+            let v = [
+                forward_lane(&l, &inv, e(0)),
+                forward_lane(&l, &inv, e(1)),
+                forward_lane(&l, &inv, e(2)),
+            ];
+            let y = forward_lane(&l, &inv, [nu[0][i], nu[1][i], nu[2][i]]);
+            let st = [dot3(&v[0], &y), dot3(&v[1], &y), dot3(&v[2], &y)];
+            let gi = [
                 1.0 - dot3(&v[0], &v[0]),
                 -dot3(&v[1], &v[0]),
                 -dot3(&v[2], &v[0]),
                 1.0 - dot3(&v[1], &v[1]),
                 -dot3(&v[2], &v[1]),
                 1.0 - dot3(&v[2], &v[2]),
-            ]);
-            let ok_s = step[0].is_finite() & step[1].is_finite() & step[2].is_finite();
+            ];
             for k in 0..3 {
-                out.step[k][i] = step[k];
+                step[k][i] = st[k];
             }
             for k in 0..6 {
-                out.m[k][i] = ml[k];
+                g[k][i] = gi[k];
             }
-            out.fast[i] &= ok_c & ok_m & ok_s;
+        }
+        // M, the factor of I - V V^T
+        let (mut mm, mut ok_m) = ([[0.0; B]; 6], [false; B]);
+        for i in 0..B {
+            let (ml, _, okm) = chol3_lane(std::array::from_fn(|k| g[k][i]));
+            let ok_s = step[0][i].is_finite() & step[1][i].is_finite() & step[2][i].is_finite();
+            for k in 0..6 {
+                mm[k][i] = ml[k];
+            }
+            ok_m[i] = okm & ok_s;
+        }
+        out.step = step;
+        out.m = mm;
+        for i in 0..B {
+            out.fast[i] &= ok[i] & ok_m[i];
         }
     }
 }
