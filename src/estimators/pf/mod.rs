@@ -112,6 +112,7 @@ use crate::noise::NoiseModel;
 use crate::numerics::simd;
 use crate::numerics::state::{refuse, Persist, Reader, StateError, Writer};
 use crate::numerics::vexp::exp_nonpos;
+use crate::numerics::vlog::{is_normal_pos, ln_normal, ln_pos};
 use crate::numerics::ziggurat::Ziggurat;
 use crate::sensors::{AngleTrig, MeasurementModel};
 use crate::types::{Mat3, Mat6, State, Vec3};
@@ -888,7 +889,7 @@ impl<M: MeasurementModel> Unscented<'_, M> {
         );
         let x = mu + sd.prior.factor() * u;
         let log_q =
-            -0.5 * eps.norm_squared() - sd.half_logdet - (m[(0, 0)] * m[(1, 1)] * m[(2, 2)]).ln();
+            -0.5 * eps.norm_squared() - sd.half_logdet - ln_pos(m[(0, 0)] * m[(1, 1)] * m[(2, 2)]);
         let up = sd.a.as_ref().map_or(u, |a| a * u);
         let log_p = -0.5 * up.norm_squared() - self.prior_half_logdet;
         let pc_new = if self.carry {
@@ -1003,7 +1004,7 @@ impl<M: MeasurementModel> Unscented<'_, M> {
         // the draws and the densities (without the logarithm), every lane
         let l = sd.prior.factor();
         let mut xs = [[0.0; BLOCK]; N];
-        let mut prod = [0.0; BLOCK];
+        let (mut prod, mut ln_prod) = ([0.0; BLOCK], [0.0; BLOCK]);
         let mut log_p = [0.0; BLOCK];
         let mut half_e2 = [0.0; BLOCK];
         let (hl, phl) = (sd.half_logdet, self.prior_half_logdet);
@@ -1052,13 +1053,22 @@ impl<M: MeasurementModel> Unscented<'_, M> {
                     half_e2[i] = -0.5 * s - hl;
                     prod[i] = m[0][i] * m[3][i] * m[5][i];
                 }
+                for i in 0..BLOCK {
+                    ln_prod[i] = ln_normal(prod[i]);
+                }
             },
         );
         for i in 0..n {
             match lane[i] {
                 1 => {
                     x_new[i] = State::from_fn(|k, _| xs[k][i]);
-                    let log_q = half_e2[i] - prod[i].ln();
+                    // `ln_pos` (as `draw_shared`), its rare libm lanes here
+                    let lp = if is_normal_pos(prod[i]) {
+                        ln_prod[i]
+                    } else {
+                        prod[i].ln()
+                    };
+                    let log_q = half_e2[i] - lp;
                     own_corr[i] = log_p[i] - log_q;
                 }
                 2 => {}
