@@ -1119,6 +1119,92 @@ mod tests {
     /// points near and far, across the azimuth's 0 / 2 pi cut, spreads beyond 60 degrees
     /// (the `atan2` path), a point on the pole, with the UKF's default weights and with a
     /// negative centre weight; and whether the azimuth is usable, as `geometry` says.
+    /// `unscented_seven_block` equals `unscented_seven` bit for bit on every lane it marks
+    /// fast, on the dispatched and the baseline path, and marks fast every lane whose
+    /// centre and points are well inside the series' domain; far-off lanes, the pole and
+    /// zero range are left to the caller.
+    #[test]
+    fn seven_block_equals_unscented_seven_bitwise() {
+        use crate::numerics::simd::{dispatch, with_baseline};
+        use rand::Rng;
+        const B: usize = 16;
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(8);
+        let (mut fast_lanes, mut lanes) = (0, 0);
+        for frame in Frame::ALL {
+            let s = RadioSensor::new(frame, 0.5, 1e-3);
+            let truth = frame.vec_to_canonical(&Vec3::new(400.0, 500.0, -200.0));
+            for k in 0..200 {
+                let spread = [0.3, 3.0, 30.0][k % 3];
+                let o: [Vec3; 3] = std::array::from_fn(|_| {
+                    Vec3::from_fn(|_, _| rng.random_range(-spread..spread))
+                });
+                let wm = [(0.0, 1.0 / 6.0), (-2.0, 0.5)][k % 2];
+                let z = s.predict(&truth).unwrap()
+                    + Vec3::new(
+                        rng.random_range(-1.0..1.0),
+                        rng.random_range(-3e-3..3e-3),
+                        rng.random_range(-3e-3..3e-3),
+                    );
+                let trig = AngleTrig::of(&z);
+                let c: [[f64; B]; 3] = {
+                    let mut c = [[0.0; B]; 3];
+                    for i in 0..B {
+                        let p = match (k + i) % 23 {
+                            0 => Vec3::zeros(),
+                            1 => frame.vec_to_canonical(&Vec3::new(0.0, 0.0, 300.0)),
+                            2 => truth * 1.5,
+                            _ => truth + Vec3::from_fn(|_, _| rng.random_range(-5.0..5.0)),
+                        };
+                        (c[0][i], c[1][i], c[2][i]) = (p.x, p.y, p.z);
+                    }
+                    c
+                };
+                let run = || {
+                    let mut out = SevenBlock::<B>::default();
+                    dispatch(
+                        #[inline(always)]
+                        || s.unscented_seven_block(&z, &trig, &c, &o, wm, &mut out),
+                    );
+                    out
+                };
+                let (a, b) = (run(), with_baseline(run));
+                for i in 0..B {
+                    assert_eq!(a.fast[i], b.fast[i]);
+                    lanes += 1;
+                    if !a.fast[i] {
+                        continue;
+                    }
+                    fast_lanes += 1;
+                    let ci = Vec3::new(c[0][i], c[1][i], c[2][i]);
+                    let mut dz = [Vec3::zeros(); 7];
+                    let (nu, usable) = s.unscented_seven(&z, &trig, &ci, &o, wm, &mut dz).unwrap();
+                    assert!(usable);
+                    for out in [&a, &b] {
+                        for kk in 0..3 {
+                            assert_eq!(
+                                out.nu[kk][i].to_bits(),
+                                nu[kk].to_bits(),
+                                "{frame:?} {k} {i}"
+                            );
+                            for (p, d) in dz.iter().enumerate() {
+                                assert_eq!(
+                                    out.dz[p][kk][i].to_bits(),
+                                    d[kk].to_bits(),
+                                    "{frame:?} {k} {i} {p}"
+                                );
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        // the pole, zero range and the far-off lanes (3 in 23) and the widest spreads fall back
+        assert!(
+            fast_lanes > lanes / 2 && fast_lanes < lanes,
+            "{fast_lanes} of {lanes}"
+        );
+    }
+
     #[test]
     fn unscented_transform_equals_the_default() {
         use rand::Rng;
