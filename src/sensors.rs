@@ -1124,6 +1124,7 @@ mod tests {
     /// centre and points are well inside the series' domain; far-off lanes, the pole and
     /// zero range are left to the caller.
     #[test]
+    #[allow(clippy::needless_range_loop)]
     fn seven_block_equals_unscented_seven_bitwise() {
         use crate::numerics::simd::{dispatch, with_baseline};
         use rand::Rng;

@@ -20,20 +20,19 @@
 
 /// `2^52`: the low 52 mantissa bits of `k + TWO52` are the integer `k`, `0 <= k < 2^52`.
 const TWO52: f64 = 4_503_599_627_370_496.0;
-/// `ln 2` to 32 significant bits (fdlibm's `ln2_hi`, about 6.93147180369123816490e-01).
-const LN2_HI: f64 = f64::from_bits(0x3fe6_2e42_fee0_0000);
-/// `ln 2 - LN2_HI` (fdlibm's `ln2_lo`, about 1.90821492927058770002e-10).
-const LN2_LO: f64 = f64::from_bits(0x3dea_39ef_3579_3c76);
-/// fdlibm's `Lg1` .. `Lg7` (about 6.667e-01, 4.000e-01, 2.857e-01, 2.222e-01, 1.818e-01,
-/// 1.531e-01, 1.480e-01), by their bits.
+/// `ln 2` to 32 significant bits (fdlibm's `ln2_hi`, bits 0x3fe62e42fee00000).
+const LN2_HI: f64 = 0.693_147_180_369_123_8;
+/// `ln 2 - LN2_HI` (fdlibm's `ln2_lo`, bits 0x3dea39ef35793c76).
+const LN2_LO: f64 = 1.908_214_929_270_587_7e-10;
+/// fdlibm's `Lg1` .. `Lg7` (the shortest decimals of its bit patterns; tested).
 const LG: [f64; 7] = [
-    f64::from_bits(0x3fe5_5555_5555_5593),
-    f64::from_bits(0x3fd9_9999_9997_fa04),
-    f64::from_bits(0x3fd2_4924_9422_9359),
-    f64::from_bits(0x3fcc_71c5_1d8e_78af),
-    f64::from_bits(0x3fc7_4664_96cb_03de),
-    f64::from_bits(0x3fc3_9a09_d078_c69f),
-    f64::from_bits(0x3fc2_f112_df3e_5244),
+    0.666_666_666_666_673_5,
+    0.399_999_999_994_094_2,
+    0.285_714_287_436_623_9,
+    0.222_221_984_321_497_84,
+    0.181_835_721_616_180_5,
+    0.153_138_376_992_093_73,
+    0.147_981_986_051_165_86,
 ];
 
 /// `ln x` for a positive normal finite `x` (see the module documentation), no branch;
@@ -73,7 +72,7 @@ pub fn ln_pos(x: f64) -> f64 {
 /// Whether `x` is in [`ln_normal`]'s domain: positive, normal and finite.
 #[inline(always)]
 pub fn is_normal_pos(x: f64) -> bool {
-    (x >= f64::MIN_POSITIVE) & (x <= f64::MAX)
+    (f64::MIN_POSITIVE..=f64::MAX).contains(&x)
 }
 
 #[cfg(test)]
@@ -90,23 +89,23 @@ mod tests {
         (a - b).abs() / u
     }
 
-    /// The bit patterns are fdlibm's printed values.
+    /// The constants are fdlibm's, bit for bit.
     #[test]
     fn constants_are_fdlibms() {
-        let printed = [
-            6.666666666666735130e-01,
-            3.999999999940941908e-01,
-            2.857142874366239149e-01,
-            2.222219843214978396e-01,
-            1.818357216161805012e-01,
-            1.531383769920937332e-01,
-            1.479819860511658591e-01,
+        let bits = [
+            0x3fe5_5555_5555_5593_u64,
+            0x3fd9_9999_9997_fa04,
+            0x3fd2_4924_9422_9359,
+            0x3fcc_71c5_1d8e_78af,
+            0x3fc7_4664_96cb_03de,
+            0x3fc3_9a09_d078_c69f,
+            0x3fc2_f112_df3e_5244,
         ];
-        for (c, p) in LG.iter().zip(printed) {
-            assert_eq!(c.to_bits(), f64::to_bits(p), "{c:e}");
+        for (c, b) in LG.iter().zip(bits) {
+            assert_eq!(c.to_bits(), b, "{c:e}");
         }
-        assert_eq!(LN2_HI, 6.93147180369123816490e-01);
-        assert_eq!(LN2_LO, 1.90821492927058770002e-10);
+        assert_eq!(LN2_HI.to_bits(), 0x3fe6_2e42_fee0_0000);
+        assert_eq!(LN2_LO.to_bits(), 0x3dea_39ef_3579_3c76);
     }
 
     /// Within 1 ulp of `libm`'s `ln` (itself correctly rounded in nearly every case) over
