@@ -123,6 +123,31 @@ impl AngleTrig {
     }
 }
 
+/// The measurement side of the shared-prior unscented update for a block of `B` centres in
+/// structure-of-arrays form ([`MeasurementModel::unscented_seven_block`]): lane `i` holds
+/// the deviations `dz[p][k][i]` (point `p` in [`MeasurementModel::unscented_seven`]'s order,
+/// component `k`) and the innovation `nu[k][i]` where `fast[i]`. Reused block after block
+/// (so that no block zeroes its arrays).
+#[derive(Debug, Clone, Copy)]
+pub struct SevenBlock<const B: usize> {
+    /// deviations `diff(h(p), z_hat)` per point and component
+    pub dz: [[[f64; B]; 3]; 7],
+    /// innovations `diff(z, z_hat)`
+    pub nu: [[f64; B]; 3],
+    /// lanes whose `dz` and `nu` are `unscented_seven`'s bit for bit (azimuth usable)
+    pub fast: [bool; B],
+}
+
+impl<const B: usize> Default for SevenBlock<B> {
+    fn default() -> Self {
+        Self {
+            dz: [[[0.0; B]; 3]; 7],
+            nu: [[0.0; B]; 3],
+            fast: [false; B],
+        }
+    }
+}
+
 /// `asin(s)` for `|s| <= 1`, by its Maclaurin series where `|s| <= 2^-5`:
 ///
 /// ```text
@@ -247,6 +272,29 @@ pub trait MeasurementModel: Sync {
         dz: &mut [Vec3; 7],
     ) -> Option<(Vec3, bool)> {
         unscented_seven_generic(self, z, trig, c, o, wm, dz)
+    }
+    /// [`MeasurementModel::unscented_seven`] for a block of `B` centres in
+    /// structure-of-arrays form (`c[k][i]` component `k` of centre `i`; the same offsets
+    /// `o` and weights `wm` for every lane), for a particle filter whose particles share
+    /// one prior covariance. Writes `out.dz[p][k][i]` (point `p` in `unscented_seven`'s
+    /// order), the innovation `out.nu[k][i]` and `out.fast[i]`: where `fast[i]` is true the
+    /// lane's `dz` and `nu` are, bit for bit, what `unscented_seven` returns for that centre,
+    /// and its azimuth is usable; where false the lane is unspecified and the caller calls
+    /// `unscented_seven` itself. Default: every lane false (the caller's per-lane path). The
+    /// radio sensor overrides it with branch-free loops the compiler vectorises across
+    /// centres (its series path; see [`RadioSensor`]'s `unscented_seven`).
+    #[inline(always)]
+    fn unscented_seven_block<const B: usize>(
+        &self,
+        z: &Vec3,
+        trig: &AngleTrig,
+        c: &[[f64; B]; 3],
+        o: &[Vec3; 3],
+        wm: (f64, f64),
+        out: &mut SevenBlock<B>,
+    ) {
+        let _ = (z, trig, c, o, wm);
+        out.fast.fill(false);
     }
     /// Log-likelihood of `z` at canonical position `r`, up to a constant, as a particle
     /// filter weighs it. Default: the Gaussian of [`MeasurementModel::noise_cov`]'s
@@ -532,6 +580,118 @@ impl MeasurementModel for RadioSensor {
             asin_small(sn_e.clamp(-1.0, 1.0)) - de_m,
         );
         Some((nu, rxy_c / rho_c >= POLE_COS))
+    }
+    /// [`RadioSensor`]'s `unscented_seven` on a block of centres without a branch in the
+    /// loop: every lane runs the series path (the same operations in the same order as the
+    /// per-centre form, so the same bits), and a lane is `fast` exactly where that form
+    /// takes its series path throughout (every point inside the series' domain, the
+    /// circular mean's offset and both innovation angles' sines within `2^-5`, the azimuth
+    /// usable); other lanes are left to the caller's per-centre call.
+    #[allow(clippy::needless_range_loop)]
+    #[inline(always)]
+    fn unscented_seven_block<const B: usize>(
+        &self,
+        z: &Vec3,
+        trig: &AngleTrig,
+        c: &[[f64; B]; 3],
+        o: &[Vec3; 3],
+        wm: (f64, f64),
+        out: &mut SevenBlock<B>,
+    ) {
+        let t = self.frame.rotation();
+        let to: [Vec3; 3] = std::array::from_fn(|j| t * o[j]);
+        let (w0, w) = wm;
+        let (sza, cza) = trig.az;
+        let (sze, cze) = trig.el;
+        let z_ok = z.z.abs() <= PI;
+        // every loop below runs over the lanes (innermost, fixed length): the compiler
+        // vectorises each across centres
+        let SevenBlock { dz, nu, fast } = out;
+        let mut pc = [[0.0; B]; 3];
+        let (mut rho_c, mut rxy_c) = ([0.0; B], [0.0; B]);
+        let (mut sa, mut ca, mut se, mut ce) = ([0.0; B], [0.0; B], [0.0; B], [0.0; B]);
+        let (mut sn_a, mut sn_e) = ([0.0; B], [0.0; B]);
+        let mut ok = [false; B];
+        for i in 0..B {
+            // t * c as nalgebra's product forms it: column by column
+            let (c0, c1, c2) = (c[0][i], c[1][i], c[2][i]);
+            let p: [f64; 3] =
+                std::array::from_fn(|r| t[(r, 0)] * c0 + t[(r, 1)] * c1 + t[(r, 2)] * c2);
+            let rxy2 = p[0] * p[0] + p[1] * p[1];
+            let rho = (rxy2 + p[2] * p[2]).sqrt();
+            let rxy = rxy2.sqrt();
+            let (s_a, c_a) = (p[1] / rxy, p[0] / rxy);
+            let (s_e, c_e) = (p[2] / rho, rxy / rho);
+            let (sn, cn) = (sza * c_a - cza * s_a, cza * c_a + sza * s_a);
+            let (sne, cne) = (sze * c_e - cze * s_e, cze * c_e + sze * s_e);
+            ok[i] = (rho >= MIN_RANGE) & (rxy > 0.0) & (cn > 0.5) & (cne > 0.5) & z_ok;
+            (pc[0][i], pc[1][i], pc[2][i]) = (p[0], p[1], p[2]);
+            (rho_c[i], rxy_c[i]) = (rho, rxy);
+            (sa[i], ca[i], se[i], ce[i]) = (s_a, c_a, s_e, c_e);
+            (sn_a[i], sn_e[i]) = (sn, sne);
+        }
+        let (mut rho_s, mut sa_s, mut ca_s, mut de_s) = ([0.0; B], [0.0; B], [0.0; B], [0.0; B]);
+        for k in 0..6 {
+            let q = to[k % 3];
+            let q = if k < 3 { q } else { -q };
+            let dk = &mut dz[1 + k];
+            for i in 0..B {
+                // `pc - o` as `pc + (-o)`: the same difference
+                let p = [pc[0][i] + q.x, pc[1][i] + q.y, pc[2][i] + q.z];
+                let rxy2 = p[0] * p[0] + p[1] * p[1];
+                let rho = (rxy2 + p[2] * p[2]).sqrt();
+                let rxy = rxy2.sqrt();
+                let sd_a = (p[1] * ca[i] - p[0] * sa[i]) / rxy;
+                let cd_a = (p[0] * ca[i] + p[1] * sa[i]) / rxy;
+                let sd_e = (p[2] * ce[i] - rxy * se[i]) / rho;
+                let cd_e = (rxy * ce[i] + p[2] * se[i]) / rho;
+                ok[i] &= (rho >= MIN_RANGE)
+                    & (rxy > 0.0)
+                    & (cd_a > 0.5)
+                    & (cd_e > 0.5)
+                    & (sd_a.abs() <= ASIN_SERIES_MAX)
+                    & (sd_e.abs() <= ASIN_SERIES_MAX);
+                let de = asin_series(sd_e);
+                rho_s[i] += rho;
+                sa_s[i] += sd_a;
+                ca_s[i] += cd_a;
+                de_s[i] += de;
+                dk[0][i] = rho;
+                dk[1][i] = asin_series(sd_a);
+                dk[2][i] = de;
+            }
+        }
+        let (mut rho_m, mut da_m, mut de_m) = ([0.0; B], [0.0; B], [0.0; B]);
+        for i in 0..B {
+            let rm = w0 * rho_c[i] + w * rho_s[i];
+            let (s_m, c_m) = (w * sa_s[i], w0 + w * ca_s[i]);
+            let h = (s_m * s_m + c_m * c_m).sqrt();
+            let sh = s_m / h;
+            let da = asin_series(sh);
+            let de = w * de_s[i];
+            // the innovation's angles: the series where the per-centre form takes it, and
+            // `wrap_pi` the identity (two angles below 2^-5)
+            ok[i] &= (c_m > 0.5 * h)
+                & (sh.abs() <= ASIN_SERIES_MAX)
+                & (sn_a[i].abs() <= ASIN_SERIES_MAX)
+                & (sn_e[i].abs() <= ASIN_SERIES_MAX)
+                & (rxy_c[i] / rho_c[i] >= POLE_COS);
+            dz[0][0][i] = rho_c[i] - rm;
+            dz[0][1][i] = -da;
+            dz[0][2][i] = -de;
+            nu[0][i] = z.x - rm;
+            nu[1][i] = asin_series(sn_a[i]) - da;
+            nu[2][i] = asin_series(sn_e[i]) - de;
+            (rho_m[i], da_m[i], de_m[i]) = (rm, da, de);
+        }
+        for d in dz.iter_mut().skip(1) {
+            for i in 0..B {
+                d[0][i] -= rho_m[i];
+                d[1][i] -= da_m[i];
+                d[2][i] -= de_m[i];
+            }
+        }
+        *fast = ok;
     }
     /// `rho_xy / rho >= POLE_COS`, as [`RadioSensor::geometry`] decides it.
     fn azimuth_usable(&self, r: &Vec3) -> Result<bool, GeometryError> {
@@ -960,6 +1120,93 @@ mod tests {
     /// points near and far, across the azimuth's 0 / 2 pi cut, spreads beyond 60 degrees
     /// (the `atan2` path), a point on the pole, with the UKF's default weights and with a
     /// negative centre weight; and whether the azimuth is usable, as `geometry` says.
+    /// `unscented_seven_block` equals `unscented_seven` bit for bit on every lane it marks
+    /// fast, on the dispatched and the baseline path, and marks fast every lane whose
+    /// centre and points are well inside the series' domain; far-off lanes, the pole and
+    /// zero range are left to the caller.
+    #[test]
+    #[allow(clippy::needless_range_loop)]
+    fn seven_block_equals_unscented_seven_bitwise() {
+        use crate::numerics::simd::{dispatch, with_baseline};
+        use rand::Rng;
+        const B: usize = 16;
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(8);
+        let (mut fast_lanes, mut lanes) = (0, 0);
+        for frame in Frame::ALL {
+            let s = RadioSensor::new(frame, 0.5, 1e-3);
+            let truth = frame.vec_to_canonical(&Vec3::new(400.0, 500.0, -200.0));
+            for k in 0..200 {
+                let spread = [0.3, 3.0, 30.0][k % 3];
+                let o: [Vec3; 3] = std::array::from_fn(|_| {
+                    Vec3::from_fn(|_, _| rng.random_range(-spread..spread))
+                });
+                let wm = [(0.0, 1.0 / 6.0), (-2.0, 0.5)][k % 2];
+                let z = s.predict(&truth).unwrap()
+                    + Vec3::new(
+                        rng.random_range(-1.0..1.0),
+                        rng.random_range(-3e-3..3e-3),
+                        rng.random_range(-3e-3..3e-3),
+                    );
+                let trig = AngleTrig::of(&z);
+                let c: [[f64; B]; 3] = {
+                    let mut c = [[0.0; B]; 3];
+                    for i in 0..B {
+                        let p = match (k + i) % 23 {
+                            0 => Vec3::zeros(),
+                            1 => frame.vec_to_canonical(&Vec3::new(0.0, 0.0, 300.0)),
+                            2 => truth * 1.5,
+                            _ => truth + Vec3::from_fn(|_, _| rng.random_range(-5.0..5.0)),
+                        };
+                        (c[0][i], c[1][i], c[2][i]) = (p.x, p.y, p.z);
+                    }
+                    c
+                };
+                let run = || {
+                    let mut out = SevenBlock::<B>::default();
+                    dispatch(
+                        #[inline(always)]
+                        || s.unscented_seven_block(&z, &trig, &c, &o, wm, &mut out),
+                    );
+                    out
+                };
+                let (a, b) = (run(), with_baseline(run));
+                for i in 0..B {
+                    assert_eq!(a.fast[i], b.fast[i]);
+                    lanes += 1;
+                    if !a.fast[i] {
+                        continue;
+                    }
+                    fast_lanes += 1;
+                    let ci = Vec3::new(c[0][i], c[1][i], c[2][i]);
+                    let mut dz = [Vec3::zeros(); 7];
+                    let (nu, usable) = s.unscented_seven(&z, &trig, &ci, &o, wm, &mut dz).unwrap();
+                    assert!(usable);
+                    for out in [&a, &b] {
+                        for kk in 0..3 {
+                            assert_eq!(
+                                out.nu[kk][i].to_bits(),
+                                nu[kk].to_bits(),
+                                "{frame:?} {k} {i}"
+                            );
+                            for (p, d) in dz.iter().enumerate() {
+                                assert_eq!(
+                                    out.dz[p][kk][i].to_bits(),
+                                    d[kk].to_bits(),
+                                    "{frame:?} {k} {i} {p}"
+                                );
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        // the pole, zero range and the far-off lanes (3 in 23) and the widest spreads fall back
+        assert!(
+            fast_lanes > lanes / 2 && fast_lanes < lanes,
+            "{fast_lanes} of {lanes}"
+        );
+    }
+
     #[test]
     fn unscented_transform_equals_the_default() {
         use rand::Rng;

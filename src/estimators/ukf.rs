@@ -32,7 +32,7 @@
 use super::{finite, propagate_covariance, symmetrize, Estimator, FilterError, UpdateInfo};
 use crate::dynamics::DiscreteModel;
 use crate::numerics::state::{Persist, Reader, StateError, Writer};
-use crate::sensors::{AngleTrig, GeometryError, MeasurementModel};
+use crate::sensors::{AngleTrig, GeometryError, MeasurementModel, SevenBlock};
 use crate::types::{Mat3, Mat6, Mat63, State, Vec3};
 use nalgebra::{SMatrix, SVector};
 
@@ -447,6 +447,207 @@ impl SharedPrior {
                 azimuth_used,
             },
         })
+    }
+}
+
+/// [`SharedPrior::update`]'s results for a block of states in structure-of-arrays form
+/// ([`SharedPrior::update_block`]): lane `i` holds `step[k][i]` and `M`'s lower triangle
+/// `m[.][i] = (M_00, M_10, M_20, M_11, M_21, M_22)` where `fast[i]`.
+#[derive(Debug, Clone, Copy)]
+pub struct WhitenedBlock<const B: usize> {
+    /// `L^-1 (x+ - x-)`, first three components
+    pub step: [[f64; B]; 3],
+    /// `M`'s lower triangle `(M_00, M_10, M_20, M_11, M_21, M_22)`
+    pub m: [[f64; B]; 6],
+    /// lanes whose values are [`SharedPrior::update`]'s bit for bit (the others must be
+    /// computed by it)
+    pub fast: [bool; B],
+    /// scratch (kept here so that a caller reusing the block does not zero it block by
+    /// block): the sensor's side
+    seven: SevenBlock<B>,
+    /// scratch: `Pzz`'s sums over the outer points
+    s: [[f64; B]; 6],
+}
+
+impl<const B: usize> Default for WhitenedBlock<B> {
+    fn default() -> Self {
+        Self {
+            step: [[0.0; B]; 3],
+            m: [[0.0; B]; 6],
+            fast: [false; B],
+            seven: SevenBlock::default(),
+            s: [[0.0; B]; 6],
+        }
+    }
+}
+
+/// [`chol3`] on one lane without a branch: `(l00, l10, l20, l11, l21, l22)`, the
+/// reciprocals of the diagonal and whether `chol3` would have succeeded (every pivot
+/// positive, every entry finite). The same operations in the same order, so the same bits
+/// where it succeeds.
+#[inline(always)]
+fn chol3_lane(a: [f64; 6]) -> ([f64; 6], [f64; 3], bool) {
+    let d0 = a[0];
+    let l00 = d0.sqrt();
+    let i0 = 1.0 / l00;
+    let l10 = a[1] * i0;
+    let l20 = a[2] * i0;
+    let d1 = a[3] - l10 * l10;
+    let l11 = d1.sqrt();
+    let i1 = 1.0 / l11;
+    let l21 = (a[4] - l20 * l10) * i1;
+    let d2 = a[5] - l20 * l20 - l21 * l21;
+    let l22 = d2.sqrt();
+    let i2 = 1.0 / l22;
+    let ok = (d0 > 0.0)
+        & (d1 > 0.0)
+        & (d2 > 0.0)
+        & l00.is_finite()
+        & l11.is_finite()
+        & l22.is_finite()
+        & l10.is_finite()
+        & l20.is_finite()
+        & l21.is_finite();
+    ([l00, l10, l20, l11, l21, l22], [i0, i1, i2], ok)
+}
+
+/// `Chol3::forward` on one lane: `y = L^-1 b` with `l` and `inv` from [`chol3_lane`].
+#[inline(always)]
+fn forward_lane(l: &[f64; 6], inv: &[f64; 3], b: [f64; 3]) -> [f64; 3] {
+    let y0 = b[0] * inv[0];
+    let y1 = (b[1] - l[1] * y0) * inv[1];
+    let y2 = (b[2] - l[2] * y0 - l[4] * y1) * inv[2];
+    [y0, y1, y2]
+}
+
+/// nalgebra's `Vector3::dot`: `(a0 b0 + a1 b1) + a2 b2`.
+#[inline(always)]
+fn dot3(a: &[f64; 3], b: &[f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+impl SharedPrior {
+    /// [`SharedPrior::update`] of a block of states at once (`c[k][i]` component `k` of
+    /// state `i`'s position; the velocities do not enter) in structure-of-arrays form,
+    /// with no branch in the loops, so that the compiler vectorises them across states
+    /// (run it inside [`crate::numerics::simd::dispatch`]): the sensor's
+    /// [`MeasurementModel::unscented_seven_block`], then `Pzz`, its factor `C`,
+    /// `V = gamma E C^-T`, the step `V C^-1 nu` and `M` (see the type's documentation),
+    /// the same operations in the same order as `update` per lane. A lane is `fast` where
+    /// the sensor's block form applies (its azimuth usable) and `update` would succeed;
+    /// the other lanes are left to `update` (which then also reports the failure).
+    #[allow(clippy::too_many_arguments, clippy::needless_range_loop)]
+    #[inline(always)]
+    pub fn update_block<M: MeasurementModel, const B: usize>(
+        &self,
+        c: &[[f64; B]; 3],
+        sensor: &M,
+        r: &Mat3,
+        z: &Vec3,
+        trig: &AngleTrig,
+        out: &mut WhitenedBlock<B>,
+    ) {
+        sensor.unscented_seven_block(z, trig, c, &self.o, self.wm, &mut out.seven);
+        let (dz, nu, s) = (&out.seven.dz, &out.seven.nu, &mut out.s);
+        out.fast = out.seven.fast;
+        let (w0, w) = self.wc;
+        let gw = self.gamma * w;
+        let rl = [
+            r[(0, 0)],
+            r[(1, 0)],
+            r[(2, 0)],
+            r[(1, 1)],
+            r[(2, 1)],
+            r[(2, 2)],
+        ];
+        let outer = |d: &[f64; 3]| {
+            [
+                d[0] * d[0],
+                d[0] * d[1],
+                d[0] * d[2],
+                d[1] * d[1],
+                d[1] * d[2],
+                d[2] * d[2],
+            ]
+        };
+        // Pzz's six entries: the sums over the outer points, lanes innermost (vectorised)
+        for sk in s.iter_mut() {
+            sk.fill(0.0);
+        }
+        for dp in &dz[1..] {
+            for i in 0..B {
+                let d = [dp[0][i], dp[1][i], dp[2][i]];
+                let o = outer(&d);
+                for k in 0..6 {
+                    s[k][i] += o[k];
+                }
+            }
+        }
+        // the factor of Pzz, lanes innermost (each loop below vectorises across states;
+        // the intermediate values in local arrays)
+        let (mut cl, mut ci, mut ok) = ([[0.0; B]; 6], [[0.0; B]; 3], [false; B]);
+        for i in 0..B {
+            let o0 = outer(&[dz[0][0][i], dz[0][1][i], dz[0][2][i]]);
+            let a: [f64; 6] = std::array::from_fn(|k| rl[k] + (w0 * o0[k] + w * s[k][i]));
+            let (l, inv, ok_c) = chol3_lane(a);
+            for k in 0..6 {
+                cl[k][i] = l[k];
+            }
+            for k in 0..3 {
+                ci[k][i] = inv[k];
+            }
+            ok[i] = ok_c;
+        }
+        // V's rows v_j = C^-1 (gamma d_j), y = C^-1 nu, the step and I - V V^T
+        let (mut step, mut g) = ([[0.0; B]; 3], [[0.0; B]; 6]);
+        for i in 0..B {
+            let l = [cl[0][i], cl[1][i], cl[2][i], cl[3][i], cl[4][i], cl[5][i]];
+            let inv = [ci[0][i], ci[1][i], ci[2][i]];
+            let e = |j: usize| {
+                let (p, q) = (&dz[1 + j], &dz[4 + j]);
+                [
+                    (p[0][i] - q[0][i]) * gw,
+                    (p[1][i] - q[1][i]) * gw,
+                    (p[2][i] - q[2][i]) * gw,
+                ]
+            };
+            let v = [
+                forward_lane(&l, &inv, e(0)),
+                forward_lane(&l, &inv, e(1)),
+                forward_lane(&l, &inv, e(2)),
+            ];
+            let y = forward_lane(&l, &inv, [nu[0][i], nu[1][i], nu[2][i]]);
+            let st = [dot3(&v[0], &y), dot3(&v[1], &y), dot3(&v[2], &y)];
+            let gi = [
+                1.0 - dot3(&v[0], &v[0]),
+                -dot3(&v[1], &v[0]),
+                -dot3(&v[2], &v[0]),
+                1.0 - dot3(&v[1], &v[1]),
+                -dot3(&v[2], &v[1]),
+                1.0 - dot3(&v[2], &v[2]),
+            ];
+            for k in 0..3 {
+                step[k][i] = st[k];
+            }
+            for k in 0..6 {
+                g[k][i] = gi[k];
+            }
+        }
+        // M, the factor of I - V V^T
+        let (mut mm, mut ok_m) = ([[0.0; B]; 6], [false; B]);
+        for i in 0..B {
+            let (ml, _, okm) = chol3_lane(std::array::from_fn(|k| g[k][i]));
+            let ok_s = step[0][i].is_finite() & step[1][i].is_finite() & step[2][i].is_finite();
+            for k in 0..6 {
+                mm[k][i] = ml[k];
+            }
+            ok_m[i] = okm & ok_s;
+        }
+        out.step = step;
+        out.m = mm;
+        for i in 0..B {
+            out.fast[i] &= ok[i] & ok_m[i];
+        }
     }
 }
 

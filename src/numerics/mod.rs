@@ -13,6 +13,7 @@ pub mod eigen;
 pub mod simd;
 pub mod state;
 pub mod vexp;
+pub mod vlog;
 pub mod ziggurat;
 
 /// Whether every value is finite (neither NaN nor infinite). Branch-free: the per-value

@@ -105,12 +105,14 @@ pub mod resample;
 
 pub use par::{CHUNK, MAX_THREADS, PARALLEL_MIN_PARTICLES};
 
-use super::ukf::{SharedPrior, Ukf, UkfParams};
+use super::ukf::{SharedPrior, Ukf, UkfParams, WhitenedBlock};
 use super::{symmetrize, Estimator, FilterError, UpdateInfo};
 use crate::dynamics::DiscreteModel;
 use crate::noise::NoiseModel;
+use crate::numerics::simd;
 use crate::numerics::state::{refuse, Persist, Reader, StateError, Writer};
 use crate::numerics::vexp::exp_nonpos;
+use crate::numerics::vlog::{is_normal_pos, ln_normal, ln_pos};
 use crate::numerics::ziggurat::Ziggurat;
 use crate::sensors::{AngleTrig, MeasurementModel};
 use crate::types::{Mat3, Mat6, State, Vec3};
@@ -887,7 +889,7 @@ impl<M: MeasurementModel> Unscented<'_, M> {
         );
         let x = mu + sd.prior.factor() * u;
         let log_q =
-            -0.5 * eps.norm_squared() - sd.half_logdet - (m[(0, 0)] * m[(1, 1)] * m[(2, 2)]).ln();
+            -0.5 * eps.norm_squared() - sd.half_logdet - ln_pos(m[(0, 0)] * m[(1, 1)] * m[(2, 2)]);
         let up = sd.a.as_ref().map_or(u, |a| a * u);
         let log_p = -0.5 * up.norm_squared() - self.prior_half_logdet;
         let pc_new = if self.carry {
@@ -897,6 +899,192 @@ impl<M: MeasurementModel> Unscented<'_, M> {
             Mat6::zeros()
         };
         Some((x, pc_new, log_p - log_q))
+    }
+
+    /// [`Unscented::run`] on one block of at most [`BLOCK`] particles by the shared-factor
+    /// algebra (covariances not carried), in structure-of-arrays form: the particles'
+    /// whitened updates at once ([`SharedPrior::update_block`], lanes outside its fast path
+    /// redone by [`SharedPrior::update`]), then the normals particle by particle in the
+    /// old order (a particle whose update fails draws none, a particle whose covariance
+    /// is not the shared one takes [`Unscented::draw`]), then the draws `x = mu + L u`
+    /// and both log-densities at once, and the likelihoods by [`Likelihood::log_many`].
+    /// The same operations in the same order per particle as [`Unscented::draw_shared`]
+    /// and [`Likelihood::log`], so the same bits (tested); the arithmetic loops run in
+    /// [`simd::dispatch`].
+    #[allow(clippy::too_many_arguments, clippy::needless_range_loop)]
+    fn run_shared_block(
+        &self,
+        sd: &SharedDraw,
+        x: &[State],
+        xbar: &[State],
+        pc: &[Mat6],
+        logw: &[f64],
+        x_new: &mut [State],
+        pc_new: &mut [Mat6],
+        logw_new: &mut [f64],
+        loglik: &mut [f64],
+        rng: &mut PfRng,
+        wb: &mut WhitenedBlock<BLOCK>,
+    ) {
+        let n = x.len();
+        debug_assert!(n <= BLOCK);
+        // transition means, transposed, and the shrinkage kernel's centres
+        let mut mu = [[0.0; BLOCK]; N];
+        for (i, xb) in xbar.iter().enumerate() {
+            for k in 0..N {
+                mu[k][i] = xb[k];
+            }
+        }
+        if let Some(kn) = &self.kernel {
+            let (a, off) = (kn.a, kn.offset);
+            for k in 0..N {
+                for i in 0..BLOCK {
+                    mu[k][i] = mu[k][i] * a + off[k];
+                }
+            }
+        }
+        let c = [mu[0], mu[1], mu[2]];
+        simd::dispatch(
+            #[inline(always)]
+            || {
+                sd.prior
+                    .update_block(&c, self.sensor, &self.r, &self.z, &self.trig, wb)
+            },
+        );
+        // lane by lane in order: the per-particle fallbacks and the normals
+        let mut eps = [[0.0; BLOCK]; N];
+        // 0: failed (no draw), 1: the shared draw, 2: `draw`'s own result (in `x_new`)
+        let mut lane = [0u8; BLOCK];
+        let mut own_corr = [0.0; BLOCK];
+        for i in 0..n {
+            let eligible = sd
+                .pc
+                .as_ref()
+                .map_or(true, |p| p.as_slice() == pc[i].as_slice());
+            if !eligible {
+                if let Some((xi, _, corr)) = self.draw(&xbar[i], &pc[i], rng) {
+                    x_new[i] = xi;
+                    own_corr[i] = corr;
+                    lane[i] = 2;
+                }
+                continue;
+            }
+            if !wb.fast[i] {
+                let m = State::from_fn(|k, _| mu[k][i]);
+                match sd
+                    .prior
+                    .update(&m, self.sensor, &self.r, &self.z, &self.trig)
+                {
+                    Ok(wu) => {
+                        for k in 0..3 {
+                            wb.step[k][i] = wu.step[k];
+                        }
+                        let mm = &wu.m;
+                        let ml = [
+                            mm[(0, 0)],
+                            mm[(1, 0)],
+                            mm[(2, 0)],
+                            mm[(1, 1)],
+                            mm[(2, 1)],
+                            mm[(2, 2)],
+                        ];
+                        for k in 0..6 {
+                            wb.m[k][i] = ml[k];
+                        }
+                    }
+                    Err(_) => continue,
+                }
+            }
+            let e = gauss6(rng);
+            for k in 0..N {
+                eps[k][i] = e[k];
+            }
+            lane[i] = 1;
+        }
+        // the draws and the densities (without the logarithm), every lane
+        let l = sd.prior.factor();
+        let mut xs = [[0.0; BLOCK]; N];
+        let (mut prod, mut ln_prod) = ([0.0; BLOCK], [0.0; BLOCK]);
+        let mut log_p = [0.0; BLOCK];
+        let mut half_e2 = [0.0; BLOCK];
+        let (hl, phl) = (sd.half_logdet, self.prior_half_logdet);
+        simd::dispatch(
+            #[inline(always)]
+            || {
+                for i in 0..BLOCK {
+                    let (st, m) = (&wb.step, &wb.m);
+                    let e: [f64; N] = std::array::from_fn(|k| eps[k][i]);
+                    let u = [
+                        st[0][i] + m[0][i] * e[0],
+                        st[1][i] + m[1][i] * e[0] + m[3][i] * e[1],
+                        st[2][i] + m[2][i] * e[0] + m[4][i] * e[1] + m[5][i] * e[2],
+                        e[3],
+                        e[4],
+                        e[5],
+                    ];
+                    // `mu + L u`, L lower triangular, in nalgebra's column order
+                    for r in 0..N {
+                        let mut y = l[(r, 0)] * u[0];
+                        for j in 1..=r {
+                            y += l[(r, j)] * u[j];
+                        }
+                        xs[r][i] = mu[r][i] + y;
+                    }
+                    // `|A u|^2` (A = I: `|u|^2`), summed from zero as nalgebra does
+                    let up: [f64; N] = match &sd.a {
+                        Some(a) => std::array::from_fn(|r| {
+                            let mut y = a[(r, 0)] * u[0];
+                            for j in 1..N {
+                                y += a[(r, j)] * u[j];
+                            }
+                            y
+                        }),
+                        None => u,
+                    };
+                    let mut s = 0.0;
+                    for v in up {
+                        s += v * v;
+                    }
+                    log_p[i] = -0.5 * s - phl;
+                    let mut s = 0.0;
+                    for v in e {
+                        s += v * v;
+                    }
+                    half_e2[i] = -0.5 * s - hl;
+                    prod[i] = m[0][i] * m[3][i] * m[5][i];
+                }
+                for i in 0..BLOCK {
+                    ln_prod[i] = ln_normal(prod[i]);
+                }
+            },
+        );
+        for i in 0..n {
+            match lane[i] {
+                1 => {
+                    x_new[i] = State::from_fn(|k, _| xs[k][i]);
+                    // `ln_pos` (as `draw_shared`), its rare libm lanes here
+                    let lp = if is_normal_pos(prod[i]) {
+                        ln_prod[i]
+                    } else {
+                        prod[i].ln()
+                    };
+                    let log_q = half_e2[i] - lp;
+                    own_corr[i] = log_p[i] - log_q;
+                }
+                2 => {}
+                _ => {
+                    x_new[i] = x[i];
+                    own_corr[i] = 0.0;
+                }
+            }
+            pc_new[i] = Mat6::zeros();
+        }
+        let mut ll = [0.0; BLOCK];
+        self.lik.log_many(x_new, &mut ll[..n]);
+        for i in 0..n {
+            logw_new[i] = logw[i] + ll[i] + own_corr[i];
+            loglik[i] = ll[i];
+        }
     }
 
     /// The proposals of a run of particles: new particles, covariances, log-weights and
@@ -914,6 +1102,26 @@ impl<M: MeasurementModel> Unscented<'_, M> {
         loglik: &mut [f64],
         rng: &mut PfRng,
     ) {
+        if let (Some(sd), false) = (&self.shared, self.carry) {
+            let mut wb = WhitenedBlock::<BLOCK>::default();
+            for (b, xs) in x.chunks(BLOCK).enumerate() {
+                let r = b * BLOCK..b * BLOCK + xs.len();
+                self.run_shared_block(
+                    sd,
+                    xs,
+                    &xbar[r.clone()],
+                    &pc[r.clone()],
+                    &logw[r.clone()],
+                    &mut x_new[r.clone()],
+                    &mut pc_new[r.clone()],
+                    &mut logw_new[r.clone()],
+                    &mut loglik[r],
+                    rng,
+                    &mut wb,
+                );
+            }
+            return;
+        }
         for i in 0..x.len() {
             let (xi, pci, corr) = match self.draw(&xbar[i], &pc[i], rng) {
                 Some(d) => d,
@@ -2027,6 +2235,139 @@ mod tests {
         let mut coupled = Mat6::identity();
         coupled[(0, 2)] = 1e-3;
         assert!(CwBlocks::of(&coupled).is_none());
+    }
+
+    /// The unscented proposal's shared-factor blocks ([`Unscented::run_shared_block`])
+    /// equal the particle-by-particle path ([`Unscented::draw`] and [`Likelihood::log`])
+    /// bit for bit, with the same normals drawn in the same order, on the dispatched and the
+    /// baseline path: the shrinkage kernel and the literal proposal (some particles with
+    /// another covariance: `draw`'s per-particle UKF), particles in the series domain,
+    /// far off (the per-particle fallback), on the pole and at zero range (failures), a
+    /// short last block, in every frame.
+    #[test]
+    fn shared_blocks_equal_the_per_particle_proposal() {
+        use crate::numerics::simd::with_baseline;
+        use crate::sensors::RadioSensor;
+        let mut g = rand_chacha::ChaCha8Rng::seed_from_u64(5);
+        let q = Mat6::from_diagonal(&State::new(0.09, 6.25e-4, 2.5e-3, 1e-6, 1e-6, 1e-6));
+        let mut fast_lanes = 0;
+        for frame in crate::frames::Frame::ALL {
+            let s = RadioSensor::new(frame, 0.5, 1e-3);
+            let c = frame.vec_to_canonical(&Vec3::new(400.0, 500.0, -200.0));
+            let z = s.predict(&c).expect("defined") + Vec3::new(0.2, -1e-3, 3e-3);
+            let noise = NoiseModel::Gaussian;
+            let lik = Likelihood::new(&s, &z, &noise, &[0.5, 1e-3, 1e-3]);
+            let n = 403;
+            let x: Vec<State> = (0..n)
+                .map(|k| {
+                    let mut v = State::from_fn(|i, _| {
+                        g.random_range(-1.0..1.0) * if i < 3 { 3.0 } else { 0.01 }
+                    });
+                    let pole = frame.vec_to_canonical(&Vec3::new(0.0, 0.0, 300.0));
+                    let base = match k % 37 {
+                        0 => {
+                            v.fill(0.0);
+                            Vec3::zeros()
+                        }
+                        1 => {
+                            v.fixed_rows_mut::<3>(0).fill(0.0);
+                            pole
+                        }
+                        2 => c * 1.5,
+                        3 => Vec3::zeros(),
+                        _ => c,
+                    };
+                    for i in 0..3 {
+                        v[i] += base[i];
+                    }
+                    v
+                })
+                .collect();
+            let mean = x.iter().sum::<State>() / n as f64;
+            let pred_cov = Mat6::from_diagonal(&State::new(4.0, 4.0, 4.0, 1e-4, 1e-4, 1e-4));
+            let ukf = Ukf::new(State::zeros(), Mat6::identity(), UkfParams::default());
+            let q_sqrt = psd_sqrt(&q).expect("PSD");
+            let pq = q.cholesky().expect("PD").unpack();
+            for literal in [false, true] {
+                let kernel = if literal {
+                    None
+                } else {
+                    Some(ShrinkKernel::new(&mean, &pred_cov, &q, n).expect("PD"))
+                };
+                let shared = match &kernel {
+                    Some(k) => SharedDraw::new(&ukf, &k.ukf_l.expect("PD"), &k.l, None),
+                    None => SharedDraw::new(&ukf, &pq, &q_sqrt, Some(q)),
+                };
+                let u = Unscented {
+                    ukf: ukf.clone(),
+                    lik: &lik,
+                    sensor: &s,
+                    r: s.noise_cov(),
+                    z,
+                    prior_half_logdet: half_logdet(kernel.as_ref().map_or(&q_sqrt, |k| &k.l)),
+                    kernel,
+                    q_sqrt,
+                    carry: false,
+                    shared,
+                    trig: AngleTrig::of(&z),
+                };
+                let sd = u.shared.as_ref().expect("the shared form applies");
+                // the literal proposal: every fifth particle with another covariance
+                let pc: Vec<Mat6> = (0..n)
+                    .map(|k| if literal && k % 5 == 0 { q * 2.0 } else { q })
+                    .collect();
+                let logw: Vec<f64> = (0..n).map(|k| -(k as f64) * 1e-3).collect();
+                let rng0 = PfRng::seed_from_u64(9);
+                // the per-particle reference
+                let mut rng = rng0.clone();
+                let mut want = Vec::new();
+                for i in 0..n {
+                    let (xi, corr) = match u.draw(&x[i], &pc[i], &mut rng) {
+                        Some((xi, _, corr)) => (xi, corr),
+                        None => (x[i], 0.0),
+                    };
+                    let ll = lik.log(&xi);
+                    want.push((xi, logw[i] + ll + corr, ll));
+                }
+                let after = rng.random::<u64>();
+                let run = || {
+                    let mut rng = rng0.clone();
+                    let mut xn = vec![State::zeros(); n];
+                    let mut pcn = vec![Mat6::identity(); n];
+                    let (mut lwn, mut ll) = (vec![0.0; n], vec![0.0; n]);
+                    u.run(
+                        &x, &x, &pc, &logw, &mut xn, &mut pcn, &mut lwn, &mut ll, &mut rng,
+                    );
+                    assert!(pcn.iter().all(|p| *p == Mat6::zeros()));
+                    (xn, lwn, ll, rng.random::<u64>())
+                };
+                for (xn, lwn, ll, next) in [run(), with_baseline(run)] {
+                    assert_eq!(next, after, "the same normals are drawn");
+                    for i in 0..n {
+                        let (wx, wlw, wll) = &want[i];
+                        let same = xn[i]
+                            .iter()
+                            .zip(wx.iter())
+                            .all(|(a, b)| a.to_bits() == b.to_bits());
+                        assert!(same, "{frame:?} {literal} {i}: {} {}", xn[i], wx);
+                        assert_eq!(lwn[i].to_bits(), wlw.to_bits(), "{frame:?} {literal} {i}");
+                        assert_eq!(ll[i].to_bits(), wll.to_bits(), "{frame:?} {literal} {i}");
+                    }
+                }
+                // most particles take the block's fast path
+                let mut wb = WhitenedBlock::<BLOCK>::default();
+                for xs in x.chunks(BLOCK) {
+                    let mut cb = [[0.0; BLOCK]; 3];
+                    for (i, xi) in xs.iter().enumerate() {
+                        let m = u.kernel.as_ref().map_or(*xi, |k| xi * k.a + k.offset);
+                        (cb[0][i], cb[1][i], cb[2][i]) = (m[0], m[1], m[2]);
+                    }
+                    sd.prior.update_block(&cb, &s, &u.r, &z, &u.trig, &mut wb);
+                    fast_lanes += wb.fast[..xs.len()].iter().filter(|f| **f).count();
+                }
+            }
+        }
+        assert!(fast_lanes > 3 * 2 * 403 * 8 / 10, "{fast_lanes}");
     }
 
     /// The block likelihood equals the particle-by-particle one bit for bit (Gaussian and
