@@ -409,6 +409,15 @@ impl<M: MeasurementModel> Likelihood<'_, M> {
     /// block in structure-of-arrays form ([`MeasurementModel::residuals_at`]): the same
     /// values as `log` particle by particle, bit for bit.
     fn log_many(&self, x: &[State], out: &mut [f64]) {
+        crate::numerics::simd::dispatch(
+            #[inline(always)]
+            || self.log_many_inline(x, out),
+        )
+    }
+
+    /// [`Likelihood::log_many`]'s body, inlined into its [`crate::numerics::simd::dispatch`].
+    #[inline(always)]
+    fn log_many_inline(&self, x: &[State], out: &mut [f64]) {
         let mut r = [[0.0; BLOCK]; 3];
         let mut d = [[0.0; BLOCK]; 3];
         let mut ok = [false; BLOCK];
@@ -621,6 +630,21 @@ impl Transition {
     /// operations in the same order per particle as the scalar form (so the same bits),
     /// two particles per SSE2 instruction.
     fn run(&self, x: &[State], out: &mut [State], xbar: &mut [State], rng: &mut PfRng) -> f64 {
+        crate::numerics::simd::dispatch(
+            #[inline(always)]
+            || self.run_inline(x, out, xbar, rng),
+        )
+    }
+
+    /// [`Transition::run`]'s body, inlined into its [`crate::numerics::simd::dispatch`].
+    #[inline(always)]
+    fn run_inline(
+        &self,
+        x: &[State],
+        out: &mut [State],
+        xbar: &mut [State],
+        rng: &mut PfRng,
+    ) -> f64 {
         let mut g = rng.clone();
         let zig = Ziggurat::get();
         let mut bad = 0.0;
@@ -1593,6 +1617,15 @@ impl ParticleFilter {
 
 /// `(sum w_i x_i, sum w_i)`.
 fn weighted_sum(x: &[State], w: &[f64]) -> (State, f64) {
+    crate::numerics::simd::dispatch(
+        #[inline(always)]
+        || weighted_sum_inline(x, w),
+    )
+}
+
+/// [`weighted_sum`]'s body, inlined into its [`crate::numerics::simd::dispatch`].
+#[inline(always)]
+fn weighted_sum_inline(x: &[State], w: &[f64]) -> (State, f64) {
     let mut m = State::zeros();
     let mut s = 0.0;
     for (xi, wi) in x.iter().zip(w) {
@@ -1630,6 +1663,16 @@ const TRIANGLE: [(usize, usize); 21] = {
 /// ([`Moments::add`]) at rounding level.
 #[allow(clippy::needless_range_loop)] // index loops over fixed lanes: they vectorise
 fn moments(reference: &State, x: &[State], w: &[f64]) -> Moments {
+    crate::numerics::simd::dispatch(
+        #[inline(always)]
+        || moments_inline(reference, x, w),
+    )
+}
+
+/// [`moments`]' body, inlined into its [`crate::numerics::simd::dispatch`].
+#[inline(always)]
+#[allow(clippy::needless_range_loop)]
+fn moments_inline(reference: &State, x: &[State], w: &[f64]) -> Moments {
     let mut s1 = [[0.0; BLOCK]; N];
     let mut s2 = [[0.0; BLOCK]; 21];
     let mut ws = [0.0; BLOCK];
@@ -2062,6 +2105,78 @@ mod tests {
                 assert_eq!(o.to_bits(), lik.log(xi).to_bits(), "{xi:?}");
             }
         }
+    }
+
+    /// The hot loops run through `simd::dispatch` (AVX2 where the CPU has it) give the
+    /// same bits as the baseline path: the transition (particles, means, generator), the
+    /// block likelihood, the moments, the weighted sum and the normalised weights.
+    #[test]
+    fn dispatched_loops_equal_baseline_bitwise() {
+        use crate::numerics::simd::with_baseline;
+        use crate::sensors::RadioSensor;
+        let bits = |v: &[State]| -> Vec<u64> {
+            v.iter()
+                .flat_map(|s| s.iter().map(|x| x.to_bits()))
+                .collect()
+        };
+        let fbits = |v: &[f64]| -> Vec<u64> { v.iter().map(|x| x.to_bits()).collect() };
+        let m = CwModel::new(2.0 * std::f64::consts::PI / 5400.0);
+        let mut d = m.discretize(1.0, &Mat3::zeros(), Discretization::Exact);
+        d.q += Mat6::from_diagonal(&State::new(0.09, 6.25e-4, 2.5e-3, 1e-6, 1e-6, 1e-6));
+        let l = chol(&d.q).expect("pd");
+        let c = Vec3::new(400.0, 500.0, -200.0);
+        // 1003: a short last block
+        let x: Vec<State> = (0..1003)
+            .map(|k| {
+                let f = |i: usize| ((i * 7 + k * 13) as f64).sin();
+                match k % 11 {
+                    0 => State::zeros(),
+                    1 => State::new(f(0) * 900.0, f(1) * 900.0, f(2) * 900.0, 0.0, 0.0, 0.0),
+                    _ => State::new(c.x + f(0), c.y + f(1), c.z + f(2), f(3), f(4), f(5)),
+                }
+            })
+            .collect();
+        let w: Vec<f64> = (0..x.len()).map(|k| 1.0 + (k as f64).cos()).collect();
+        let s = RadioSensor::new(crate::frames::Frame::AlongRadialAntinormal, 0.5, 1e-4);
+        let z = s.predict(&c).expect("defined") + Vec3::new(0.2, -1e-4, 3e-4);
+        let run = || {
+            let mut out = Vec::new();
+            for diag in [true, false] {
+                let tr = Transition {
+                    blocks: CwBlocks::of(&d.phi),
+                    phi: d.phi,
+                    u: State::new(1e-3, 0.0, -2e-3, 0.0, 1e-6, 0.0),
+                    diag: diag.then(|| l.diagonal()),
+                    l,
+                };
+                let mut rng = PfRng::seed_from_u64(3);
+                let (mut xn, mut xb) =
+                    (vec![State::zeros(); x.len()], vec![State::zeros(); x.len()]);
+                let bad = tr.run(&x, &mut xn, &mut xb, &mut rng);
+                out.push((bits(&xn), bits(&xb), bad.to_bits(), rng));
+            }
+            let lik = Likelihood::new(&s, &z, &NoiseModel::Gaussian, &[0.5, 1e-4, 1e-4]);
+            let mut ll = vec![0.0; x.len()];
+            lik.log_many(&x, &mut ll);
+            let mom = moments(&State::from_element(0.1), &x, &w);
+            let (ws, wsum) = weighted_sum(&x, &w);
+            let mut wn = vec![0.0; x.len()];
+            let lm = normalize_log_weights(&ll, &mut wn);
+            (
+                out,
+                fbits(&ll),
+                fbits(mom.s1.as_slice()),
+                fbits(&mom.s2),
+                mom.wsum.to_bits(),
+                fbits(ws.as_slice()),
+                wsum.to_bits(),
+                fbits(&wn),
+                lm.map(f64::to_bits),
+            )
+        };
+        let fast = run();
+        let base = with_baseline(run);
+        assert!(fast == base);
     }
 
     /// Merged partial moments equal the one-pass moments of the whole set.
