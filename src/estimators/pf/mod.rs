@@ -111,7 +111,7 @@ use crate::dynamics::DiscreteModel;
 use crate::noise::NoiseModel;
 use crate::numerics::state::{refuse, Persist, Reader, StateError, Writer};
 use crate::numerics::vexp::exp_nonpos;
-use crate::numerics::ziggurat::Ziggurat;
+use crate::numerics::ziggurat::{Lanes, Ziggurat};
 use crate::sensors::{AngleTrig, MeasurementModel};
 use crate::types::{Mat3, Mat6, State, Vec3};
 use genetic::{CloudParams, GeneticParams};
@@ -622,13 +622,21 @@ impl Transition {
     /// `xbar` when it is not empty); returns a number that is finite exactly when every
     /// new component is (the sum of `0 * v` over them: NaN once one is not).
     ///
+    /// The normals come from [`LANES`](crate::numerics::ziggurat::LANES) xoshiro256++
+    /// lanes ([`Lanes::seed_from`]) derived from `rng` at the start of the call (`rng`
+    /// advances by one word per lane, plus the words of the slow paths): the lanes are
+    /// transient, so the filter's saved state stays `rng`'s four words and a restored filter
+    /// continues identically; the draws are deterministic per seed and, since every
+    /// parallel chunk derives its lanes from its own generator, independent of the thread
+    /// count.
+    ///
     /// Block by block: the block's `6 B` normals are drawn first, component by component
-    /// (each component's `B` values in one batch of [`Ziggurat::fill`]), with the
-    /// generator in a local copy (kept in registers by the draw loop); then, for
+    /// (each component's `B` values in one batch of [`Ziggurat::fill_batch_lanes`]; a short
+    /// last block by [`Ziggurat::fill`] from `rng`); then, for
     /// the CW block structure with a diagonal `Q` (paper 000's model), the transition
     /// `x_i <- Phi x_i + Gamma a + sqrt(Q) eps_i` runs on the transposed block, the same
     /// operations in the same order per particle as the scalar form (so the same bits),
-    /// two particles per SSE2 instruction.
+    /// four particles per AVX2 instruction through [`crate::numerics::simd::dispatch`].
     fn run(&self, x: &[State], out: &mut [State], xbar: &mut [State], rng: &mut PfRng) -> f64 {
         crate::numerics::simd::dispatch(
             #[inline(always)]
@@ -647,6 +655,7 @@ impl Transition {
     ) -> f64 {
         let mut g = rng.clone();
         let zig = Ziggurat::get();
+        let mut lanes = Lanes::seed_from(&mut g);
         let mut bad = 0.0;
         let mut eps = [[0.0; BLOCK]; N];
         let mut scratch = ([[0.0; BLOCK]; N], [[0.0; BLOCK]; N], [[0.0; BLOCK]; N]);
@@ -654,7 +663,7 @@ impl Transition {
             for e in eps.iter_mut() {
                 match e.get_mut(..xs.len()) {
                     Some(e) if xs.len() < BLOCK => zig.fill(&mut g, e),
-                    _ => zig.fill_batch(&mut g, e),
+                    _ => zig.fill_batch_lanes(&mut lanes, &mut g, e),
                 }
             }
             let xb_out = xbar.get_mut(b * BLOCK..(b * BLOCK + xs.len()));
