@@ -273,8 +273,22 @@ impl ParticleFilter {
         }
     }
 
-    /// GA-PF move step after resampling (see the module documentation).
+    /// GA-PF move step after resampling (see the module documentation), through
+    /// [`crate::numerics::simd::dispatch`] (AVX2 where present, the same bits).
     pub(super) fn genetic_moves<M: MeasurementModel>(
+        &mut self,
+        lik: &Likelihood<'_, M>,
+        cov_before: &Mat6,
+    ) {
+        crate::numerics::simd::dispatch(
+            #[inline(always)]
+            || self.genetic_moves_inline(lik, cov_before),
+        )
+    }
+
+    /// [`ParticleFilter::genetic_moves`]' body.
+    #[inline(always)]
+    fn genetic_moves_inline<M: MeasurementModel>(
         &mut self,
         lik: &Likelihood<'_, M>,
         cov_before: &Mat6,
@@ -314,8 +328,18 @@ impl ParticleFilter {
         (best, lo, sum / self.loglik.len() as f64, 1.0)
     }
 
-    /// Cloud-genetic resampling of paper 003 (see the module documentation).
+    /// Cloud-genetic resampling of paper 003 (see the module documentation), through
+    /// [`crate::numerics::simd::dispatch`] (AVX2 where present, the same bits).
     pub(super) fn cloud_moves<M: MeasurementModel>(&mut self, lik: &Likelihood<'_, M>) {
+        crate::numerics::simd::dispatch(
+            #[inline(always)]
+            || self.cloud_moves_inline(lik),
+        )
+    }
+
+    /// [`ParticleFilter::cloud_moves`]' body.
+    #[inline(always)]
+    fn cloud_moves_inline<M: MeasurementModel>(&mut self, lik: &Likelihood<'_, M>) {
         let c = self.params.cloud;
         let n = self.x.len();
         self.target_densities();

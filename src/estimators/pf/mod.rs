@@ -1665,8 +1665,9 @@ const TRIANGLE: [(usize, usize); 21] = {
 /// each block of [`BLOCK`] particles is transposed to `d[k][i] = x_i[k] - c[k]` on the
 /// stack and every sum is accumulated in partial sums that vectorise (the weights and
 /// first moments lane by lane, particle `i` of every block in lane `i`; each of the 21
-/// second-moment entries in two interleaved register sums per block, even and odd
-/// particles), the lanes added in order at the end. A short last block is padded with zero weight and zero offset,
+/// second-moment entries in four interleaved register sums per block, particle `i` in
+/// sum `i mod 4`), the lanes added in order at the end. Run through
+/// [`crate::numerics::simd::dispatch`] (AVX2 where present, the same bits). A short last block is padded with zero weight and zero offset,
 /// which add exact zeros. The order of the additions is fixed by the particle count, so
 /// the result is reproducible; it differs from the one-particle-at-a-time sums
 /// ([`Moments::add`]) at rounding level.
@@ -1708,16 +1709,18 @@ fn moments_inline(reference: &State, x: &[State], w: &[f64]) -> Moments {
                 s1[k][i] += wd[k][i];
             }
         }
-        // per entry two partial sums over the block in registers (one SSE2 pair),
-        // added to the entry's lanes 0 and 1
+        // per entry four partial sums over the block in registers (one AVX2 vector,
+        // particles `4 m + j` in sum `j`), added to the entry's lanes 0..4
         for (acc, &(r, c)) in s2.iter_mut().zip(&TRIANGLE) {
-            let (mut a0, mut a1) = (0.0, 0.0);
-            for (dp, wp) in d[r].chunks_exact(2).zip(wd[c].chunks_exact(2)) {
-                a0 += dp[0] * wp[0];
-                a1 += dp[1] * wp[1];
+            let mut a = [0.0; 4];
+            for (dp, wp) in d[r].chunks_exact(4).zip(wd[c].chunks_exact(4)) {
+                for j in 0..4 {
+                    a[j] += dp[j] * wp[j];
+                }
             }
-            acc[0] += a0;
-            acc[1] += a1;
+            for j in 0..4 {
+                acc[j] += a[j];
+            }
         }
     }
     let mut out = Moments::new(*reference);

@@ -160,6 +160,22 @@ impl<M: MeasurementModel> Rejuvenation<'_, M> {
         w: &[f64],
         rng: &mut super::PfRng,
     ) -> RejuvenationSums {
+        crate::numerics::simd::dispatch(
+            #[inline(always)]
+            || self.run_inline(x, loglik, w, rng),
+        )
+    }
+
+    /// [`Rejuvenation::run`]'s body, inlined into its [`crate::numerics::simd::dispatch`]
+    /// (AVX2 where present, the same bits).
+    #[inline(always)]
+    fn run_inline(
+        &self,
+        x: &mut [State],
+        loglik: &mut [f64],
+        w: &[f64],
+        rng: &mut super::PfRng,
+    ) -> RejuvenationSums {
         let mut s = RejuvenationSums {
             x: Moments::new(self.mq),
             y: Moments::new(self.mq),
@@ -331,7 +347,8 @@ impl ParticleFilter {
         };
         // block by block: candidates and uniforms drawn in the order of one particle at a
         // time, likelihoods together, then the accept step (the same numbers)
-        let run = |x: &mut [State], loglik: &mut [f64], rng: &mut super::PfRng| {
+        // (called from one place, inside the dispatch below: inlined there)
+        let run_inline = |x: &mut [State], loglik: &mut [f64], rng: &mut super::PfRng| {
             let mut counts = (0u64, 0u64);
             let mut cands = [State::zeros(); BLOCK];
             let mut us = [0.0f64; BLOCK];
@@ -355,6 +372,13 @@ impl ParticleFilter {
                 }
             }
             counts
+        };
+        // AVX2 where present (the same bits)
+        let run = |x: &mut [State], loglik: &mut [f64], rng: &mut super::PfRng| {
+            crate::numerics::simd::dispatch(
+                #[inline(always)]
+                || run_inline(x, loglik, rng),
+            )
         };
         let (tried, accepted) = if self.chunked() {
             let jobs: Vec<_> = self
@@ -386,7 +410,10 @@ impl ParticleFilter {
             beta: Beta::new(6.0 / 2.0, 2.0).ok(),
         };
         let run = |x: &mut [State], rng: &mut super::PfRng| {
-            x.iter_mut().for_each(|xi| *xi += jitter.draw(rng));
+            crate::numerics::simd::dispatch(
+                #[inline(always)]
+                || x.iter_mut().for_each(|xi| *xi += jitter.draw(rng)),
+            );
         };
         if self.chunked() {
             let jobs: Vec<_> = self
@@ -410,6 +437,7 @@ struct Jitter {
 }
 
 impl Jitter {
+    #[inline(always)]
     fn draw(&self, rng: &mut super::PfRng) -> State {
         let eps = match self.kernel {
             Kernel::Gaussian => gauss6(rng),
