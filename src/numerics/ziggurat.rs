@@ -287,6 +287,19 @@ impl Lanes {
         Self { s }
     }
 
+    /// Sixteen uniforms in `[0, 1)` on the 2^-52 grid, value `4 t + j` from the `t`-th
+    /// word of lane `j` (its top 52 bits as the mantissa of a number in `[1, 2)`, less 1:
+    /// no integer-to-float conversion, so the loop vectorises).
+    #[inline(always)]
+    pub fn uniforms(&mut self, out: &mut [f64; 16]) {
+        for o in out.chunks_exact_mut(LANES) {
+            let w = self.next_words();
+            for (v, w) in o.iter_mut().zip(w) {
+                *v = f64::from_bits((w >> 12) | 0x3ff0_0000_0000_0000) - 1.0;
+            }
+        }
+    }
+
     /// The next word of every lane (xoshiro256++: `rotl(s0 + s3, 23) + s0`, then the
     /// state transition), lane by lane in one loop that vectorises.
     #[inline(always)]

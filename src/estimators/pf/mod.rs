@@ -495,25 +495,6 @@ impl Moments {
         }
     }
 
-    #[inline(always)]
-    fn add(&mut self, x: &State, w: f64) {
-        let d = x - self.reference;
-        let wd = d * w;
-        self.s1 += wd;
-        self.wsum += w;
-        // the 21 products of the triangle on plain arrays (constant indices once unrolled)
-        let (d, wd) = (d.data.0[0], wd.data.0[0]);
-        let mut k = 0;
-        for (c, wdc) in wd.iter().enumerate() {
-            for dr in d.iter().take(c + 1) {
-                if let Some(s) = self.s2.get_mut(k) {
-                    *s += dr * wdc;
-                }
-                k += 1;
-            }
-        }
-    }
-
     /// Add the sums of `other` (same reference).
     fn merge(&mut self, other: &Moments) {
         self.s1 += other.s1;
@@ -1667,10 +1648,10 @@ const TRIANGLE: [(usize, usize); 21] = {
 /// first moments lane by lane, particle `i` of every block in lane `i`; each of the 21
 /// second-moment entries in four interleaved register sums per block, particle `i` in
 /// sum `i mod 4`), the lanes added in order at the end. Run through
-/// [`crate::numerics::simd::dispatch`] (AVX2 where present, the same bits). A short last block is padded with zero weight and zero offset,
-/// which add exact zeros. The order of the additions is fixed by the particle count, so
+/// [`crate::numerics::simd::dispatch`] (AVX2 where present, the same bits). A short
+/// last block is padded with zero weight and zero offset, which add exact zeros. The order of the additions is fixed by the particle count, so
 /// the result is reproducible; it differs from the one-particle-at-a-time sums
-/// ([`Moments::add`]) at rounding level.
+/// at rounding level.
 #[allow(clippy::needless_range_loop)] // index loops over fixed lanes: they vectorise
 fn moments(reference: &State, x: &[State], w: &[f64]) -> Moments {
     crate::numerics::simd::dispatch(
@@ -1683,13 +1664,51 @@ fn moments(reference: &State, x: &[State], w: &[f64]) -> Moments {
 #[inline(always)]
 #[allow(clippy::needless_range_loop)]
 fn moments_inline(reference: &State, x: &[State], w: &[f64]) -> Moments {
-    let mut s1 = [[0.0; BLOCK]; N];
-    let mut s2 = [[0.0; BLOCK]; 21];
-    let mut ws = [0.0; BLOCK];
-    let mut d = [[0.0; BLOCK]; N];
-    let mut wd = [[0.0; BLOCK]; N];
-    let mut wb = [0.0; BLOCK];
+    let mut lanes = MomentLanes::new();
     for (xs, wsl) in x.chunks(BLOCK).zip(w.chunks(BLOCK)) {
+        lanes.add_block(reference, xs, wsl);
+    }
+    lanes.finish(reference)
+}
+
+/// The lane sums of [`moments`] (particle `i` of every block in lane `i`; see there),
+/// accumulated block by block: for loops that meet the particles in blocks anyway (the
+/// rejuvenation), inlined into their [`crate::numerics::simd::dispatch`].
+struct MomentLanes {
+    s1: [[f64; BLOCK]; N],
+    s2: [[f64; BLOCK]; 21],
+    ws: [f64; BLOCK],
+    /// a block's offsets, weighted offsets and weights (scratch, reused block to block)
+    d: [[f64; BLOCK]; N],
+    wd: [[f64; BLOCK]; N],
+    wb: [f64; BLOCK],
+}
+
+impl MomentLanes {
+    fn new() -> Self {
+        Self {
+            s1: [[0.0; BLOCK]; N],
+            s2: [[0.0; BLOCK]; 21],
+            ws: [0.0; BLOCK],
+            d: [[0.0; BLOCK]; N],
+            wd: [[0.0; BLOCK]; N],
+            wb: [0.0; BLOCK],
+        }
+    }
+
+    /// Add a block of at most [`BLOCK`] particles `xs` with weights `wsl` (a short block is
+    /// padded with zero weight and zero offset, which add exact zeros).
+    #[inline(always)]
+    #[allow(clippy::needless_range_loop)] // index loops over fixed lanes: they vectorise
+    fn add_block(&mut self, reference: &State, xs: &[State], wsl: &[f64]) {
+        let Self {
+            s1,
+            s2,
+            ws,
+            d,
+            wd,
+            wb,
+        } = self;
         for i in 0..BLOCK {
             let (di, wi) = match (xs.get(i), wsl.get(i)) {
                 (Some(xi), Some(wi)) => (xi - reference, *wi),
@@ -1723,17 +1742,22 @@ fn moments_inline(reference: &State, x: &[State], w: &[f64]) -> Moments {
             }
         }
     }
-    let mut out = Moments::new(*reference);
-    for i in 0..BLOCK {
-        out.wsum += ws[i];
-        for k in 0..N {
-            out.s1[k] += s1[k][i];
+
+    /// The lanes added in order: the [`Moments`] about `reference`.
+    #[inline(always)]
+    fn finish(&self, reference: &State) -> Moments {
+        let mut out = Moments::new(*reference);
+        for i in 0..BLOCK {
+            out.wsum += self.ws[i];
+            for k in 0..N {
+                out.s1[k] += self.s1[k][i];
+            }
+            for (o, s) in out.s2.iter_mut().zip(&self.s2) {
+                *o += s[i];
+            }
         }
-        for (o, s) in out.s2.iter_mut().zip(&s2) {
-            *o += s[i];
-        }
+        out
     }
-    out
 }
 
 impl Estimator for ParticleFilter {
