@@ -241,10 +241,10 @@ impl Ziggurat {
     }
 }
 
-/// Lanes of [`Lanes`].
-pub const LANES: usize = 4;
+/// Lanes of [`Lanes`] (not exported to C: `pub(crate)`).
+pub(crate) const LANES: usize = 4;
 
-/// [`LANES`] xoshiro256++ generators (Blackman & Vigna 2021) advanced together, state word
+/// Four (`LANES`) xoshiro256++ generators (Blackman & Vigna 2021) advanced together, state word
 /// `k` of lane `j` in `s[k][j]` (structure of arrays), so that one step of all lanes is a
 /// few vector instructions (AVX2: 64-bit adds, shifts and xors four wide; the rotations
 /// as two shifts and an or) instead of about 15 scalar instructions per word.
@@ -269,10 +269,10 @@ fn splitmix64(x: &mut u64) -> u64 {
 }
 
 impl Lanes {
-    /// Lane `j`'s state from the `j`-th of [`LANES`] words of `rng`, expanded by SplitMix64
+    /// Lane `j`'s state from the `j`-th of `LANES` words of `rng`, expanded by SplitMix64
     /// into its four state words (as `seed_from_u64` seeds xoshiro256++; the four outputs
     /// come from distinct counter values of a bijection, so they are never all zero).
-    /// Draws exactly [`LANES`] words from `rng`. The lanes' streams start at independent
+    /// Draws exactly `LANES` words from `rng`. The lanes' streams start at independent
     /// random points of xoshiro256++'s period of 2^256 - 1: an overlap of the few thousand
     /// words a step draws has probability of order 2^-200.
     #[inline(always)]

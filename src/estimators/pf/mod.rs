@@ -603,7 +603,7 @@ impl Transition {
     /// `xbar` when it is not empty); returns a number that is finite exactly when every
     /// new component is (the sum of `0 * v` over them: NaN once one is not).
     ///
-    /// The normals come from [`LANES`](crate::numerics::ziggurat::LANES) xoshiro256++
+    /// The normals come from four xoshiro256++
     /// lanes ([`Lanes::seed_from`]) derived from `rng` at the start of the call (`rng`
     /// advances by one word per lane, plus the words of the slow paths): the lanes are
     /// transient, so the filter's saved state stays `rng`'s four words and a restored filter
