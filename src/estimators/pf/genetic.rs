@@ -56,6 +56,7 @@
 //! * "iterate while tightening": `generations` rounds, round `g` using `c3 (g + 1)`.
 
 use super::{bandwidth, gauss6, psd_sqrt, Kernel, Likelihood, ParticleFilter};
+use crate::numerics::vexp::exp_nonpos;
 use crate::sensors::MeasurementModel;
 use crate::types::{Mat6, State};
 use rand::Rng;
@@ -220,7 +221,9 @@ impl ParticleFilter {
             return;
         }
         let u: f64 = self.rng.random();
-        if u.ln() < lp - self.logpi[i] + log_q {
+        // `u < min(1, e^d)` (`ln u < d` without the logarithm; NaN rejects)
+        let d = lp - self.logpi[i] + log_q;
+        if d >= 0.0 || u < exp_nonpos(d) {
             self.x[i] = *cand;
             self.loglik[i] = ll;
             self.logpi[i] = lp;
@@ -262,7 +265,7 @@ impl ParticleFilter {
             return;
         }
         let v: f64 = self.rng.random();
-        if v.ln() < log_alpha {
+        if log_alpha >= 0.0 || v < exp_nonpos(log_alpha) {
             self.x[a] = ca;
             self.x[b] = cb;
             self.loglik[a] = la;
