@@ -1240,10 +1240,18 @@ impl ParticleFilter {
                 }
             });
         } else {
-            for (k, &i) in self.idx.iter().enumerate() {
-                self.x_tmp[k] = self.x[i];
-                self.loglik_tmp[k] = self.loglik[i];
-            }
+            let (x, ll) = (&self.x, &self.loglik);
+            let (xo, lo) = (&mut self.x_tmp, &mut self.loglik_tmp);
+            // AVX2 where present: a particle is one 32-byte and one 16-byte move
+            crate::numerics::simd::dispatch(
+                #[inline(always)]
+                || {
+                    for ((xk, lk), &i) in xo.iter_mut().zip(lo.iter_mut()).zip(&self.idx) {
+                        *xk = x[i];
+                        *lk = ll[i];
+                    }
+                },
+            );
         }
         std::mem::swap(&mut self.x, &mut self.x_tmp);
         std::mem::swap(&mut self.loglik, &mut self.loglik_tmp);
