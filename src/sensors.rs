@@ -392,6 +392,8 @@ impl MeasurementModel for RadioSensor {
     /// a lane outside the series' domain (range below [`MIN_RANGE`], a residual cosine
     /// below 1/2 or a sine beyond `2^-5`, the series' domain, NaN) is redone by `residual_at`
     /// afterwards. The same values as `residual_at` lane by lane, bit for bit (tested).
+    /// Inlined (always) so that a caller's [`crate::numerics::simd::dispatch`] compiles
+    /// it for AVX2.
     #[inline(always)]
     fn residuals_at<const B: usize>(
         &self,

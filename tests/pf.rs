@@ -485,3 +485,64 @@ fn paper003_particle_filters_beat_the_gaussian_filters() {
         assert!(r < 1.15 * reference, "{l}: {r} vs reference {reference}");
     }
 }
+
+/// Every particle filter kind, literal and with moves, gives the same bits with its hot
+/// loops dispatched to AVX2 (`relnav::numerics::simd::dispatch`, where the CPU has it) as
+/// on the baseline path (`with_baseline`): particles, weights, mean and covariance after
+/// steps of paper 000's model (one thread: the override is per thread).
+#[test]
+fn dispatched_and_baseline_filters_agree_bit_for_bit() {
+    use relnav::numerics::simd::with_baseline;
+    let cfg = NavConfig::default();
+    let f = cfg.frame;
+    let model = CwModel::new(cfg.mean_motion);
+    let mut d = model.discretize(1.0, &Mat3::zeros(), Discretization::Exact);
+    let q = [cfg.q_pos, cfg.q_vel].concat();
+    d.q += f.cov_to_canonical(&Mat6::from_diagonal(&State::from_row_slice(&q)));
+    let sensor = RadioSensor::new(f, cfg.sigma_range, cfg.sigma_angle);
+    let x0 = f.state_to_canonical(&State::from_row_slice(&[
+        400.0, 500.0, 200.0, 0.0, 0.0, 0.0,
+    ]));
+    for kind in [
+        PfKind::Sir,
+        PfKind::Rpf,
+        PfKind::Gapf,
+        PfKind::Upf,
+        PfKind::Cgapf,
+    ] {
+        for moves in [false, true] {
+            let run = || {
+                let params = PfParams {
+                    particles: 203,
+                    seed: 7,
+                    threads: 1,
+                    moves,
+                    ..PfParams::new(kind)
+                };
+                let mut pf =
+                    ParticleFilter::new(cfg.initial_state(), cfg.initial_covariance(), params);
+                let mut rng = ChaCha8Rng::seed_from_u64(1);
+                for k in 0..12 {
+                    let x = model.phi(k as f64) * x0;
+                    let z = sensor
+                        .measure(&x.fixed_rows::<3>(0).into_owned(), &mut rng)
+                        .unwrap();
+                    pf.update(&sensor, &z).unwrap();
+                    pf.predict(&d, &Vec3::zeros()).unwrap();
+                }
+                let (x, w) = pf.particles();
+                let mut bits: Vec<u64> = x
+                    .iter()
+                    .flat_map(|s| s.iter().map(|v| v.to_bits()))
+                    .collect();
+                bits.extend(w.iter().map(|v| v.to_bits()));
+                bits.extend(pf.state().iter().map(|v| v.to_bits()));
+                bits.extend(pf.covariance().iter().map(|v| v.to_bits()));
+                bits
+            };
+            let fast = run();
+            let base = with_baseline(run);
+            assert!(fast == base, "{} moves {moves}", kind.name());
+        }
+    }
+}

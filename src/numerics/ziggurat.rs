@@ -146,6 +146,53 @@ impl Ziggurat {
         }
     }
 
+    /// One batch of independent standard normal draws with the words from the lane
+    /// generator `lanes` ([`Lanes`], four xoshiro256++ streams advanced together: value
+    /// `4 t + j` of the batch takes the `t`-th word of lane `j`), the fast path on every
+    /// value without a branch with a flag per value, and the flagged values (about 1.5 %)
+    /// redone in order by the exact slow path with further words from the scalar generator
+    /// `rng`. Written to be inlined into a [`crate::numerics::simd::dispatch`]ed loop, where
+    /// the lanes and the fast path run in AVX2 registers.
+    #[inline(always)]
+    pub fn fill_batch_lanes<R: RngCore + ?Sized>(
+        &self,
+        lanes: &mut Lanes,
+        rng: &mut R,
+        out: &mut [f64; Self::BATCH],
+    ) {
+        let mut words = [0u64; Self::BATCH];
+        for w in words.chunks_exact_mut(LANES) {
+            w.copy_from_slice(&lanes.next_words());
+        }
+        let mut flag = [false; Self::BATCH];
+        for ((v, &w), f) in out.iter_mut().zip(&words).zip(flag.iter_mut()) {
+            let (i, u) = split(w);
+            let x = u * self.x[i];
+            *v = x;
+            *f = x.abs() >= self.x[i + 1];
+        }
+        if flag.iter().fold(false, |a, &f| a | f) {
+            self.redo_flagged(rng, &words, &flag, out);
+        }
+    }
+
+    /// The slow paths of the flagged values of a batch, in order.
+    #[cold]
+    #[inline(never)]
+    fn redo_flagged<R: RngCore + ?Sized>(
+        &self,
+        rng: &mut R,
+        words: &[u64; Self::BATCH],
+        flag: &[bool; Self::BATCH],
+        out: &mut [f64; Self::BATCH],
+    ) {
+        for ((v, &w), &f) in out.iter_mut().zip(words).zip(flag) {
+            if f {
+                *v = self.slow(w, rng);
+            }
+        }
+    }
+
     /// The slow paths of a batch's values that failed the fast test, in order.
     #[cold]
     #[inline(never)]
@@ -194,9 +241,91 @@ impl Ziggurat {
     }
 }
 
+/// Lanes of [`Lanes`] (not exported to C: `pub(crate)`).
+pub(crate) const LANES: usize = 4;
+
+/// Four (`LANES`) xoshiro256++ generators (Blackman & Vigna 2021) advanced together, state word
+/// `k` of lane `j` in `s[k][j]` (structure of arrays), so that one step of all lanes is a
+/// few vector instructions (AVX2: 64-bit adds, shifts and xors four wide; the rotations
+/// as two shifts and an or) instead of about 15 scalar instructions per word.
+///
+/// Transient by design: a particle filter derives the lanes from its own (saved)
+/// generator at the start of each transition ([`Lanes::seed_from`]), so its saved state is
+/// still that generator's four words and a restored filter continues identically.
+#[derive(Debug, Clone)]
+pub struct Lanes {
+    s: [[u64; LANES]; 4],
+}
+
+/// SplitMix64 (Steele, Lea & Flood 2014; Vigna's constants): the next output of the
+/// counter `x`.
+#[inline(always)]
+fn splitmix64(x: &mut u64) -> u64 {
+    *x = x.wrapping_add(0x9e37_79b9_7f4a_7c15);
+    let mut z = *x;
+    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    z ^ (z >> 31)
+}
+
+impl Lanes {
+    /// Lane `j`'s state from the `j`-th of `LANES` words of `rng`, expanded by SplitMix64
+    /// into its four state words (as `seed_from_u64` seeds xoshiro256++; the four outputs
+    /// come from distinct counter values of a bijection, so they are never all zero).
+    /// Draws exactly `LANES` words from `rng`. The lanes' streams start at independent
+    /// random points of xoshiro256++'s period of 2^256 - 1: an overlap of the few thousand
+    /// words a step draws has probability of order 2^-200.
+    #[inline(always)]
+    pub fn seed_from<R: RngCore + ?Sized>(rng: &mut R) -> Self {
+        let mut s = [[0u64; LANES]; 4];
+        for j in 0..LANES {
+            let mut x = rng.next_u64();
+            for sk in s.iter_mut() {
+                sk[j] = splitmix64(&mut x);
+            }
+        }
+        Self { s }
+    }
+
+    /// Sixteen uniforms in `[0, 1)` on the 2^-52 grid, value `4 t + j` from the `t`-th
+    /// word of lane `j` (its top 52 bits as the mantissa of a number in `[1, 2)`, less 1:
+    /// no integer-to-float conversion, so the loop vectorises).
+    #[inline(always)]
+    pub fn uniforms(&mut self, out: &mut [f64; 16]) {
+        for o in out.chunks_exact_mut(LANES) {
+            let w = self.next_words();
+            for (v, w) in o.iter_mut().zip(w) {
+                *v = f64::from_bits((w >> 12) | 0x3ff0_0000_0000_0000) - 1.0;
+            }
+        }
+    }
+
+    /// The next word of every lane (xoshiro256++: `rotl(s0 + s3, 23) + s0`, then the
+    /// state transition), lane by lane in one loop that vectorises.
+    #[inline(always)]
+    pub fn next_words(&mut self) -> [u64; LANES] {
+        let [s0, s1, s2, s3] = &mut self.s;
+        let mut r = [0u64; LANES];
+        for j in 0..LANES {
+            r[j] = s0[j]
+                .wrapping_add(s3[j])
+                .rotate_left(23)
+                .wrapping_add(s0[j]);
+            let t = s1[j] << 17;
+            s2[j] ^= s0[j];
+            s3[j] ^= s1[j];
+            s1[j] ^= s2[j];
+            s0[j] ^= s3[j];
+            s2[j] ^= t;
+            s3[j] = s3[j].rotate_left(45);
+        }
+        r
+    }
+}
+
 #[cfg(test)]
 mod tests {
-    use super::{pdf, Ziggurat, LAYERS};
+    use super::{pdf, Lanes, Ziggurat, LANES, LAYERS};
     use rand::SeedableRng;
     use rand_xoshiro::Xoshiro256PlusPlus;
 
@@ -351,6 +480,47 @@ mod tests {
             let e = p * total as f64;
             assert!((c as f64 - e).abs() < 5.0 * e.sqrt(), "bin {b}: {c} vs {e}");
         }
+    }
+
+    /// Each lane is the reference xoshiro256++ stream of its SplitMix64-expanded seed.
+    #[test]
+    fn lanes_are_xoshiro_streams() {
+        use rand::RngCore;
+        let mut src = Xoshiro256PlusPlus::seed_from_u64(21);
+        let mut probe = Xoshiro256PlusPlus::seed_from_u64(21);
+        let words: Vec<u64> = (0..LANES).map(|_| probe.next_u64()).collect();
+        let mut lanes = Lanes::seed_from(&mut src);
+        assert_eq!(src, probe, "draws exactly LANES words");
+        // rand_xoshiro's seed_from_u64 is the same SplitMix64 expansion
+        let mut refs: Vec<Xoshiro256PlusPlus> = words
+            .iter()
+            .map(|&w| Xoshiro256PlusPlus::seed_from_u64(w))
+            .collect();
+        for _ in 0..1000 {
+            let got = lanes.next_words();
+            for (j, r) in refs.iter_mut().enumerate() {
+                assert_eq!(got[j], r.next_u64());
+            }
+        }
+    }
+
+    #[test]
+    fn lane_batches_are_standard_normal() {
+        let z = Ziggurat::get();
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(15);
+        let mut v = vec![0.0; 1_000_000];
+        for c in v.chunks_exact_mut(Ziggurat::BATCH * 100) {
+            // fresh lanes every 100 batches, as a filter's step derives them
+            let mut lanes = Lanes::seed_from(&mut rng);
+            for b in c.chunks_exact_mut(Ziggurat::BATCH) {
+                let b: &mut [f64; Ziggurat::BATCH] = b.try_into().expect("a batch");
+                z.fill_batch_lanes(&mut lanes, &mut rng, b);
+            }
+        }
+        check(&v);
+        let p_r = 2.0 * (1.0 - phi(Ziggurat::R));
+        let beyond = v.iter().filter(|x| x.abs() > Ziggurat::R).count() as f64 / v.len() as f64;
+        assert!((beyond - p_r).abs() < 5.0 * (p_r / v.len() as f64).sqrt());
     }
 
     #[test]

@@ -113,7 +113,7 @@ use crate::numerics::simd;
 use crate::numerics::state::{refuse, Persist, Reader, StateError, Writer};
 use crate::numerics::vexp::exp_nonpos;
 use crate::numerics::vlog::{is_normal_pos, ln_normal, ln_pos};
-use crate::numerics::ziggurat::Ziggurat;
+use crate::numerics::ziggurat::{Lanes, Ziggurat};
 use crate::sensors::{AngleTrig, MeasurementModel};
 use crate::types::{Mat3, Mat6, State, Vec3};
 use genetic::{CloudParams, GeneticParams};
@@ -411,6 +411,15 @@ impl<M: MeasurementModel> Likelihood<'_, M> {
     /// block in structure-of-arrays form ([`MeasurementModel::residuals_at`]): the same
     /// values as `log` particle by particle, bit for bit.
     fn log_many(&self, x: &[State], out: &mut [f64]) {
+        crate::numerics::simd::dispatch(
+            #[inline(always)]
+            || self.log_many_inline(x, out),
+        )
+    }
+
+    /// [`Likelihood::log_many`]'s body, inlined into its [`crate::numerics::simd::dispatch`].
+    #[inline(always)]
+    fn log_many_inline(&self, x: &[State], out: &mut [f64]) {
         let mut r = [[0.0; BLOCK]; 3];
         let mut d = [[0.0; BLOCK]; 3];
         let mut ok = [false; BLOCK];
@@ -485,25 +494,6 @@ impl Moments {
             s1: State::zeros(),
             s2: [0.0; 21],
             wsum: 0.0,
-        }
-    }
-
-    #[inline(always)]
-    fn add(&mut self, x: &State, w: f64) {
-        let d = x - self.reference;
-        let wd = d * w;
-        self.s1 += wd;
-        self.wsum += w;
-        // the 21 products of the triangle on plain arrays (constant indices once unrolled)
-        let (d, wd) = (d.data.0[0], wd.data.0[0]);
-        let mut k = 0;
-        for (c, wdc) in wd.iter().enumerate() {
-            for dr in d.iter().take(c + 1) {
-                if let Some(s) = self.s2.get_mut(k) {
-                    *s += dr * wdc;
-                }
-                k += 1;
-            }
         }
     }
 
@@ -615,16 +605,40 @@ impl Transition {
     /// `xbar` when it is not empty); returns a number that is finite exactly when every
     /// new component is (the sum of `0 * v` over them: NaN once one is not).
     ///
+    /// The normals come from four xoshiro256++
+    /// lanes ([`Lanes::seed_from`]) derived from `rng` at the start of the call (`rng`
+    /// advances by one word per lane, plus the words of the slow paths): the lanes are
+    /// transient, so the filter's saved state stays `rng`'s four words and a restored filter
+    /// continues identically; the draws are deterministic per seed and, since every
+    /// parallel chunk derives its lanes from its own generator, independent of the thread
+    /// count.
+    ///
     /// Block by block: the block's `6 B` normals are drawn first, component by component
-    /// (each component's `B` values in one batch of [`Ziggurat::fill`]), with the
-    /// generator in a local copy (kept in registers by the draw loop); then, for
+    /// (each component's `B` values in one batch of [`Ziggurat::fill_batch_lanes`]; a short
+    /// last block by [`Ziggurat::fill`] from `rng`); then, for
     /// the CW block structure with a diagonal `Q` (paper 000's model), the transition
     /// `x_i <- Phi x_i + Gamma a + sqrt(Q) eps_i` runs on the transposed block, the same
     /// operations in the same order per particle as the scalar form (so the same bits),
-    /// two particles per SSE2 instruction.
+    /// four particles per AVX2 instruction through [`crate::numerics::simd::dispatch`].
     fn run(&self, x: &[State], out: &mut [State], xbar: &mut [State], rng: &mut PfRng) -> f64 {
+        crate::numerics::simd::dispatch(
+            #[inline(always)]
+            || self.run_inline(x, out, xbar, rng),
+        )
+    }
+
+    /// [`Transition::run`]'s body, inlined into its [`crate::numerics::simd::dispatch`].
+    #[inline(always)]
+    fn run_inline(
+        &self,
+        x: &[State],
+        out: &mut [State],
+        xbar: &mut [State],
+        rng: &mut PfRng,
+    ) -> f64 {
         let mut g = rng.clone();
         let zig = Ziggurat::get();
+        let mut lanes = Lanes::seed_from(&mut g);
         let mut bad = 0.0;
         let mut eps = [[0.0; BLOCK]; N];
         let mut scratch = ([[0.0; BLOCK]; N], [[0.0; BLOCK]; N], [[0.0; BLOCK]; N]);
@@ -632,7 +646,7 @@ impl Transition {
             for e in eps.iter_mut() {
                 match e.get_mut(..xs.len()) {
                     Some(e) if xs.len() < BLOCK => zig.fill(&mut g, e),
-                    _ => zig.fill_batch(&mut g, e),
+                    _ => zig.fill_batch_lanes(&mut lanes, &mut g, e),
                 }
             }
             let xb_out = xbar.get_mut(b * BLOCK..(b * BLOCK + xs.len()));
@@ -1427,10 +1441,18 @@ impl ParticleFilter {
                 }
             });
         } else {
-            for (k, &i) in self.idx.iter().enumerate() {
-                self.x_tmp[k] = self.x[i];
-                self.loglik_tmp[k] = self.loglik[i];
-            }
+            let (x, ll) = (&self.x, &self.loglik);
+            let (xo, lo) = (&mut self.x_tmp, &mut self.loglik_tmp);
+            // AVX2 where present: a particle is one 32-byte and one 16-byte move
+            crate::numerics::simd::dispatch(
+                #[inline(always)]
+                || {
+                    for ((xk, lk), &i) in xo.iter_mut().zip(lo.iter_mut()).zip(&self.idx) {
+                        *xk = x[i];
+                        *lk = ll[i];
+                    }
+                },
+            );
         }
         std::mem::swap(&mut self.x, &mut self.x_tmp);
         std::mem::swap(&mut self.loglik, &mut self.loglik_tmp);
@@ -1794,6 +1816,15 @@ impl ParticleFilter {
 
 /// `(sum w_i x_i, sum w_i)`.
 fn weighted_sum(x: &[State], w: &[f64]) -> (State, f64) {
+    crate::numerics::simd::dispatch(
+        #[inline(always)]
+        || weighted_sum_inline(x, w),
+    )
+}
+
+/// [`weighted_sum`]'s body, inlined into its [`crate::numerics::simd::dispatch`].
+#[inline(always)]
+fn weighted_sum_inline(x: &[State], w: &[f64]) -> (State, f64) {
     let mut m = State::zeros();
     let mut s = 0.0;
     for (xi, wi) in x.iter().zip(w) {
@@ -1824,20 +1855,69 @@ const TRIANGLE: [(usize, usize); 21] = {
 /// each block of [`BLOCK`] particles is transposed to `d[k][i] = x_i[k] - c[k]` on the
 /// stack and every sum is accumulated in partial sums that vectorise (the weights and
 /// first moments lane by lane, particle `i` of every block in lane `i`; each of the 21
-/// second-moment entries in two interleaved register sums per block, even and odd
-/// particles), the lanes added in order at the end. A short last block is padded with zero weight and zero offset,
-/// which add exact zeros. The order of the additions is fixed by the particle count, so
+/// second-moment entries in four interleaved register sums per block, particle `i` in
+/// sum `i mod 4`), the lanes added in order at the end. Run through
+/// [`crate::numerics::simd::dispatch`] (AVX2 where present, the same bits). A short
+/// last block is padded with zero weight and zero offset, which add exact zeros. The order of the additions is fixed by the particle count, so
 /// the result is reproducible; it differs from the one-particle-at-a-time sums
-/// ([`Moments::add`]) at rounding level.
+/// at rounding level.
 #[allow(clippy::needless_range_loop)] // index loops over fixed lanes: they vectorise
 fn moments(reference: &State, x: &[State], w: &[f64]) -> Moments {
-    let mut s1 = [[0.0; BLOCK]; N];
-    let mut s2 = [[0.0; BLOCK]; 21];
-    let mut ws = [0.0; BLOCK];
-    let mut d = [[0.0; BLOCK]; N];
-    let mut wd = [[0.0; BLOCK]; N];
-    let mut wb = [0.0; BLOCK];
+    crate::numerics::simd::dispatch(
+        #[inline(always)]
+        || moments_inline(reference, x, w),
+    )
+}
+
+/// [`moments`]' body, inlined into its [`crate::numerics::simd::dispatch`].
+#[inline(always)]
+#[allow(clippy::needless_range_loop)]
+fn moments_inline(reference: &State, x: &[State], w: &[f64]) -> Moments {
+    let mut lanes = MomentLanes::new();
     for (xs, wsl) in x.chunks(BLOCK).zip(w.chunks(BLOCK)) {
+        lanes.add_block(reference, xs, wsl);
+    }
+    lanes.finish(reference)
+}
+
+/// The lane sums of [`moments`] (particle `i` of every block in lane `i`; see there),
+/// accumulated block by block: for loops that meet the particles in blocks anyway (the
+/// rejuvenation), inlined into their [`crate::numerics::simd::dispatch`].
+struct MomentLanes {
+    s1: [[f64; BLOCK]; N],
+    s2: [[f64; BLOCK]; 21],
+    ws: [f64; BLOCK],
+    /// a block's offsets, weighted offsets and weights (scratch, reused block to block)
+    d: [[f64; BLOCK]; N],
+    wd: [[f64; BLOCK]; N],
+    wb: [f64; BLOCK],
+}
+
+impl MomentLanes {
+    fn new() -> Self {
+        Self {
+            s1: [[0.0; BLOCK]; N],
+            s2: [[0.0; BLOCK]; 21],
+            ws: [0.0; BLOCK],
+            d: [[0.0; BLOCK]; N],
+            wd: [[0.0; BLOCK]; N],
+            wb: [0.0; BLOCK],
+        }
+    }
+
+    /// Add a block of at most [`BLOCK`] particles `xs` with weights `wsl` (a short block is
+    /// padded with zero weight and zero offset, which add exact zeros).
+    #[inline(always)]
+    #[allow(clippy::needless_range_loop)] // index loops over fixed lanes: they vectorise
+    fn add_block(&mut self, reference: &State, xs: &[State], wsl: &[f64]) {
+        let Self {
+            s1,
+            s2,
+            ws,
+            d,
+            wd,
+            wb,
+        } = self;
         for i in 0..BLOCK {
             let (di, wi) = match (xs.get(i), wsl.get(i)) {
                 (Some(xi), Some(wi)) => (xi - reference, *wi),
@@ -1857,29 +1937,36 @@ fn moments(reference: &State, x: &[State], w: &[f64]) -> Moments {
                 s1[k][i] += wd[k][i];
             }
         }
-        // per entry two partial sums over the block in registers (one SSE2 pair),
-        // added to the entry's lanes 0 and 1
+        // per entry four partial sums over the block in registers (one AVX2 vector,
+        // particles `4 m + j` in sum `j`), added to the entry's lanes 0..4
         for (acc, &(r, c)) in s2.iter_mut().zip(&TRIANGLE) {
-            let (mut a0, mut a1) = (0.0, 0.0);
-            for (dp, wp) in d[r].chunks_exact(2).zip(wd[c].chunks_exact(2)) {
-                a0 += dp[0] * wp[0];
-                a1 += dp[1] * wp[1];
+            let mut a = [0.0; 4];
+            for (dp, wp) in d[r].chunks_exact(4).zip(wd[c].chunks_exact(4)) {
+                for j in 0..4 {
+                    a[j] += dp[j] * wp[j];
+                }
             }
-            acc[0] += a0;
-            acc[1] += a1;
+            for j in 0..4 {
+                acc[j] += a[j];
+            }
         }
     }
-    let mut out = Moments::new(*reference);
-    for i in 0..BLOCK {
-        out.wsum += ws[i];
-        for k in 0..N {
-            out.s1[k] += s1[k][i];
+
+    /// The lanes added in order: the [`Moments`] about `reference`.
+    #[inline(always)]
+    fn finish(&self, reference: &State) -> Moments {
+        let mut out = Moments::new(*reference);
+        for i in 0..BLOCK {
+            out.wsum += self.ws[i];
+            for k in 0..N {
+                out.s1[k] += self.s1[k][i];
+            }
+            for (o, s) in out.s2.iter_mut().zip(&self.s2) {
+                *o += s[i];
+            }
         }
-        for (o, s) in out.s2.iter_mut().zip(&s2) {
-            *o += s[i];
-        }
+        out
     }
-    out
 }
 
 impl Estimator for ParticleFilter {
@@ -2396,6 +2483,78 @@ mod tests {
                 assert_eq!(o.to_bits(), lik.log(xi).to_bits(), "{xi:?}");
             }
         }
+    }
+
+    /// The hot loops run through `simd::dispatch` (AVX2 where the CPU has it) give the
+    /// same bits as the baseline path: the transition (particles, means, generator), the
+    /// block likelihood, the moments, the weighted sum and the normalised weights.
+    #[test]
+    fn dispatched_loops_equal_baseline_bitwise() {
+        use crate::numerics::simd::with_baseline;
+        use crate::sensors::RadioSensor;
+        let bits = |v: &[State]| -> Vec<u64> {
+            v.iter()
+                .flat_map(|s| s.iter().map(|x| x.to_bits()))
+                .collect()
+        };
+        let fbits = |v: &[f64]| -> Vec<u64> { v.iter().map(|x| x.to_bits()).collect() };
+        let m = CwModel::new(2.0 * std::f64::consts::PI / 5400.0);
+        let mut d = m.discretize(1.0, &Mat3::zeros(), Discretization::Exact);
+        d.q += Mat6::from_diagonal(&State::new(0.09, 6.25e-4, 2.5e-3, 1e-6, 1e-6, 1e-6));
+        let l = chol(&d.q).expect("pd");
+        let c = Vec3::new(400.0, 500.0, -200.0);
+        // 1003: a short last block
+        let x: Vec<State> = (0..1003)
+            .map(|k| {
+                let f = |i: usize| ((i * 7 + k * 13) as f64).sin();
+                match k % 11 {
+                    0 => State::zeros(),
+                    1 => State::new(f(0) * 900.0, f(1) * 900.0, f(2) * 900.0, 0.0, 0.0, 0.0),
+                    _ => State::new(c.x + f(0), c.y + f(1), c.z + f(2), f(3), f(4), f(5)),
+                }
+            })
+            .collect();
+        let w: Vec<f64> = (0..x.len()).map(|k| 1.0 + (k as f64).cos()).collect();
+        let s = RadioSensor::new(crate::frames::Frame::AlongRadialAntinormal, 0.5, 1e-4);
+        let z = s.predict(&c).expect("defined") + Vec3::new(0.2, -1e-4, 3e-4);
+        let run = || {
+            let mut out = Vec::new();
+            for diag in [true, false] {
+                let tr = Transition {
+                    blocks: CwBlocks::of(&d.phi),
+                    phi: d.phi,
+                    u: State::new(1e-3, 0.0, -2e-3, 0.0, 1e-6, 0.0),
+                    diag: diag.then(|| l.diagonal()),
+                    l,
+                };
+                let mut rng = PfRng::seed_from_u64(3);
+                let (mut xn, mut xb) =
+                    (vec![State::zeros(); x.len()], vec![State::zeros(); x.len()]);
+                let bad = tr.run(&x, &mut xn, &mut xb, &mut rng);
+                out.push((bits(&xn), bits(&xb), bad.to_bits(), rng));
+            }
+            let lik = Likelihood::new(&s, &z, &NoiseModel::Gaussian, &[0.5, 1e-4, 1e-4]);
+            let mut ll = vec![0.0; x.len()];
+            lik.log_many(&x, &mut ll);
+            let mom = moments(&State::from_element(0.1), &x, &w);
+            let (ws, wsum) = weighted_sum(&x, &w);
+            let mut wn = vec![0.0; x.len()];
+            let lm = normalize_log_weights(&ll, &mut wn);
+            (
+                out,
+                fbits(&ll),
+                fbits(mom.s1.as_slice()),
+                fbits(&mom.s2),
+                mom.wsum.to_bits(),
+                fbits(ws.as_slice()),
+                wsum.to_bits(),
+                fbits(&wn),
+                lm.map(f64::to_bits),
+            )
+        };
+        let fast = run();
+        let base = with_baseline(run);
+        assert!(fast == base);
     }
 
     /// Merged partial moments equal the one-pass moments of the whole set.

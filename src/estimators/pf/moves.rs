@@ -98,13 +98,14 @@
 
 use super::par::CHUNK;
 use super::{
-    bandwidth, chol, gauss6, psd_sqrt, Kernel, Likelihood, Moments, ParticleFilter, BLOCK,
+    bandwidth, chol, psd_sqrt, Kernel, Likelihood, MomentLanes, Moments, ParticleFilter, BLOCK,
 };
 use crate::estimators::symmetrize;
+use crate::numerics::vexp::exp_nonpos;
+use crate::numerics::ziggurat::{Lanes, Ziggurat};
 use crate::sensors::MeasurementModel;
 use crate::types::{Mat3, Mat6, State, Vec3};
 use nalgebra::SMatrix;
-use rand::Rng;
 use rand_distr::{Beta, Distribution};
 use std::cell::OnceCell;
 
@@ -149,11 +150,27 @@ impl<M: MeasurementModel> Rejuvenation<'_, M> {
     }
 
     /// One independence MH step for each particle of a run, block by block: the block's
-    /// proposals and uniforms are drawn first (in the order of one particle at a time:
-    /// the pair's normals, then each particle's uniform), their likelihoods evaluated
-    /// together ([`Likelihood::log_many`]), then the particles accepted or kept — the same
-    /// numbers as particle by particle.
+    /// proposals and uniforms are drawn first (the normals of its 8 antithetic pairs in
+    /// three batches of [`Ziggurat::fill_batch_lanes`], then 16 uniforms, all from
+    /// [`Lanes`] derived from `rng` at the start of the run), their likelihoods evaluated
+    /// together ([`Likelihood::log_many`]), then the particles accepted or kept.
     fn run(
+        &self,
+        x: &mut [State],
+        loglik: &mut [f64],
+        w: &[f64],
+        rng: &mut super::PfRng,
+    ) -> RejuvenationSums {
+        crate::numerics::simd::dispatch(
+            #[inline(always)]
+            || self.run_inline(x, loglik, w, rng),
+        )
+    }
+
+    /// [`Rejuvenation::run`]'s body, inlined into its [`crate::numerics::simd::dispatch`]
+    /// (AVX2 where present, the same bits).
+    #[inline(always)]
+    fn run_inline(
         &self,
         x: &mut [State],
         loglik: &mut [f64],
@@ -167,46 +184,54 @@ impl<M: MeasurementModel> Rejuvenation<'_, M> {
             tried: 0,
             accepted: 0,
         };
-        let mut pending: Option<State> = None;
+        let zig = Ziggurat::get();
+        let mut lanes = Lanes::seed_from(rng);
+        let mut normals = [0.0; 3 * Ziggurat::BATCH];
         let mut ys = [State::zeros(); BLOCK];
         let mut es = [State::zeros(); BLOCK];
         let mut us = [0.0f64; BLOCK];
         let mut lly = [0.0; BLOCK];
+        let (mut mx, mut my) = (MomentLanes::new(), MomentLanes::new());
         for ((xb, llb), wb) in x
             .chunks_mut(BLOCK)
             .zip(loglik.chunks_mut(BLOCK))
             .zip(w.chunks(BLOCK))
         {
             let n = xb.len();
-            for ((y, e), u) in ys.iter_mut().zip(es.iter_mut()).zip(us.iter_mut()).take(n) {
+            // the block's 8 pairs' normals (6 each) and 16 uniforms from the lanes
+            for c in normals.chunks_exact_mut(Ziggurat::BATCH) {
+                if let Ok(c) = <&mut [f64; Ziggurat::BATCH]>::try_from(c) {
+                    zig.fill_batch_lanes(&mut lanes, rng, c);
+                }
+            }
+            lanes.uniforms(&mut us);
+            for (i, (y, e)) in ys.iter_mut().zip(es.iter_mut()).enumerate().take(n) {
                 // antithetic pairs: a fresh draw, then its mirror image
-                *e = match pending.take() {
-                    Some(e) => -e,
-                    None => {
-                        let e = gauss6(rng);
-                        pending = Some(e);
-                        e
-                    }
-                };
+                let p = &normals[6 * (i / 2)..6 * (i / 2) + 6];
+                let f = State::from_fn(|k, _| p[k]);
+                *e = if i % 2 == 0 { f } else { -f };
                 *y = self.mq + self.lq * *e;
-                *u = rng.random();
             }
             self.lik.log_many(&ys[..n], &mut lly[..n]);
+            my.add_block(&self.mq, &ys[..n], wb);
             for (i, ((xi, lli), &wi)) in xb.iter_mut().zip(llb.iter_mut()).zip(wb).enumerate() {
                 let (y, eps, ll, u) = (ys[i], es[i], lly[i], us[i]);
-                s.y.add(&y, wi);
                 let lw_y = ll - self.log_g(&(self.c - self.hl * eps));
                 let lw_x = *lli - self.log_g(&(self.nu - self.h * (*xi - self.m0)));
                 s.tried += 1;
-                if lw_y.is_finite() && u.ln() < lw_y - lw_x {
+                // `u < min(1, e^d)` (`ln u < d` without the logarithm; NaN rejects)
+                let d = lw_y - lw_x;
+                if lw_y.is_finite() && (d >= 0.0 || u < exp_nonpos(d)) {
                     *xi = y;
                     *lli = ll;
                     s.accepted += 1;
                     s.accepted_w += wi;
                 }
-                s.x.add(xi, wi);
             }
+            mx.add_block(&self.mq, xb, wb);
         }
+        s.x = mx.finish(&self.mq);
+        s.y = my.finish(&self.mq);
         s
     }
 }
@@ -329,25 +354,35 @@ impl ParticleFilter {
             Some(u) => ll - 0.5 * u.norm_squared(),
             None => f64::NEG_INFINITY,
         };
-        // block by block: candidates and uniforms drawn in the order of one particle at a
-        // time, likelihoods together, then the accept step (the same numbers)
-        let run = |x: &mut [State], loglik: &mut [f64], rng: &mut super::PfRng| {
+        // block by block: the block's normals (six batches) and uniforms from lanes derived
+        // from the chunk's generator, the candidates, their likelihoods together, then the
+        // accept step
+        // (called from one place, inside the dispatch below: inlined there)
+        let run_inline = |x: &mut [State], loglik: &mut [f64], rng: &mut super::PfRng| {
             let mut counts = (0u64, 0u64);
             let mut cands = [State::zeros(); BLOCK];
             let mut us = [0.0f64; BLOCK];
             let mut lls = [0.0; BLOCK];
+            let zig = Ziggurat::get();
+            let mut lanes = Lanes::seed_from(rng);
+            let mut e = [[0.0; BLOCK]; 6];
             for (xb, llb) in x.chunks_mut(BLOCK).zip(loglik.chunks_mut(BLOCK)) {
                 let n = xb.len();
-                for ((c, u), xi) in cands.iter_mut().zip(us.iter_mut()).zip(xb.iter()) {
-                    *c = *xi + jitter.draw(rng);
-                    *u = rng.random();
+                for c in e.iter_mut() {
+                    zig.fill_batch_lanes(&mut lanes, rng, c);
+                }
+                lanes.uniforms(&mut us);
+                for (i, (c, xi)) in cands.iter_mut().zip(xb.iter()).enumerate() {
+                    *c = *xi + jitter.step(State::from_fn(|k, _| e[k][i]), rng);
                 }
                 lik.log_many(&cands[..n], &mut lls[..n]);
                 for (i, (xi, lli)) in xb.iter_mut().zip(llb.iter_mut()).enumerate() {
                     let (cand, ll, u) = (cands[i], lls[i], us[i]);
                     let lp = log_pi(&cand, ll);
                     counts.0 += 1;
-                    if lp.is_finite() && u.ln() < lp - log_pi(xi, *lli) {
+                    // `u < min(1, e^d)` (`ln u < d` without the logarithm; NaN rejects)
+                    let d = lp - log_pi(xi, *lli);
+                    if lp.is_finite() && (d >= 0.0 || u < exp_nonpos(d)) {
                         *xi = cand;
                         *lli = ll;
                         counts.1 += 1;
@@ -355,6 +390,13 @@ impl ParticleFilter {
                 }
             }
             counts
+        };
+        // AVX2 where present (the same bits)
+        let run = |x: &mut [State], loglik: &mut [f64], rng: &mut super::PfRng| {
+            crate::numerics::simd::dispatch(
+                #[inline(always)]
+                || run_inline(x, loglik, rng),
+            )
         };
         let (tried, accepted) = if self.chunked() {
             let jobs: Vec<_> = self
@@ -386,7 +428,23 @@ impl ParticleFilter {
             beta: Beta::new(6.0 / 2.0, 2.0).ok(),
         };
         let run = |x: &mut [State], rng: &mut super::PfRng| {
-            x.iter_mut().for_each(|xi| *xi += jitter.draw(rng));
+            crate::numerics::simd::dispatch(
+                #[inline(always)]
+                || {
+                    // the block's normals from lanes derived from the chunk's generator
+                    let zig = Ziggurat::get();
+                    let mut lanes = Lanes::seed_from(rng);
+                    let mut e = [[0.0; BLOCK]; 6];
+                    for xb in x.chunks_mut(BLOCK) {
+                        for c in e.iter_mut() {
+                            zig.fill_batch_lanes(&mut lanes, rng, c);
+                        }
+                        for (i, xi) in xb.iter_mut().enumerate() {
+                            *xi += jitter.step(State::from_fn(|k, _| e[k][i]), rng);
+                        }
+                    }
+                },
+            );
         };
         if self.chunked() {
             let jobs: Vec<_> = self
@@ -410,11 +468,13 @@ struct Jitter {
 }
 
 impl Jitter {
-    fn draw(&self, rng: &mut super::PfRng) -> State {
+    /// The step from six standard normals `u` (the Epanechnikov kernel's radius from
+    /// `rng`).
+    #[inline(always)]
+    fn step(&self, u: State, rng: &mut super::PfRng) -> State {
         let eps = match self.kernel {
-            Kernel::Gaussian => gauss6(rng),
+            Kernel::Gaussian => u,
             Kernel::Epanechnikov => {
-                let u = gauss6(rng);
                 let un = u.norm();
                 let r2: f64 = self.beta.map(|b| b.sample(rng)).unwrap_or(0.0);
                 if un > 0.0 {

@@ -185,9 +185,14 @@ pub fn normalize_log_weights(logw: &[f64], w: &mut [f64]) -> Option<f64> {
     }
     // exp(l - max) is in [0, 1]; the maximum contributes exactly 1, so sum >= 1. The
     // branch-free exponential (within 2 ulp of libm's) lets the loop vectorise.
-    w.iter_mut()
-        .zip(logw)
-        .for_each(|(x, &l)| *x = if l.is_nan() { 0.0 } else { exp_nonpos(l - max) });
+    crate::numerics::simd::dispatch(
+        #[inline(always)]
+        || {
+            w.iter_mut()
+                .zip(logw)
+                .for_each(|(x, &l)| *x = if l.is_nan() { 0.0 } else { exp_nonpos(l - max) })
+        },
+    );
     let sum: f64 = w.iter().take(n).sum();
     let inv = 1.0 / sum;
     w.iter_mut().take(n).for_each(|x| *x *= inv);
