@@ -165,6 +165,7 @@ def instruction_counts(n: int = 6000) -> None:
     """Instructions per step (valgrind --tool=callgrind, stable under load): the same
     script with n steps minus with none, over n."""
     import os
+    import platform
     import shutil
     import subprocess
 
@@ -172,10 +173,18 @@ def instruction_counts(n: int = 6000) -> None:
         print("(valgrind not found: no instruction counts)")
         return
 
+    # The 0-step baseline (~4.7 G instructions: Python, numpy, relnav's imports) must be the
+    # same in every run for the difference to mean anything. It was not: numpy's OpenBLAS
+    # starts worker threads that spin for as long as the scheduler lets them (+-15 M between
+    # runs, 2 500 per step at n = 6000: the EKF's difference came out negative), and
+    # address-space randomisation moves id()-hashed objects (+-1 M). With one BLAS thread and
+    # ASLR off (setarch -R) two baselines differ by ~3 000 instructions.
+    norand = ["setarch", platform.machine(), "-R"] if shutil.which("setarch") else []
+
     def count(mode, steps, name):
-        env = {**os.environ, "PYTHONHASHSEED": "0"}
-        p = subprocess.run(["valgrind", "--tool=callgrind", "--callgrind-out-file=/dev/null", sys.executable,
-                            __file__, "--cg-worker", mode, str(steps), name, str(n)],
+        env = {**os.environ, "PYTHONHASHSEED": "0", "OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1"}
+        p = subprocess.run(norand + ["valgrind", "--tool=callgrind", "--callgrind-out-file=/dev/null",
+                                     sys.executable, __file__, "--cg-worker", mode, str(steps), name, str(n)],
                            capture_output=True, text=True, env=env, check=True)
         return int(p.stderr.split("Collected : ")[1].split()[0])
 
