@@ -675,6 +675,32 @@ fn chol3(a: &[f64; 6]) -> Option<super::Chol3> {
     .filter(super::Chol3::is_finite)
 }
 
+impl Ukf {
+    /// One step, transactional: the measurement update with `z`, then the time update with
+    /// `model` and `accel`, committed only when both succeed (the same arithmetic as
+    /// [`Estimator::update`] then [`Estimator::predict`], so the same bits; the navigator
+    /// needs no snapshot to undo the update when the prediction fails), as the EKF's
+    /// `update_predict`.
+    pub fn update_predict<M: MeasurementModel>(
+        &mut self,
+        sensor: &M,
+        z: &Vec3,
+        model: &DiscreteModel,
+        accel: &Vec3,
+    ) -> Result<UpdateInfo, FilterError> {
+        let (x, p, info) =
+            self.measurement_update(&self.x, &self.p, sensor, &sensor.noise_cov(), z)?;
+        // the time update of `Estimator::predict`, from the uncommitted update
+        let x = model.apply(&x, accel);
+        let p = propagate_covariance(&model.phi, &p, &model.q);
+        finite(&x, "predicted state")?;
+        finite(&p, "predicted covariance")?;
+        self.x = x;
+        self.p = p;
+        Ok(info)
+    }
+}
+
 impl Estimator for Ukf {
     /// The time update through the linear discrete model. The unscented transform of a
     /// linear map is exact, `sum Wc (Phi chi_i - Phi x)(...)^T = Phi P Phi^T`, so this is
@@ -752,6 +778,40 @@ mod tests {
     use crate::frames::Frame;
     use crate::sensors::RadioSensor;
     use rand::{Rng, SeedableRng};
+
+    /// `update_predict` is `update` then `predict` bit for bit, and a prediction that fails
+    /// after the update leaves the filter as it was (the navigator relies on it instead of a
+    /// snapshot).
+    #[test]
+    fn update_predict_is_update_then_predict_and_transactional() {
+        use crate::dynamics::{CwModel, Discretization};
+        let x0 = State::from_row_slice(&[500.0, 400.0, -200.0, 0.1, -0.2, 0.05]);
+        let p0 = Mat6::from_diagonal(&State::from_row_slice(&[
+            2500.0, 2500.0, 2500.0, 1.0, 1.0, 1.0,
+        ]));
+        let sensor = RadioSensor::new(Frame::AlongRadialAntinormal, 0.5, 1.7e-4);
+        let model = CwModel::new(std::f64::consts::TAU / 7200.0);
+        let d = model.discretize(1.0, &(Mat3::identity() * 1e-8), Discretization::Exact);
+        let accel = Vec3::new(1e-3, -2e-3, 5e-4);
+        let truth = Vec3::new(505.0, 395.0, -198.0);
+        let z = sensor.h(&truth).unwrap() + Vec3::new(0.3, 1e-4, -2e-4);
+        let mut a = Ukf::new(x0, p0, UkfParams::default());
+        let mut b = a.clone();
+        let bits =
+            |f: &Ukf| -> Vec<u64> { f.x.iter().chain(f.p.iter()).map(|v| v.to_bits()).collect() };
+        for _ in 0..3 {
+            let ia = a.update(&sensor, &z).unwrap();
+            a.predict(&d, &accel).unwrap();
+            let ib = b.update_predict(&sensor, &z, &d, &accel).unwrap();
+            assert_eq!(ia, ib);
+            assert_eq!(bits(&a), bits(&b));
+        }
+        let mut bad = d;
+        bad.q[(0, 0)] = f64::INFINITY;
+        let before = bits(&b);
+        assert!(b.update_predict(&sensor, &z, &bad, &accel).is_err());
+        assert_eq!(bits(&b), before);
+    }
 
     /// `max |a - b| / max |b|` over the entries.
     fn rel<const R: usize, const C: usize>(a: &SMatrix<f64, R, C>, b: &SMatrix<f64, R, C>) -> f64 {
