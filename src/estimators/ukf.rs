@@ -122,6 +122,7 @@ impl Ukf {
     /// covariance `r` (in place of the sensor's own `noise_cov()`): returns `(x+, P+)` and
     /// the diagnostics without touching the filter. The unscented particle filters move
     /// every particle with it (their proposal, paper 003).
+    #[inline(always)]
     pub fn measurement_update<M: MeasurementModel>(
         &self,
         x: &State,
@@ -141,6 +142,7 @@ impl Ukf {
     /// particle filters' unscented proposal: one covariance shared by every particle,
     /// factored once per update instead of once per particle). Same result, bit for bit,
     /// when `l` is `p`'s Cholesky factor.
+    #[inline(always)]
     pub fn measurement_update_factored<M: MeasurementModel>(
         &self,
         x: &State,
