@@ -72,12 +72,18 @@
 //! and `ParticleFilter::cloud_moves`); it changed with this batching (the selection
 //! uniforms of a block come first, the cloud drops after them from a pool of batched
 //! normals and only where they can matter; the acceptance uniforms come with the blocks;
-//! the shuffle is Lemire's exact bounded integer, not rand's `random_range`).
+//! the shuffle is Lemire's exact bounded integer, not rand's `random_range`). It changed
+//! again (branch `perf-gapf6`): the uniforms, the words and the mutations' normals come from
+//! four xoshiro256++ lanes ([`Lanes`], seeded from the filter's generator at the start of
+//! each call, transient like the transition's, so the saved state is unchanged), the
+//! normals by [`Ziggurat::fill_batch_lanes`]; the GA-PF mutation no longer draws the
+//! unused sign word; the pairing draws `n / 2` indices instead of a full shuffle's `n - 1`
+//! (see `Pop::shuffle`). The laws are the same.
 
 use super::{bandwidth, psd_sqrt, Kernel, Likelihood, ParticleFilter, PfRng, BLOCK};
 use crate::numerics::simd;
 use crate::numerics::vexp::exp_nonpos;
-use crate::numerics::ziggurat::Ziggurat;
+use crate::numerics::ziggurat::{Lanes, Ziggurat, LANES};
 use crate::sensors::MeasurementModel;
 use crate::types::{Mat6, State};
 use rand::RngCore;
@@ -193,7 +199,7 @@ fn positive(name: &str, v: f64) -> Result<(), String> {
     }
 }
 
-/// Lanes of a candidate block (one [`Ziggurat::fill_batch`] per component).
+/// Lanes of a candidate block (one [`Ziggurat::fill_batch_lanes`] per component).
 const B: usize = BLOCK;
 
 /// Fitness `exp(d)` of a log-likelihood `d = l - best` relative to the generation's best:
@@ -383,17 +389,35 @@ struct Pop<'p> {
     sel: &'p mut [usize],
     perm: &'p mut [usize],
     rng: &'p mut PfRng,
+    /// four xoshiro256++ lanes seeded from `rng` for the call ([`Lanes::seed_from`]): the
+    /// operators' uniforms, words and normals (transient, as the transition's)
+    lanes: Lanes,
     tried: u64,
     accepted: u64,
 }
 
 impl Pop<'_> {
-    /// Fisher–Yates shuffle of `perm`.
+    /// A uniformly random pairing of `perm`: pair `j` is `(perm[2j], perm[2j + 1])`,
+    /// `j < n / 2`, and for odd `n` the one left out, `perm[n - 1]`, is uniform. From the
+    /// end: (odd `n`) the left-out position gets a uniform one of all; then the element
+    /// at the top of the unpaired part `perm[..k]` is paired with a uniform one of the
+    /// other `k - 1`, `k` down by two: `(n - 1)!!` equally likely pairings from `n / 2`
+    /// draws (the Fisher–Yates shuffle's `n - 1` draws ordered the pairs and their
+    /// members as well, which the operators do not use: the pairs are disjoint, each has its
+    /// own draws, and the crossover is symmetric in its two members).
     #[inline(always)]
     fn shuffle(&mut self) {
-        for i in (1..self.perm.len()).rev() {
-            let j = below(self.rng, i as u64 + 1) as usize;
-            self.perm.swap(i, j);
+        let n = self.perm.len();
+        let mut k = n;
+        if n % 2 == 1 {
+            let j = below(self.rng, n as u64) as usize;
+            self.perm.swap(n - 1, j);
+            k = n - 1;
+        }
+        while k >= 2 {
+            let j = below(self.rng, k as u64 - 1) as usize;
+            self.perm.swap(k - 2, j);
+            k -= 2;
         }
     }
 
@@ -455,14 +479,20 @@ impl Pop<'_> {
                 let j = self.sel[start + p];
                 *abp = (self.perm[2 * j], self.perm[2 * j + 1]);
             }
+            // eight words (`u` and the sign) and eight acceptance uniforms from the lanes
+            let mut w = [0u64; P];
+            for wc in w.chunks_exact_mut(LANES) {
+                wc.copy_from_slice(&self.lanes.next_words());
+            }
+            let mut v2 = [0.0; B];
+            self.lanes.uniforms(&mut v2);
             let mut u = [0.0; P];
             let mut neg = [false; P];
             let mut v = [0.0; P];
-            for p in 0..np {
-                let w = self.rng.next_u64();
-                u[p] = -ln2 + 2.0 * ln2 * unit(w);
-                neg[p] = w & 1 == 1;
-                v[p] = unit(self.rng.next_u64());
+            for p in 0..P {
+                u[p] = -ln2 + 2.0 * ln2 * unit(w[p]);
+                neg[p] = w[p] & 1 == 1;
+                v[p] = v2[p];
             }
             // s = ±e^u
             let mut s = [0.0; P];
@@ -515,7 +545,7 @@ impl Pop<'_> {
     /// the cloud probability of the item's fitness (`fit` fills a block's, from the block's
     /// first item): its drop `En'` is drawn only where it can matter, `u_j < k` (every
     /// cloud probability is at most `k`) and `f_j >= f_avg` (below, `p_j = k`), from a pool
-    /// of standard normals refilled sixteen at a time by [`Ziggurat::fill_batch`] — the same
+    /// of standard normals refilled sixteen at a time by [`Ziggurat::fill_batch_lanes`] — the same
     /// selection law as a drop for every item. Returns the count, the items in `sel`.
     #[inline(always)]
     fn select(
@@ -536,9 +566,7 @@ impl Pop<'_> {
         while start < n {
             let m = B.min(n - start);
             let mut u = [0.0; B];
-            for ui in u.iter_mut() {
-                *ui = unit(self.rng.next_u64());
-            }
+            self.lanes.uniforms(&mut u);
             if let Some(cd) = cloud {
                 fit(self, start, &mut f);
                 let mut need = [false; B];
@@ -549,7 +577,7 @@ impl Pop<'_> {
                     g[lane] = 0.0;
                     if need[lane] {
                         if used == B {
-                            z.fill_batch(self.rng, &mut pool);
+                            z.fill_batch_lanes(&mut self.lanes, self.rng, &mut pool);
                             used = 0;
                         }
                         g[lane] = pool[used];
@@ -587,6 +615,7 @@ impl ParticleFilter {
             fit: &mut self.scratch,
             sel: &mut self.idx,
             perm: &mut self.perm,
+            lanes: Lanes::seed_from(&mut self.rng),
             rng: &mut self.rng,
             tried: 0,
             accepted: 0,
@@ -594,10 +623,14 @@ impl ParticleFilter {
     }
 
     /// GA-PF move step after resampling (see the module documentation). The random
-    /// stream (since the batched operators): the shuffle; the pairs' crossover uniforms;
-    /// per selected pair a word for `u` and the sign, then the acceptance uniform; the
-    /// mutation uniforms; per block of sixteen mutated particles six batches of normals
-    /// (component-major), then the acceptance uniforms.
+    /// stream (since `perf-gapf6`): four words of the filter's generator seed the lanes
+    /// ([`Lanes::seed_from`]); the pairing's `n / 2` indices from the generator
+    /// (`Pop::shuffle`); from the lanes: the pairs' crossover uniforms (sixteen per block);
+    /// per block of eight selected pairs eight words (`u` and the sign), then sixteen
+    /// uniforms (the first eight the acceptance uniforms); the mutation uniforms; per block
+    /// of sixteen mutated particles six batches of normals (component-major;
+    /// [`Ziggurat::fill_batch_lanes`], the rare slow paths from the generator), then sixteen
+    /// acceptance uniforms.
     // lane-indexed loops over several arrays: the form that vectorises across lanes
     #[allow(clippy::needless_range_loop)]
     pub(super) fn genetic_moves<M: MeasurementModel>(
@@ -608,9 +641,19 @@ impl ParticleFilter {
         let g = self.params.genetic;
         let n = self.x.len();
         let t = Target::new(lik, &self.pred_mean, &self.pred_l);
-        // a non-finite particle covariance (particles near overflow): no mutation step
-        let d =
-            psd_sqrt(cov_before).map(|s| s * (bandwidth(Kernel::Gaussian, n) * g.mutation_scale));
+        // `D` any square root of the covariance (the step's law is N(0, h^2 s^2 D D^T)):
+        // the Cholesky factor (lower triangular, 21 products per step instead of 36, no
+        // eigendecomposition), the symmetric root when the covariance is only
+        // semi-definite; a non-finite particle covariance (particles near overflow): no
+        // mutation step
+        let root = if cov_before.iter().all(|v| v.is_finite()) {
+            cov_before.cholesky().map(|c| c.unpack())
+        } else {
+            None
+        };
+        let d = root
+            .or_else(|| psd_sqrt(cov_before))
+            .map(|s| s * (bandwidth(Kernel::Gaussian, n) * g.mutation_scale));
         let mut pop = self.pop();
         simd::dispatch(
             #[inline(always)]
@@ -623,15 +666,19 @@ impl ParticleFilter {
                     return;
                 };
                 let d: [[f64; 6]; 6] = std::array::from_fn(|i| std::array::from_fn(|j| d[(i, j)]));
+                let lower = (0..6).all(|i| (i + 1..6).all(|j| d[i][j] == 0.0));
                 let count = pop.select(n, g.mutation, None, |_, _, _| {});
                 pop.mutate_blocks(
                     &t,
                     count,
+                    false,
                     #[inline(always)]
                     |l| {
                         for i in 0..6 {
                             let mut s = [0.0; B];
-                            for j in 0..6 {
+                            // the symmetric root is full: every column
+                            let last = if lower { i } else { 5 };
+                            for j in 0..=last {
                                 let dij = d[i][j];
                                 for lane in 0..B {
                                     s[lane] += dij * l.eps[j][lane];
@@ -658,14 +705,18 @@ impl ParticleFilter {
     }
 
     /// The CGA-PF's cloud-genetic resampling of paper 003 (see the module documentation).
-    /// The random stream (since the batched operators), per generation: the shuffle; per
-    /// block of sixteen pairs sixteen uniforms, then the cloud drops of the pairs that need
-    /// one (`Pop::select`: from a pool of normals refilled sixteen at a time, the pool
-    /// restarted for each selection); per selected pair a word for `u` and the sign, then
-    /// the acceptance uniform; the mutation selection likewise per block of sixteen
-    /// particles; per block of sixteen mutated particles six batches of sixteen normals
-    /// (component-major: the drops `En'_k`), then a word for the six signs (bits 0..6) and
-    /// the acceptance uniform of each.
+    /// The random stream (since `perf-gapf6`): four words of the filter's generator seed
+    /// the lanes ([`Lanes::seed_from`]); then per generation: the pairing's `n / 2` indices
+    /// from the generator (`Pop::shuffle`); from the lanes per block of sixteen pairs
+    /// sixteen uniforms, then the cloud drops of the pairs that need one (`Pop::select`:
+    /// from a pool of normals refilled sixteen at a time by [`Ziggurat::fill_batch_lanes`],
+    /// the pool restarted for each selection); per block of eight
+    /// selected pairs eight words (`u` and the sign) and sixteen uniforms from the lanes
+    /// (the first eight the acceptance uniforms); the mutation selection likewise per block
+    /// of sixteen particles; per block of sixteen mutated particles six batches of sixteen
+    /// normals from the lanes (component-major: the drops `En'_k`;
+    /// [`Ziggurat::fill_batch_lanes`]), then sixteen words (the six signs, bits 0..6) and
+    /// sixteen acceptance uniforms.
     // lane-indexed loops over several arrays: the form that vectorises across lanes
     #[allow(clippy::needless_range_loop)]
     pub(super) fn cloud_moves<M: MeasurementModel>(&mut self, lik: &Likelihood<'_, M>) {
@@ -736,6 +787,7 @@ impl ParticleFilter {
                     pop.mutate_blocks(
                         &t,
                         count,
+                        true,
                         #[inline(always)]
                         |l| {
                             for lane in 0..l.n {
@@ -785,7 +837,7 @@ impl ParticleFilter {
 }
 
 /// The lanes of a mutation block (see [`Pop::mutate_blocks`]).
-struct Lanes {
+struct Block {
     /// lanes in use
     n: usize,
     idx: [usize; B],
@@ -810,8 +862,8 @@ struct Lanes {
 
 impl Pop<'_> {
     /// Mutation of the selected particles `sel[..count]`, sixteen per block: gathers the
-    /// particles, draws six batches of normals (component-major) and per lane a word and
-    /// the acceptance uniform, `make` forms the candidates `c`, the target is evaluated,
+    /// particles, draws from the lanes six batches of normals (component-major), sixteen
+    /// words when `words` (the cloud mutation's signs) and sixteen acceptance uniforms, `make` forms the candidates `c`, the target is evaluated,
     /// `decide` sets `acc`, and the accepted candidates replace their particles.
     /// Particles are distinct, so the blocks equal the particles one at a time.
     #[inline(always)]
@@ -819,11 +871,12 @@ impl Pop<'_> {
         &mut self,
         t: &Target<'_, '_, M>,
         count: usize,
-        mut make: impl FnMut(&mut Lanes),
-        mut decide: impl FnMut(&mut Lanes),
+        words: bool,
+        mut make: impl FnMut(&mut Block),
+        mut decide: impl FnMut(&mut Block),
     ) {
         let z = Ziggurat::get();
-        let mut l = Lanes {
+        let mut l = Block {
             n: 0,
             idx: [0; B],
             x: [[0.0; B]; 6],
@@ -853,12 +906,14 @@ impl Pop<'_> {
                 l.logpi[lane] = self.logpi[i];
             }
             for e in l.eps.iter_mut() {
-                z.fill_batch(self.rng, e);
+                z.fill_batch_lanes(&mut self.lanes, self.rng, e);
             }
-            for lane in 0..m {
-                l.w[lane] = self.rng.next_u64();
-                l.v[lane] = unit(self.rng.next_u64());
+            if words {
+                for wc in l.w.chunks_exact_mut(LANES) {
+                    wc.copy_from_slice(&self.lanes.next_words());
+                }
             }
+            self.lanes.uniforms(&mut l.v);
             make(&mut l);
             t.eval(&l.c, m, &mut l.ll, &mut l.lp);
             decide(&mut l);
@@ -903,7 +958,7 @@ fn ln_certainty(f: f64, f_min: f64, f_max: f64, c: &CloudParams) -> f64 {
 /// `[1/2, 2]` times the reach ratio, so no logarithm is needed.
 #[inline(always)]
 fn hastings_cloud(
-    l: &Lanes,
+    l: &Block,
     ln_mu_back: &[f64; B],
     en: &[f64; 6],
     he: &[f64; 6],
@@ -987,7 +1042,7 @@ mod tests {
     #[test]
     #[allow(clippy::needless_range_loop)]
     fn hastings_ratio_equals_the_step_densities() {
-        use super::{hastings_cloud, Lanes, B};
+        use super::{hastings_cloud, Block, B};
         use rand::Rng;
         fn log_step_density(step: f64, reach: f64, en: f64, he: f64) -> f64 {
             let y = step / reach;
@@ -1007,7 +1062,7 @@ mod tests {
                 }
             });
             let live: [bool; 6] = std::array::from_fn(|k| he[k] > 0.0);
-            let mut l = Lanes {
+            let mut l = Block {
                 n: B,
                 idx: [0; B],
                 x: [[0.0; B]; 6],
