@@ -175,24 +175,19 @@ impl Persist for Ekf {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::dynamics::{CwModel, Discretization};
-    use crate::frames::Frame;
-    use crate::sensors::RadioSensor;
 
     /// `update_predict` is `update` then `predict` bit for bit, and a prediction that fails
     /// after the update leaves the filter as it was.
     #[test]
     fn update_predict_is_update_then_predict_and_transactional() {
-        let x0 = State::from_row_slice(&[500.0, 400.0, -200.0, 0.1, -0.2, 0.05]);
-        let p0 = Mat6::from_diagonal(&State::from_row_slice(&[
-            2500.0, 2500.0, 2500.0, 1.0, 1.0, 1.0,
-        ]));
-        let sensor = RadioSensor::new(Frame::AlongRadialAntinormal, 0.5, 1.7e-4);
-        let model = CwModel::new(std::f64::consts::TAU / 7200.0);
-        let d = model.discretize(1.0, &(Mat3::identity() * 1e-8), Discretization::Exact);
-        let accel = Vec3::new(1e-3, -2e-3, 5e-4);
-        let truth = Vec3::new(505.0, 395.0, -198.0);
-        let z = sensor.h(&truth).unwrap() + Vec3::new(0.3, 1e-4, -2e-4);
+        let crate::estimators::StepCase {
+            x0,
+            p0,
+            sensor,
+            d,
+            accel,
+            z,
+        } = crate::estimators::step_case();
         let mut a = Ekf::new(x0, p0);
         let mut b = a.clone();
         for _ in 0..3 {

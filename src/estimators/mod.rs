@@ -393,6 +393,40 @@ pub(crate) fn finite<const R: usize, const C: usize>(
     }
 }
 
+/// The one-step case of the Kalman filters' `update_predict` tests (EKF and UKF): a state
+/// and covariance, a radio sensor in frame 2, paper 000's orbit over 1 s with a small process
+/// noise, a thrust and a noisy measurement of a nearby truth.
+#[cfg(test)]
+pub(crate) struct StepCase {
+    pub x0: State,
+    pub p0: Mat6,
+    pub sensor: crate::sensors::RadioSensor,
+    pub d: crate::dynamics::DiscreteModel,
+    pub accel: Vec3,
+    pub z: Vec3,
+}
+
+/// [`StepCase`]'s values.
+#[cfg(test)]
+#[allow(clippy::unwrap_used)]
+pub(crate) fn step_case() -> StepCase {
+    use crate::dynamics::{CwModel, Discretization};
+    let sensor =
+        crate::sensors::RadioSensor::new(crate::frames::Frame::AlongRadialAntinormal, 0.5, 1.7e-4);
+    let model = CwModel::new(std::f64::consts::TAU / 7200.0);
+    let truth = Vec3::new(505.0, 395.0, -198.0);
+    StepCase {
+        x0: State::from_row_slice(&[500.0, 400.0, -200.0, 0.1, -0.2, 0.05]),
+        p0: Mat6::from_diagonal(&State::from_row_slice(&[
+            2500.0, 2500.0, 2500.0, 1.0, 1.0, 1.0,
+        ])),
+        d: model.discretize(1.0, &(Mat3::identity() * 1e-8), Discretization::Exact),
+        accel: Vec3::new(1e-3, -2e-3, 5e-4),
+        z: sensor.h(&truth).unwrap() + Vec3::new(0.3, 1e-4, -2e-4),
+        sensor,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

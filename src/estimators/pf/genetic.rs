@@ -860,6 +860,30 @@ struct Block {
     reach: [f64; B],
 }
 
+impl Block {
+    /// A block with `n` lanes in use, unit fitness and `aux`, `reach` in every lane (the
+    /// rest zero).
+    #[inline(always)]
+    fn new(n: usize, aux: f64, reach: f64) -> Self {
+        Block {
+            n,
+            idx: [0; B],
+            x: [[0.0; B]; 6],
+            f: [1.0; B],
+            logpi: [0.0; B],
+            eps: [[0.0; B]; 6],
+            w: [0; B],
+            v: [0.0; B],
+            c: [[0.0; B]; 6],
+            ll: [0.0; B],
+            lp: [0.0; B],
+            acc: [false; B],
+            aux: [aux; B],
+            reach: [reach; B],
+        }
+    }
+}
+
 impl Pop<'_> {
     /// Mutation of the selected particles `sel[..count]`, sixteen per block: gathers the
     /// particles, draws from the lanes six batches of normals (component-major), sixteen
@@ -876,22 +900,7 @@ impl Pop<'_> {
         mut decide: impl FnMut(&mut Block),
     ) {
         let z = Ziggurat::get();
-        let mut l = Block {
-            n: 0,
-            idx: [0; B],
-            x: [[0.0; B]; 6],
-            f: [1.0; B],
-            logpi: [0.0; B],
-            eps: [[0.0; B]; 6],
-            w: [0; B],
-            v: [0.0; B],
-            c: [[0.0; B]; 6],
-            ll: [0.0; B],
-            lp: [0.0; B],
-            acc: [false; B],
-            aux: [-1.0; B],
-            reach: [1.0; B],
-        };
+        let mut l = Block::new(0, -1.0, 1.0);
         let mut start = 0;
         while start < count {
             let m = B.min(count - start);
@@ -1062,22 +1071,7 @@ mod tests {
                 }
             });
             let live: [bool; 6] = std::array::from_fn(|k| he[k] > 0.0);
-            let mut l = Block {
-                n: B,
-                idx: [0; B],
-                x: [[0.0; B]; 6],
-                f: [1.0; B],
-                logpi: [0.0; B],
-                eps: [[0.0; B]; 6],
-                w: [0; B],
-                v: [0.0; B],
-                c: [[0.0; B]; 6],
-                ll: [0.0; B],
-                lp: [0.0; B],
-                acc: [false; B],
-                aux: [0.0; B],
-                reach: [0.0; B],
-            };
+            let mut l = Block::new(B, 0.0, 0.0);
             let mut ln_mu_back = [0.0; B];
             for lane in 0..B {
                 let mu: f64 = rng.random_range(0.2..0.95);

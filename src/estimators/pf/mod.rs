@@ -2459,13 +2459,10 @@ mod tests {
 
     /// The block likelihood equals the particle-by-particle one bit for bit (Gaussian and
     /// heavy-tailed noise, undefined positions, a short last block).
-    #[test]
-    fn block_likelihood_equals_scalar() {
-        use crate::sensors::RadioSensor;
-        let s = RadioSensor::new(crate::frames::Frame::AlongRadialAntinormal, 0.5, 1e-4);
-        let c = Vec3::new(400.0, 500.0, -200.0);
-        let z = s.predict(&c).expect("defined") + Vec3::new(0.2, -1e-4, 3e-4);
-        let x: Vec<State> = (0..1003)
+    /// 1003 states (a short last block) around `c`, with the zero-range and far-off states
+    /// the block paths must hand to their scalar fallbacks.
+    fn test_cloud(c: &Vec3) -> Vec<State> {
+        (0..1003)
             .map(|k| {
                 let f = |i: usize| ((i * 7 + k * 13) as f64).sin();
                 match k % 11 {
@@ -2474,7 +2471,16 @@ mod tests {
                     _ => State::new(c.x + f(0), c.y + f(1), c.z + f(2), f(3), f(4), f(5)),
                 }
             })
-            .collect();
+            .collect()
+    }
+
+    #[test]
+    fn block_likelihood_equals_scalar() {
+        use crate::sensors::RadioSensor;
+        let s = RadioSensor::new(crate::frames::Frame::AlongRadialAntinormal, 0.5, 1e-4);
+        let c = Vec3::new(400.0, 500.0, -200.0);
+        let z = s.predict(&c).expect("defined") + Vec3::new(0.2, -1e-4, 3e-4);
+        let x = test_cloud(&c);
         for noise in [NoiseModel::Gaussian, NoiseModel::StudentT { dof: 4.0 }] {
             let lik = Likelihood::new(&s, &z, &noise, &[0.5, 1e-4, 1e-4]);
             let mut out = vec![0.0; x.len()];
@@ -2504,16 +2510,7 @@ mod tests {
         let l = chol(&d.q).expect("pd");
         let c = Vec3::new(400.0, 500.0, -200.0);
         // 1003: a short last block
-        let x: Vec<State> = (0..1003)
-            .map(|k| {
-                let f = |i: usize| ((i * 7 + k * 13) as f64).sin();
-                match k % 11 {
-                    0 => State::zeros(),
-                    1 => State::new(f(0) * 900.0, f(1) * 900.0, f(2) * 900.0, 0.0, 0.0, 0.0),
-                    _ => State::new(c.x + f(0), c.y + f(1), c.z + f(2), f(3), f(4), f(5)),
-                }
-            })
-            .collect();
+        let x = test_cloud(&c);
         let w: Vec<f64> = (0..x.len()).map(|k| 1.0 + (k as f64).cos()).collect();
         let s = RadioSensor::new(crate::frames::Frame::AlongRadialAntinormal, 0.5, 1e-4);
         let z = s.predict(&c).expect("defined") + Vec3::new(0.2, -1e-4, 3e-4);
