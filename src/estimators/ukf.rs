@@ -393,24 +393,14 @@ impl SharedPrior {
         }
         // Pzz's six entries
         let (w0, w) = self.wc;
-        let outer = |d: &Vec3| {
-            [
-                d.x * d.x,
-                d.x * d.y,
-                d.x * d.z,
-                d.y * d.y,
-                d.y * d.z,
-                d.z * d.z,
-            ]
-        };
         let mut s = [0.0; 6];
         for d in &dz[1..] {
-            let o = outer(d);
+            let o = outer6(&[d.x, d.y, d.z]);
             for k in 0..6 {
                 s[k] += o[k];
             }
         }
-        let o0 = outer(&dz[0]);
+        let o0 = outer6(&[dz[0].x, dz[0].y, dz[0].z]);
         let p: [f64; 6] = std::array::from_fn(|k| w0 * o0[k] + w * s[k]);
         let pzz_err = FilterError::NotPositiveDefinite("innovation covariance Pzz");
         let cz = chol3(&[
@@ -554,24 +544,7 @@ impl SharedPrior {
         out.fast = out.seven.fast;
         let (w0, w) = self.wc;
         let gw = self.gamma * w;
-        let rl = [
-            r[(0, 0)],
-            r[(1, 0)],
-            r[(2, 0)],
-            r[(1, 1)],
-            r[(2, 1)],
-            r[(2, 2)],
-        ];
-        let outer = |d: &[f64; 3]| {
-            [
-                d[0] * d[0],
-                d[0] * d[1],
-                d[0] * d[2],
-                d[1] * d[1],
-                d[1] * d[2],
-                d[2] * d[2],
-            ]
-        };
+        let rl = lower6(r);
         // Pzz's six entries: the sums over the outer points, lanes innermost (vectorised)
         for sk in s.iter_mut() {
             sk.fill(0.0);
@@ -579,7 +552,7 @@ impl SharedPrior {
         for dp in &dz[1..] {
             for i in 0..B {
                 let d = [dp[0][i], dp[1][i], dp[2][i]];
-                let o = outer(&d);
+                let o = outer6(&d);
                 for k in 0..6 {
                     s[k][i] += o[k];
                 }
@@ -589,7 +562,7 @@ impl SharedPrior {
         // the intermediate values in local arrays)
         let (mut cl, mut ci, mut ok) = ([[0.0; B]; 6], [[0.0; B]; 3], [false; B]);
         for i in 0..B {
-            let o0 = outer(&[dz[0][0][i], dz[0][1][i], dz[0][2][i]]);
+            let o0 = outer6(&[dz[0][0][i], dz[0][1][i], dz[0][2][i]]);
             let a: [f64; 6] = std::array::from_fn(|k| rl[k] + (w0 * o0[k] + w * s[k][i]));
             let (l, inv, ok_c) = chol3_lane(a);
             for k in 0..6 {
@@ -665,6 +638,34 @@ impl WhitenedUpdate {
         b.fixed_view_mut::<3, 3>(0, 0).copy_from(&self.m);
         prior.l * b
     }
+}
+
+/// The lower triangle of the symmetric `d d^T`, in the order `(00, 10, 20, 11, 21, 22)` of
+/// [`lower6`] (the innovation covariance's sums over the sigma points).
+#[inline(always)]
+fn outer6(d: &[f64; 3]) -> [f64; 6] {
+    [
+        d[0] * d[0],
+        d[0] * d[1],
+        d[0] * d[2],
+        d[1] * d[1],
+        d[1] * d[2],
+        d[2] * d[2],
+    ]
+}
+
+/// The lower triangle of `m`, `(m00, m10, m20, m11, m21, m22)`: the packed form of the
+/// shared-prior updates' symmetric 3 x 3 matrices.
+#[inline(always)]
+pub(crate) fn lower6(m: &Mat3) -> [f64; 6] {
+    [
+        m[(0, 0)],
+        m[(1, 0)],
+        m[(2, 0)],
+        m[(1, 1)],
+        m[(2, 1)],
+        m[(2, 2)],
+    ]
 }
 
 /// The Cholesky factor of the symmetric 3 x 3 matrix with lower triangle `(a00, a10,
@@ -786,30 +787,10 @@ mod tests {
     /// snapshot).
     #[test]
     fn update_predict_is_update_then_predict_and_transactional() {
-        let crate::estimators::StepCase {
-            x0,
-            p0,
-            sensor,
-            d,
-            accel,
-            z,
-        } = crate::estimators::step_case();
-        let mut a = Ukf::new(x0, p0, UkfParams::default());
-        let mut b = a.clone();
-        let bits =
-            |f: &Ukf| -> Vec<u64> { f.x.iter().chain(f.p.iter()).map(|v| v.to_bits()).collect() };
-        for _ in 0..3 {
-            let ia = a.update(&sensor, &z).unwrap();
-            a.predict(&d, &accel).unwrap();
-            let ib = b.update_predict(&sensor, &z, &d, &accel).unwrap();
-            assert_eq!(ia, ib);
-            assert_eq!(bits(&a), bits(&b));
-        }
-        let mut bad = d;
-        bad.q[(0, 0)] = f64::INFINITY;
-        let before = bits(&b);
-        assert!(b.update_predict(&sensor, &z, &bad, &accel).is_err());
-        assert_eq!(bits(&b), before);
+        crate::estimators::check_update_predict(
+            |x, p| Ukf::new(x, p, UkfParams::default()),
+            |f, s, z, d, a| f.update_predict(s, z, d, a),
+        );
     }
 
     /// `max |a - b| / max |b|` over the entries.

@@ -28,7 +28,8 @@
 //! the 256 layers, `X_1 = R`, `X_0 = V / f(R)`, `X_{i+1} = f^-1(V / X_i + f(X_i))`,
 //! `X_256 = 0`; computed once at first use (`OnceLock`, no heap).
 
-use rand::RngCore;
+use rand::{RngCore, SeedableRng};
+use rand_xoshiro::SplitMix64;
 use std::sync::OnceLock;
 
 /// Layer count (the index is the low 8 bits of a word).
@@ -257,17 +258,6 @@ pub struct Lanes {
     s: [[u64; LANES]; 4],
 }
 
-/// SplitMix64 (Steele, Lea & Flood 2014; Vigna's constants): the next output of the
-/// counter `x`.
-#[inline(always)]
-fn splitmix64(x: &mut u64) -> u64 {
-    *x = x.wrapping_add(0x9e37_79b9_7f4a_7c15);
-    let mut z = *x;
-    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-    z ^ (z >> 31)
-}
-
 impl Lanes {
     /// Lane `j`'s state from the `j`-th of `LANES` words of `rng`, expanded by SplitMix64
     /// into its four state words (as `seed_from_u64` seeds xoshiro256++; the four outputs
@@ -279,9 +269,9 @@ impl Lanes {
     pub fn seed_from<R: RngCore + ?Sized>(rng: &mut R) -> Self {
         let mut s = [[0u64; LANES]; 4];
         for j in 0..LANES {
-            let mut x = rng.next_u64();
+            let mut x = SplitMix64::seed_from_u64(rng.next_u64());
             for sk in s.iter_mut() {
-                sk[j] = splitmix64(&mut x);
+                sk[j] = x.next_u64();
             }
         }
         Self { s }

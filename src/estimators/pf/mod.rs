@@ -105,7 +105,7 @@ pub mod resample;
 
 pub use par::{CHUNK, MAX_THREADS, PARALLEL_MIN_PARTICLES};
 
-use super::ukf::{SharedPrior, Ukf, UkfParams, WhitenedBlock};
+use super::ukf::{lower6, SharedPrior, Ukf, UkfParams, WhitenedBlock};
 use super::{symmetrize, Estimator, FilterError, UpdateInfo};
 use crate::dynamics::DiscreteModel;
 use crate::noise::NoiseModel;
@@ -993,15 +993,7 @@ impl<M: MeasurementModel> Unscented<'_, M> {
                         for k in 0..3 {
                             wb.step[k][i] = wu.step[k];
                         }
-                        let mm = &wu.m;
-                        let ml = [
-                            mm[(0, 0)],
-                            mm[(1, 0)],
-                            mm[(2, 0)],
-                            mm[(1, 1)],
-                            mm[(2, 1)],
-                            mm[(2, 2)],
-                        ];
+                        let ml = lower6(&wu.m);
                         for k in 0..6 {
                             wb.m[k][i] = ml[k];
                         }
