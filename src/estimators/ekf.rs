@@ -180,30 +180,8 @@ mod tests {
     /// after the update leaves the filter as it was.
     #[test]
     fn update_predict_is_update_then_predict_and_transactional() {
-        let crate::estimators::StepCase {
-            x0,
-            p0,
-            sensor,
-            d,
-            accel,
-            z,
-        } = crate::estimators::step_case();
-        let mut a = Ekf::new(x0, p0);
-        let mut b = a.clone();
-        for _ in 0..3 {
-            let ia = a.update(&sensor, &z).unwrap();
-            a.predict(&d, &accel).unwrap();
-            let ib = b.update_predict(&sensor, &z, &d, &accel).unwrap();
-            assert_eq!(ia, ib);
-            let bits = |f: &Ekf| -> Vec<u64> {
-                f.x.iter().chain(f.p.iter()).map(|v| v.to_bits()).collect()
-            };
-            assert_eq!(bits(&a), bits(&b));
-        }
-        let mut bad = d;
-        bad.q[(0, 0)] = f64::INFINITY;
-        let before = b.clone();
-        assert!(b.update_predict(&sensor, &z, &bad, &accel).is_err());
-        assert_eq!(b, before);
+        crate::estimators::check_update_predict(Ekf::new, |f, s, z, d, a| {
+            f.update_predict(s, z, d, a)
+        });
     }
 }

@@ -393,38 +393,57 @@ pub(crate) fn finite<const R: usize, const C: usize>(
     }
 }
 
-/// The one-step case of the Kalman filters' `update_predict` tests (EKF and UKF): a state
-/// and covariance, a radio sensor in frame 2, paper 000's orbit over 1 s with a small process
-/// noise, a thrust and a noisy measurement of a nearby truth.
-#[cfg(test)]
-pub(crate) struct StepCase {
-    pub x0: State,
-    pub p0: Mat6,
-    pub sensor: crate::sensors::RadioSensor,
-    pub d: crate::dynamics::DiscreteModel,
-    pub accel: Vec3,
-    pub z: Vec3,
-}
-
-/// [`StepCase`]'s values.
+/// The Kalman filters' `update_predict` test (EKF and UKF): on one step case (a state and
+/// covariance, a radio sensor in frame 2, paper 000's orbit over 1 s with a small process
+/// noise, a thrust, a noisy measurement of a nearby truth), `update_predict` is `update`
+/// then `predict` bit for bit for three steps, and a prediction that fails after the update
+/// leaves the filter as it was (the navigator relies on it instead of a snapshot).
 #[cfg(test)]
 #[allow(clippy::unwrap_used)]
-pub(crate) fn step_case() -> StepCase {
+pub(crate) fn check_update_predict<F: Estimator + Clone + PartialEq + std::fmt::Debug>(
+    make: impl Fn(State, Mat6) -> F,
+    update_predict: impl Fn(
+        &mut F,
+        &crate::sensors::RadioSensor,
+        &Vec3,
+        &crate::dynamics::DiscreteModel,
+        &Vec3,
+    ) -> Result<UpdateInfo, FilterError>,
+) {
     use crate::dynamics::{CwModel, Discretization};
     let sensor =
         crate::sensors::RadioSensor::new(crate::frames::Frame::AlongRadialAntinormal, 0.5, 1.7e-4);
     let model = CwModel::new(std::f64::consts::TAU / 7200.0);
+    let d = model.discretize(1.0, &(Mat3::identity() * 1e-8), Discretization::Exact);
+    let accel = Vec3::new(1e-3, -2e-3, 5e-4);
     let truth = Vec3::new(505.0, 395.0, -198.0);
-    StepCase {
-        x0: State::from_row_slice(&[500.0, 400.0, -200.0, 0.1, -0.2, 0.05]),
-        p0: Mat6::from_diagonal(&State::from_row_slice(&[
-            2500.0, 2500.0, 2500.0, 1.0, 1.0, 1.0,
-        ])),
-        d: model.discretize(1.0, &(Mat3::identity() * 1e-8), Discretization::Exact),
-        accel: Vec3::new(1e-3, -2e-3, 5e-4),
-        z: sensor.h(&truth).unwrap() + Vec3::new(0.3, 1e-4, -2e-4),
-        sensor,
+    let z = sensor.h(&truth).unwrap() + Vec3::new(0.3, 1e-4, -2e-4);
+    let x0 = State::from_row_slice(&[500.0, 400.0, -200.0, 0.1, -0.2, 0.05]);
+    let p0 = Mat6::from_diagonal(&State::from_row_slice(&[
+        2500.0, 2500.0, 2500.0, 1.0, 1.0, 1.0,
+    ]));
+    let bits = |f: &F| -> Vec<u64> {
+        f.state()
+            .iter()
+            .chain(f.covariance().iter())
+            .map(|v| v.to_bits())
+            .collect()
+    };
+    let mut a = make(x0, p0);
+    let mut b = a.clone();
+    for _ in 0..3 {
+        let ia = a.update(&sensor, &z).unwrap();
+        a.predict(&d, &accel).unwrap();
+        let ib = update_predict(&mut b, &sensor, &z, &d, &accel).unwrap();
+        assert_eq!(ia, ib);
+        assert_eq!(bits(&a), bits(&b));
     }
+    let mut bad = d;
+    bad.q[(0, 0)] = f64::INFINITY;
+    let before = b.clone();
+    assert!(update_predict(&mut b, &sensor, &z, &bad, &accel).is_err());
+    assert_eq!(b, before);
+    assert_eq!(bits(&b), bits(&before));
 }
 
 #[cfg(test)]
