@@ -131,6 +131,26 @@ fn cw_structured(phi: &Mat6) -> bool {
     bits == 0 && phi[(1, 1)] == 1.0
 }
 
+/// The Kalman time update through the linear discrete model of `(x, p)` in place:
+/// `x- = Phi x + Gamma a`, `P- = Phi P Phi^T + Q` ([`propagate_covariance`]), written only
+/// when both are finite (the EKF's and the UKF's `predict` and their transactional
+/// `update_predict`).
+#[inline(always)]
+pub(crate) fn time_update(
+    model: &DiscreteModel,
+    x: &mut State,
+    p: &mut Mat6,
+    accel: &Vec3,
+) -> Result<(), FilterError> {
+    let xn = model.apply(x, accel);
+    let pn = propagate_covariance(&model.phi, p, &model.q);
+    finite(&xn, "predicted state")?;
+    finite(&pn, "predicted covariance")?;
+    *x = xn;
+    *p = pn;
+    Ok(())
+}
+
 /// The Kalman time update of the covariance, `P- = sym(Phi P Phi^T + Q)` for a symmetric
 /// `P` (`sym` as in [`symmetrize`]).
 ///
