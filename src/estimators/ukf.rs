@@ -173,10 +173,20 @@ impl Ukf {
             pzz += dz * dz.transpose() * self.wc[i];
             pxz += dx * dz.transpose() * self.wc[i];
         }
-        let chol = pzz.cholesky().ok_or(FilterError::NotPositiveDefinite(
+        // the closed-form 3 x 3 factor, inlined (nalgebra's generic factor and solves are
+        // out-of-line calls from the navigator's step, whose copies were a third of the
+        // UKF's FMU cycle overhead: issue 15)
+        let chol = super::chol3(&pzz).ok_or(FilterError::NotPositiveDefinite(
             "innovation covariance Pzz",
         ))?;
-        let k = chol.solve(&pxz.transpose()).transpose();
+        // `K = Pxz Pzz^-1`, row by row (`Pzz` is symmetric)
+        let mut k = Mat63::zeros();
+        for r in 0..6 {
+            let row = chol.solve(&Vec3::new(pxz[(r, 0)], pxz[(r, 1)], pxz[(r, 2)]));
+            k[(r, 0)] = row.x;
+            k[(r, 1)] = row.y;
+            k[(r, 2)] = row.z;
+        }
         let mut nu = sensor.diff(z, &z_hat);
         if !azimuth_used {
             nu.y = 0.0;
@@ -185,7 +195,8 @@ impl Ukf {
         let pn = symmetrize(&(p - k * pzz * k.transpose()));
         finite(&xn, "updated state")?;
         finite(&pn, "updated covariance")?;
-        let nis = nu.dot(&chol.solve(&nu));
+        // `nu^T Pzz^-1 nu = |L^-1 nu|^2`
+        let nis = chol.forward(&nu).norm_squared();
         Ok((
             xn,
             pn,
