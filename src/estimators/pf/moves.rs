@@ -418,11 +418,11 @@ impl ParticleFilter {
             return false;
         };
         let reference = self.mean;
-        let wb = [1.0 / self.x.len() as f64; BLOCK];
+        let w = 1.0 / self.x.len() as f64;
         let run = |x: &mut [State], rng: &mut super::PfRng| {
             crate::numerics::simd::dispatch(
                 #[inline(always)]
-                || jitter.run_inline(x, rng, &reference, &wb),
+                || jitter.run_inline(x, rng, &reference, w),
             )
         };
         let sums = if self.chunked() {
@@ -548,29 +548,53 @@ impl Jitter {
         }
     }
 
-    /// The plain RPF's loop over a run of particles: each block jittered in place and its
-    /// moments (weights `wb`) accumulated about `reference`; lanes derived from `rng`.
-    /// Inlined into [`ParticleFilter::regularise`]'s dispatch.
+    /// The plain RPF's loop over a run of particles, block by block: the block's kernel
+    /// steps ([`Jitter::block`]), the particles transposed in, moved and transposed out
+    /// once, and the moments of the moved block (weight `w` each) accumulated about
+    /// `reference` from the transposed offsets ([`MomentLanes::add_soa`]); lanes derived
+    /// from `rng`. Inlined into [`ParticleFilter::regularise`]'s dispatch.
     #[inline(always)]
+    #[allow(clippy::needless_range_loop)] // index loops over fixed lanes: they vectorise
     fn run_inline(
         &self,
         x: &mut [State],
         rng: &mut super::PfRng,
         reference: &State,
-        wb: &[f64; BLOCK],
+        w: f64,
     ) -> Moments {
         let mut lanes = Lanes::seed_from(rng);
         let mut e = [[0.0; BLOCK]; N];
         let mut step = [[0.0; BLOCK]; N];
+        let mut xs = [[0.0; BLOCK]; N];
+        let mut d = [[0.0; BLOCK]; N];
         let mut mom = MomentLanes::new();
         for xb in x.chunks_mut(BLOCK) {
             self.block(&mut lanes, rng, &mut e, &mut step);
-            for (i, xi) in xb.iter_mut().enumerate() {
-                for (k, sk) in step.iter().enumerate() {
-                    xi[k] += sk[i];
+            for (i, xi) in xb.iter().enumerate() {
+                for k in 0..N {
+                    xs[k][i] = xi[k];
                 }
             }
-            mom.add_block(reference, xb, &wb[..xb.len()]);
+            for k in 0..N {
+                for i in 0..BLOCK {
+                    xs[k][i] += step[k][i];
+                    d[k][i] = xs[k][i] - reference[k];
+                }
+            }
+            for (i, xi) in xb.iter_mut().enumerate() {
+                for k in 0..N {
+                    xi[k] = xs[k][i];
+                }
+            }
+            // a short last block: zero weight and zero offset in the padding
+            let n = xb.len();
+            let wb: [f64; BLOCK] = std::array::from_fn(|i| if i < n { w } else { 0.0 });
+            if n < BLOCK {
+                for dk in d.iter_mut() {
+                    dk[n..].fill(0.0);
+                }
+            }
+            mom.add_soa(&d, &wb);
         }
         mom.finish(reference)
     }
@@ -597,7 +621,7 @@ fn epanechnikov_s(lanes: &mut Lanes) -> [f64; BLOCK] {
 
 #[cfg(test)]
 mod tests {
-    use super::{epanechnikov_s, Jitter, Moments, BLOCK, N};
+    use super::{epanechnikov_s, Jitter, MomentLanes, Moments, BLOCK, N};
     use crate::estimators::pf::{bandwidth, chol, Kernel, PfRng};
     use crate::numerics::simd::{dispatch, with_baseline};
     use crate::numerics::ziggurat::Lanes;
@@ -699,14 +723,15 @@ mod tests {
 
     /// The plain RPF's block loop gives the same bits dispatched (AVX2 where present) and on
     /// the baseline path: the jittered particles, the moments and the generator, for both
-    /// kernels and both square roots, with a short last block.
+    /// kernels and both square roots, with a short last block; the moments equal
+    /// [`MomentLanes::add_block`]'s on the moved particles.
     #[test]
     fn jitter_dispatched_equals_baseline_bitwise() {
         let x0: Vec<State> = (0..1003)
             .map(|i| State::from_fn(|k, _| ((i * 31 + k * 17) % 97) as f64 * 0.1 - 4.0))
             .collect();
         let reference = State::from_element(0.2);
-        let wb = [1.0 / x0.len() as f64; BLOCK];
+        let w = 1.0 / x0.len() as f64;
         let run = || {
             let mut out = Vec::new();
             for p in covariances() {
@@ -716,8 +741,15 @@ mod tests {
                     let mut rng = PfRng::seed_from_u64(9);
                     let m: Moments = dispatch(
                         #[inline(always)]
-                        || jit.run_inline(&mut x, &mut rng, &reference, &wb),
+                        || jit.run_inline(&mut x, &mut rng, &reference, w),
                     );
+                    // the block loop's moments are those of the moved particles
+                    let mut lanes = MomentLanes::new();
+                    for xb in x.chunks(BLOCK) {
+                        lanes.add_block(&reference, xb, &[w; BLOCK][..xb.len()]);
+                    }
+                    let m2 = lanes.finish(&reference);
+                    assert!(m.s1 == m2.s1 && m.s2 == m2.s2 && m.wsum == m2.wsum);
                     let mut b: Vec<u64> = x
                         .iter()
                         .flat_map(|s| s.iter().map(|v| v.to_bits()))
