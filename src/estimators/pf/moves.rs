@@ -102,7 +102,7 @@ use super::{
 };
 use crate::estimators::symmetrize;
 use crate::numerics::vexp::exp_nonpos;
-use crate::numerics::ziggurat::{Lanes, Ziggurat};
+use crate::numerics::ziggurat::{Lanes, Ziggurat, LANES};
 use crate::sensors::MeasurementModel;
 use crate::types::{Mat3, Mat6, State, Vec3};
 use nalgebra::SMatrix;
@@ -468,8 +468,8 @@ impl ParticleFilter {
 /// `a, b, c, d`, branch-free `max(min(max(a, b), max(c, d)), max(min(a, b), min(c, d)))`
 /// (if the largest is in the pair `(a, b)`, the second largest is the larger of `min(a, b)`
 /// and `max(c, d)`, and `min(c, d) <= max(c, d)`; symmetrically for `(c, d)`). The four
-/// uniforms per particle come from the same lanes as the normals ([`Lanes::uniforms`],
-/// on the `2^-52` grid), and `r / |u| = sqrt(s / |u|^2)` is one division and one square
+/// uniforms per particle come from the same lanes as the normals, the two 32-bit halves of
+/// a word each (on the `2^-32` grid: [`epanechnikov_s`]), and `r / |u| = sqrt(s / |u|^2)` is one division and one square
 /// root per particle, in the block.
 struct Jitter {
     /// `h D`, row by row (lower-triangular when `lower`)
@@ -601,13 +601,25 @@ impl Jitter {
 }
 
 /// `BLOCK` draws of `Beta(3, 2)`, the squared radius of the Epanechnikov kernel in six
-/// dimensions: the second largest of four uniforms from `lanes` (see [`Jitter`]).
+/// dimensions: the second largest of four uniforms (see [`Jitter`]). The uniforms are the
+/// two 32-bit halves of the lanes' words (each as the top of a mantissa in `[1, 2)`, less 1:
+/// on the `2^-32` grid), so a block takes 32 words instead of 64; the law is Beta(3, 2)'s
+/// up to that grid (the distribution functions differ by less than `4 * 2^-32`).
 #[inline(always)]
 #[allow(clippy::needless_range_loop)] // index loops over fixed lanes: they vectorise
 fn epanechnikov_s(lanes: &mut Lanes) -> [f64; BLOCK] {
+    const ONE: u64 = 0x3ff0_0000_0000_0000;
     let mut u = [[0.0; BLOCK]; 4];
-    for ui in u.iter_mut() {
-        lanes.uniforms(ui);
+    for pair in u.chunks_exact_mut(2) {
+        if let [hi, lo] = pair {
+            for t in 0..BLOCK / LANES {
+                let w = lanes.next_words();
+                for j in 0..LANES {
+                    hi[t * LANES + j] = f64::from_bits(((w[j] >> 32) << 20) | ONE) - 1.0;
+                    lo[t * LANES + j] = f64::from_bits(((w[j] & 0xffff_ffff) << 20) | ONE) - 1.0;
+                }
+            }
+        }
     }
     let max = |a: f64, b: f64| if a > b { a } else { b };
     let min = |a: f64, b: f64| if a < b { a } else { b };
