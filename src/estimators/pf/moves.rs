@@ -686,6 +686,7 @@ mod tests {
     /// 0.03 `sqrt(P_rr P_cc)` from 64 000 draws (about five standard errors), and the
     /// Epanechnikov steps inside the ellipsoid `x^T (h^2 P)^-1 x <= 1`.
     #[test]
+    #[allow(clippy::needless_range_loop)] // particle `i` of the transposed block
     fn jitter_has_the_kernel_covariance() {
         for (j, p) in covariances().iter().enumerate() {
             for kernel in [Kernel::Gaussian, Kernel::Epanechnikov] {
