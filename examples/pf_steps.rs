@@ -11,13 +11,14 @@
 //! ```
 //!
 //! Arguments: particles, warm-up steps, measured steps, threads, kind (`pf`, `rpf`, `upf`,
-//! `gapf`, `cgapf`), moves (`moves` or `literal`: [`PfParams::moves`]; default
-//! 100000 20 1 1 pf moves).
+//! `gapf`, `cgapf`), moves (`moves` or `literal`: [`PfParams::moves`]), the RPF's kernel
+//! (`gaussian` or `epanechnikov`: [`PfParams::kernel`]; default
+//! 100000 20 1 1 pf moves gaussian).
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)] // example code
 
 use rand::SeedableRng;
 use relnav::dynamics::{CwModel, Discretization};
-use relnav::estimators::pf::{ParticleFilter, PfKind, PfParams};
+use relnav::estimators::pf::{Kernel, ParticleFilter, PfKind, PfParams};
 use relnav::estimators::Estimator;
 use relnav::nav::NavConfig;
 use relnav::sensors::RadioSensor;
@@ -34,6 +35,11 @@ fn main() {
         PfKind::from_name(&s).expect("a filter kind")
     });
     let moves = std::env::args().nth(6).as_deref() != Some("literal");
+    let kernel = match std::env::args().nth(7).as_deref() {
+        None | Some("gaussian") => Kernel::Gaussian,
+        Some("epanechnikov") => Kernel::Epanechnikov,
+        Some(k) => panic!("unknown kernel {k}"),
+    };
     let cfg = NavConfig::default();
     let f = cfg.frame;
     let model = CwModel::new(cfg.mean_motion);
@@ -50,6 +56,7 @@ fn main() {
         seed: 7,
         threads,
         moves,
+        kernel,
         ..PfParams::new(kind)
     };
     let mut pf = ParticleFilter::new(cfg.initial_state(), cfg.initial_covariance(), params);

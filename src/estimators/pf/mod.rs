@@ -1744,16 +1744,18 @@ impl ParticleFilter {
             self.w.iter_mut().for_each(|v| *v = 1.0 / n as f64);
             self.logw.iter_mut().for_each(|v| *v = 0.0);
             self.resamples += 1;
+            // the plain RPF's jitter sets the summary of the jittered set itself
+            let mut summarised = false;
             match kind {
                 PfKind::Rpf if self.params.moves => self.regularise_mh(&lik, &cov_before),
-                PfKind::Rpf => self.regularise(self.params.kernel, &cov_before),
+                PfKind::Rpf => summarised = self.regularise(self.params.kernel, &cov_before),
                 PfKind::Gapf => self.genetic_moves(&lik, &cov_before),
                 PfKind::Cgapf => self.cloud_moves(&lik),
                 PfKind::Sir | PfKind::Upf => {}
             }
             // the weighted moments before a plain resampling are kept (lower variance
             // than the resampled set's); moved particles are summarised again
-            if !self.params.moves && !matches!(kind, PfKind::Sir | PfKind::Upf) {
+            if !self.params.moves && !summarised && !matches!(kind, PfKind::Sir | PfKind::Upf) {
                 self.summarise();
             }
         }
@@ -1920,6 +1922,30 @@ impl MomentLanes {
                 d[k][i] = di[k];
             }
         }
+        Self::accumulate(s1, s2, ws, wd, d, wb);
+    }
+
+    /// Add a block already transposed: the offsets `d[k][i] = x_i[k] - reference[k]` and
+    /// the weights `wb` (padding: zero weight and zero offset), for loops that hold their
+    /// block in structure-of-arrays form anyway (the RPF's jitter); the same sums as
+    /// [`MomentLanes::add_block`] on the same block.
+    #[inline(always)]
+    fn add_soa(&mut self, d: &[[f64; BLOCK]; N], wb: &[f64; BLOCK]) {
+        let Self { s1, s2, ws, wd, .. } = self;
+        Self::accumulate(s1, s2, ws, wd, d, wb);
+    }
+
+    /// The sums of one transposed block (`wd`: scratch for the weighted offsets).
+    #[inline(always)]
+    #[allow(clippy::needless_range_loop)] // index loops over fixed lanes: they vectorise
+    fn accumulate(
+        s1: &mut [[f64; BLOCK]; N],
+        s2: &mut [[f64; BLOCK]; 21],
+        ws: &mut [f64; BLOCK],
+        wd: &mut [[f64; BLOCK]; N],
+        d: &[[f64; BLOCK]; N],
+        wb: &[f64; BLOCK],
+    ) {
         for i in 0..BLOCK {
             ws[i] += wb[i];
         }
