@@ -1744,16 +1744,18 @@ impl ParticleFilter {
             self.w.iter_mut().for_each(|v| *v = 1.0 / n as f64);
             self.logw.iter_mut().for_each(|v| *v = 0.0);
             self.resamples += 1;
+            // the literal GA-PF's operators set the moved population's summary
+            let mut summarised = false;
             match kind {
                 PfKind::Rpf if self.params.moves => self.regularise_mh(&lik, &cov_before),
                 PfKind::Rpf => self.regularise(self.params.kernel, &cov_before),
-                PfKind::Gapf => self.genetic_moves(&lik, &cov_before),
+                PfKind::Gapf => summarised = self.genetic_moves(&lik, &cov_before),
                 PfKind::Cgapf => self.cloud_moves(&lik),
                 PfKind::Sir | PfKind::Upf => {}
             }
             // the weighted moments before a plain resampling are kept (lower variance
             // than the resampled set's); moved particles are summarised again
-            if !self.params.moves && !matches!(kind, PfKind::Sir | PfKind::Upf) {
+            if !self.params.moves && !summarised && !matches!(kind, PfKind::Sir | PfKind::Upf) {
                 self.summarise();
             }
         }
