@@ -339,8 +339,9 @@ impl<'a, 'b, M: MeasurementModel> Target<'a, 'b, M> {
     // lane-indexed loops over several arrays: the form that vectorises across lanes
     #[allow(clippy::needless_range_loop)]
     #[inline(always)]
-    fn log_predictive(&self, c: &[[f64; B]; 6], out: &mut [f64; B]) {
-        let mut u = [[0.0; B]; 6];
+    /// `u` is scratch (the whitened offsets; the caller's, so that a block does not zero
+    /// it).
+    fn log_predictive(&self, c: &[[f64; B]; 6], u: &mut [[f64; B]; 6], out: &mut [f64; B]) {
         for i in 0..6 {
             let mut s = [0.0; B];
             for lane in 0..B {
@@ -357,7 +358,7 @@ impl<'a, 'b, M: MeasurementModel> Target<'a, 'b, M> {
             }
         }
         let mut q = [0.0; B];
-        for ui in &u {
+        for ui in u.iter() {
             for lane in 0..B {
                 q[lane] += ui[lane] * ui[lane];
             }
@@ -370,7 +371,15 @@ impl<'a, 'b, M: MeasurementModel> Target<'a, 'b, M> {
     /// `ln p(z | c)` into `ll` and `ln pi(c)` into `lp` for the first `n` lanes (the others
     /// unspecified): `-inf` where the measurement is undefined.
     #[inline(always)]
-    fn eval(&self, c: &[[f64; B]; 6], n: usize, ll: &mut [f64; B], lp: &mut [f64; B]) {
+    /// `u` is [`Target::log_predictive`]'s scratch.
+    fn eval(
+        &self,
+        c: &[[f64; B]; 6],
+        n: usize,
+        u: &mut [[f64; B]; 6],
+        ll: &mut [f64; B],
+        lp: &mut [f64; B],
+    ) {
         let r = [c[0], c[1], c[2]];
         let mut d = [[0.0; B]; 3];
         let mut ok = [false; B];
@@ -395,7 +404,7 @@ impl<'a, 'b, M: MeasurementModel> Target<'a, 'b, M> {
                 };
             }
         }
-        self.log_predictive(c, lp);
+        self.log_predictive(c, u, lp);
         for (p, l) in lp.iter_mut().zip(ll.iter()) {
             *p += *l;
         }
@@ -405,6 +414,7 @@ impl<'a, 'b, M: MeasurementModel> Target<'a, 'b, M> {
     #[inline(always)]
     fn densities(&self, x: &[State], loglik: &[f64], logpi: &mut [f64]) {
         let mut c = [[0.0; B]; 6];
+        let mut u = [[0.0; B]; 6];
         let mut lp = [0.0; B];
         for ((xs, lls), lps) in x.chunks(B).zip(loglik.chunks(B)).zip(logpi.chunks_mut(B)) {
             for (lane, xi) in xs.iter().enumerate() {
@@ -412,7 +422,7 @@ impl<'a, 'b, M: MeasurementModel> Target<'a, 'b, M> {
                     c[k][lane] = xi[k];
                 }
             }
-            self.log_predictive(&c, &mut lp);
+            self.log_predictive(&c, &mut u, &mut lp);
             for ((o, &l), &p) in lps.iter_mut().zip(lls).zip(&lp) {
                 *o = l + p;
             }
@@ -512,6 +522,7 @@ impl Pop<'_> {
         const P: usize = B / 2;
         let ln2 = std::f64::consts::LN_2;
         let mut c = [[0.0; B]; 6];
+        let mut scratch = [[0.0; B]; 6];
         let (mut ll, mut lp) = ([0.0; B], [0.0; B]);
         let mut start = 0;
         while start < count {
@@ -559,7 +570,7 @@ impl Pop<'_> {
                     ck[2 * p + 1] = m - d * s[p];
                 }
             }
-            t.eval(&c, 2 * np, &mut ll, &mut lp);
+            t.eval(&c, 2 * np, &mut scratch, &mut ll, &mut lp);
             let mut la = [0.0; P];
             for (p, &(a, b)) in ab.iter().enumerate().take(np) {
                 la[p] = lp[2 * p] + lp[2 * p + 1] - self.logpi[a] - self.logpi[b] + 6.0 * u[p];
@@ -628,9 +639,16 @@ impl Pop<'_> {
                 }
                 cloud_probabilities(&f, &g, cd.f_avg, cd.f_max, cd.c1, cd.c2, k, &mut p);
             }
-            for lane in 0..m {
-                self.sel[count] = start + lane;
-                count += usize::from(u[lane] < p[lane]);
+            // the kept lanes as a bit mask (one vector compare), then only those written
+            let mut keep = 0u32;
+            for lane in 0..B {
+                keep |= u32::from(u[lane] < p[lane]) << lane;
+            }
+            keep &= u32::MAX >> (32 - m);
+            while keep != 0 {
+                self.sel[count] = start + keep.trailing_zeros() as usize;
+                count += 1;
+                keep &= keep - 1;
             }
             start += m;
         }
@@ -953,6 +971,7 @@ impl Pop<'_> {
     ) {
         let z = Ziggurat::get();
         let mut l = Block::new(0, -1.0, 1.0);
+        let mut scratch = [[0.0; B]; 6];
         let mut start = 0;
         while start < count {
             let m = B.min(count - start);
@@ -976,7 +995,7 @@ impl Pop<'_> {
             }
             self.lanes.uniforms(&mut l.v);
             make(&mut l);
-            t.eval(&l.c, m, &mut l.ll, &mut l.lp);
+            t.eval(&l.c, m, &mut scratch, &mut l.ll, &mut l.lp);
             decide(&mut l);
             for lane in 0..m {
                 if l.acc[lane] {
