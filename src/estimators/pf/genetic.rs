@@ -78,7 +78,11 @@
 //! each call, transient like the transition's, so the saved state is unchanged), the
 //! normals by [`Ziggurat::fill_batch_lanes`]; the GA-PF mutation no longer draws the
 //! unused sign word; the pairing draws `n / 2` indices instead of a full shuffle's `n - 1`
-//! (see `Pop::shuffle`). The laws are the same.
+//! (see `Pop::shuffle`). The laws are the same. Since `perf-gapf7` the literal GA-PF
+//! summarises the moved population itself (`unit_moments`: mean and covariance in one
+//! unweighted pass, instead of the filter's weighted mean pass and the next prediction's
+//! weighted moments pass); the random stream is unchanged, the particles move from before
+//! only by that summary's rounding (the next step's predictive Gaussian).
 
 use super::{
     bandwidth, psd_sqrt, Kernel, Likelihood, Moments, ParticleFilter, PfRng, BLOCK, TRIANGLE,
