@@ -78,15 +78,22 @@
 //! each call, transient like the transition's, so the saved state is unchanged), the
 //! normals by [`Ziggurat::fill_batch_lanes`]; the GA-PF mutation no longer draws the
 //! unused sign word; the pairing draws `n / 2` indices instead of a full shuffle's `n - 1`
-//! (see `Pop::shuffle`). The laws are the same.
+//! (see `Pop::shuffle`). The laws are the same. Since `perf-gapf7` the literal GA-PF
+//! summarises the moved population itself (`unit_moments`: mean and covariance in one
+//! unweighted pass, instead of the filter's weighted mean pass and the next prediction's
+//! weighted moments pass); the random stream is unchanged, the particles move from before
+//! only by that summary's rounding (the next step's predictive Gaussian).
 
-use super::{bandwidth, psd_sqrt, Kernel, Likelihood, ParticleFilter, PfRng, BLOCK};
+use super::{
+    bandwidth, psd_sqrt, Kernel, Likelihood, Moments, ParticleFilter, PfRng, BLOCK, TRIANGLE,
+};
 use crate::numerics::simd;
 use crate::numerics::vexp::exp_nonpos;
 use crate::numerics::ziggurat::{Lanes, Ziggurat, LANES};
 use crate::sensors::MeasurementModel;
 use crate::types::{Mat6, State};
 use rand::RngCore;
+use std::cell::OnceCell;
 
 /// GA-PF operators.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -272,6 +279,45 @@ fn cloud_probabilities(
     }
 }
 
+/// [`Moments`] of equally weighted particles (weight 1 each) about `r` in one pass,
+/// particle by particle: the offsets `d = x_i - r`, their sum and the full outer products
+/// `d d^T` (six columns of six, the form that vectorises within a particle: the sums stay
+/// in registers, no transposition), the upper triangle kept. The literal GA-PF's summary of
+/// the moved population: its mean and covariance in one pass, without the weight products
+/// of the weighted [`super::moments`] and without its separate mean pass. Run through
+/// [`simd::dispatch`] (AVX2 where present; each sum is one chain in particle order on either
+/// path, so the same bits); it differs from the weighted pass at rounding level.
+// index loops over fixed rows and columns: they vectorise
+#[allow(clippy::needless_range_loop)]
+fn unit_moments(x: &[State], r: &State) -> Moments {
+    simd::dispatch(
+        #[inline(always)]
+        || {
+            let rr: [f64; 6] = std::array::from_fn(|k| r[k]);
+            let mut s1 = [0.0; 6];
+            let mut s2 = [[0.0; 6]; 6];
+            for xi in x {
+                let d: [f64; 6] = std::array::from_fn(|k| xi[k] - rr[k]);
+                for k in 0..6 {
+                    s1[k] += d[k];
+                }
+                for c in 0..6 {
+                    for k in 0..6 {
+                        s2[c][k] += d[k] * d[c];
+                    }
+                }
+            }
+            let mut out = Moments::new(*r);
+            out.wsum = x.len() as f64;
+            out.s1 = State::from_fn(|k, _| s1[k]);
+            for (o, &(r, c)) in out.s2.iter_mut().zip(&TRIANGLE) {
+                *o = s2[c][r];
+            }
+            out
+        },
+    )
+}
+
 /// The move steps' target `ln pi(x) = ln p(z | x) + ln N(x; m-, P-)` on blocks of
 /// candidates in structure-of-arrays form (`c[k][lane]`): the likelihood through
 /// [`MeasurementModel::residuals_at`], the predictive's quadratic form by forward
@@ -297,8 +343,9 @@ impl<'a, 'b, M: MeasurementModel> Target<'a, 'b, M> {
     // lane-indexed loops over several arrays: the form that vectorises across lanes
     #[allow(clippy::needless_range_loop)]
     #[inline(always)]
-    fn log_predictive(&self, c: &[[f64; B]; 6], out: &mut [f64; B]) {
-        let mut u = [[0.0; B]; 6];
+    /// `u` is scratch (the whitened offsets; the caller's, so that a block does not zero
+    /// it).
+    fn log_predictive(&self, c: &[[f64; B]; 6], u: &mut [[f64; B]; 6], out: &mut [f64; B]) {
         for i in 0..6 {
             let mut s = [0.0; B];
             for lane in 0..B {
@@ -315,7 +362,7 @@ impl<'a, 'b, M: MeasurementModel> Target<'a, 'b, M> {
             }
         }
         let mut q = [0.0; B];
-        for ui in &u {
+        for ui in u.iter() {
             for lane in 0..B {
                 q[lane] += ui[lane] * ui[lane];
             }
@@ -328,7 +375,15 @@ impl<'a, 'b, M: MeasurementModel> Target<'a, 'b, M> {
     /// `ln p(z | c)` into `ll` and `ln pi(c)` into `lp` for the first `n` lanes (the others
     /// unspecified): `-inf` where the measurement is undefined.
     #[inline(always)]
-    fn eval(&self, c: &[[f64; B]; 6], n: usize, ll: &mut [f64; B], lp: &mut [f64; B]) {
+    /// `u` is [`Target::log_predictive`]'s scratch.
+    fn eval(
+        &self,
+        c: &[[f64; B]; 6],
+        n: usize,
+        u: &mut [[f64; B]; 6],
+        ll: &mut [f64; B],
+        lp: &mut [f64; B],
+    ) {
         let r = [c[0], c[1], c[2]];
         let mut d = [[0.0; B]; 3];
         let mut ok = [false; B];
@@ -353,7 +408,7 @@ impl<'a, 'b, M: MeasurementModel> Target<'a, 'b, M> {
                 };
             }
         }
-        self.log_predictive(c, lp);
+        self.log_predictive(c, u, lp);
         for (p, l) in lp.iter_mut().zip(ll.iter()) {
             *p += *l;
         }
@@ -363,6 +418,7 @@ impl<'a, 'b, M: MeasurementModel> Target<'a, 'b, M> {
     #[inline(always)]
     fn densities(&self, x: &[State], loglik: &[f64], logpi: &mut [f64]) {
         let mut c = [[0.0; B]; 6];
+        let mut u = [[0.0; B]; 6];
         let mut lp = [0.0; B];
         for ((xs, lls), lps) in x.chunks(B).zip(loglik.chunks(B)).zip(logpi.chunks_mut(B)) {
             for (lane, xi) in xs.iter().enumerate() {
@@ -370,7 +426,7 @@ impl<'a, 'b, M: MeasurementModel> Target<'a, 'b, M> {
                     c[k][lane] = xi[k];
                 }
             }
-            self.log_predictive(&c, &mut lp);
+            self.log_predictive(&c, &mut u, &mut lp);
             for ((o, &l), &p) in lps.iter_mut().zip(lls).zip(&lp) {
                 *o = l + p;
             }
@@ -470,6 +526,7 @@ impl Pop<'_> {
         const P: usize = B / 2;
         let ln2 = std::f64::consts::LN_2;
         let mut c = [[0.0; B]; 6];
+        let mut scratch = [[0.0; B]; 6];
         let (mut ll, mut lp) = ([0.0; B], [0.0; B]);
         let mut start = 0;
         while start < count {
@@ -517,7 +574,7 @@ impl Pop<'_> {
                     ck[2 * p + 1] = m - d * s[p];
                 }
             }
-            t.eval(&c, 2 * np, &mut ll, &mut lp);
+            t.eval(&c, 2 * np, &mut scratch, &mut ll, &mut lp);
             let mut la = [0.0; P];
             for (p, &(a, b)) in ab.iter().enumerate().take(np) {
                 la[p] = lp[2 * p] + lp[2 * p + 1] - self.logpi[a] - self.logpi[b] + 6.0 * u[p];
@@ -586,9 +643,16 @@ impl Pop<'_> {
                 }
                 cloud_probabilities(&f, &g, cd.f_avg, cd.f_max, cd.c1, cd.c2, k, &mut p);
             }
-            for lane in 0..m {
-                self.sel[count] = start + lane;
-                count += usize::from(u[lane] < p[lane]);
+            // the kept lanes as a bit mask (one vector compare), then only those written
+            let mut keep = 0u32;
+            for lane in 0..B {
+                keep |= u32::from(u[lane] < p[lane]) << lane;
+            }
+            keep &= u32::MAX >> (32 - m);
+            while keep != 0 {
+                self.sel[count] = start + keep.trailing_zeros() as usize;
+                count += 1;
+                keep &= keep - 1;
             }
             start += m;
         }
@@ -633,11 +697,15 @@ impl ParticleFilter {
     /// acceptance uniforms.
     // lane-indexed loops over several arrays: the form that vectorises across lanes
     #[allow(clippy::needless_range_loop)]
+    ///
+    /// The literal GA-PF (`moves` off) sets the filter's mean and covariance from the moved
+    /// population in one pass (`unit_moments`) and returns true (the summary is set); with
+    /// `moves`, false (the rejuvenation sets it).
     pub(super) fn genetic_moves<M: MeasurementModel>(
         &mut self,
         lik: &Likelihood<'_, M>,
         cov_before: &Mat6,
-    ) {
+    ) -> bool {
         let g = self.params.genetic;
         let n = self.x.len();
         let t = Target::new(lik, &self.pred_mean, &self.pred_l);
@@ -702,6 +770,12 @@ impl ParticleFilter {
         let (tried, accepted) = (pop.tried, pop.accepted);
         self.moves_tried += tried;
         self.moves_accepted += accepted;
+        if self.params.moves {
+            return false;
+        }
+        let (mean, cov) = unit_moments(&self.x, &self.mean).finish();
+        (self.mean, self.cov) = (mean, OnceCell::from(cov));
+        true
     }
 
     /// The CGA-PF's cloud-genetic resampling of paper 003 (see the module documentation).
@@ -901,6 +975,7 @@ impl Pop<'_> {
     ) {
         let z = Ziggurat::get();
         let mut l = Block::new(0, -1.0, 1.0);
+        let mut scratch = [[0.0; B]; 6];
         let mut start = 0;
         while start < count {
             let m = B.min(count - start);
@@ -924,7 +999,7 @@ impl Pop<'_> {
             }
             self.lanes.uniforms(&mut l.v);
             make(&mut l);
-            t.eval(&l.c, m, &mut l.ll, &mut l.lp);
+            t.eval(&l.c, m, &mut scratch, &mut l.ll, &mut l.lp);
             decide(&mut l);
             for lane in 0..m {
                 if l.acc[lane] {
@@ -1107,6 +1182,43 @@ mod tests {
                     assert!(want == f64::NEG_INFINITY && got < -700.0, "{got} {want}");
                 }
             }
+        }
+    }
+
+    /// `unit_moments` gives the same bits on the dispatched and the baseline path, and the
+    /// weighted pass's mean and covariance (weights `1/n`) to rounding level, for a short
+    /// last block and a cloud far from the reference.
+    #[test]
+    fn unit_moments_agree_with_the_weighted_pass() {
+        use super::super::moments;
+        use rand::Rng;
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(5);
+        for n in [1, 7, 16, 1500] {
+            let x: Vec<State> = (0..n)
+                .map(|_| {
+                    State::from_fn(|k, _| 1e3 * (k as f64 + 1.0) + rng.random_range(-50.0..50.0))
+                })
+                .collect();
+            let r = State::from_element(900.0);
+            let fast = super::unit_moments(&x, &r).finish();
+            let base = simd::with_baseline(|| super::unit_moments(&x, &r)).finish();
+            assert!(fast
+                .0
+                .iter()
+                .zip(base.0.iter())
+                .all(|(a, b)| a.to_bits() == b.to_bits()));
+            assert!(fast
+                .1
+                .iter()
+                .zip(base.1.iter())
+                .all(|(a, b)| a.to_bits() == b.to_bits()));
+            let w = vec![1.0 / n as f64; n];
+            let (m, p) = moments(&r, &x, &w).finish();
+            assert!((fast.0 - m).amax() <= 1e-9 * m.amax(), "{n}: mean");
+            assert!(
+                (fast.1 - p).amax() <= 1e-9 * (1.0 + p.amax()),
+                "{n}: covariance"
+            );
         }
     }
 

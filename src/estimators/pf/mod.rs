@@ -1744,12 +1744,13 @@ impl ParticleFilter {
             self.w.iter_mut().for_each(|v| *v = 1.0 / n as f64);
             self.logw.iter_mut().for_each(|v| *v = 0.0);
             self.resamples += 1;
-            // the plain RPF's jitter sets the summary of the jittered set itself
+            // the plain RPF's jitter and the literal GA-PF's operators set the summary of
+            // the moved set themselves
             let mut summarised = false;
             match kind {
                 PfKind::Rpf if self.params.moves => self.regularise_mh(&lik, &cov_before),
                 PfKind::Rpf => summarised = self.regularise(self.params.kernel, &cov_before),
-                PfKind::Gapf => self.genetic_moves(&lik, &cov_before),
+                PfKind::Gapf => summarised = self.genetic_moves(&lik, &cov_before),
                 PfKind::Cgapf => self.cloud_moves(&lik),
                 PfKind::Sir | PfKind::Upf => {}
             }
