@@ -13,7 +13,10 @@
 //! `w_i ~ N(0, Q)`; the log-weights grow by the measurement log-likelihood and are
 //! normalised with the max-subtraction trick; `N_eff = 1 / sum w_i^2`; when
 //! `N_eff < threshold N` (paper 000: 2/3) the particles are resampled ([`resample`]) and
-//! the weights reset to `1/N`. The likelihood is the sensor's true noise density
+//! the weights reset to `1/N`. The literal SIR (`moves = false`) resamples by index only:
+//! the next transition gathers its input through the indices (no copy of the cloud);
+//! every other reader (the next update, [`ParticleFilter::particles`], the saved state)
+//! sees the resampled cloud. The likelihood is the sensor's true noise density
 //! (Gaussian, contaminated Gaussian, Student-t, ... see [`crate::noise`]): the particle
 //! filters are where heavy tails are modelled (paper 003), the Kalman filters keep the
 //! Gaussian of the same variance.
@@ -702,10 +705,21 @@ impl Transition {
     /// `x_i <- Phi x_i + Gamma a + sqrt(Q) eps_i` runs on the transposed block, the same
     /// operations in the same order per particle as the scalar form (so the same bits),
     /// four particles per AVX2 instruction through [`crate::numerics::simd::dispatch`].
-    fn run(&self, x: &[State], out: &mut [State], xbar: &mut [State], rng: &mut PfRng) -> f64 {
+    ///
+    /// With `idx` the input particle `j` is `x[idx[j]]` (`idx` as long as `out`: the
+    /// resampling indices not yet applied, gathered by the block transposes instead of a
+    /// copy of the cloud); without, `x[j]`.
+    fn run(
+        &self,
+        x: &[State],
+        idx: Option<&[usize]>,
+        out: &mut [State],
+        xbar: &mut [State],
+        rng: &mut PfRng,
+    ) -> f64 {
         crate::numerics::simd::dispatch(
             #[inline(always)]
-            || self.run_inline(x, out, xbar, rng),
+            || self.run_inline(x, idx, out, xbar, rng),
         )
     }
 
@@ -714,6 +728,7 @@ impl Transition {
     fn run_inline(
         &self,
         x: &[State],
+        idx: Option<&[usize]>,
         out: &mut [State],
         xbar: &mut [State],
         rng: &mut PfRng,
@@ -724,21 +739,29 @@ impl Transition {
         let mut bad = 0.0;
         let mut eps = [[0.0; BLOCK]; N];
         let mut scratch = ([[0.0; BLOCK]; N], [[0.0; BLOCK]; N], [[0.0; BLOCK]; N]);
-        for (b, (xs, os)) in x.chunks(BLOCK).zip(out.chunks_mut(BLOCK)).enumerate() {
+        for (b, os) in out.chunks_mut(BLOCK).enumerate() {
+            let n = os.len();
+            let base = b * BLOCK;
             for e in eps.iter_mut() {
-                match e.get_mut(..xs.len()) {
-                    Some(e) if xs.len() < BLOCK => zig.fill(&mut g, e),
+                match e.get_mut(..n) {
+                    Some(e) if n < BLOCK => zig.fill(&mut g, e),
                     _ => zig.fill_batch_lanes(&mut lanes, &mut g, e),
                 }
             }
-            let xb_out = xbar.get_mut(b * BLOCK..(b * BLOCK + xs.len()));
+            let xb_out = xbar.get_mut(base..(base + n));
+            // the block's input: its own particles, or the whole set and its indices
+            let (xs, ib) = match idx {
+                Some(ix) => (x, Some(&ix[base..base + n])),
+                None => (&x[base..base + n], None),
+            };
             match (&self.blocks, &self.diag) {
                 (Some(cw), Some(d)) => {
-                    bad += self.block_soa(cw, d, xs, os, xb_out, &eps, &mut scratch);
+                    bad += self.block_soa(cw, d, xs, ib, os, xb_out, &eps, &mut scratch);
                 }
                 _ => {
                     let mut xb_out = xb_out;
-                    for (i, (xi, xn)) in xs.iter().zip(os.iter_mut()).enumerate() {
+                    for (i, xn) in os.iter_mut().enumerate() {
+                        let xi = &xs[ib.map_or(i, |ib| ib[i])];
                         let xb = match &self.blocks {
                             Some(cw) => cw.apply(xi) + self.u,
                             None => self.phi * *xi + self.u,
@@ -770,15 +793,29 @@ impl Transition {
         cw: &CwBlocks,
         d: &State,
         xs: &[State],
+        ib: Option<&[usize]>,
         os: &mut [State],
         xb_out: Option<&mut [State]>,
         eps: &[[f64; BLOCK]; N],
         scratch: &mut SoaBlocks,
     ) -> f64 {
         let a = &mut scratch.0;
-        for (i, xi) in xs.iter().enumerate() {
-            for (k, ak) in a.iter_mut().enumerate() {
-                ak[i] = xi[k];
+        match ib {
+            None => {
+                for (i, xi) in xs.iter().enumerate() {
+                    for (k, ak) in a.iter_mut().enumerate() {
+                        ak[i] = xi[k];
+                    }
+                }
+            }
+            // gathered through the pending resampling's indices
+            Some(ib) => {
+                for (i, &j) in ib.iter().enumerate() {
+                    let xi = &xs[j];
+                    for (k, ak) in a.iter_mut().enumerate() {
+                        ak[i] = xi[k];
+                    }
+                }
             }
         }
         let xb = &mut scratch.1;
@@ -1252,6 +1289,10 @@ pub struct ParticleFilter {
     logpi: Vec<f64>,
     /// resampling indices; after resampling, the genetic operators' selected items
     idx: Vec<usize>,
+    /// the literal SIR's resampling is in `idx` only, not yet applied to `x` and `loglik`
+    /// (index-only resampling: the next transition gathers its input through `idx`; every
+    /// other reader applies it first, the saved state is written through it)
+    pending: bool,
     perm: Vec<usize>,
     /// the spare weight buffer; after resampling, the genetic operators' fitness
     scratch: Vec<f64>,
@@ -1336,6 +1377,7 @@ impl ParticleFilter {
             loglik_tmp: vec![0.0; n],
             logpi: vec![0.0; n],
             idx: vec![0; n],
+            pending: false,
             perm: (0..n).collect(),
             scratch: vec![0.0; n],
             mean: x0,
@@ -1366,6 +1408,7 @@ impl ParticleFilter {
     }
 
     fn draw_prior(&mut self) {
+        self.pending = false;
         // the prior is validated (diagonal, finite); a matrix set through `set_estimate`
         // that has no square root falls back to the square roots of its diagonal
         let l = psd_sqrt(&self.p0)
@@ -1409,9 +1452,19 @@ impl ParticleFilter {
         &self.params
     }
 
-    /// The particles (canonical frame) and their normalised weights.
-    pub fn particles(&self) -> (&[State], &[f64]) {
+    /// The particles (canonical frame) and their normalised weights (`&mut`: a literal SIR's
+    /// index-only resampling is applied first).
+    pub fn particles(&mut self) -> (&[State], &[f64]) {
+        self.materialise();
         (&self.x, &self.w)
+    }
+
+    /// Apply a pending index-only resampling ([`ParticleFilter::apply_resampling`]).
+    fn materialise(&mut self) {
+        if self.pending {
+            self.apply_resampling();
+            self.pending = false;
+        }
     }
 
     /// Whether the particle loops run in chunks (the parallel path).
@@ -1718,6 +1771,7 @@ impl ParticleFilter {
         scales: &[f64; 3],
     ) -> Result<UpdateInfo, FilterError> {
         let n = self.x.len();
+        self.materialise();
         if self.awaiting_first {
             self.init_from_measurement(sensor, z, noise, scales)?;
             self.w.iter_mut().for_each(|v| *v = 1.0 / n as f64);
@@ -1867,7 +1921,18 @@ impl ParticleFilter {
                 &mut self.scratch,
                 &mut self.rng,
             );
-            self.apply_resampling();
+            // the literal SIR reads the resampled cloud first in the next transition: it
+            // gathers through the indices (serial path; the covariance is known, so no lazy
+            // moments read the cloud either)
+            if kind == PfKind::Sir
+                && !self.params.moves
+                && !self.chunked()
+                && self.cov.get().is_some()
+            {
+                self.pending = true;
+            } else {
+                self.apply_resampling();
+            }
             self.w.iter_mut().for_each(|v| *v = 1.0 / n as f64);
             // a zero the compiler cannot see: vector stores instead of a call to memset,
             // whose `rep stosb` is one counted instruction per byte (12 000 per step at
@@ -2270,11 +2335,18 @@ impl Estimator for ParticleFilter {
                 .zip(self.chunk_rng.iter_mut())
                 .collect();
             self.pool
-                .map(jobs, |(((x, xn), xb), rng)| tr.run(x, xn, xb, rng))
+                .map(jobs, |(((x, xn), xb), rng)| tr.run(x, None, xn, xb, rng))
                 .into_iter()
                 .sum()
         } else {
-            tr.run(&self.x, &mut self.x_tmp, &mut self.xbar_tmp, &mut self.rng)
+            let idx = self.pending.then_some(&self.idx[..]);
+            tr.run(
+                &self.x,
+                idx,
+                &mut self.x_tmp,
+                &mut self.xbar_tmp,
+                &mut self.rng,
+            )
         };
         // the Gaussian prior before the first weighting update moves with the particles
         let prior = self.prior_mode.then(|| {
@@ -2296,6 +2368,14 @@ impl Estimator for ParticleFilter {
         }
         std::mem::swap(&mut self.x, &mut self.x_tmp);
         std::mem::swap(&mut self.xbar, &mut self.xbar_tmp);
+        if self.pending {
+            // the particles were gathered: the log-likelihoods follow
+            for (o, &i) in self.loglik_tmp.iter_mut().zip(&self.idx) {
+                *o = self.loglik[i];
+            }
+            std::mem::swap(&mut self.loglik, &mut self.loglik_tmp);
+            self.pending = false;
+        }
         (self.q_key, self.q_sqrt, self.q_pd) = (model.q, l, lower);
         self.mean = mean;
         self.cov = OnceCell::from(cov);
@@ -2379,7 +2459,8 @@ impl Persist for ParticleFilter {
             loglik,
             loglik_tmp: _,
             logpi: _,
-            idx: _,
+            idx,
+            pending,
             perm,
             scratch: _,
             mean,
@@ -2409,12 +2490,14 @@ impl Persist for ParticleFilter {
         w.usize(pc.len());
         w.matrix(x0);
         w.matrix(p0);
-        x.iter().for_each(|v| w.matrix(v));
+        // a pending index-only resampling is saved applied (the layout is unchanged)
+        let order = |k: usize| if *pending { idx[k] } else { k };
+        (0..x.len()).for_each(|k| w.matrix(&x[order(k)]));
         xbar.iter().for_each(|v| w.matrix(v));
         pc.iter().for_each(|v| w.matrix(v));
         logw.iter().for_each(|v| w.f64(*v));
         weights.iter().for_each(|v| w.f64(*v));
-        loglik.iter().for_each(|v| w.f64(*v));
+        (0..loglik.len()).for_each(|k| w.f64(loglik[order(k)]));
         perm.iter().for_each(|v| w.u32(*v as u32));
         w.matrix(mean);
         w.opt_matrix(cov.get());
@@ -2459,7 +2542,8 @@ impl Persist for ParticleFilter {
             loglik,
             loglik_tmp: _,
             logpi: _,
-            idx: _,
+            idx,
+            pending,
             perm,
             scratch: _,
             mean,
@@ -2486,6 +2570,7 @@ impl Persist for ParticleFilter {
             moves_accepted,
         } = self;
         let n = x.len();
+        let _ = idx;
         r.count("particle count", n)?;
         r.count("per-particle proposal count", pc.len())?;
         *x0 = r.matrix("prior mean x0")?;
@@ -2493,6 +2578,8 @@ impl Persist for ParticleFilter {
         for v in x.iter_mut() {
             *v = r.finite_matrix("particle")?;
         }
+        // the particles were saved with any pending resampling applied
+        *pending = false;
         for v in xbar.iter_mut() {
             *v = r.matrix("particle proposal mean")?;
         }
@@ -2788,7 +2875,7 @@ mod tests {
                 let mut rng = PfRng::seed_from_u64(3);
                 let (mut xn, mut xb) =
                     (vec![State::zeros(); x.len()], vec![State::zeros(); x.len()]);
-                let bad = tr.run(&x, &mut xn, &mut xb, &mut rng);
+                let bad = tr.run(&x, None, &mut xn, &mut xb, &mut rng);
                 out.push((bits(&xn), bits(&xb), bad.to_bits(), rng));
             }
             let lik = Likelihood::new(&s, &z, &NoiseModel::Gaussian, &[0.5, 1e-4, 1e-4]);
@@ -2879,6 +2966,41 @@ mod tests {
         assert!((sum2 - sum).abs() <= 1e-12 * sum);
         assert!((m3 - m2).abs().max() <= 1e-12 * m2.abs().max());
         assert!((p3 - p2).abs().max() <= 1e-12 * scale);
+    }
+
+    /// The transition gathering its input through resampling indices (the literal SIR's
+    /// index-only resampling) equals the transition of the resampled cloud bit for bit,
+    /// with the same draws, on the dispatched and the baseline path.
+    #[test]
+    fn gathered_transition_equals_the_resampled_cloud() {
+        use crate::numerics::simd::with_baseline;
+        let m = CwModel::new(2.0 * std::f64::consts::PI / 5400.0);
+        let mut d = m.discretize(1.0, &Mat3::zeros(), Discretization::Exact);
+        d.q += Mat6::from_diagonal(&State::new(0.09, 6.25e-4, 2.5e-3, 1e-6, 1e-6, 1e-6));
+        let l = chol(&d.q).expect("pd");
+        let x = test_cloud(&Vec3::new(400.0, 500.0, -200.0));
+        let n = x.len();
+        // ascending with repeats, as the resamplers' output
+        let idx: Vec<usize> = (0..n).map(|k| (k / 3) * 2 + k % 2).collect();
+        let xr: Vec<State> = idx.iter().map(|&i| x[i]).collect();
+        for diag in [true, false] {
+            let tr = Transition {
+                blocks: CwBlocks::of(&d.phi),
+                phi: d.phi,
+                u: State::new(1e-3, 0.0, -2e-3, 0.0, 1e-6, 0.0),
+                diag: diag.then(|| l.diagonal()),
+                l,
+            };
+            let run = |src: &[State], ix: Option<&[usize]>| {
+                let mut rng = PfRng::seed_from_u64(3);
+                let (mut xn, mut xb) = (vec![State::zeros(); n], vec![State::zeros(); n]);
+                let bad = tr.run(src, ix, &mut xn, &mut xb, &mut rng);
+                (xn, xb, bad.to_bits(), rng)
+            };
+            let want = run(&xr, None);
+            assert!(run(&x, Some(&idx)) == want, "diag {diag}");
+            assert!(with_baseline(|| run(&x, Some(&idx))) == want, "diag {diag}");
+        }
     }
 
     /// Merged partial moments equal the one-pass moments of the whole set.
