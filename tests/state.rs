@@ -187,8 +187,13 @@ fn the_parallel_path_continues_bit_for_bit_on_another_thread_count() {
 /// the measurement until its step) continues bit for bit too.
 #[test]
 fn a_state_between_update_and_predict_continues_bit_for_bit() {
-    for kind in FilterKind::ALL {
-        let cfg = config(kind);
+    // and the literal particle filters (the SIR's index-only resampling is pending there)
+    let literal = [FilterKind::Pf, FilterKind::Rpf].map(|k| NavConfig {
+        pf_move: false,
+        ..config(k)
+    });
+    for cfg in FilterKind::ALL.map(config).into_iter().chain(literal) {
+        let kind = cfg.filter;
         let inputs = scenario(&cfg);
         let mut nav = Navigator::new(&cfg).unwrap();
         for i in &inputs[..6] {

@@ -13,13 +13,21 @@
 //! `w_i ~ N(0, Q)`; the log-weights grow by the measurement log-likelihood and are
 //! normalised with the max-subtraction trick; `N_eff = 1 / sum w_i^2`; when
 //! `N_eff < threshold N` (paper 000: 2/3) the particles are resampled ([`resample`]) and
-//! the weights reset to `1/N`. The likelihood is the sensor's true noise density
+//! the weights reset to `1/N`. The literal SIR (`moves = false`) resamples by index only:
+//! the next transition gathers its input through the indices (no copy of the cloud);
+//! every other reader (the next update, [`ParticleFilter::particles`], the saved state)
+//! sees the resampled cloud. The likelihood is the sensor's true noise density
 //! (Gaussian, contaminated Gaussian, Student-t, ... see [`crate::noise`]): the particle
 //! filters are where heavy tails are modelled (paper 003), the Kalman filters keep the
 //! Gaussian of the same variance.
 //!
 //! **Outputs.** After an update: the weighted mean and covariance of the particles (with
-//! moves: those of the rejuvenated set, see [`moves`]). After a prediction: the mean and
+//! moves: those of the rejuvenated set, see [`moves`]). The literal SIR, RPF and GA-PF
+//! (`moves = false`) report the weighted mean and covariance of the cloud *before*
+//! resampling (the RPF and GA-PF without moves, when they resample: of the moved cloud after it), formed in the
+//! normalisation's pass over the particles (`exp_moments`, about the predictive mean):
+//! a lower-variance estimate than the moments of the resampled copies, which the
+//! covariance was before 2 December 2026 (the mean was already the weighted one). After a prediction: the mean and
 //! covariance of the particle predictive density `sum_i w_i N(Phi x_i + Gamma a, Q)`,
 //! exactly `Phi m + Gamma a` and `Phi P Phi^T + Q` — the same quantities the sample
 //! moments of the drawn particles estimate, without their sampling noise.
@@ -162,7 +170,7 @@ pub fn rng_from_state(s: [u64; 4]) -> Option<PfRng> {
     }
     Some(PfRng::from_seed(seed))
 }
-use resample::{effective_sample_size, normalize_log_weights, resample, Resampler};
+use resample::{effective_sample_size, normalize_log_weights_with_max, resample, Resampler};
 
 /// The particle-filter variants (FMU / C ABI filter codes 4-8).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -423,33 +431,99 @@ impl<M: MeasurementModel> Likelihood<'_, M> {
         let mut r = [[0.0; BLOCK]; 3];
         let mut d = [[0.0; BLOCK]; 3];
         let mut ok = [false; BLOCK];
+        let mut ll = [0.0; BLOCK];
         for (xs, os) in x.chunks(BLOCK).zip(out.chunks_mut(BLOCK)) {
-            for (i, xi) in xs.iter().enumerate() {
-                (r[0][i], r[1][i], r[2][i]) = (xi[0], xi[1], xi[2]);
+            self.log_block(xs, &mut r, &mut d, &mut ok, &mut ll);
+            os.copy_from_slice(&ll[..os.len()]);
+        }
+    }
+
+    /// The log-likelihoods of a block of at most [`BLOCK`] particles `xs` into
+    /// `ll[..xs.len()]` (the positions transposed into `r`, the residuals into `d`; the
+    /// other lanes of `ll` are not meaningful).
+    #[inline(always)]
+    fn log_block(
+        &self,
+        xs: &[State],
+        r: &mut [[f64; BLOCK]; 3],
+        d: &mut [[f64; BLOCK]; 3],
+        ok: &mut [bool; BLOCK],
+        ll: &mut [f64; BLOCK],
+    ) {
+        for (i, xi) in xs.iter().enumerate() {
+            (r[0][i], r[1][i], r[2][i]) = (xi[0], xi[1], xi[2]);
+        }
+        self.sensor
+            .residuals_at(&self.z, &self.trig, r, xs.len(), d, ok);
+        if self.gaussian {
+            let c = &self.neg_half_inv_var;
+            for (i, l) in ll.iter_mut().enumerate() {
+                let v = c[0] * d[0][i] * d[0][i] + c[1] * d[1][i] * d[1][i];
+                let v = v + c[2] * d[2][i] * d[2][i];
+                *l = if ok[i] { v } else { f64::NEG_INFINITY };
             }
-            self.sensor
-                .residuals_at(&self.z, &self.trig, &r, xs.len(), &mut d, &mut ok);
-            if self.gaussian {
-                let c = &self.neg_half_inv_var;
-                let mut ll = [0.0; BLOCK];
-                for (i, l) in ll.iter_mut().enumerate() {
-                    let v = c[0] * d[0][i] * d[0][i] + c[1] * d[1][i] * d[1][i];
-                    let v = v + c[2] * d[2][i] * d[2][i];
-                    *l = if ok[i] { v } else { f64::NEG_INFINITY };
-                }
-                os.copy_from_slice(&ll[..os.len()]);
-            } else {
-                for (i, o) in os.iter_mut().enumerate() {
-                    *o = if ok[i] {
-                        (0..3)
-                            .map(|k| self.noise.log_density(d[k][i], self.scales[k]))
-                            .sum()
-                    } else {
-                        f64::NEG_INFINITY
-                    };
+        } else {
+            for (i, o) in ll.iter_mut().enumerate().take(xs.len()) {
+                *o = if ok[i] {
+                    (0..3)
+                        .map(|k| self.noise.log_density(d[k][i], self.scales[k]))
+                        .sum()
+                } else {
+                    f64::NEG_INFINITY
+                };
+            }
+        }
+    }
+
+    /// The update pass of the transition-proposal kinds over a run of particles: the
+    /// log-likelihoods `ll_i` ([`Likelihood::log`]'s bits) into `ll`, the new log-weights
+    /// `l_i = logw_i + ll_i` into `logw_new`, and their maximum (NaN ignored, `-inf` if
+    /// there is none; in four interleaved partial maxima per block). Run through
+    /// [`simd::dispatch`].
+    fn weigh_many(&self, x: &[State], logw: &[f64], logw_new: &mut [f64], ll: &mut [f64]) -> f64 {
+        simd::dispatch(
+            #[inline(always)]
+            || self.weigh_many_inline(x, logw, logw_new, ll),
+        )
+    }
+
+    /// [`Likelihood::weigh_many`]'s body, inlined into its [`simd::dispatch`].
+    #[inline(always)]
+    fn weigh_many_inline(
+        &self,
+        x: &[State],
+        logw: &[f64],
+        logw_new: &mut [f64],
+        ll: &mut [f64],
+    ) -> f64 {
+        let mut r = [[0.0; BLOCK]; 3];
+        let mut d = [[0.0; BLOCK]; 3];
+        let mut ok = [false; BLOCK];
+        let mut llb = [0.0; BLOCK];
+        let mut mx = [f64::NEG_INFINITY; 4];
+        let blocks = x
+            .chunks(BLOCK)
+            .zip(logw.chunks(BLOCK))
+            .zip(logw_new.chunks_mut(BLOCK))
+            .zip(ll.chunks_mut(BLOCK));
+        for (((xs, lw), lwn), lls) in blocks {
+            let n = xs.len();
+            self.log_block(xs, &mut r, &mut d, &mut ok, &mut llb);
+            let mut l = [f64::NEG_INFINITY; BLOCK];
+            for ((li, a), b) in l.iter_mut().zip(lw).zip(&llb) {
+                *li = a + b;
+            }
+            lwn.copy_from_slice(&l[..n]);
+            lls.copy_from_slice(&llb[..n]);
+            for b in l.chunks_exact(4) {
+                for (m, &v) in mx.iter_mut().zip(b) {
+                    // `if l > m` keeps `m` for a NaN `l` (as max_ignoring_nan)
+                    *m = if v > *m { v } else { *m };
                 }
             }
         }
+        mx.iter()
+            .fold(f64::NEG_INFINITY, |m, &v| if v > m { v } else { m })
     }
 }
 
@@ -504,6 +578,17 @@ impl Moments {
         for (a, b) in self.s2.iter_mut().zip(&other.s2) {
             *a += b;
         }
+    }
+
+    /// [`Moments::finish`] when the weights' sum is positive and every moment finite
+    /// (else `None`: overflowing offsets, no weight).
+    fn mean_cov(&self) -> Option<(State, Mat6)> {
+        if !(self.wsum > 0.0) {
+            return None;
+        }
+        let (m, p) = self.finish();
+        let finite = crate::numerics::all_finite;
+        (finite(m.as_slice()) && finite(p.as_slice())).then_some((m, p))
     }
 
     /// `(mean, covariance)`.
@@ -620,10 +705,21 @@ impl Transition {
     /// `x_i <- Phi x_i + Gamma a + sqrt(Q) eps_i` runs on the transposed block, the same
     /// operations in the same order per particle as the scalar form (so the same bits),
     /// four particles per AVX2 instruction through [`crate::numerics::simd::dispatch`].
-    fn run(&self, x: &[State], out: &mut [State], xbar: &mut [State], rng: &mut PfRng) -> f64 {
+    ///
+    /// With `idx` the input particle `j` is `x[idx[j]]` (`idx` as long as `out`: the
+    /// resampling indices not yet applied, gathered by the block transposes instead of a
+    /// copy of the cloud); without, `x[j]`.
+    fn run(
+        &self,
+        x: &[State],
+        idx: Option<&[usize]>,
+        out: &mut [State],
+        xbar: &mut [State],
+        rng: &mut PfRng,
+    ) -> f64 {
         crate::numerics::simd::dispatch(
             #[inline(always)]
-            || self.run_inline(x, out, xbar, rng),
+            || self.run_inline(x, idx, out, xbar, rng),
         )
     }
 
@@ -632,6 +728,7 @@ impl Transition {
     fn run_inline(
         &self,
         x: &[State],
+        idx: Option<&[usize]>,
         out: &mut [State],
         xbar: &mut [State],
         rng: &mut PfRng,
@@ -642,21 +739,29 @@ impl Transition {
         let mut bad = 0.0;
         let mut eps = [[0.0; BLOCK]; N];
         let mut scratch = ([[0.0; BLOCK]; N], [[0.0; BLOCK]; N], [[0.0; BLOCK]; N]);
-        for (b, (xs, os)) in x.chunks(BLOCK).zip(out.chunks_mut(BLOCK)).enumerate() {
+        for (b, os) in out.chunks_mut(BLOCK).enumerate() {
+            let n = os.len();
+            let base = b * BLOCK;
             for e in eps.iter_mut() {
-                match e.get_mut(..xs.len()) {
-                    Some(e) if xs.len() < BLOCK => zig.fill(&mut g, e),
+                match e.get_mut(..n) {
+                    Some(e) if n < BLOCK => zig.fill(&mut g, e),
                     _ => zig.fill_batch_lanes(&mut lanes, &mut g, e),
                 }
             }
-            let xb_out = xbar.get_mut(b * BLOCK..(b * BLOCK + xs.len()));
+            let xb_out = xbar.get_mut(base..(base + n));
+            // the block's input: its own particles, or the whole set and its indices
+            let (xs, ib) = match idx {
+                Some(ix) => (x, Some(&ix[base..base + n])),
+                None => (&x[base..base + n], None),
+            };
             match (&self.blocks, &self.diag) {
                 (Some(cw), Some(d)) => {
-                    bad += self.block_soa(cw, d, xs, os, xb_out, &eps, &mut scratch);
+                    bad += self.block_soa(cw, d, xs, ib, os, xb_out, &eps, &mut scratch);
                 }
                 _ => {
                     let mut xb_out = xb_out;
-                    for (i, (xi, xn)) in xs.iter().zip(os.iter_mut()).enumerate() {
+                    for (i, xn) in os.iter_mut().enumerate() {
+                        let xi = &xs[ib.map_or(i, |ib| ib[i])];
                         let xb = match &self.blocks {
                             Some(cw) => cw.apply(xi) + self.u,
                             None => self.phi * *xi + self.u,
@@ -688,15 +793,29 @@ impl Transition {
         cw: &CwBlocks,
         d: &State,
         xs: &[State],
+        ib: Option<&[usize]>,
         os: &mut [State],
         xb_out: Option<&mut [State]>,
         eps: &[[f64; BLOCK]; N],
         scratch: &mut SoaBlocks,
     ) -> f64 {
         let a = &mut scratch.0;
-        for (i, xi) in xs.iter().enumerate() {
-            for (k, ak) in a.iter_mut().enumerate() {
-                ak[i] = xi[k];
+        match ib {
+            None => {
+                for (i, xi) in xs.iter().enumerate() {
+                    for (k, ak) in a.iter_mut().enumerate() {
+                        ak[i] = xi[k];
+                    }
+                }
+            }
+            // gathered through the pending resampling's indices
+            Some(ib) => {
+                for (i, &j) in ib.iter().enumerate() {
+                    let xi = &xs[j];
+                    for (k, ak) in a.iter_mut().enumerate() {
+                        ak[i] = xi[k];
+                    }
+                }
             }
         }
         let xb = &mut scratch.1;
@@ -1170,6 +1289,10 @@ pub struct ParticleFilter {
     logpi: Vec<f64>,
     /// resampling indices; after resampling, the genetic operators' selected items
     idx: Vec<usize>,
+    /// the literal SIR's resampling is in `idx` only, not yet applied to `x` and `loglik`
+    /// (index-only resampling: the next transition gathers its input through `idx`; every
+    /// other reader applies it first, the saved state is written through it)
+    pending: bool,
     perm: Vec<usize>,
     /// the spare weight buffer; after resampling, the genetic operators' fitness
     scratch: Vec<f64>,
@@ -1254,6 +1377,7 @@ impl ParticleFilter {
             loglik_tmp: vec![0.0; n],
             logpi: vec![0.0; n],
             idx: vec![0; n],
+            pending: false,
             perm: (0..n).collect(),
             scratch: vec![0.0; n],
             mean: x0,
@@ -1284,6 +1408,7 @@ impl ParticleFilter {
     }
 
     fn draw_prior(&mut self) {
+        self.pending = false;
         // the prior is validated (diagonal, finite); a matrix set through `set_estimate`
         // that has no square root falls back to the square roots of its diagonal
         let l = psd_sqrt(&self.p0)
@@ -1327,9 +1452,19 @@ impl ParticleFilter {
         &self.params
     }
 
-    /// The particles (canonical frame) and their normalised weights.
-    pub fn particles(&self) -> (&[State], &[f64]) {
+    /// The particles (canonical frame) and their normalised weights (`&mut`: a literal SIR's
+    /// index-only resampling is applied first).
+    pub fn particles(&mut self) -> (&[State], &[f64]) {
+        self.materialise();
         (&self.x, &self.w)
+    }
+
+    /// Apply a pending index-only resampling ([`ParticleFilter::apply_resampling`]).
+    fn materialise(&mut self) {
+        if self.pending {
+            self.apply_resampling();
+            self.pending = false;
+        }
     }
 
     /// Whether the particle loops run in chunks (the parallel path).
@@ -1489,14 +1624,9 @@ impl ParticleFilter {
         r
     }
 
-    /// The log-weights `logw_tmp` and log-likelihoods of the transition-proposal kinds.
-    fn weigh<M: MeasurementModel>(&mut self, lik: &Likelihood<'_, M>) {
-        let kernel = |x: &[State], lw: &[f64], lw_new: &mut [f64], ll: &mut [f64]| {
-            lik.log_many(x, ll);
-            for ((lw, lw_new), ll) in lw.iter().zip(lw_new.iter_mut()).zip(ll.iter()) {
-                *lw_new = *lw + *ll;
-            }
-        };
+    /// The log-weights `logw_tmp` and log-likelihoods of the transition-proposal kinds, in
+    /// one pass ([`Likelihood::weigh_many`]); their maximum (per chunk on the parallel path).
+    fn weigh<M: MeasurementModel>(&mut self, lik: &Likelihood<'_, M>) -> f64 {
         if self.chunked() {
             let jobs: Vec<_> = self
                 .x
@@ -1506,9 +1636,11 @@ impl ParticleFilter {
                 .zip(self.loglik.chunks_mut(CHUNK))
                 .collect();
             self.pool
-                .map(jobs, |(((x, lw), lwn), ll)| kernel(x, lw, lwn, ll));
+                .map(jobs, |(((x, lw), lwn), ll)| lik.weigh_many(x, lw, lwn, ll))
+                .into_iter()
+                .fold(f64::NEG_INFINITY, |m, v| if v > m { v } else { m })
         } else {
-            kernel(&self.x, &self.logw, &mut self.logw_tmp, &mut self.loglik);
+            lik.weigh_many(&self.x, &self.logw, &mut self.logw_tmp, &mut self.loglik)
         }
     }
 
@@ -1548,38 +1680,70 @@ impl ParticleFilter {
         }
     }
 
-    /// Normalise `logw_tmp` into `scratch`; the log mean likelihood increment, `None` when
-    /// every weight is zero ([`normalize_log_weights`]; chunk sums combined in order on
-    /// the parallel path).
-    fn normalise(&mut self) -> Option<f64> {
-        if !self.chunked() {
-            return normalize_log_weights(&self.logw_tmp, &mut self.scratch);
-        }
-        let max = resample::max_ignoring_nan(&self.logw_tmp);
-        if !max.is_finite() {
+    /// Normalise `logw_tmp`, whose largest entry (NaN ignored) is `max`, into `scratch`;
+    /// the log mean likelihood increment, `None` when every weight is zero
+    /// ([`normalize_log_weights_with_max`]; chunk sums combined in order on the parallel
+    /// path). With a `reference` (and a finite `max`) the same pass over the particles
+    /// forms the weighted [`Moments`] about it ([`exp_moments`]; chunk sums merged in
+    /// order): the same weights, bit for bit.
+    fn normalise(&mut self, max: f64, reference: Option<State>) -> Option<(f64, Option<Moments>)> {
+        let n = self.logw_tmp.len();
+        if !max.is_finite() || (reference.is_none() && !self.chunked()) {
             // no weight, or infinite ones: the sequential rules (rare, exact either way)
-            return normalize_log_weights(&self.logw_tmp, &mut self.scratch);
+            return normalize_log_weights_with_max(&self.logw_tmp, &mut self.scratch, max)
+                .map(|l| (l, None));
         }
-        let jobs: Vec<_> = self
-            .logw_tmp
-            .chunks(CHUNK)
-            .zip(self.scratch.chunks_mut(CHUNK))
-            .collect();
-        let sum: f64 = self
-            .pool
-            .map(jobs, |(lw, w)| {
-                w.iter_mut()
-                    .zip(lw)
-                    .for_each(|(x, &l)| *x = if l.is_nan() { 0.0 } else { exp_nonpos(l - max) });
-                w.iter().sum::<f64>()
-            })
-            .into_iter()
-            .sum();
+        let (sum, mom) = match (reference, self.chunked()) {
+            (Some(c), false) => {
+                let (sum, mom) = exp_moments(&c, &self.x, &self.logw_tmp, max, &mut self.scratch);
+                (sum, Some(mom))
+            }
+            (Some(c), true) => {
+                let jobs: Vec<_> = self
+                    .x
+                    .chunks(CHUNK)
+                    .zip(self.logw_tmp.chunks(CHUNK))
+                    .zip(self.scratch.chunks_mut(CHUNK))
+                    .collect();
+                let parts = self
+                    .pool
+                    .map(jobs, |((x, lw), w)| exp_moments(&c, x, lw, max, w));
+                let mut acc = Moments::new(c);
+                let mut sum = 0.0;
+                for (s, m) in &parts {
+                    sum += s;
+                    acc.merge(m);
+                }
+                (sum, Some(acc))
+            }
+            (None, _) => {
+                let jobs: Vec<_> = self
+                    .logw_tmp
+                    .chunks(CHUNK)
+                    .zip(self.scratch.chunks_mut(CHUNK))
+                    .collect();
+                let sum: f64 = self
+                    .pool
+                    .map(jobs, |(lw, w)| {
+                        w.iter_mut().zip(lw).for_each(|(x, &l)| {
+                            *x = if l.is_nan() { 0.0 } else { exp_nonpos(l - max) }
+                        });
+                        w.iter().sum::<f64>()
+                    })
+                    .into_iter()
+                    .sum();
+                (sum, None)
+            }
+        };
         let inv = 1.0 / sum;
-        let jobs: Vec<_> = self.scratch.chunks_mut(CHUNK).collect();
-        self.pool
-            .map(jobs, |w| w.iter_mut().for_each(|x| *x *= inv));
-        Some(sum.ln() + max - (self.logw_tmp.len() as f64).ln())
+        if self.chunked() {
+            let jobs: Vec<_> = self.scratch.chunks_mut(CHUNK).collect();
+            self.pool
+                .map(jobs, |w| w.iter_mut().for_each(|x| *x *= inv));
+        } else {
+            self.scratch.iter_mut().for_each(|x| *x *= inv);
+        }
+        Some((sum.ln() + max - (n as f64).ln(), mom))
     }
 
     fn effective_sample_size(&self) -> f64 {
@@ -1607,6 +1771,7 @@ impl ParticleFilter {
         scales: &[f64; 3],
     ) -> Result<UpdateInfo, FilterError> {
         let n = self.x.len();
+        self.materialise();
         if self.awaiting_first {
             self.init_from_measurement(sensor, z, noise, scales)?;
             self.w.iter_mut().for_each(|v| *v = 1.0 / n as f64);
@@ -1656,7 +1821,7 @@ impl ParticleFilter {
         }
         let vf = noise.variance_factor();
         let r = Mat3::from_diagonal(&Vec3::from_fn(|k, _| scales[k] * scales[k] * vf));
-        if kind.unscented() {
+        let fused = if kind.unscented() {
             if self.prior_mode {
                 self.prior_l = chol(&self.prior_cov)
                     .ok_or(FilterError::NotPositiveDefinite("prior covariance"))?;
@@ -1703,13 +1868,21 @@ impl ParticleFilter {
                 };
                 self.propose_unscented(&u);
             }
+            None
         } else {
-            self.weigh(&lik);
-        }
+            Some(self.weigh(&lik))
+        };
+        let max = fused.unwrap_or_else(|| resample::max_ignoring_nan(&self.logw_tmp));
+        // the literal transition-proposal filters' moments before resampling are their
+        // outputs (and the RPF's and GA-PF's kernels), formed with the weights; with moves
+        // the rejuvenation's replace them
+        let reference = (fused.is_some() && !self.params.moves).then_some(self.pred_mean);
         // normalise into the spare buffer; nothing is committed if every weight is zero
-        let log_mean = self.normalise().ok_or(FilterError::NonFinite(
-            "particle weights (every likelihood is zero)",
-        ))?;
+        let (log_mean, moments) = self
+            .normalise(max, reference)
+            .ok_or(FilterError::NonFinite(
+                "particle weights (every likelihood is zero)",
+            ))?;
         // commit: from here on nothing can fail
         std::mem::swap(&mut self.w, &mut self.scratch);
         std::mem::swap(&mut self.logw, &mut self.logw_tmp);
@@ -1727,7 +1900,15 @@ impl ParticleFilter {
             }
         }
         self.ess = self.effective_sample_size();
-        self.summarise();
+        // the weighted mean and covariance before resampling: from the fused pass when it
+        // formed them, else the mean now and the covariance when first asked for
+        match moments.and_then(|m| m.mean_cov()) {
+            Some((m, p)) => {
+                self.mean = m;
+                self.cov = OnceCell::from(p);
+            }
+            None => self.summarise(),
+        }
         if self.ess < self.params.threshold * n as f64 {
             let cov_before = match kind {
                 PfKind::Rpf | PfKind::Gapf => *self.cov(),
@@ -1740,9 +1921,24 @@ impl ParticleFilter {
                 &mut self.scratch,
                 &mut self.rng,
             );
-            self.apply_resampling();
+            // the literal SIR reads the resampled cloud first in the next transition: it
+            // gathers through the indices (serial path; the covariance is known, so no lazy
+            // moments read the cloud either)
+            if kind == PfKind::Sir
+                && !self.params.moves
+                && !self.chunked()
+                && self.cov.get().is_some()
+            {
+                self.pending = true;
+            } else {
+                self.apply_resampling();
+            }
             self.w.iter_mut().for_each(|v| *v = 1.0 / n as f64);
-            self.logw.iter_mut().for_each(|v| *v = 0.0);
+            // a zero the compiler cannot see: vector stores instead of a call to memset,
+            // whose `rep stosb` is one counted instruction per byte (12 000 per step at
+            // N = 1500, measured; the same time on hardware)
+            let zero = std::hint::black_box(0.0);
+            self.logw.iter_mut().for_each(|v| *v = zero);
             self.resamples += 1;
             // the plain RPF's jitter and the literal GA-PF's operators set the summary of
             // the moved set themselves
@@ -1988,6 +2184,143 @@ impl MomentLanes {
     }
 }
 
+/// The lane sums of [`exp_moments`]: the weights and first moments lane by lane
+/// (particle `i` of every block in lane `i`), each second-moment entry in four interleaved
+/// partial sums (particle `4 m + j` in sum `j`; one AVX2 vector).
+struct ExpLanes {
+    s1: [[f64; BLOCK]; N],
+    s2: [[f64; 4]; 21],
+    ws: [f64; BLOCK],
+    /// the block's offsets `d[k][i] = x_i[k] - c[k]` (zero in padding lanes), weights
+    /// (zero in padding lanes) and weighted offsets (scratch)
+    d: [[f64; BLOCK]; N],
+    e: [f64; BLOCK],
+    wd: [[f64; BLOCK]; N],
+}
+
+impl ExpLanes {
+    #[inline(always)]
+    fn new() -> Self {
+        Self {
+            s1: [[0.0; BLOCK]; N],
+            s2: [[0.0; 4]; 21],
+            ws: [0.0; BLOCK],
+            d: [[0.0; BLOCK]; N],
+            e: [0.0; BLOCK],
+            wd: [[0.0; BLOCK]; N],
+        }
+    }
+
+    /// Add the block in `d` with weights `e`.
+    #[inline(always)]
+    #[allow(clippy::needless_range_loop)] // index loops over fixed lanes: they vectorise
+    fn add_block(&mut self) {
+        let Self {
+            s1,
+            s2,
+            ws,
+            d,
+            e,
+            wd,
+        } = self;
+        for i in 0..BLOCK {
+            ws[i] += e[i];
+        }
+        for k in 0..N {
+            for i in 0..BLOCK {
+                wd[k][i] = d[k][i] * e[i];
+                s1[k][i] += wd[k][i];
+            }
+        }
+        // per entry four partial sums over the block in registers, then into the lanes
+        for (acc, &(r, c)) in s2.iter_mut().zip(&TRIANGLE) {
+            let mut a = [0.0; 4];
+            for (dp, wp) in d[r].chunks_exact(4).zip(wd[c].chunks_exact(4)) {
+                for j in 0..4 {
+                    a[j] += dp[j] * wp[j];
+                }
+            }
+            for j in 0..4 {
+                acc[j] += a[j];
+            }
+        }
+    }
+
+    /// The lanes added in order: the [`Moments`] about `reference`.
+    #[inline(always)]
+    fn finish(&self, reference: &State) -> Moments {
+        let mut mom = Moments::new(*reference);
+        for i in 0..BLOCK {
+            mom.wsum += self.ws[i];
+            for k in 0..N {
+                mom.s1[k] += self.s1[k][i];
+            }
+        }
+        for (o, s) in mom.s2.iter_mut().zip(&self.s2) {
+            for v in s {
+                *o += v;
+            }
+        }
+        mom
+    }
+}
+
+/// The normalisation's exponentials and the weighted moments in one pass over a run of
+/// particles: `w_i = exp(l_i - max)` (0 for a NaN `l_i`: the bits of
+/// [`resample::normalize_log_weights`] before its division), their sum in index order (its
+/// bits too) and the [`Moments`] about `reference` with the weights `w_i` (in the lanes of
+/// [`ExpLanes`]). `max` is the largest `l_i` (finite). Run through [`simd::dispatch`].
+fn exp_moments(
+    reference: &State,
+    x: &[State],
+    logw: &[f64],
+    max: f64,
+    w: &mut [f64],
+) -> (f64, Moments) {
+    simd::dispatch(
+        #[inline(always)]
+        || exp_moments_inline(reference, x, logw, max, w),
+    )
+}
+
+/// [`exp_moments`]' body, inlined into its [`simd::dispatch`].
+#[inline(always)]
+fn exp_moments_inline(
+    reference: &State,
+    x: &[State],
+    logw: &[f64],
+    max: f64,
+    w: &mut [f64],
+) -> (f64, Moments) {
+    let mut lanes = ExpLanes::new();
+    let mut sum = 0.0;
+    let blocks = x
+        .chunks(BLOCK)
+        .zip(logw.chunks(BLOCK))
+        .zip(w.chunks_mut(BLOCK));
+    for ((xs, ls), ws) in blocks {
+        let n = xs.len();
+        if n < BLOCK {
+            lanes.e = [0.0; BLOCK];
+            lanes.d = [[0.0; BLOCK]; N];
+        }
+        for (e, &l) in lanes.e.iter_mut().zip(ls) {
+            *e = if l.is_nan() { 0.0 } else { exp_nonpos(l - max) };
+        }
+        ws.copy_from_slice(&lanes.e[..n]);
+        for v in ws.iter() {
+            sum += v;
+        }
+        for (i, xi) in xs.iter().enumerate() {
+            for (k, dk) in lanes.d.iter_mut().enumerate() {
+                dk[i] = xi[k] - reference[k];
+            }
+        }
+        lanes.add_block();
+    }
+    (sum, lanes.finish(reference))
+}
+
 impl Estimator for ParticleFilter {
     /// Transition draw `x_i <- Phi x_i + Gamma a + w_i`; the predicted mean and covariance
     /// are the particle predictive's, `Phi m + Gamma a` and `Phi P Phi^T + Q`. The new
@@ -2029,11 +2362,18 @@ impl Estimator for ParticleFilter {
                 .zip(self.chunk_rng.iter_mut())
                 .collect();
             self.pool
-                .map(jobs, |(((x, xn), xb), rng)| tr.run(x, xn, xb, rng))
+                .map(jobs, |(((x, xn), xb), rng)| tr.run(x, None, xn, xb, rng))
                 .into_iter()
                 .sum()
         } else {
-            tr.run(&self.x, &mut self.x_tmp, &mut self.xbar_tmp, &mut self.rng)
+            let idx = self.pending.then_some(&self.idx[..]);
+            tr.run(
+                &self.x,
+                idx,
+                &mut self.x_tmp,
+                &mut self.xbar_tmp,
+                &mut self.rng,
+            )
         };
         // the Gaussian prior before the first weighting update moves with the particles
         let prior = self.prior_mode.then(|| {
@@ -2055,6 +2395,14 @@ impl Estimator for ParticleFilter {
         }
         std::mem::swap(&mut self.x, &mut self.x_tmp);
         std::mem::swap(&mut self.xbar, &mut self.xbar_tmp);
+        if self.pending {
+            // the particles were gathered: the log-likelihoods follow
+            for (o, &i) in self.loglik_tmp.iter_mut().zip(&self.idx) {
+                *o = self.loglik[i];
+            }
+            std::mem::swap(&mut self.loglik, &mut self.loglik_tmp);
+            self.pending = false;
+        }
         (self.q_key, self.q_sqrt, self.q_pd) = (model.q, l, lower);
         self.mean = mean;
         self.cov = OnceCell::from(cov);
@@ -2138,7 +2486,8 @@ impl Persist for ParticleFilter {
             loglik,
             loglik_tmp: _,
             logpi: _,
-            idx: _,
+            idx,
+            pending,
             perm,
             scratch: _,
             mean,
@@ -2168,12 +2517,14 @@ impl Persist for ParticleFilter {
         w.usize(pc.len());
         w.matrix(x0);
         w.matrix(p0);
-        x.iter().for_each(|v| w.matrix(v));
+        // a pending index-only resampling is saved applied (the layout is unchanged)
+        let order = |k: usize| if *pending { idx[k] } else { k };
+        (0..x.len()).for_each(|k| w.matrix(&x[order(k)]));
         xbar.iter().for_each(|v| w.matrix(v));
         pc.iter().for_each(|v| w.matrix(v));
         logw.iter().for_each(|v| w.f64(*v));
         weights.iter().for_each(|v| w.f64(*v));
-        loglik.iter().for_each(|v| w.f64(*v));
+        (0..loglik.len()).for_each(|k| w.f64(loglik[order(k)]));
         perm.iter().for_each(|v| w.u32(*v as u32));
         w.matrix(mean);
         w.opt_matrix(cov.get());
@@ -2218,7 +2569,8 @@ impl Persist for ParticleFilter {
             loglik,
             loglik_tmp: _,
             logpi: _,
-            idx: _,
+            idx,
+            pending,
             perm,
             scratch: _,
             mean,
@@ -2245,6 +2597,7 @@ impl Persist for ParticleFilter {
             moves_accepted,
         } = self;
         let n = x.len();
+        let _ = idx;
         r.count("particle count", n)?;
         r.count("per-particle proposal count", pc.len())?;
         *x0 = r.matrix("prior mean x0")?;
@@ -2252,6 +2605,8 @@ impl Persist for ParticleFilter {
         for v in x.iter_mut() {
             *v = r.finite_matrix("particle")?;
         }
+        // the particles were saved with any pending resampling applied
+        *pending = false;
         for v in xbar.iter_mut() {
             *v = r.matrix("particle proposal mean")?;
         }
@@ -2319,6 +2674,7 @@ impl Persist for ParticleFilter {
 
 #[cfg(test)]
 mod tests {
+    use super::resample::normalize_log_weights;
     use super::*;
     use crate::dynamics::{CwModel, Discretization};
 
@@ -2546,7 +2902,7 @@ mod tests {
                 let mut rng = PfRng::seed_from_u64(3);
                 let (mut xn, mut xb) =
                     (vec![State::zeros(); x.len()], vec![State::zeros(); x.len()]);
-                let bad = tr.run(&x, &mut xn, &mut xb, &mut rng);
+                let bad = tr.run(&x, None, &mut xn, &mut xb, &mut rng);
                 out.push((bits(&xn), bits(&xb), bad.to_bits(), rng));
             }
             let lik = Likelihood::new(&s, &z, &NoiseModel::Gaussian, &[0.5, 1e-4, 1e-4]);
@@ -2556,8 +2912,22 @@ mod tests {
             let (ws, wsum) = weighted_sum(&x, &w);
             let mut wn = vec![0.0; x.len()];
             let lm = normalize_log_weights(&ll, &mut wn);
+            // the update pass and the normalisation's exponentials with the moments
+            let lw: Vec<f64> = w.iter().map(|v| -v).collect();
+            let (mut lwn, mut ll2) = (vec![0.0; x.len()], vec![0.0; x.len()]);
+            let max = lik.weigh_many(&x, &lw, &mut lwn, &mut ll2);
+            let mut ew = vec![0.0; x.len()];
+            let (esum, emom) = exp_moments(&State::from_element(0.1), &x, &lwn, max, &mut ew);
+            let upd = (fbits(&lwn), fbits(&ll2), max.to_bits(), fbits(&ew));
+            let em = [esum, emom.wsum]
+                .into_iter()
+                .chain(emom.s1.iter().copied())
+                .chain(emom.s2)
+                .collect::<Vec<_>>();
             (
                 out,
+                upd,
+                fbits(&em),
                 fbits(&ll),
                 fbits(mom.s1.as_slice()),
                 fbits(&mom.s2),
@@ -2571,6 +2941,93 @@ mod tests {
         let fast = run();
         let base = with_baseline(run);
         assert!(fast == base);
+    }
+
+    /// The update pass and [`exp_moments`] give the weights of [`normalize_log_weights`]
+    /// bit for bit (and the same log mean likelihood through
+    /// [`ParticleFilter::normalise`]'s formula), and the weighted moments of the two-pass
+    /// form (about the weighted mean) to rounding; merged chunk sums equal them too.
+    #[test]
+    fn one_pass_weights_and_moments_equal_the_two_pass_ones() {
+        use crate::sensors::RadioSensor;
+        let s = RadioSensor::new(crate::frames::Frame::AlongRadialAntinormal, 0.5, 1e-3);
+        let c = Vec3::new(400.0, 500.0, -200.0);
+        let z = s.predict(&c).expect("defined") + Vec3::new(0.2, -1e-3, 3e-3);
+        let lik = Likelihood::new(&s, &z, &NoiseModel::Gaussian, &[0.5, 1e-3, 1e-3]);
+        let x = test_cloud(&c);
+        let n = x.len();
+        let logw: Vec<f64> = (0..n).map(|k| -((k % 7) as f64) * 0.1).collect();
+        let (mut lwn, mut ll) = (vec![0.0; n], vec![0.0; n]);
+        let max = lik.weigh_many(&x, &logw, &mut lwn, &mut ll);
+        assert_eq!(max.to_bits(), resample::max_ignoring_nan(&lwn).to_bits());
+        for i in 0..n {
+            assert_eq!(ll[i].to_bits(), lik.log(&x[i]).to_bits());
+            assert_eq!(lwn[i].to_bits(), (logw[i] + ll[i]).to_bits());
+        }
+        let mut want = vec![0.0; n];
+        let lm = normalize_log_weights(&lwn, &mut want).expect("weights");
+        let reference = State::new(c.x + 0.3, c.y - 0.2, c.z + 0.1, 0.0, 0.0, 0.0);
+        let mut w = vec![0.0; n];
+        let (sum, mom) = exp_moments(&reference, &x, &lwn, max, &mut w);
+        let inv = 1.0 / sum;
+        w.iter_mut().for_each(|v| *v *= inv);
+        assert!(w.iter().zip(&want).all(|(a, b)| a.to_bits() == b.to_bits()));
+        assert_eq!((sum.ln() + max - (n as f64).ln()).to_bits(), lm.to_bits());
+        // the two-pass moments of the normalised weights about their weighted mean
+        let (ms, ws) = weighted_sum(&x, &want);
+        let m2 = ms / ws;
+        let (_, p2) = moments(&m2, &x, &want).finish();
+        let (m1, p1) = mom.mean_cov().expect("finite");
+        let scale = p2.abs().max();
+        assert!((m1 - m2).abs().max() <= 1e-12 * m2.abs().max(), "{m1} {m2}");
+        assert!((p1 - p2).abs().max() <= 1e-12 * scale, "{p1} {p2}");
+        // chunk sums merged in order (the parallel path's form)
+        let mut acc = Moments::new(reference);
+        let mut sum2 = 0.0;
+        for ((xs, ls), ws) in x.chunks(100).zip(lwn.chunks(100)).zip(w.chunks_mut(100)) {
+            let (s, m) = exp_moments(&reference, xs, ls, max, ws);
+            sum2 += s;
+            acc.merge(&m);
+        }
+        let (m3, p3) = acc.mean_cov().expect("finite");
+        assert!((sum2 - sum).abs() <= 1e-12 * sum);
+        assert!((m3 - m2).abs().max() <= 1e-12 * m2.abs().max());
+        assert!((p3 - p2).abs().max() <= 1e-12 * scale);
+    }
+
+    /// The transition gathering its input through resampling indices (the literal SIR's
+    /// index-only resampling) equals the transition of the resampled cloud bit for bit,
+    /// with the same draws, on the dispatched and the baseline path.
+    #[test]
+    fn gathered_transition_equals_the_resampled_cloud() {
+        use crate::numerics::simd::with_baseline;
+        let m = CwModel::new(2.0 * std::f64::consts::PI / 5400.0);
+        let mut d = m.discretize(1.0, &Mat3::zeros(), Discretization::Exact);
+        d.q += Mat6::from_diagonal(&State::new(0.09, 6.25e-4, 2.5e-3, 1e-6, 1e-6, 1e-6));
+        let l = chol(&d.q).expect("pd");
+        let x = test_cloud(&Vec3::new(400.0, 500.0, -200.0));
+        let n = x.len();
+        // ascending with repeats, as the resamplers' output
+        let idx: Vec<usize> = (0..n).map(|k| (k / 3) * 2 + k % 2).collect();
+        let xr: Vec<State> = idx.iter().map(|&i| x[i]).collect();
+        for diag in [true, false] {
+            let tr = Transition {
+                blocks: CwBlocks::of(&d.phi),
+                phi: d.phi,
+                u: State::new(1e-3, 0.0, -2e-3, 0.0, 1e-6, 0.0),
+                diag: diag.then(|| l.diagonal()),
+                l,
+            };
+            let run = |src: &[State], ix: Option<&[usize]>| {
+                let mut rng = PfRng::seed_from_u64(3);
+                let (mut xn, mut xb) = (vec![State::zeros(); n], vec![State::zeros(); n]);
+                let bad = tr.run(src, ix, &mut xn, &mut xb, &mut rng);
+                (xn, xb, bad.to_bits(), rng)
+            };
+            let want = run(&xr, None);
+            assert!(run(&x, Some(&idx)) == want, "diag {diag}");
+            assert!(with_baseline(|| run(&x, Some(&idx))) == want, "diag {diag}");
+        }
     }
 
     /// Merged partial moments equal the one-pass moments of the whole set.

@@ -163,11 +163,17 @@ pub fn effective_sample_size(w: &[f64]) -> f64 {
 /// returns `None`.
 pub fn normalize_log_weights(logw: &[f64], w: &mut [f64]) -> Option<f64> {
     let n = logw.len().min(w.len());
+    normalize_log_weights_with_max(logw, w, max_ignoring_nan(&logw[..n]))
+}
+
+/// [`normalize_log_weights`] with the largest log-weight known: `max` must be
+/// [`max_ignoring_nan`] of `logw[..N]` (found by a pass that produced the log-weights).
+pub fn normalize_log_weights_with_max(logw: &[f64], w: &mut [f64], max: f64) -> Option<f64> {
+    let n = logw.len().min(w.len());
     if n == 0 {
         return None;
     }
     let pairs = || logw.iter().take(n);
-    let max = max_ignoring_nan(&logw[..n]);
     if max == f64::NEG_INFINITY {
         w.iter_mut().take(n).for_each(|x| *x = 1.0 / n as f64);
         return None;
