@@ -2076,7 +2076,9 @@ fn moments_inline(reference: &State, x: &[State], w: &[f64]) -> Moments {
 /// rejuvenation), inlined into their [`crate::numerics::simd::dispatch`].
 struct MomentLanes {
     s1: [[f64; BLOCK]; N],
-    s2: [[f64; BLOCK]; 21],
+    /// each second-moment entry in four interleaved partial sums (particle `4 m + j` of
+    /// every block in sum `j`; one AVX2 vector)
+    s2: [[f64; 4]; 21],
     ws: [f64; BLOCK],
     /// a block's offsets, weighted offsets and weights (scratch, reused block to block)
     d: [[f64; BLOCK]; N],
@@ -2088,7 +2090,7 @@ impl MomentLanes {
     fn new() -> Self {
         Self {
             s1: [[0.0; BLOCK]; N],
-            s2: [[0.0; BLOCK]; 21],
+            s2: [[0.0; 4]; 21],
             ws: [0.0; BLOCK],
             d: [[0.0; BLOCK]; N],
             wd: [[0.0; BLOCK]; N],
@@ -2132,12 +2134,28 @@ impl MomentLanes {
         Self::accumulate(s1, s2, ws, wd, d, wb);
     }
 
+    /// Add the block the caller wrote into the scratch offsets `d` and weights `wb`
+    /// (padding: zero weight and zero offset; [`exp_moments`], which forms the weights in
+    /// the same loop).
+    #[inline(always)]
+    fn add_own(&mut self) {
+        let Self {
+            s1,
+            s2,
+            ws,
+            d,
+            wd,
+            wb,
+        } = self;
+        Self::accumulate(s1, s2, ws, wd, d, wb);
+    }
+
     /// The sums of one transposed block (`wd`: scratch for the weighted offsets).
     #[inline(always)]
     #[allow(clippy::needless_range_loop)] // index loops over fixed lanes: they vectorise
     fn accumulate(
         s1: &mut [[f64; BLOCK]; N],
-        s2: &mut [[f64; BLOCK]; 21],
+        s2: &mut [[f64; 4]; 21],
         ws: &mut [f64; BLOCK],
         wd: &mut [[f64; BLOCK]; N],
         d: &[[f64; BLOCK]; N],
@@ -2176,92 +2194,13 @@ impl MomentLanes {
             for k in 0..N {
                 out.s1[k] += self.s1[k][i];
             }
-            for (o, s) in out.s2.iter_mut().zip(&self.s2) {
-                *o += s[i];
-            }
         }
-        out
-    }
-}
-
-/// The lane sums of [`exp_moments`]: the weights and first moments lane by lane
-/// (particle `i` of every block in lane `i`), each second-moment entry in four interleaved
-/// partial sums (particle `4 m + j` in sum `j`; one AVX2 vector).
-struct ExpLanes {
-    s1: [[f64; BLOCK]; N],
-    s2: [[f64; 4]; 21],
-    ws: [f64; BLOCK],
-    /// the block's offsets `d[k][i] = x_i[k] - c[k]` (zero in padding lanes), weights
-    /// (zero in padding lanes) and weighted offsets (scratch)
-    d: [[f64; BLOCK]; N],
-    e: [f64; BLOCK],
-    wd: [[f64; BLOCK]; N],
-}
-
-impl ExpLanes {
-    #[inline(always)]
-    fn new() -> Self {
-        Self {
-            s1: [[0.0; BLOCK]; N],
-            s2: [[0.0; 4]; 21],
-            ws: [0.0; BLOCK],
-            d: [[0.0; BLOCK]; N],
-            e: [0.0; BLOCK],
-            wd: [[0.0; BLOCK]; N],
-        }
-    }
-
-    /// Add the block in `d` with weights `e`.
-    #[inline(always)]
-    #[allow(clippy::needless_range_loop)] // index loops over fixed lanes: they vectorise
-    fn add_block(&mut self) {
-        let Self {
-            s1,
-            s2,
-            ws,
-            d,
-            e,
-            wd,
-        } = self;
-        for i in 0..BLOCK {
-            ws[i] += e[i];
-        }
-        for k in 0..N {
-            for i in 0..BLOCK {
-                wd[k][i] = d[k][i] * e[i];
-                s1[k][i] += wd[k][i];
-            }
-        }
-        // per entry four partial sums over the block in registers, then into the lanes
-        for (acc, &(r, c)) in s2.iter_mut().zip(&TRIANGLE) {
-            let mut a = [0.0; 4];
-            for (dp, wp) in d[r].chunks_exact(4).zip(wd[c].chunks_exact(4)) {
-                for j in 0..4 {
-                    a[j] += dp[j] * wp[j];
-                }
-            }
-            for j in 0..4 {
-                acc[j] += a[j];
-            }
-        }
-    }
-
-    /// The lanes added in order: the [`Moments`] about `reference`.
-    #[inline(always)]
-    fn finish(&self, reference: &State) -> Moments {
-        let mut mom = Moments::new(*reference);
-        for i in 0..BLOCK {
-            mom.wsum += self.ws[i];
-            for k in 0..N {
-                mom.s1[k] += self.s1[k][i];
-            }
-        }
-        for (o, s) in mom.s2.iter_mut().zip(&self.s2) {
+        for (o, s) in out.s2.iter_mut().zip(&self.s2) {
             for v in s {
                 *o += v;
             }
         }
-        mom
+        out
     }
 }
 
@@ -2269,7 +2208,7 @@ impl ExpLanes {
 /// particles: `w_i = exp(l_i - max)` (0 for a NaN `l_i`: the bits of
 /// [`resample::normalize_log_weights`] before its division), their sum in index order (its
 /// bits too) and the [`Moments`] about `reference` with the weights `w_i` (in the lanes of
-/// [`ExpLanes`]). `max` is the largest `l_i` (finite). Run through [`simd::dispatch`].
+/// [`MomentLanes`]). `max` is the largest `l_i` (finite). Run through [`simd::dispatch`].
 fn exp_moments(
     reference: &State,
     x: &[State],
@@ -2292,7 +2231,7 @@ fn exp_moments_inline(
     max: f64,
     w: &mut [f64],
 ) -> (f64, Moments) {
-    let mut lanes = ExpLanes::new();
+    let mut lanes = MomentLanes::new();
     let mut sum = 0.0;
     let blocks = x
         .chunks(BLOCK)
@@ -2301,13 +2240,13 @@ fn exp_moments_inline(
     for ((xs, ls), ws) in blocks {
         let n = xs.len();
         if n < BLOCK {
-            lanes.e = [0.0; BLOCK];
+            lanes.wb = [0.0; BLOCK];
             lanes.d = [[0.0; BLOCK]; N];
         }
-        for (e, &l) in lanes.e.iter_mut().zip(ls) {
+        for (e, &l) in lanes.wb.iter_mut().zip(ls) {
             *e = if l.is_nan() { 0.0 } else { exp_nonpos(l - max) };
         }
-        ws.copy_from_slice(&lanes.e[..n]);
+        ws.copy_from_slice(&lanes.wb[..n]);
         for v in ws.iter() {
             sum += v;
         }
@@ -2316,7 +2255,7 @@ fn exp_moments_inline(
                 dk[i] = xi[k] - reference[k];
             }
         }
-        lanes.add_block();
+        lanes.add_own();
     }
     (sum, lanes.finish(reference))
 }
