@@ -9,7 +9,14 @@
 //! the three measurements, `fmi2DoStep`, `fmi2GetReal` of the 12 estimate outputs: the
 //! `fmu_cycle_*` criterion bench); their counts less the bare filter's are the layers'
 //! overheads (issue 15 item 3).
-//! `cargo run --release --example kalman_profile -- ekf 600`.
+//! `time-ekf` / `time-ukf` (second argument: the number of batches) are the wall-clock
+//! companion: the bare step, the navigator's step and the FMU cycle, 600 steps each, timed
+//! **interleaved** batch by batch so that a busy machine slows all three alike; the minimum,
+//! 10th percentile and median ns per step of each and the cycle's overhead over the bare step
+//! (the minimum of many short batches is the uncontended figure on a shared machine;
+//! criterion stays the reference for the README).
+//! `cargo run --release --example kalman_profile -- ekf 600`,
+//! `cargo run --release --example kalman_profile -- time-ukf 300`.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 use rand::SeedableRng;
@@ -23,13 +30,30 @@ use relnav::fmi::variables::vr;
 use relnav::nav::{FilterKind, NavConfig, Navigator};
 use relnav::sensors::RadioSensor;
 use relnav::types::{Mat3, Mat6, State, Vec3};
+use std::hint::black_box;
+use std::time::Instant;
 
 fn run<E: Estimator>(f: Option<E>, steps: usize) -> (State, Mat6) {
+    let zs = measurement_vecs(steps);
+    let (d, sensor) = paper000();
+    let accel = Vec3::zeros();
+    let Some(mut f) = f else {
+        // the measurements alone: subtracted from the filters' counts
+        return (black_box(State::zeros()), d.q);
+    };
+    for z in &zs {
+        f.update(&sensor, black_box(z)).unwrap();
+        f.predict(&d, black_box(&accel)).unwrap();
+    }
+    (*f.state(), *f.covariance())
+}
+
+/// Paper 000's discrete model over 1 s (the default process noise) and radio sensor.
+fn paper000() -> (relnav::dynamics::DiscreteModel, RadioSensor) {
     let cfg = NavConfig::default();
     let fr = cfg.frame;
     let model = CwModel::new(cfg.mean_motion);
     let sensor = RadioSensor::new(fr, cfg.sigma_range, cfg.sigma_angle);
-    let zs = measurement_vecs(steps);
     let mut d = model.discretize(1.0, &Mat3::zeros(), Discretization::Exact);
     d.q += fr.cov_to_canonical(&Mat6::from_diagonal(&State::from_row_slice(&[
         cfg.q_pos[0],
@@ -39,16 +63,7 @@ fn run<E: Estimator>(f: Option<E>, steps: usize) -> (State, Mat6) {
         cfg.q_vel[1],
         cfg.q_vel[2],
     ])));
-    let accel = Vec3::zeros();
-    let Some(mut f) = f else {
-        // the measurements alone: subtracted from the filters' counts
-        return (std::hint::black_box(State::zeros()), d.q);
-    };
-    for z in &zs {
-        f.update(&sensor, std::hint::black_box(z)).unwrap();
-        f.predict(&d, std::hint::black_box(&accel)).unwrap();
-    }
-    (*f.state(), *f.covariance())
+    (d, sensor)
 }
 
 /// Paper 000's seeded measurements along the truth (frame 2, 1 s apart).
@@ -120,9 +135,9 @@ fn run_capi(kind: FilterKind, steps: usize) -> Vec<f64> {
     out.to_vec()
 }
 
-/// `steps` FMU master cycles (set 3 inputs, doStep, get 12 outputs); the last outputs.
-fn run_fmu(kind: FilterKind, steps: usize) -> Vec<f64> {
-    let zs = measurements(steps);
+/// A Co-Simulation instance of the relnav FMU running `kind`, initialised, with the
+/// measurement valid (the `fmu_cycle_*` bench's set-up); free it with `fmi2FreeInstance`.
+fn fmu_instance(kind: FilterKind) -> fmi2Component {
     let g = std::ffi::CString::new(guid()).unwrap();
     let cb = fmi2CallbackFunctions {
         logger: None,
@@ -131,12 +146,9 @@ fn run_fmu(kind: FilterKind, steps: usize) -> Vec<f64> {
         stepFinished: None,
         componentEnvironment: std::ptr::null_mut(),
     };
-    let ins = [vr::RANGE, vr::AZIMUTH, vr::ELEVATION];
-    let outs: Vec<u32> = (vr::X..=vr::SIGMA_VZ).collect();
-    let mut y = [0.0; 12];
-    // SAFETY: valid arguments, matching lengths; the instance is freed once.
-    unsafe {
-        let comp = fmi2Instantiate(
+    // SAFETY: valid arguments (the callbacks are copied by the instance).
+    let comp = unsafe {
+        fmi2Instantiate(
             c"profile".as_ptr(),
             fmi2CoSimulation,
             g.as_ptr(),
@@ -144,23 +156,123 @@ fn run_fmu(kind: FilterKind, steps: usize) -> Vec<f64> {
             &cb,
             0,
             0,
-        );
-        assert!(!comp.is_null());
+        )
+    };
+    assert!(!comp.is_null());
+    fmu_initialise(comp, kind);
+    comp
+}
+
+/// Set the filter, initialise, and mark the measurement valid (after instantiation or
+/// `fmi2Reset`).
+fn fmu_initialise(comp: fmi2Component, kind: FilterKind) {
+    // SAFETY: a live instance, one value each.
+    unsafe {
         fmi2SetInteger(comp, &vr::FILTER, 1, &(kind as i32));
         fmi2SetupExperiment(comp, 0, 0.0, 0.0, 0, 0.0);
         fmi2EnterInitializationMode(comp);
         fmi2ExitInitializationMode(comp);
         fmi2SetBoolean(comp, &vr::MEASUREMENT_VALID, 1, &1);
-        for (k, z) in zs.iter().enumerate() {
-            fmi2SetReal(comp, ins.as_ptr(), 3, std::hint::black_box(z.as_ptr()));
+    }
+}
+
+/// One FMU master cycle per measurement (set 3 inputs, doStep, get 12 outputs); the last
+/// outputs.
+fn fmu_cycles(comp: fmi2Component, zs: &[[f64; 3]]) -> [f64; 12] {
+    let ins = [vr::RANGE, vr::AZIMUTH, vr::ELEVATION];
+    let outs: [u32; 12] = std::array::from_fn(|i| vr::X + i as u32);
+    let mut y = [0.0; 12];
+    for (k, z) in zs.iter().enumerate() {
+        // SAFETY: a live instance, matching lengths.
+        unsafe {
+            fmi2SetReal(comp, ins.as_ptr(), 3, black_box(z.as_ptr()));
             let st = fmi2DoStep(comp, k as f64, 1.0, 1);
             assert_eq!(st, fmi2Status::fmi2OK);
             fmi2GetReal(comp, outs.as_ptr(), 12, y.as_mut_ptr());
-            std::hint::black_box(&y);
         }
-        fmi2FreeInstance(comp);
+        black_box(&y);
     }
+    y
+}
+
+/// `steps` FMU master cycles; the last outputs.
+fn run_fmu(kind: FilterKind, steps: usize) -> Vec<f64> {
+    let zs = measurements(steps);
+    let comp = fmu_instance(kind);
+    let y = fmu_cycles(comp, &zs);
+    // SAFETY: freed once.
+    unsafe { fmi2FreeInstance(comp) };
     y.to_vec()
+}
+
+/// `time-*`: the bare step, the navigator's and the FMU cycle timed interleaved, `batches`
+/// batches of 600 steps each (see the module docs).
+fn time_layers<E: Estimator>(kind: FilterKind, make: impl Fn() -> E, batches: usize) {
+    const STEPS: usize = 600;
+    let (zs, zv) = (measurements(STEPS), measurement_vecs(STEPS));
+    let (d, sensor) = paper000();
+    let accel = Vec3::zeros();
+    let mut nav = Navigator::new(&NavConfig {
+        filter: kind,
+        ..Default::default()
+    })
+    .unwrap();
+    let comp = fmu_instance(kind);
+    let per_step = |f: &mut dyn FnMut()| {
+        let s = Instant::now();
+        f();
+        s.elapsed().as_nanos() as f64 / STEPS as f64
+    };
+    let mut t = [Vec::new(), Vec::new(), Vec::new()];
+    for _ in 0..batches {
+        let mut f = make();
+        t[0].push(per_step(&mut || {
+            for z in &zv {
+                f.update(&sensor, black_box(z)).unwrap();
+                f.predict(&d, black_box(&accel)).unwrap();
+            }
+        }));
+        nav.reset();
+        t[1].push(per_step(&mut || {
+            for z in &zs {
+                nav.step(&[0.0; 3], Some(black_box(z)), 1.0).unwrap();
+            }
+        }));
+        // SAFETY: a live instance.
+        unsafe { fmi2Reset(comp) };
+        fmu_initialise(comp, kind);
+        t[2].push(per_step(&mut || {
+            fmu_cycles(comp, &zs);
+        }));
+    }
+    // SAFETY: freed once.
+    unsafe { fmi2FreeInstance(comp) };
+    for v in t.iter_mut() {
+        v.sort_by(f64::total_cmp);
+    }
+    let q = |v: &[f64], p: f64| v[((v.len() - 1) as f64 * p) as usize];
+    let k = kind.name();
+    for (name, v) in [
+        format!("{k}_step"),
+        format!("navigator_step_{k}"),
+        format!("fmu_cycle_{k}"),
+    ]
+    .iter()
+    .zip(&t)
+    {
+        println!(
+            "{name:20} min {:7.1}  p10 {:7.1}  median {:7.1} ns",
+            q(v, 0.0),
+            q(v, 0.1),
+            q(v, 0.5)
+        );
+    }
+    println!(
+        "{:20} min {:7.1}  p10 {:7.1} ns",
+        "fmu - bare",
+        q(&t[2], 0.0) - q(&t[0], 0.0),
+        q(&t[2], 0.1) - q(&t[0], 0.1)
+    );
 }
 
 fn layered(which: &str, steps: usize) -> Option<Vec<f64>> {
@@ -185,12 +297,20 @@ fn main() {
         .and_then(|s| s.parse().ok())
         .unwrap_or(600);
     let cfg = NavConfig::default();
+    let (x0, p0) = (cfg.initial_state(), cfg.initial_covariance());
+    match which.as_str() {
+        "time-ekf" => return time_layers(FilterKind::Ekf, || Ekf::new(x0, p0), steps),
+        "time-ukf" => {
+            let make = || Ukf::new(x0, p0, UkfParams::default());
+            return time_layers(FilterKind::Ukf, make, steps);
+        }
+        _ => {}
+    }
     if let Some(y) = layered(&which, steps) {
         let h = y.iter().fold(0u64, |h, v| h.rotate_left(7) ^ v.to_bits());
         println!("{which} {steps} steps: outputs {y:?} bits-hash {h:016x}");
         return;
     }
-    let (x0, p0) = (cfg.initial_state(), cfg.initial_covariance());
     let (x, p) = match which.as_str() {
         "ekf" => run(Some(Ekf::new(x0, p0)), steps),
         "ukf" => run(Some(Ukf::new(x0, p0, UkfParams::default())), steps),
