@@ -2134,22 +2134,6 @@ impl MomentLanes {
         Self::accumulate(s1, s2, ws, wd, d, wb);
     }
 
-    /// Add the block the caller wrote into the scratch offsets `d` and weights `wb`
-    /// (padding: zero weight and zero offset; [`exp_moments`], which forms the weights in
-    /// the same loop).
-    #[inline(always)]
-    fn add_own(&mut self) {
-        let Self {
-            s1,
-            s2,
-            ws,
-            d,
-            wd,
-            wb,
-        } = self;
-        Self::accumulate(s1, s2, ws, wd, d, wb);
-    }
-
     /// The sums of one transposed block (`wd`: scratch for the weighted offsets).
     #[inline(always)]
     #[allow(clippy::needless_range_loop)] // index loops over fixed lanes: they vectorise
@@ -2204,11 +2188,96 @@ impl MomentLanes {
     }
 }
 
+/// Weighted first and second moments accumulated particle by particle, each sum one chain in
+/// particle order (the form that keeps the accumulators in registers: eight 4-wide and 2-wide
+/// AVX2 vectors for the second moments, one 4-wide and one 2-wide for the first, a scalar for
+/// the weights). With `d = x - c` split as `a = d[0..4]`, `b = d[4..6]` and `wd = w d`:
+/// `top[c] += a wd_c` (rows 0..4 of every column: the upper triangle's entries in rows 0..4
+/// and seven of the lower's, which are not read) and `bot[c - 4] += b wd_c` for `c = 4, 5`
+/// (rows 4 and 5 of columns 4 and 5), `s1 += wd`, `ws += w`: 28 products for the 21 entries,
+/// each `d_r (w d_c)` as in [`MomentLanes`]. Inlined into the caller's
+/// [`simd::dispatch`]; the dispatched and the baseline path perform the same operations per
+/// sum in the same order, so the same bits.
+#[derive(Clone, Copy)]
+struct PointSums {
+    top: [[f64; 4]; N],
+    bot: [[f64; 2]; 2],
+    s1a: [f64; 4],
+    s1b: [f64; 2],
+    ws: f64,
+}
+
+impl PointSums {
+    #[inline(always)]
+    fn new() -> Self {
+        Self {
+            top: [[0.0; 4]; N],
+            bot: [[0.0; 2]; 2],
+            s1a: [0.0; 4],
+            s1b: [0.0; 2],
+            ws: 0.0,
+        }
+    }
+
+    /// Add particle `x` with weight `w`, offsets about `c` (`rc`: its components).
+    #[inline(always)]
+    #[allow(clippy::needless_range_loop)] // fixed-length component loops: they vectorise
+    fn add(&mut self, x: &State, rc: &[f64; N], w: f64) {
+        let a = [x[0] - rc[0], x[1] - rc[1], x[2] - rc[2], x[3] - rc[3]];
+        let b = [x[4] - rc[4], x[5] - rc[5]];
+        let wa = [a[0] * w, a[1] * w, a[2] * w, a[3] * w];
+        let wb = [b[0] * w, b[1] * w];
+        self.ws += w;
+        for k in 0..4 {
+            self.s1a[k] += wa[k];
+        }
+        for k in 0..2 {
+            self.s1b[k] += wb[k];
+        }
+        let wd = [wa[0], wa[1], wa[2], wa[3], wb[0], wb[1]];
+        for c in 0..N {
+            for k in 0..4 {
+                self.top[c][k] += a[k] * wd[c];
+            }
+        }
+        for c in 0..2 {
+            for k in 0..2 {
+                self.bot[c][k] += b[k] * wb[c];
+            }
+        }
+    }
+
+    /// The [`Moments`] about `reference`.
+    #[inline(always)]
+    fn finish(&self, reference: &State) -> Moments {
+        let mut out = Moments::new(*reference);
+        out.wsum = self.ws;
+        out.s1 = State::new(
+            self.s1a[0],
+            self.s1a[1],
+            self.s1a[2],
+            self.s1a[3],
+            self.s1b[0],
+            self.s1b[1],
+        );
+        for (o, &(r, c)) in out.s2.iter_mut().zip(&TRIANGLE) {
+            *o = if r < 4 {
+                self.top[c][r]
+            } else {
+                self.bot[c - 4][r - 4]
+            };
+        }
+        out
+    }
+}
+
 /// The normalisation's exponentials and the weighted moments in one pass over a run of
 /// particles: `w_i = exp(l_i - max)` (0 for a NaN `l_i`: the bits of
 /// [`resample::normalize_log_weights`] before its division), their sum in index order (its
-/// bits too) and the [`Moments`] about `reference` with the weights `w_i` (in the lanes of
-/// [`MomentLanes`]). `max` is the largest `l_i` (finite). Run through [`simd::dispatch`].
+/// bits too; it is also the moments' weight sum) and the [`Moments`] about `reference` with
+/// the weights `w_i` ([`PointSums`]: each sum one chain in particle order). The exponentials
+/// run a block of [`BLOCK`] at a time (vectorised across particles), the moments particle by
+/// particle. `max` is the largest `l_i` (finite). Run through [`simd::dispatch`].
 fn exp_moments(
     reference: &State,
     x: &[State],
@@ -2231,33 +2300,15 @@ fn exp_moments_inline(
     max: f64,
     w: &mut [f64],
 ) -> (f64, Moments) {
-    let mut lanes = MomentLanes::new();
-    let mut sum = 0.0;
-    let blocks = x
-        .chunks(BLOCK)
-        .zip(logw.chunks(BLOCK))
-        .zip(w.chunks_mut(BLOCK));
-    for ((xs, ls), ws) in blocks {
-        let n = xs.len();
-        if n < BLOCK {
-            lanes.wb = [0.0; BLOCK];
-            lanes.d = [[0.0; BLOCK]; N];
-        }
-        for (e, &l) in lanes.wb.iter_mut().zip(ls) {
-            *e = if l.is_nan() { 0.0 } else { exp_nonpos(l - max) };
-        }
-        ws.copy_from_slice(&lanes.wb[..n]);
-        for v in ws.iter() {
-            sum += v;
-        }
-        for (i, xi) in xs.iter().enumerate() {
-            for (k, dk) in lanes.d.iter_mut().enumerate() {
-                dk[i] = xi[k] - reference[k];
-            }
-        }
-        lanes.add_own();
+    for (e, &l) in w.iter_mut().zip(logw) {
+        *e = if l.is_nan() { 0.0 } else { exp_nonpos(l - max) };
     }
-    (sum, lanes.finish(reference))
+    let rc: [f64; N] = std::array::from_fn(|k| reference[k]);
+    let mut acc = PointSums::new();
+    for (xi, &wi) in x.iter().zip(w.iter()) {
+        acc.add(xi, &rc, wi);
+    }
+    (acc.ws, acc.finish(reference))
 }
 
 impl Estimator for ParticleFilter {
