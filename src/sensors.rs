@@ -404,13 +404,18 @@ impl MeasurementModel for RadioSensor {
         d: &mut [[f64; B]; 3],
         ok: &mut [bool; B],
     ) {
-        let t = self.frame.rotation();
+        // `T r` as the signed permutation it is ([`Frame::axis_map`]): three sign products
+        // instead of the matrix product's nine products and six sums, the same values for a
+        // finite `r` (the product's zero terms add nothing; only the sign of a zero
+        // component can differ, and the residuals take it through squares or the
+        // odd series of a zero sine: the log-likelihood's bits are the same)
+        let [(j0, s0), (j1, s1), (j2, s2)] = self.frame.axis_map();
+        let (r0, r1, r2) = (&r[j0], &r[j1], &r[j2]);
         let (se, ce) = trig.el;
         let (sa, ca) = trig.az;
         let mut slow = [false; B];
         for i in 0..B {
-            let ri = Vec3::new(r[0][i], r[1][i], r[2][i]);
-            let p = t * ri;
+            let p = Vec3::new(s0 * r0[i], s1 * r1[i], s2 * r2[i]);
             let rho_xy2 = p.x * p.x + p.y * p.y;
             let rho = (rho_xy2 + p.z * p.z).sqrt();
             let rho_xy = rho_xy2.sqrt();
