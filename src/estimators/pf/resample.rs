@@ -111,11 +111,46 @@ pub fn resample<R: Rng + ?Sized>(
     }
     let mut total = 0.0;
     let mut last = None;
-    for (i, &x) in w.iter().enumerate() {
-        let x = clean(x);
-        total += x;
-        if x > 0.0 {
-            last = Some(i);
+    // the walking schemes keep the cumulative sums of this pass in `scratch` (when it is
+    // long enough) and walk over them: the same sums, bit for bit, as the walk's own
+    // running sum, which then needs neither the weights nor their cleaning again
+    let walking = matches!(kind, Resampler::Systematic | Resampler::Stratified);
+    match scratch.get_mut(..n).filter(|_| walking) {
+        Some(cum) => {
+            for (i, (&x, c)) in w.iter().zip(cum.iter_mut()).enumerate() {
+                let x = clean(x);
+                total += x;
+                *c = total;
+                if x > 0.0 {
+                    last = Some(i);
+                }
+            }
+            if let Some(last) = last.filter(|_| total.is_finite()) {
+                let m = out.len();
+                let step = total / m as f64;
+                match kind {
+                    Resampler::Systematic => {
+                        let u: f64 = rng.random();
+                        walk_cumulative(cum, last, out, (0..m).map(|k| (k as f64 + u) * step));
+                    }
+                    _ => walk_cumulative(
+                        cum,
+                        last,
+                        out,
+                        (0..m).map(|k| (k as f64 + rng.random::<f64>()) * step),
+                    ),
+                }
+                return;
+            }
+        }
+        None => {
+            for (i, &x) in w.iter().enumerate() {
+                let x = clean(x);
+                total += x;
+                if x > 0.0 {
+                    last = Some(i);
+                }
+            }
         }
     }
     match last {
@@ -315,6 +350,24 @@ fn walk<F: Fn(usize) -> f64>(
         while t >= c && i < w.last {
             i += 1;
             c += (w.wt)(i);
+        }
+        *o = i;
+    }
+}
+
+/// [`walk`] over the cumulative sums `cum` (`cum[i] = C_i`, accumulated in index order as
+/// [`walk`]'s running sum is: the same comparisons, the same indices), never past `last`.
+fn walk_cumulative(
+    cum: &[f64],
+    last: usize,
+    out: &mut [usize],
+    targets: impl Iterator<Item = f64>,
+) {
+    let cum = &cum[..=last];
+    let mut i = 0;
+    for (o, t) in out.iter_mut().zip(targets) {
+        while i < last && t >= cum[i] {
+            i += 1;
         }
         *o = i;
     }
