@@ -821,14 +821,22 @@ impl Transition {
         let xb = &mut scratch.1;
         let (p, q) = (&cw.inp, &cw.out);
         let u = &self.u;
-        for i in 0..BLOCK {
-            let v = [a[0][i], a[1][i], a[3][i], a[4][i]];
-            let w = [a[2][i], a[5][i]];
-            for (r, row) in CwBlocks::IN.iter().zip(p) {
-                xb[*r][i] = row[0] * v[0] + row[1] * v[1] + row[2] * v[2] + row[3] * v[3] + u[*r];
+        // row by row, the row's coefficients held in registers across the block's lanes
+        // (lanes inside: each row's five broadcasts once per block instead of once per
+        // vector); per particle the same operations in the same order
+        let [i0, i1, i3, i4] = CwBlocks::IN;
+        for (r, row) in CwBlocks::IN.iter().zip(p) {
+            let (c, ur) = (*row, u[*r]);
+            for i in 0..BLOCK {
+                xb[*r][i] =
+                    c[0] * a[i0][i] + c[1] * a[i1][i] + c[2] * a[i3][i] + c[3] * a[i4][i] + ur;
             }
-            for (r, row) in CwBlocks::OUT.iter().zip(q) {
-                xb[*r][i] = row[0] * w[0] + row[1] * w[1] + u[*r];
+        }
+        let [o2, o5] = CwBlocks::OUT;
+        for (r, row) in CwBlocks::OUT.iter().zip(q) {
+            let (c, ur) = (*row, u[*r]);
+            for i in 0..BLOCK {
+                xb[*r][i] = c[0] * a[o2][i] + c[1] * a[o5][i] + ur;
             }
         }
         let xn = &mut scratch.2;
@@ -1890,16 +1898,20 @@ impl ParticleFilter {
             std::mem::swap(&mut self.x, &mut self.x_tmp);
             std::mem::swap(&mut self.pc, &mut self.pc_tmp);
         }
+        self.ess = self.effective_sample_size();
+        let resampling = self.ess < self.params.threshold * n as f64;
         // keep log-weights bounded: store the normalised ones, ln w_i = l_i - ln sum_j e^l_j
-        let log_sum = log_mean + (n as f64).ln();
-        if log_sum.is_finite() {
-            self.logw.iter_mut().for_each(|lw| *lw -= log_sum);
-        } else {
-            for (lw, w) in self.logw.iter_mut().zip(&self.w) {
-                *lw = w.ln();
+        // (not when resampling: the reset below overwrites them)
+        if !resampling {
+            let log_sum = log_mean + (n as f64).ln();
+            if log_sum.is_finite() {
+                self.logw.iter_mut().for_each(|lw| *lw -= log_sum);
+            } else {
+                for (lw, w) in self.logw.iter_mut().zip(&self.w) {
+                    *lw = w.ln();
+                }
             }
         }
-        self.ess = self.effective_sample_size();
         // the weighted mean and covariance before resampling: from the fused pass when it
         // formed them, else the mean now and the covariance when first asked for
         match moments.and_then(|m| m.mean_cov()) {
@@ -1909,7 +1921,7 @@ impl ParticleFilter {
             }
             None => self.summarise(),
         }
-        if self.ess < self.params.threshold * n as f64 {
+        if resampling {
             let cov_before = match kind {
                 PfKind::Rpf | PfKind::Gapf => *self.cov(),
                 _ => Mat6::zeros(),
