@@ -432,14 +432,17 @@ impl MeasurementModel for RadioSensor {
             d[2][i] = asin_series(s_el);
             slow[i] = !fast;
         }
-        for i in 0..n.min(B) {
-            ok[i] = true;
-            if slow[i] {
-                let ri = Vec3::new(r[0][i], r[1][i], r[2][i]);
-                let v = self.residual_at(z, trig, &ri);
-                ok[i] = v.is_some();
-                let v = v.unwrap_or_default();
-                (d[0][i], d[1][i], d[2][i]) = (v.x, v.y, v.z);
+        *ok = [true; B];
+        // the lanes to redo, if any: one vector test per block in the common case
+        if slow.iter().take(n).fold(false, |a, &s| a | s) {
+            for i in 0..n.min(B) {
+                if slow[i] {
+                    let ri = Vec3::new(r[0][i], r[1][i], r[2][i]);
+                    let v = self.residual_at(z, trig, &ri);
+                    ok[i] = v.is_some();
+                    let v = v.unwrap_or_default();
+                    (d[0][i], d[1][i], d[2][i]) = (v.x, v.y, v.z);
+                }
             }
         }
     }
