@@ -558,30 +558,39 @@ impl Pop<'_> {
                 let e = if u[p] <= 0.0 { e } else { 1.0 / e };
                 s[p] = if neg[p] { -e } else { e };
             }
+            // the pairs' members in the two halves, `a` in lane `p`, `b` in lane `P + p`:
+            // the mixing runs on contiguous lanes
             for (p, &(a, b)) in ab.iter().enumerate().take(np) {
                 let (xa, xb) = (&self.x[a], &self.x[b]);
                 for k in 0..6 {
-                    c[k][2 * p] = xa[k];
-                    c[k][2 * p + 1] = xb[k];
+                    c[k][p] = xa[k];
+                    c[k][P + p] = xb[k];
+                }
+            }
+            // a short last block: the unused lanes repeat the first pair (defined positions,
+            // no slow path in the likelihood; never read)
+            for p in np..P {
+                for ck in c.iter_mut() {
+                    (ck[p], ck[P + p]) = (ck[0], ck[P]);
                 }
             }
             for ck in c.iter_mut() {
                 for p in 0..P {
-                    let (xa, xb) = (ck[2 * p], ck[2 * p + 1]);
+                    let (xa, xb) = (ck[p], ck[P + p]);
                     let m = (xa + xb) * 0.5;
                     let d = (xa - xb) * 0.5;
-                    ck[2 * p] = m + d * s[p];
-                    ck[2 * p + 1] = m - d * s[p];
+                    ck[p] = m + d * s[p];
+                    ck[P + p] = m - d * s[p];
                 }
             }
-            t.eval(&c, 2 * np, &mut scratch, &mut ll, &mut lp);
+            t.eval(&c, B, &mut scratch, &mut ll, &mut lp);
             let mut la = [0.0; P];
             for (p, &(a, b)) in ab.iter().enumerate().take(np) {
-                la[p] = lp[2 * p] + lp[2 * p + 1] - self.logpi[a] - self.logpi[b] + 6.0 * u[p];
+                la[p] = lp[p] + lp[P + p] - self.logpi[a] - self.logpi[b] + 6.0 * u[p];
             }
             for (p, &(a, b)) in ab.iter().enumerate().take(np) {
                 if accept_linear(v[p], la[p]) {
-                    for (lane, i) in [(2 * p, a), (2 * p + 1, b)] {
+                    for (lane, i) in [(p, a), (P + p, b)] {
                         self.x[i] = State::from_fn(|k, _| c[k][lane]);
                         self.loglik[i] = ll[lane];
                         self.logpi[i] = lp[lane];
