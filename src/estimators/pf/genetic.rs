@@ -245,9 +245,34 @@ fn unit(w: u64) -> f64 {
 /// Metropolis–Hastings acceptance of a log ratio `la` with the uniform `v` in the linear
 /// domain: `v < e^la` (the same event as `ln v < la`, no logarithm); `la >= 0` (`+inf`
 /// included) always, NaN and `-inf` never.
+///
+/// A squeeze decides most tests without the exponential: with `y = -la > 0`, Taylor's
+/// theorem bounds `e^-y` by `1 - y + y^2/2 - y^3/6 <= e^-y <= 1 / (1 + y + y^2/2 + y^3/6)`
+/// (the remainders `e^-xi y^4 / 24` and `e^xi y^4 / 24` are non-negative); `v` below the
+/// lower bound accepts, at or above the upper rejects, and only between them is
+/// [`exp_nonpos`] formed. The bounds are widened by `2^-40` relative (far above their
+/// rounding and `exp_nonpos`' 2 ulp), so the decision is the exponential's, bit for bit.
 #[inline(always)]
 fn accept_linear(v: f64, la: f64) -> bool {
-    la >= 0.0 || (la > f64::NEG_INFINITY && v < exp_nonpos(la))
+    const WIDEN: f64 = 1.0 / (1u64 << 40) as f64;
+    if la >= 0.0 {
+        return true;
+    }
+    if !(la > f64::NEG_INFINITY) {
+        return false;
+    }
+    let y = -la;
+    let (y2, y3) = (y * y, y * y * y);
+    let lo = 1.0 - y + 0.5 * y2 - y3 * (1.0 / 6.0);
+    if v < lo * (1.0 - WIDEN) {
+        return true;
+    }
+    // `v * den` is NaN only for `v = 0` with `den = inf`: falls through to the exponential
+    let den = 1.0 + y + 0.5 * y2 + y3 * (1.0 / 6.0);
+    if v * den >= 1.0 + WIDEN {
+        return false;
+    }
+    v < exp_nonpos(la)
 }
 
 /// Adaptive probabilities from cloud drops for a block of fitnesses `f` with the drops'
@@ -995,7 +1020,10 @@ impl Pop<'_> {
                 for k in 0..6 {
                     l.x[k][lane] = self.x[i][k];
                 }
-                l.f[lane] = self.fit[i];
+                // the fitness only for the cloud mutation (the GA-PF's `fit` is unused)
+                if words {
+                    l.f[lane] = self.fit[i];
+                }
                 l.logpi[lane] = self.logpi[i];
             }
             for e in l.eps.iter_mut() {
