@@ -364,31 +364,41 @@ impl<'a, 'b, M: MeasurementModel> Target<'a, 'b, M> {
         }
     }
 
-    /// `ln N(c; m-, P-)` up to a constant, `-|L-^-1 (c - m-)|^2 / 2`, for every lane.
+    /// `ln N(c; m-, P-)` up to a constant, `-|L-^-1 (c - m-)|^2 / 2`, for every lane
+    /// (`CENTRE`; without it `-|L-^-1 c|^2 / 2`, the form of a difference of two states).
     // lane-indexed loops over several arrays: the form that vectorises across lanes
     #[allow(clippy::needless_range_loop)]
     #[inline(always)]
     /// `u` is scratch (the whitened offsets; the caller's, so that a block does not zero
     /// it).
-    fn log_predictive(&self, c: &[[f64; B]; 6], u: &mut [[f64; B]; 6], out: &mut [f64; B]) {
+    fn log_predictive<const L: usize, const CENTRE: bool>(
+        &self,
+        c: &[[f64; L]; 6],
+        u: &mut [[f64; L]; 6],
+        out: &mut [f64; L],
+    ) {
         for i in 0..6 {
-            let mut s = [0.0; B];
-            for lane in 0..B {
-                s[lane] = c[i][lane] - self.m[i];
+            let mut s = [0.0; L];
+            for lane in 0..L {
+                s[lane] = if CENTRE {
+                    c[i][lane] - self.m[i]
+                } else {
+                    c[i][lane]
+                };
             }
             for j in 0..i {
                 let lij = self.l[i][j];
-                for lane in 0..B {
+                for lane in 0..L {
                     s[lane] -= lij * u[j][lane];
                 }
             }
-            for lane in 0..B {
+            for lane in 0..L {
                 u[i][lane] = s[lane] * self.inv_diag[i];
             }
         }
-        let mut q = [0.0; B];
+        let mut q = [0.0; L];
         for ui in u.iter() {
-            for lane in 0..B {
+            for lane in 0..L {
                 q[lane] += ui[lane] * ui[lane];
             }
         }
@@ -397,18 +407,10 @@ impl<'a, 'b, M: MeasurementModel> Target<'a, 'b, M> {
         }
     }
 
-    /// `ln p(z | c)` into `ll` and `ln pi(c)` into `lp` for the first `n` lanes (the others
-    /// unspecified): `-inf` where the measurement is undefined.
+    /// `ln p(z | c)` into `ll` for the first `n` lanes (the others unspecified): `-inf`
+    /// where the measurement is undefined.
     #[inline(always)]
-    /// `u` is [`Target::log_predictive`]'s scratch.
-    fn eval(
-        &self,
-        c: &[[f64; B]; 6],
-        n: usize,
-        u: &mut [[f64; B]; 6],
-        ll: &mut [f64; B],
-        lp: &mut [f64; B],
-    ) {
+    fn log_likelihood(&self, c: &[[f64; B]; 6], n: usize, ll: &mut [f64; B]) {
         let r = [c[0], c[1], c[2]];
         let mut d = [[0.0; B]; 3];
         let mut ok = [false; B];
@@ -433,28 +435,23 @@ impl<'a, 'b, M: MeasurementModel> Target<'a, 'b, M> {
                 };
             }
         }
-        self.log_predictive(c, u, lp);
-        for (p, l) in lp.iter_mut().zip(ll.iter()) {
-            *p += *l;
-        }
     }
 
-    /// `logpi[i] = loglik[i] + ln N(x_i; m-, P-)` for every particle.
+    /// `logq[i] = ln N(x_i; m-, P-)` (up to the constant) for every particle.
     #[inline(always)]
-    fn densities(&self, x: &[State], loglik: &[f64], logpi: &mut [f64]) {
+    fn densities(&self, x: &[State], logq: &mut [f64]) {
         let mut c = [[0.0; B]; 6];
         let mut u = [[0.0; B]; 6];
-        let mut lp = [0.0; B];
-        for ((xs, lls), lps) in x.chunks(B).zip(loglik.chunks(B)).zip(logpi.chunks_mut(B)) {
+        let mut lq = [0.0; B];
+        for (xs, lqs) in x.chunks(B).zip(logq.chunks_mut(B)) {
             for (lane, xi) in xs.iter().enumerate() {
                 for k in 0..6 {
                     c[k][lane] = xi[k];
                 }
             }
-            self.log_predictive(&c, &mut u, &mut lp);
-            for ((o, &l), &p) in lps.iter_mut().zip(lls).zip(&lp) {
-                *o = l + p;
-            }
+            self.log_predictive::<B, true>(&c, &mut u, &mut lq);
+            let m = lqs.len();
+            lqs.copy_from_slice(&lq[..m]);
         }
     }
 }
@@ -463,7 +460,9 @@ impl<'a, 'b, M: MeasurementModel> Target<'a, 'b, M> {
 struct Pop<'p> {
     x: &'p mut [State],
     loglik: &'p mut [f64],
-    logpi: &'p mut [f64],
+    /// the predictive density `ln N(x_i; m-, P-)` of each particle (up to a constant; the
+    /// target is `loglik + logq`), kept current within a call
+    logq: &'p mut [f64],
     /// fitness of each particle, kept current within a generation (CGA-PF only)
     fit: &'p mut [f64],
     /// indices selected for an operator
@@ -541,6 +540,15 @@ impl Pop<'_> {
     /// and the sign of `s` (bit 0), a second the acceptance uniform. The pairs are disjoint,
     /// so the blocks equal the pairs one at a time. With `best`, the accepted particles'
     /// fitness `exp(ll - best)` is updated.
+    ///
+    /// The predictive factor of the ratio needs no candidate's quadratic form: in whitened
+    /// coordinates (`L-^-1 (x - m-)`, where the move is the same affine map) the children
+    /// are `w_m ± s w_d`, so with `D = |L-^-1 d|^2` and the parents' `q = -2 ln N`,
+    /// `q(a') + q(b') = q(a) + q(b) + 2 (s^2 - 1) D` and
+    /// `q(a') = (q(a) + q(b)) / 2 + (s^2 - 1) D + s (q(a) - q(b)) / 2` (`b'`: `-s`): one
+    /// forward substitution per pair (of `d`, eight lanes) instead of one per candidate.
+    /// The log ratio is `ln p(z | a') + ln p(z | b') - ln p(z | a) - ln p(z | b)
+    /// - (s^2 - 1) D + 6 u`.
     #[inline(always)]
     fn crossover_block<M: MeasurementModel>(
         &mut self,
@@ -551,8 +559,9 @@ impl Pop<'_> {
         const P: usize = B / 2;
         let ln2 = std::f64::consts::LN_2;
         let mut c = [[0.0; B]; 6];
-        let mut scratch = [[0.0; B]; 6];
-        let (mut ll, mut lp) = ([0.0; B], [0.0; B]);
+        let mut dd = [[0.0; P]; 6];
+        let mut scratch = [[0.0; P]; 6];
+        let (mut ll, mut dq) = ([0.0; B], [0.0; P]);
         let mut start = 0;
         while start < count {
             let np = P.min(count - start);
@@ -585,12 +594,15 @@ impl Pop<'_> {
             }
             // the pairs' members in the two halves, `a` in lane `p`, `b` in lane `P + p`:
             // the mixing runs on contiguous lanes
+            let (mut ll0, mut lq0) = ([0.0; B], [0.0; B]);
             for (p, &(a, b)) in ab.iter().enumerate().take(np) {
                 let (xa, xb) = (&self.x[a], &self.x[b]);
                 for k in 0..6 {
                     c[k][p] = xa[k];
                     c[k][P + p] = xb[k];
                 }
+                (ll0[p], ll0[P + p]) = (self.loglik[a], self.loglik[b]);
+                (lq0[p], lq0[P + p]) = (self.logq[a], self.logq[b]);
             }
             // a short last block: the unused lanes repeat the first pair (defined positions,
             // no slow path in the likelihood; never read)
@@ -599,26 +611,38 @@ impl Pop<'_> {
                     (ck[p], ck[P + p]) = (ck[0], ck[P]);
                 }
             }
-            for ck in c.iter_mut() {
+            for (ck, dk) in c.iter_mut().zip(dd.iter_mut()) {
                 for p in 0..P {
                     let (xa, xb) = (ck[p], ck[P + p]);
                     let m = (xa + xb) * 0.5;
                     let d = (xa - xb) * 0.5;
+                    dk[p] = d;
                     ck[p] = m + d * s[p];
                     ck[P + p] = m - d * s[p];
                 }
             }
-            t.eval(&c, B, &mut scratch, &mut ll, &mut lp);
+            t.log_likelihood(&c, B, &mut ll);
+            // -D / 2 per pair
+            t.log_predictive::<P, false>(&dd, &mut scratch, &mut dq);
             let mut la = [0.0; P];
-            for (p, &(a, b)) in ab.iter().enumerate().take(np) {
-                la[p] = lp[p] + lp[P + p] - self.logpi[a] - self.logpi[b] + 6.0 * u[p];
+            let mut lq = [0.0; B];
+            for p in 0..P {
+                let e = s[p] * s[p] - 1.0;
+                // (s^2 - 1) D / 2
+                let h = -(e * dq[p]);
+                let (qa, qb) = (lq0[p], lq0[P + p]);
+                let (mean, half) = ((qa + qb) * 0.5, (qa - qb) * 0.5);
+                lq[p] = (mean - h) + s[p] * half;
+                lq[P + p] = (mean - h) - s[p] * half;
+                let dl = (ll[p] + ll[P + p]) - (ll0[p] + ll0[P + p]);
+                la[p] = (dl - 2.0 * h) + 6.0 * u[p];
             }
             for (p, &(a, b)) in ab.iter().enumerate().take(np) {
                 if accept_linear(v[p], la[p]) {
                     for (lane, i) in [(p, a), (P + p, b)] {
                         self.x[i] = State::from_fn(|k, _| c[k][lane]);
                         self.loglik[i] = ll[lane];
-                        self.logpi[i] = lp[lane];
+                        self.logq[i] = lq[lane];
                         if let Some(best) = best {
                             self.fit[i] = fitness(ll[lane] - best);
                         }
@@ -709,7 +733,7 @@ impl ParticleFilter {
         Pop {
             x: &mut self.x,
             loglik: &mut self.loglik,
-            logpi: &mut self.logpi,
+            logq: &mut self.logpi,
             fit: &mut self.scratch,
             sel: &mut self.idx,
             perm: &mut self.perm,
@@ -760,7 +784,7 @@ impl ParticleFilter {
         simd::dispatch(
             #[inline(always)]
             || {
-                t.densities(pop.x, pop.loglik, pop.logpi);
+                t.densities(pop.x, pop.logq);
                 pop.shuffle();
                 let count = pop.select(n / 2, g.crossover, None, |_, _, _| {});
                 pop.crossover_block(&t, count, None);
@@ -794,8 +818,8 @@ impl ParticleFilter {
                     #[inline(always)]
                     |l| {
                         for lane in 0..B {
-                            l.acc[lane] = l.lp[lane].is_finite()
-                                && accept_linear(l.v[lane], l.lp[lane] - l.logpi[lane]);
+                            l.acc[lane] =
+                                l.lp[lane].is_finite() && accept_linear(l.v[lane], l.la[lane]);
                         }
                     },
                 );
@@ -835,7 +859,7 @@ impl ParticleFilter {
         simd::dispatch(
             #[inline(always)]
             || {
-                t.densities(pop.x, pop.loglik, pop.logpi);
+                t.densities(pop.x, pop.logq);
                 for gen in 0..c.generations {
                     let (best, f_min, f_avg, f_max) = pop.fitness_stats();
                     if !best.is_finite() {
@@ -922,7 +946,7 @@ impl ParticleFilter {
                             }
                             let (q, r) = hastings_cloud(l, &ln_mu_back, &en, &he, &live);
                             for lane in 0..B {
-                                let la = l.lp[lane] - l.logpi[lane] + q[lane];
+                                let la = l.la[lane] + q[lane];
                                 // v < r e^la without a logarithm: e^-|la| is <= 1
                                 let e = exp_nonpos(-la.abs());
                                 let v = l.v[lane];
@@ -949,19 +973,23 @@ struct Block {
     /// lanes in use
     n: usize,
     idx: [usize; B],
-    /// the particles, their fitness and log target density
+    /// the particles, their fitness, log-likelihoods and log predictive densities
     x: [[f64; B]; 6],
     f: [f64; B],
-    logpi: [f64; B],
+    ll0: [f64; B],
+    lq0: [f64; B],
     /// six standard normals per lane (component-major)
     eps: [[f64; B]; 6],
     /// a word per lane (the cloud mutation's signs) and the acceptance uniform
     w: [u64; B],
     v: [f64; B],
-    /// the candidates, their log-likelihoods and log target densities
+    /// the candidates, their log-likelihoods, log predictive and log target densities,
+    /// and the log target ratio `la = (ll - ll0) + (lq - lq0)`
     c: [[f64; B]; 6],
     ll: [f64; B],
+    lq: [f64; B],
     lp: [f64; B],
+    la: [f64; B],
     acc: [bool; B],
     /// per-operator lane values (the cloud mutation's `ln mu` and reach)
     aux: [f64; B],
@@ -978,13 +1006,16 @@ impl Block {
             idx: [0; B],
             x: [[0.0; B]; 6],
             f: [1.0; B],
-            logpi: [0.0; B],
+            ll0: [0.0; B],
+            lq0: [0.0; B],
             eps: [[0.0; B]; 6],
             w: [0; B],
             v: [0.0; B],
             c: [[0.0; B]; 6],
             ll: [0.0; B],
+            lq: [0.0; B],
             lp: [0.0; B],
+            la: [0.0; B],
             acc: [false; B],
             aux: [aux; B],
             reach: [reach; B],
@@ -1024,7 +1055,8 @@ impl Pop<'_> {
                 if words {
                     l.f[lane] = self.fit[i];
                 }
-                l.logpi[lane] = self.logpi[i];
+                l.ll0[lane] = self.loglik[i];
+                l.lq0[lane] = self.logq[i];
             }
             for e in l.eps.iter_mut() {
                 z.fill_batch_lanes(&mut self.lanes, self.rng, e);
@@ -1036,14 +1068,19 @@ impl Pop<'_> {
             }
             self.lanes.uniforms(&mut l.v);
             make(&mut l);
-            t.eval(&l.c, m, &mut scratch, &mut l.ll, &mut l.lp);
+            t.log_likelihood(&l.c, m, &mut l.ll);
+            t.log_predictive::<B, true>(&l.c, &mut scratch, &mut l.lq);
+            for lane in 0..B {
+                l.lp[lane] = l.ll[lane] + l.lq[lane];
+                l.la[lane] = (l.ll[lane] - l.ll0[lane]) + (l.lq[lane] - l.lq0[lane]);
+            }
             decide(&mut l);
             for lane in 0..m {
                 if l.acc[lane] {
                     let i = l.idx[lane];
                     self.x[i] = State::from_fn(|k, _| l.c[k][lane]);
                     self.loglik[i] = l.ll[lane];
-                    self.logpi[i] = l.lp[lane];
+                    self.logq[i] = l.lq[lane];
                     self.accepted += 1;
                 }
             }
