@@ -82,7 +82,13 @@
 //! summarises the moved population itself (`unit_moments`: mean and covariance in one
 //! unweighted pass, instead of the filter's weighted mean pass and the next prediction's
 //! weighted moments pass); the random stream is unchanged, the particles move from before
-//! only by that summary's rounding (the next step's predictive Gaussian).
+//! only by that summary's rounding (the next step's predictive Gaussian). Since `perf-gapf8`
+//! the operators keep each particle's predictive density `ln N(x; m-, P-)` (`logq`) apart
+//! from its log-likelihood, the crossover forms the pair's predictive factor from the
+//! whitened half-difference alone (one forward substitution per pair; see
+//! `Pop::crossover_block`), and the test `v < e^la` is decided by a Taylor squeeze where it
+//! can be (`accept_linear`, the same decisions); the random stream is unchanged, the log
+//! ratios are summed in another order, so the particles move from before at rounding level.
 
 use super::{
     bandwidth, psd_sqrt, Kernel, Likelihood, Moments, ParticleFilter, PfRng, BLOCK, TRIANGLE,

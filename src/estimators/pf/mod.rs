@@ -1285,7 +1285,8 @@ pub struct ParticleFilter {
     /// log-likelihood of each particle at the last update (fitness of the genetic kinds)
     loglik: Vec<f64>,
     loglik_tmp: Vec<f64>,
-    /// log target density of each particle during the genetic move steps
+    /// log predictive density `ln N(x; m-, P-)` of each particle (up to a constant) during
+    /// the genetic move steps (their target is `loglik` plus it; `genetic.rs`' `logq`)
     logpi: Vec<f64>,
     /// resampling indices; after resampling, the genetic operators' selected items
     idx: Vec<usize>,
