@@ -442,33 +442,12 @@ impl<'a, 'b, M: MeasurementModel> Target<'a, 'b, M> {
             }
         }
     }
-
-    /// `logq[i] = ln N(x_i; m-, P-)` (up to the constant) for every particle.
-    #[inline(always)]
-    fn densities(&self, x: &[State], logq: &mut [f64]) {
-        let mut c = [[0.0; B]; 6];
-        let mut u = [[0.0; B]; 6];
-        let mut lq = [0.0; B];
-        for (xs, lqs) in x.chunks(B).zip(logq.chunks_mut(B)) {
-            for (lane, xi) in xs.iter().enumerate() {
-                for k in 0..6 {
-                    c[k][lane] = xi[k];
-                }
-            }
-            self.log_predictive::<B, true>(&c, &mut u, &mut lq);
-            let m = lqs.len();
-            lqs.copy_from_slice(&lq[..m]);
-        }
-    }
 }
 
 /// The population the operators work on (the filter's buffers, borrowed apart).
 struct Pop<'p> {
     x: &'p mut [State],
     loglik: &'p mut [f64],
-    /// the predictive density `ln N(x_i; m-, P-)` of each particle (up to a constant; the
-    /// target is `loglik + logq`), kept current within a call
-    logq: &'p mut [f64],
     /// fitness of each particle, kept current within a generation (CGA-PF only)
     fit: &'p mut [f64],
     /// indices selected for an operator
@@ -600,7 +579,7 @@ impl Pop<'_> {
             }
             // the pairs' members in the two halves, `a` in lane `p`, `b` in lane `P + p`:
             // the mixing runs on contiguous lanes
-            let (mut ll0, mut lq0) = ([0.0; B], [0.0; B]);
+            let mut ll0 = [0.0; B];
             for (p, &(a, b)) in ab.iter().enumerate().take(np) {
                 let (xa, xb) = (&self.x[a], &self.x[b]);
                 for k in 0..6 {
@@ -608,7 +587,6 @@ impl Pop<'_> {
                     c[k][P + p] = xb[k];
                 }
                 (ll0[p], ll0[P + p]) = (self.loglik[a], self.loglik[b]);
-                (lq0[p], lq0[P + p]) = (self.logq[a], self.logq[b]);
             }
             // a short last block: the unused lanes repeat the first pair (defined positions,
             // no slow path in the likelihood; never read)
@@ -631,15 +609,10 @@ impl Pop<'_> {
             // -D / 2 per pair
             t.log_predictive::<P, false>(&dd, &mut scratch, &mut dq);
             let mut la = [0.0; P];
-            let mut lq = [0.0; B];
             for p in 0..P {
                 let e = s[p] * s[p] - 1.0;
                 // (s^2 - 1) D / 2
                 let h = -(e * dq[p]);
-                let (qa, qb) = (lq0[p], lq0[P + p]);
-                let (mean, half) = ((qa + qb) * 0.5, (qa - qb) * 0.5);
-                lq[p] = (mean - h) + s[p] * half;
-                lq[P + p] = (mean - h) - s[p] * half;
                 let dl = (ll[p] + ll[P + p]) - (ll0[p] + ll0[P + p]);
                 la[p] = (dl - 2.0 * h) + 6.0 * u[p];
             }
@@ -648,7 +621,6 @@ impl Pop<'_> {
                     for (lane, i) in [(p, a), (P + p, b)] {
                         self.x[i] = State::from_fn(|k, _| c[k][lane]);
                         self.loglik[i] = ll[lane];
-                        self.logq[i] = lq[lane];
                         if let Some(best) = best {
                             self.fit[i] = fitness(ll[lane] - best);
                         }
@@ -739,7 +711,6 @@ impl ParticleFilter {
         Pop {
             x: &mut self.x,
             loglik: &mut self.loglik,
-            logq: &mut self.logpi,
             fit: &mut self.scratch,
             sel: &mut self.idx,
             perm: &mut self.perm,
@@ -790,7 +761,6 @@ impl ParticleFilter {
         simd::dispatch(
             #[inline(always)]
             || {
-                t.densities(pop.x, pop.logq);
                 pop.shuffle();
                 let count = pop.select(n / 2, g.crossover, None, |_, _, _| {});
                 pop.crossover_block(&t, count, None);
@@ -865,7 +835,6 @@ impl ParticleFilter {
         simd::dispatch(
             #[inline(always)]
             || {
-                t.densities(pop.x, pop.logq);
                 for gen in 0..c.generations {
                     let (best, f_min, f_avg, f_max) = pop.fitness_stats();
                     if !best.is_finite() {
@@ -1062,7 +1031,6 @@ impl Pop<'_> {
                     l.f[lane] = self.fit[i];
                 }
                 l.ll0[lane] = self.loglik[i];
-                l.lq0[lane] = self.logq[i];
             }
             for e in l.eps.iter_mut() {
                 z.fill_batch_lanes(&mut self.lanes, self.rng, e);
@@ -1075,6 +1043,7 @@ impl Pop<'_> {
             self.lanes.uniforms(&mut l.v);
             make(&mut l);
             t.log_likelihood(&l.c, m, &mut l.ll);
+            t.log_predictive::<B, true>(&l.x, &mut scratch, &mut l.lq0);
             t.log_predictive::<B, true>(&l.c, &mut scratch, &mut l.lq);
             for lane in 0..B {
                 l.lp[lane] = l.ll[lane] + l.lq[lane];
@@ -1086,7 +1055,6 @@ impl Pop<'_> {
                     let i = l.idx[lane];
                     self.x[i] = State::from_fn(|k, _| l.c[k][lane]);
                     self.loglik[i] = l.ll[lane];
-                    self.logq[i] = l.lq[lane];
                     self.accepted += 1;
                 }
             }
