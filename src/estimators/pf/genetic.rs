@@ -83,12 +83,14 @@
 //! unweighted pass, instead of the filter's weighted mean pass and the next prediction's
 //! weighted moments pass); the random stream is unchanged, the particles move from before
 //! only by that summary's rounding (the next step's predictive Gaussian). Since `perf-gapf8`
-//! the operators keep each particle's predictive density `ln N(x; m-, P-)` (`logq`) apart
-//! from its log-likelihood, the crossover forms the pair's predictive factor from the
-//! whitened half-difference alone (one forward substitution per pair; see
-//! `Pop::crossover_block`), and the test `v < e^la` is decided by a Taylor squeeze where it
-//! can be (`accept_linear`, the same decisions); the random stream is unchanged, the log
-//! ratios are summed in another order, so the particles move from before at rounding level.
+//! the crossover forms the pair's predictive factor from the whitened half-difference alone
+//! (one forward substitution per pair; see `Pop::crossover_block`), so no pass over the
+//! population forms every particle's target first: a particle's predictive density
+//! `ln N(x; m-, P-)` is formed only in a mutation block (beside its candidate's), and the
+//! log ratios are `(ll' - ll) + (lq' - lq)`; the test `v < e^la` is decided by a Taylor
+//! squeeze where it can be (`accept_linear`, the same decisions). The random stream is
+//! unchanged; the log ratios are summed in another order, so the particles move from before
+//! at rounding level.
 
 use super::{
     bandwidth, psd_sqrt, Kernel, Likelihood, Moments, ParticleFilter, PfRng, BLOCK, TRIANGLE,
@@ -526,14 +528,13 @@ impl Pop<'_> {
     /// so the blocks equal the pairs one at a time. With `best`, the accepted particles'
     /// fitness `exp(ll - best)` is updated.
     ///
-    /// The predictive factor of the ratio needs no candidate's quadratic form: in whitened
-    /// coordinates (`L-^-1 (x - m-)`, where the move is the same affine map) the children
-    /// are `w_m ± s w_d`, so with `D = |L-^-1 d|^2` and the parents' `q = -2 ln N`,
-    /// `q(a') + q(b') = q(a) + q(b) + 2 (s^2 - 1) D` and
-    /// `q(a') = (q(a) + q(b)) / 2 + (s^2 - 1) D + s (q(a) - q(b)) / 2` (`b'`: `-s`): one
-    /// forward substitution per pair (of `d`, eight lanes) instead of one per candidate.
-    /// The log ratio is `ln p(z | a') + ln p(z | b') - ln p(z | a) - ln p(z | b)
-    /// - (s^2 - 1) D + 6 u`.
+    /// The predictive factor of the ratio needs neither a candidate's nor a parent's
+    /// quadratic form: in whitened coordinates (`L-^-1 (x - m-)`, where the move is the same
+    /// affine map) the children are `w_m ± s w_d`, so with `D = |L-^-1 d|^2` and
+    /// `q = |w|^2 = -2 ln N` (up to the constant), `q(a') + q(b') = q(a) + q(b) +
+    /// 2 (s^2 - 1) D` exactly: one forward substitution per pair (of `d`, eight lanes)
+    /// instead of one per candidate and per parent. The log ratio is
+    /// `(ln p(z | a') + ln p(z | b')) - (ln p(z | a) + ln p(z | b)) - (s^2 - 1) D + 6 u`.
     #[inline(always)]
     fn crossover_block<M: MeasurementModel>(
         &mut self,
@@ -948,7 +949,8 @@ struct Block {
     /// lanes in use
     n: usize,
     idx: [usize; B],
-    /// the particles, their fitness, log-likelihoods and log predictive densities
+    /// the particles, their fitness, log-likelihoods and log predictive densities (formed in
+    /// the block)
     x: [[f64; B]; 6],
     f: [f64; B],
     ll0: [f64; B],
@@ -1001,8 +1003,11 @@ impl Block {
 impl Pop<'_> {
     /// Mutation of the selected particles `sel[..count]`, sixteen per block: gathers the
     /// particles, draws from the lanes six batches of normals (component-major), sixteen
-    /// words when `words` (the cloud mutation's signs) and sixteen acceptance uniforms, `make` forms the candidates `c`, the target is evaluated,
-    /// `decide` sets `acc`, and the accepted candidates replace their particles.
+    /// words when `words` (the cloud mutation's signs) and sixteen acceptance uniforms,
+    /// `make` forms the candidates `c`, the candidates' likelihood and the predictive
+    /// density of the candidates and of the particles are evaluated (the log ratio
+    /// `la = (ll - ll0) + (lq - lq0)`), `decide` sets `acc`, and the accepted candidates
+    /// replace their particles.
     /// Particles are distinct, so the blocks equal the particles one at a time.
     #[inline(always)]
     fn mutate_blocks<M: MeasurementModel>(
