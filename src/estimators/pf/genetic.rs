@@ -82,7 +82,15 @@
 //! summarises the moved population itself (`unit_moments`: mean and covariance in one
 //! unweighted pass, instead of the filter's weighted mean pass and the next prediction's
 //! weighted moments pass); the random stream is unchanged, the particles move from before
-//! only by that summary's rounding (the next step's predictive Gaussian).
+//! only by that summary's rounding (the next step's predictive Gaussian). Since `perf-gapf8`
+//! the crossover forms the pair's predictive factor from the whitened half-difference alone
+//! (one forward substitution per pair; see `Pop::crossover_block`), so no pass over the
+//! population forms every particle's target first: a particle's predictive density
+//! `ln N(x; m-, P-)` is formed only in a mutation block (beside its candidate's), and the
+//! log ratios are `(ll' - ll) + (lq' - lq)`; the test `v < e^la` is decided by a Taylor
+//! squeeze where it can be (`accept_linear`, the same decisions). The random stream is
+//! unchanged; the log ratios are summed in another order, so the particles move from before
+//! at rounding level.
 
 use super::{
     bandwidth, psd_sqrt, Kernel, Likelihood, Moments, ParticleFilter, PfRng, BLOCK, TRIANGLE,
@@ -245,9 +253,34 @@ fn unit(w: u64) -> f64 {
 /// Metropolis–Hastings acceptance of a log ratio `la` with the uniform `v` in the linear
 /// domain: `v < e^la` (the same event as `ln v < la`, no logarithm); `la >= 0` (`+inf`
 /// included) always, NaN and `-inf` never.
+///
+/// A squeeze decides most tests without the exponential: with `y = -la > 0`, Taylor's
+/// theorem bounds `e^-y` by `1 - y + y^2/2 - y^3/6 <= e^-y <= 1 / (1 + y + y^2/2 + y^3/6)`
+/// (the remainders `e^-xi y^4 / 24` and `e^xi y^4 / 24` are non-negative); `v` below the
+/// lower bound accepts, at or above the upper rejects, and only between them is
+/// [`exp_nonpos`] formed. The bounds are widened by `2^-40` relative (far above their
+/// rounding and `exp_nonpos`' 2 ulp), so the decision is the exponential's, bit for bit.
 #[inline(always)]
 fn accept_linear(v: f64, la: f64) -> bool {
-    la >= 0.0 || (la > f64::NEG_INFINITY && v < exp_nonpos(la))
+    const WIDEN: f64 = 1.0 / (1u64 << 40) as f64;
+    if la >= 0.0 {
+        return true;
+    }
+    if !(la > f64::NEG_INFINITY) {
+        return false;
+    }
+    let y = -la;
+    let (y2, y3) = (y * y, y * y * y);
+    let lo = 1.0 - y + 0.5 * y2 - y3 * (1.0 / 6.0);
+    if v < lo * (1.0 - WIDEN) {
+        return true;
+    }
+    // `v * den` is NaN only for `v = 0` with `den = inf`: falls through to the exponential
+    let den = 1.0 + y + 0.5 * y2 + y3 * (1.0 / 6.0);
+    if v * den >= 1.0 + WIDEN {
+        return false;
+    }
+    v < exp_nonpos(la)
 }
 
 /// Adaptive probabilities from cloud drops for a block of fitnesses `f` with the drops'
@@ -339,31 +372,41 @@ impl<'a, 'b, M: MeasurementModel> Target<'a, 'b, M> {
         }
     }
 
-    /// `ln N(c; m-, P-)` up to a constant, `-|L-^-1 (c - m-)|^2 / 2`, for every lane.
+    /// `ln N(c; m-, P-)` up to a constant, `-|L-^-1 (c - m-)|^2 / 2`, for every lane
+    /// (`CENTRE`; without it `-|L-^-1 c|^2 / 2`, the form of a difference of two states).
     // lane-indexed loops over several arrays: the form that vectorises across lanes
     #[allow(clippy::needless_range_loop)]
     #[inline(always)]
     /// `u` is scratch (the whitened offsets; the caller's, so that a block does not zero
     /// it).
-    fn log_predictive(&self, c: &[[f64; B]; 6], u: &mut [[f64; B]; 6], out: &mut [f64; B]) {
+    fn log_predictive<const L: usize, const CENTRE: bool>(
+        &self,
+        c: &[[f64; L]; 6],
+        u: &mut [[f64; L]; 6],
+        out: &mut [f64; L],
+    ) {
         for i in 0..6 {
-            let mut s = [0.0; B];
-            for lane in 0..B {
-                s[lane] = c[i][lane] - self.m[i];
+            let mut s = [0.0; L];
+            for lane in 0..L {
+                s[lane] = if CENTRE {
+                    c[i][lane] - self.m[i]
+                } else {
+                    c[i][lane]
+                };
             }
             for j in 0..i {
                 let lij = self.l[i][j];
-                for lane in 0..B {
+                for lane in 0..L {
                     s[lane] -= lij * u[j][lane];
                 }
             }
-            for lane in 0..B {
+            for lane in 0..L {
                 u[i][lane] = s[lane] * self.inv_diag[i];
             }
         }
-        let mut q = [0.0; B];
+        let mut q = [0.0; L];
         for ui in u.iter() {
-            for lane in 0..B {
+            for lane in 0..L {
                 q[lane] += ui[lane] * ui[lane];
             }
         }
@@ -372,18 +415,10 @@ impl<'a, 'b, M: MeasurementModel> Target<'a, 'b, M> {
         }
     }
 
-    /// `ln p(z | c)` into `ll` and `ln pi(c)` into `lp` for the first `n` lanes (the others
-    /// unspecified): `-inf` where the measurement is undefined.
+    /// `ln p(z | c)` into `ll` for the first `n` lanes (the others unspecified): `-inf`
+    /// where the measurement is undefined.
     #[inline(always)]
-    /// `u` is [`Target::log_predictive`]'s scratch.
-    fn eval(
-        &self,
-        c: &[[f64; B]; 6],
-        n: usize,
-        u: &mut [[f64; B]; 6],
-        ll: &mut [f64; B],
-        lp: &mut [f64; B],
-    ) {
+    fn log_likelihood(&self, c: &[[f64; B]; 6], n: usize, ll: &mut [f64; B]) {
         let r = [c[0], c[1], c[2]];
         let mut d = [[0.0; B]; 3];
         let mut ok = [false; B];
@@ -408,29 +443,6 @@ impl<'a, 'b, M: MeasurementModel> Target<'a, 'b, M> {
                 };
             }
         }
-        self.log_predictive(c, u, lp);
-        for (p, l) in lp.iter_mut().zip(ll.iter()) {
-            *p += *l;
-        }
-    }
-
-    /// `logpi[i] = loglik[i] + ln N(x_i; m-, P-)` for every particle.
-    #[inline(always)]
-    fn densities(&self, x: &[State], loglik: &[f64], logpi: &mut [f64]) {
-        let mut c = [[0.0; B]; 6];
-        let mut u = [[0.0; B]; 6];
-        let mut lp = [0.0; B];
-        for ((xs, lls), lps) in x.chunks(B).zip(loglik.chunks(B)).zip(logpi.chunks_mut(B)) {
-            for (lane, xi) in xs.iter().enumerate() {
-                for k in 0..6 {
-                    c[k][lane] = xi[k];
-                }
-            }
-            self.log_predictive(&c, &mut u, &mut lp);
-            for ((o, &l), &p) in lps.iter_mut().zip(lls).zip(&lp) {
-                *o = l + p;
-            }
-        }
     }
 }
 
@@ -438,7 +450,6 @@ impl<'a, 'b, M: MeasurementModel> Target<'a, 'b, M> {
 struct Pop<'p> {
     x: &'p mut [State],
     loglik: &'p mut [f64],
-    logpi: &'p mut [f64],
     /// fitness of each particle, kept current within a generation (CGA-PF only)
     fit: &'p mut [f64],
     /// indices selected for an operator
@@ -516,6 +527,14 @@ impl Pop<'_> {
     /// and the sign of `s` (bit 0), a second the acceptance uniform. The pairs are disjoint,
     /// so the blocks equal the pairs one at a time. With `best`, the accepted particles'
     /// fitness `exp(ll - best)` is updated.
+    ///
+    /// The predictive factor of the ratio needs neither a candidate's nor a parent's
+    /// quadratic form: in whitened coordinates (`L-^-1 (x - m-)`, where the move is the same
+    /// affine map) the children are `w_m ± s w_d`, so with `D = |L-^-1 d|^2` and
+    /// `q = |w|^2 = -2 ln N` (up to the constant), `q(a') + q(b') = q(a) + q(b) +
+    /// 2 (s^2 - 1) D` exactly: one forward substitution per pair (of `d`, eight lanes)
+    /// instead of one per candidate and per parent. The log ratio is
+    /// `(ln p(z | a') + ln p(z | b')) - (ln p(z | a) + ln p(z | b)) - (s^2 - 1) D + 6 u`.
     #[inline(always)]
     fn crossover_block<M: MeasurementModel>(
         &mut self,
@@ -526,8 +545,9 @@ impl Pop<'_> {
         const P: usize = B / 2;
         let ln2 = std::f64::consts::LN_2;
         let mut c = [[0.0; B]; 6];
-        let mut scratch = [[0.0; B]; 6];
-        let (mut ll, mut lp) = ([0.0; B], [0.0; B]);
+        let mut dd = [[0.0; P]; 6];
+        let mut scratch = [[0.0; P]; 6];
+        let (mut ll, mut dq) = ([0.0; B], [0.0; P]);
         let mut start = 0;
         while start < count {
             let np = P.min(count - start);
@@ -558,33 +578,50 @@ impl Pop<'_> {
                 let e = if u[p] <= 0.0 { e } else { 1.0 / e };
                 s[p] = if neg[p] { -e } else { e };
             }
+            // the pairs' members in the two halves, `a` in lane `p`, `b` in lane `P + p`:
+            // the mixing runs on contiguous lanes
+            let mut ll0 = [0.0; B];
             for (p, &(a, b)) in ab.iter().enumerate().take(np) {
                 let (xa, xb) = (&self.x[a], &self.x[b]);
                 for k in 0..6 {
-                    c[k][2 * p] = xa[k];
-                    c[k][2 * p + 1] = xb[k];
+                    c[k][p] = xa[k];
+                    c[k][P + p] = xb[k];
+                }
+                (ll0[p], ll0[P + p]) = (self.loglik[a], self.loglik[b]);
+            }
+            // a short last block: the unused lanes repeat the first pair (defined positions,
+            // no slow path in the likelihood; never read)
+            for p in np..P {
+                for ck in c.iter_mut() {
+                    (ck[p], ck[P + p]) = (ck[0], ck[P]);
                 }
             }
-            for ck in c.iter_mut() {
+            for (ck, dk) in c.iter_mut().zip(dd.iter_mut()) {
                 for p in 0..P {
-                    let (xa, xb) = (ck[2 * p], ck[2 * p + 1]);
+                    let (xa, xb) = (ck[p], ck[P + p]);
                     let m = (xa + xb) * 0.5;
                     let d = (xa - xb) * 0.5;
-                    ck[2 * p] = m + d * s[p];
-                    ck[2 * p + 1] = m - d * s[p];
+                    dk[p] = d;
+                    ck[p] = m + d * s[p];
+                    ck[P + p] = m - d * s[p];
                 }
             }
-            t.eval(&c, 2 * np, &mut scratch, &mut ll, &mut lp);
+            t.log_likelihood(&c, B, &mut ll);
+            // -D / 2 per pair
+            t.log_predictive::<P, false>(&dd, &mut scratch, &mut dq);
             let mut la = [0.0; P];
-            for (p, &(a, b)) in ab.iter().enumerate().take(np) {
-                la[p] = lp[2 * p] + lp[2 * p + 1] - self.logpi[a] - self.logpi[b] + 6.0 * u[p];
+            for p in 0..P {
+                let e = s[p] * s[p] - 1.0;
+                // (s^2 - 1) D / 2
+                let h = -(e * dq[p]);
+                let dl = (ll[p] + ll[P + p]) - (ll0[p] + ll0[P + p]);
+                la[p] = (dl - 2.0 * h) + 6.0 * u[p];
             }
             for (p, &(a, b)) in ab.iter().enumerate().take(np) {
                 if accept_linear(v[p], la[p]) {
-                    for (lane, i) in [(2 * p, a), (2 * p + 1, b)] {
+                    for (lane, i) in [(p, a), (P + p, b)] {
                         self.x[i] = State::from_fn(|k, _| c[k][lane]);
                         self.loglik[i] = ll[lane];
-                        self.logpi[i] = lp[lane];
                         if let Some(best) = best {
                             self.fit[i] = fitness(ll[lane] - best);
                         }
@@ -675,7 +712,6 @@ impl ParticleFilter {
         Pop {
             x: &mut self.x,
             loglik: &mut self.loglik,
-            logpi: &mut self.logpi,
             fit: &mut self.scratch,
             sel: &mut self.idx,
             perm: &mut self.perm,
@@ -726,7 +762,6 @@ impl ParticleFilter {
         simd::dispatch(
             #[inline(always)]
             || {
-                t.densities(pop.x, pop.loglik, pop.logpi);
                 pop.shuffle();
                 let count = pop.select(n / 2, g.crossover, None, |_, _, _| {});
                 pop.crossover_block(&t, count, None);
@@ -760,8 +795,8 @@ impl ParticleFilter {
                     #[inline(always)]
                     |l| {
                         for lane in 0..B {
-                            l.acc[lane] = l.lp[lane].is_finite()
-                                && accept_linear(l.v[lane], l.lp[lane] - l.logpi[lane]);
+                            l.acc[lane] =
+                                l.lp[lane].is_finite() && accept_linear(l.v[lane], l.la[lane]);
                         }
                     },
                 );
@@ -801,7 +836,6 @@ impl ParticleFilter {
         simd::dispatch(
             #[inline(always)]
             || {
-                t.densities(pop.x, pop.loglik, pop.logpi);
                 for gen in 0..c.generations {
                     let (best, f_min, f_avg, f_max) = pop.fitness_stats();
                     if !best.is_finite() {
@@ -888,7 +922,7 @@ impl ParticleFilter {
                             }
                             let (q, r) = hastings_cloud(l, &ln_mu_back, &en, &he, &live);
                             for lane in 0..B {
-                                let la = l.lp[lane] - l.logpi[lane] + q[lane];
+                                let la = l.la[lane] + q[lane];
                                 // v < r e^la without a logarithm: e^-|la| is <= 1
                                 let e = exp_nonpos(-la.abs());
                                 let v = l.v[lane];
@@ -915,19 +949,24 @@ struct Block {
     /// lanes in use
     n: usize,
     idx: [usize; B],
-    /// the particles, their fitness and log target density
+    /// the particles, their fitness, log-likelihoods and log predictive densities (formed in
+    /// the block)
     x: [[f64; B]; 6],
     f: [f64; B],
-    logpi: [f64; B],
+    ll0: [f64; B],
+    lq0: [f64; B],
     /// six standard normals per lane (component-major)
     eps: [[f64; B]; 6],
     /// a word per lane (the cloud mutation's signs) and the acceptance uniform
     w: [u64; B],
     v: [f64; B],
-    /// the candidates, their log-likelihoods and log target densities
+    /// the candidates, their log-likelihoods, log predictive and log target densities,
+    /// and the log target ratio `la = (ll - ll0) + (lq - lq0)`
     c: [[f64; B]; 6],
     ll: [f64; B],
+    lq: [f64; B],
     lp: [f64; B],
+    la: [f64; B],
     acc: [bool; B],
     /// per-operator lane values (the cloud mutation's `ln mu` and reach)
     aux: [f64; B],
@@ -944,13 +983,16 @@ impl Block {
             idx: [0; B],
             x: [[0.0; B]; 6],
             f: [1.0; B],
-            logpi: [0.0; B],
+            ll0: [0.0; B],
+            lq0: [0.0; B],
             eps: [[0.0; B]; 6],
             w: [0; B],
             v: [0.0; B],
             c: [[0.0; B]; 6],
             ll: [0.0; B],
+            lq: [0.0; B],
             lp: [0.0; B],
+            la: [0.0; B],
             acc: [false; B],
             aux: [aux; B],
             reach: [reach; B],
@@ -961,8 +1003,11 @@ impl Block {
 impl Pop<'_> {
     /// Mutation of the selected particles `sel[..count]`, sixteen per block: gathers the
     /// particles, draws from the lanes six batches of normals (component-major), sixteen
-    /// words when `words` (the cloud mutation's signs) and sixteen acceptance uniforms, `make` forms the candidates `c`, the target is evaluated,
-    /// `decide` sets `acc`, and the accepted candidates replace their particles.
+    /// words when `words` (the cloud mutation's signs) and sixteen acceptance uniforms,
+    /// `make` forms the candidates `c`, the candidates' likelihood and the predictive
+    /// density of the candidates and of the particles are evaluated (the log ratio
+    /// `la = (ll - ll0) + (lq - lq0)`), `decide` sets `acc`, and the accepted candidates
+    /// replace their particles.
     /// Particles are distinct, so the blocks equal the particles one at a time.
     #[inline(always)]
     fn mutate_blocks<M: MeasurementModel>(
@@ -986,8 +1031,11 @@ impl Pop<'_> {
                 for k in 0..6 {
                     l.x[k][lane] = self.x[i][k];
                 }
-                l.f[lane] = self.fit[i];
-                l.logpi[lane] = self.logpi[i];
+                // the fitness only for the cloud mutation (the GA-PF's `fit` is unused)
+                if words {
+                    l.f[lane] = self.fit[i];
+                }
+                l.ll0[lane] = self.loglik[i];
             }
             for e in l.eps.iter_mut() {
                 z.fill_batch_lanes(&mut self.lanes, self.rng, e);
@@ -999,14 +1047,19 @@ impl Pop<'_> {
             }
             self.lanes.uniforms(&mut l.v);
             make(&mut l);
-            t.eval(&l.c, m, &mut scratch, &mut l.ll, &mut l.lp);
+            t.log_likelihood(&l.c, m, &mut l.ll);
+            t.log_predictive::<B, true>(&l.x, &mut scratch, &mut l.lq0);
+            t.log_predictive::<B, true>(&l.c, &mut scratch, &mut l.lq);
+            for lane in 0..B {
+                l.lp[lane] = l.ll[lane] + l.lq[lane];
+                l.la[lane] = (l.ll[lane] - l.ll0[lane]) + (l.lq[lane] - l.lq0[lane]);
+            }
             decide(&mut l);
             for lane in 0..m {
                 if l.acc[lane] {
                     let i = l.idx[lane];
                     self.x[i] = State::from_fn(|k, _| l.c[k][lane]);
                     self.loglik[i] = l.ll[lane];
-                    self.logpi[i] = l.lp[lane];
                     self.accepted += 1;
                 }
             }

@@ -1293,8 +1293,6 @@ pub struct ParticleFilter {
     /// log-likelihood of each particle at the last update (fitness of the genetic kinds)
     loglik: Vec<f64>,
     loglik_tmp: Vec<f64>,
-    /// log target density of each particle during the genetic move steps
-    logpi: Vec<f64>,
     /// resampling indices; after resampling, the genetic operators' selected items
     idx: Vec<usize>,
     /// the literal SIR's resampling is in `idx` only, not yet applied to `x` and `loglik`
@@ -1383,7 +1381,6 @@ impl ParticleFilter {
             w: vec![1.0 / n as f64; n],
             loglik: vec![0.0; n],
             loglik_tmp: vec![0.0; n],
-            logpi: vec![0.0; n],
             idx: vec![0; n],
             pending: false,
             perm: (0..n).collect(),
@@ -2468,7 +2465,7 @@ impl Estimator for ParticleFilter {
 /// from `PARALLEL_MIN_PARTICLES` on, none below), the cached `Q`, its square root and
 /// definiteness, and the counters (resamplings, moves tried and accepted). The settings,
 /// the worker pool and the unscented proposal's weights are configuration; the `*_tmp`,
-/// `logpi`, `idx` and `scratch` buffers and the chunk generators' saved copies are
+/// `idx` and `scratch` buffers and the chunk generators' saved copies are
 /// overwritten by every step before they are read.
 impl Persist for ParticleFilter {
     fn save_state(&self, w: &mut Writer<'_>) {
@@ -2487,7 +2484,6 @@ impl Persist for ParticleFilter {
             w: weights,
             loglik,
             loglik_tmp: _,
-            logpi: _,
             idx,
             pending,
             perm,
@@ -2570,7 +2566,6 @@ impl Persist for ParticleFilter {
             w: weights,
             loglik,
             loglik_tmp: _,
-            logpi: _,
             idx,
             pending,
             perm,
