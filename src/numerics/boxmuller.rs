@@ -50,7 +50,7 @@ use super::vlog::ln_normal;
 use super::ziggurat::{Lanes, LANES};
 
 /// Values per batch of [`fill_batch_lanes`] (the same as the ziggurat's batch).
-pub const BATCH: usize = 16;
+pub(crate) const BATCH: usize = 16;
 
 /// `pi / 4` rounded to the nearest double.
 const PIO4: f64 = std::f64::consts::FRAC_PI_4;
