@@ -254,19 +254,22 @@ pub(crate) const LANES: usize = 4;
 /// generator at the start of each transition ([`Lanes::seed_from`]), so its saved state is
 /// still that generator's four words and a restored filter continues identically.
 ///
-/// The two rotations are written as a left and a right shift by amounts held in the
-/// struct (`rot`, set through [`std::hint::black_box`] when the lanes are made), because
-/// LLVM folds every constant-amount form of a rotation (`rotate_left`, `(x << k) | (x >>
-/// (64 - k))`, with `^` or `+`) into a funnel-shift intrinsic that its SLP vectoriser then
-/// keeps scalar (`rorx` per lane, with extracts and inserts around it: about 70 % of the
-/// lanes' instructions); with amounts it cannot see, the step is four AVX2 shifts by a
-/// broadcast count per word vector and the rest of the step stays in registers. The bits
-/// are the same (tested against the reference generator).
+/// The output's rotation `rotl(s0 + s3, 23)` is written as a left and a right shift by
+/// amounts held in the struct (`rot`, set through [`std::hint::black_box`] when the lanes
+/// are made), because LLVM folds every constant-amount form of a rotation (`rotate_left`,
+/// `(x << k) | (x >> (64 - k))`, with `^` or `+`) into a funnel-shift intrinsic that its SLP
+/// vectoriser then keeps scalar (`rorx` per lane, with extracts and inserts around it); with
+/// amounts it cannot see, the output is two AVX2 shifts by a broadcast count and an or per
+/// four words. The state's rotation `rotl(s3, 45)` stays a constant rotation: measured on the
+/// particle steps, that mix vectorises the whole step in the simple loops and falls back to
+/// one `rorx` (not three scalar shifts) where the SLP vectoriser does not take the step
+/// (docs/evaluation.md, "Seventh pass"). The bits are the same (tested against the
+/// reference generator).
 #[derive(Debug, Clone)]
 pub struct Lanes {
     s: [[u64; LANES]; 4],
-    /// `[23, 41, 45, 19]`: the shifts of `rotl(x, 23)` and `rotl(x, 45)`.
-    rot: [u32; 4],
+    /// `[23, 41]`: the left and right shifts of `rotl(x, 23)`.
+    rot: [u32; 2],
 }
 
 impl Lanes {
@@ -287,7 +290,7 @@ impl Lanes {
         }
         Self {
             s,
-            rot: std::hint::black_box([23, 41, 45, 19]),
+            rot: std::hint::black_box([23, 41]),
         }
     }
 
@@ -305,11 +308,11 @@ impl Lanes {
     }
 
     /// The next word of every lane (xoshiro256++: `rotl(s0 + s3, 23) + s0`, then the
-    /// state transition), lane by lane in one loop that vectorises (the rotations by the
-    /// opaque shifts `rot`, see the type's docs).
+    /// state transition), lane by lane in one loop that vectorises (the output's rotation
+    /// by the opaque shifts `rot`, see the type's docs).
     #[inline(always)]
     pub fn next_words(&mut self) -> [u64; LANES] {
-        let [l23, r41, l45, r19] = self.rot;
+        let [l23, r41] = self.rot;
         let [s0, s1, s2, s3] = &mut self.s;
         let mut r = [0u64; LANES];
         for j in 0..LANES {
@@ -321,7 +324,7 @@ impl Lanes {
             s1[j] ^= s2[j];
             s0[j] ^= s3[j];
             s2[j] ^= t;
-            s3[j] = s3[j].wrapping_shl(l45) | s3[j].wrapping_shr(r19);
+            s3[j] = s3[j].rotate_left(45);
         }
         r
     }
