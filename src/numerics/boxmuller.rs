@@ -1,9 +1,11 @@
 //! Standard normal draws in batches by the Box–Muller transform, as pure vector arithmetic
 //! on the four xoshiro256++ lanes of [`Lanes`]: no table look-up, no per-value branch, no
 //! rejection. Built for the particle filters' draws (issue 15) as an alternative to
-//! [`crate::numerics::ziggurat::Ziggurat::fill_batch_lanes`], and measured slower than it
-//! (25.9 against 18.1 instructions per normal, about 15 % more wall clock: docs/evaluation.md,
-//! "Seventh pass"), so no filter uses it; `examples/normals.rs` compares the two.
+//! [`crate::numerics::ziggurat::Ziggurat::fill_batch_lanes`] and measured against it
+//! (docs/evaluation.md, "Seventh pass"): more instructions (24.1 against 19.8 per normal),
+//! faster on its own in wall clock, but slower in the SIR transition (13 % more instructions
+//! per step, about 6 % more time), so no filter uses it; `examples/normals.rs` compares the
+//! two.
 //!
 //! Box & Muller, "A Note on the Generation of Random Normal Deviates", Ann. Math. Statist.
 //! 29(2), 610–611, 1958: for independent `U1` uniform on `(0, 1]` and `U2` uniform on
