@@ -9,6 +9,7 @@
 #[cfg(feature = "hinf")]
 #[allow(unsafe_code)]
 pub mod blas;
+pub mod boxmuller;
 pub mod eigen;
 pub mod simd;
 pub mod state;

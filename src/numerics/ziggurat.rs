@@ -253,9 +253,23 @@ pub(crate) const LANES: usize = 4;
 /// Transient by design: a particle filter derives the lanes from its own (saved)
 /// generator at the start of each transition ([`Lanes::seed_from`]), so its saved state is
 /// still that generator's four words and a restored filter continues identically.
+///
+/// The output's rotation `rotl(s0 + s3, 23)` is written as a left and a right shift by
+/// amounts held in the struct (`rot`, set through [`std::hint::black_box`] when the lanes
+/// are made), because LLVM folds every constant-amount form of a rotation (`rotate_left`,
+/// `(x << k) | (x >> (64 - k))`, with `^` or `+`) into a funnel-shift intrinsic that its SLP
+/// vectoriser then keeps scalar (`rorx` per lane, with extracts and inserts around it); with
+/// amounts it cannot see, the output is two AVX2 shifts by a broadcast count and an or per
+/// four words. The state's rotation `rotl(s3, 45)` stays a constant rotation: measured on the
+/// particle steps, that mix vectorises the whole step in the simple loops and falls back to
+/// one `rorx` (not three scalar shifts) where the SLP vectoriser does not take the step
+/// (docs/evaluation.md, "Seventh pass"). The bits are the same (tested against the
+/// reference generator).
 #[derive(Debug, Clone)]
 pub struct Lanes {
     s: [[u64; LANES]; 4],
+    /// `[23, 41]`: the left and right shifts of `rotl(x, 23)`.
+    rot: [u32; 2],
 }
 
 impl Lanes {
@@ -274,7 +288,10 @@ impl Lanes {
                 sk[j] = x.next_u64();
             }
         }
-        Self { s }
+        Self {
+            s,
+            rot: std::hint::black_box([23, 41]),
+        }
     }
 
     /// Sixteen uniforms in `[0, 1)` on the 2^-52 grid, value `4 t + j` from the `t`-th
@@ -291,16 +308,16 @@ impl Lanes {
     }
 
     /// The next word of every lane (xoshiro256++: `rotl(s0 + s3, 23) + s0`, then the
-    /// state transition), lane by lane in one loop that vectorises.
+    /// state transition), lane by lane in one loop that vectorises (the output's rotation
+    /// by the opaque shifts `rot`, see the type's docs).
     #[inline(always)]
     pub fn next_words(&mut self) -> [u64; LANES] {
+        let [l23, r41] = self.rot;
         let [s0, s1, s2, s3] = &mut self.s;
         let mut r = [0u64; LANES];
         for j in 0..LANES {
-            r[j] = s0[j]
-                .wrapping_add(s3[j])
-                .rotate_left(23)
-                .wrapping_add(s0[j]);
+            let a = s0[j].wrapping_add(s3[j]);
+            r[j] = (a.wrapping_shl(l23) | a.wrapping_shr(r41)).wrapping_add(s0[j]);
             let t = s1[j] << 17;
             s2[j] ^= s0[j];
             s3[j] ^= s1[j];
