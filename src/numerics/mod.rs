@@ -9,7 +9,6 @@
 #[cfg(feature = "hinf")]
 #[allow(unsafe_code)]
 pub mod blas;
-pub mod boxmuller;
 pub mod eigen;
 pub mod simd;
 pub mod state;
