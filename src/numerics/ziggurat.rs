@@ -165,32 +165,33 @@ impl Ziggurat {
         for w in words.chunks_exact_mut(LANES) {
             w.copy_from_slice(&lanes.next_words());
         }
-        let mut flag = [false; Self::BATCH];
-        for ((v, &w), f) in out.iter_mut().zip(&words).zip(flag.iter_mut()) {
+        let mut flags = 0u32;
+        for (k, (v, &w)) in out.iter_mut().zip(&words).enumerate() {
             let (i, u) = split(w);
             let x = u * self.x[i];
             *v = x;
-            *f = x.abs() >= self.x[i + 1];
+            flags |= u32::from(x.abs() >= self.x[i + 1]) << k;
         }
-        if flag.iter().fold(false, |a, &f| a | f) {
-            self.redo_flagged(rng, &words, &flag, out);
+        if flags != 0 {
+            self.redo_flagged(rng, &words, flags, out);
         }
     }
 
-    /// The slow paths of the flagged values of a batch, in order.
+    /// The slow paths of the flagged values of a batch (bit `k` of `flags` for value `k`), in
+    /// order: one step per flagged value (lowest set bit), not a test per value.
     #[cold]
     #[inline(never)]
     fn redo_flagged<R: RngCore + ?Sized>(
         &self,
         rng: &mut R,
         words: &[u64; Self::BATCH],
-        flag: &[bool; Self::BATCH],
+        mut flags: u32,
         out: &mut [f64; Self::BATCH],
     ) {
-        for ((v, &w), &f) in out.iter_mut().zip(words).zip(flag) {
-            if f {
-                *v = self.slow(w, rng);
-            }
+        while flags != 0 {
+            let k = flags.trailing_zeros() as usize % Self::BATCH;
+            flags &= flags - 1;
+            out[k] = self.slow(words[k], rng);
         }
     }
 
@@ -219,11 +220,9 @@ impl Ziggurat {
     #[cold]
     fn slow<R: RngCore + ?Sized>(&self, mut w: u64, rng: &mut R) -> f64 {
         loop {
+            // the attempt with `w` failed the fast test (`|x| >= X_{i+1}`)
             let (i, u) = split(w);
             let x = u * self.x[i];
-            if x.abs() < self.x[i + 1] {
-                return x;
-            }
             if i == 0 {
                 loop {
                     let a = -unit_open0(rng.next_u64()).ln() / Self::R;
@@ -237,7 +236,13 @@ impl Ziggurat {
             if y < pdf(x) {
                 return x;
             }
+            // a fresh attempt, fast test first
             w = rng.next_u64();
+            let (i, u) = split(w);
+            let x = u * self.x[i];
+            if x.abs() < self.x[i + 1] {
+                return x;
+            }
         }
     }
 }
