@@ -453,8 +453,21 @@ impl<M: MeasurementModel> Likelihood<'_, M> {
         for (i, xi) in xs.iter().enumerate() {
             (r[0][i], r[1][i], r[2][i]) = (xi[0], xi[1], xi[2]);
         }
-        self.sensor
-            .residuals_at(&self.z, &self.trig, r, xs.len(), d, ok);
+        self.log_block_soa(r, xs.len(), d, ok, ll);
+    }
+
+    /// [`Likelihood::log_block`] of a block of `n` particles whose positions are already
+    /// transposed into `r` (the same values).
+    #[inline(always)]
+    fn log_block_soa(
+        &self,
+        r: &[[f64; BLOCK]; 3],
+        n: usize,
+        d: &mut [[f64; BLOCK]; 3],
+        ok: &mut [bool; BLOCK],
+        ll: &mut [f64; BLOCK],
+    ) {
+        self.sensor.residuals_at(&self.z, &self.trig, r, n, d, ok);
         if self.gaussian {
             let c = &self.neg_half_inv_var;
             for (i, l) in ll.iter_mut().enumerate() {
@@ -463,7 +476,7 @@ impl<M: MeasurementModel> Likelihood<'_, M> {
                 *l = if ok[i] { v } else { f64::NEG_INFINITY };
             }
         } else {
-            for (i, o) in ll.iter_mut().enumerate().take(xs.len()) {
+            for (i, o) in ll.iter_mut().enumerate().take(n) {
                 *o = if ok[i] {
                     (0..3)
                         .map(|k| self.noise.log_density(d[k][i], self.scales[k]))
@@ -479,11 +492,20 @@ impl<M: MeasurementModel> Likelihood<'_, M> {
     /// log-likelihoods `ll_i` ([`Likelihood::log`]'s bits) into `ll`, the new log-weights
     /// `l_i = logw_i + ll_i` into `logw_new`, and their maximum (NaN ignored, `-inf` if
     /// there is none; in four interleaved partial maxima per block). Run through
-    /// [`simd::dispatch`].
-    fn weigh_many(&self, x: &[State], logw: &[f64], logw_new: &mut [f64], ll: &mut [f64]) -> f64 {
+    /// [`simd::dispatch`]. With `pos` (one block per [`BLOCK`] particles of `x`) the
+    /// positions are read from it, already transposed ([`Transition::run`]'s `pos`), instead
+    /// of from `x`: the same values.
+    fn weigh_many(
+        &self,
+        x: &[State],
+        pos: Option<&[[[f64; BLOCK]; 3]]>,
+        logw: &[f64],
+        logw_new: &mut [f64],
+        ll: &mut [f64],
+    ) -> f64 {
         simd::dispatch(
             #[inline(always)]
-            || self.weigh_many_inline(x, logw, logw_new, ll),
+            || self.weigh_many_inline(x, pos, logw, logw_new, ll),
         )
     }
 
@@ -492,6 +514,7 @@ impl<M: MeasurementModel> Likelihood<'_, M> {
     fn weigh_many_inline(
         &self,
         x: &[State],
+        pos: Option<&[[[f64; BLOCK]; 3]]>,
         logw: &[f64],
         logw_new: &mut [f64],
         ll: &mut [f64],
@@ -506,9 +529,12 @@ impl<M: MeasurementModel> Likelihood<'_, M> {
             .zip(logw.chunks(BLOCK))
             .zip(logw_new.chunks_mut(BLOCK))
             .zip(ll.chunks_mut(BLOCK));
-        for (((xs, lw), lwn), lls) in blocks {
+        for (b, (((xs, lw), lwn), lls)) in blocks.enumerate() {
             let n = xs.len();
-            self.log_block(xs, &mut r, &mut d, &mut ok, &mut llb);
+            match pos.and_then(|p| p.get(b)) {
+                Some(rb) => self.log_block_soa(rb, n, &mut d, &mut ok, &mut llb),
+                None => self.log_block(xs, &mut r, &mut d, &mut ok, &mut llb),
+            }
             let mut l = [f64::NEG_INFINITY; BLOCK];
             for ((li, a), b) in l.iter_mut().zip(lw).zip(&llb) {
                 *li = a + b;
@@ -709,17 +735,22 @@ impl Transition {
     /// With `idx` the input particle `j` is `x[idx[j]]` (`idx` as long as `out`: the
     /// resampling indices not yet applied, gathered by the block transposes instead of a
     /// copy of the cloud); without, `x[j]`.
+    ///
+    /// With `pos` (one block per [`BLOCK`] particles of `out`) the structure-of-arrays path
+    /// (CW blocks, diagonal `Q`) also writes each block's new positions there, transposed
+    /// (the lanes past a short last block unspecified); returns whether it did.
     fn run(
         &self,
         x: &[State],
         idx: Option<&[usize]>,
         out: &mut [State],
         xbar: &mut [State],
+        pos: Option<&mut [[[f64; BLOCK]; 3]]>,
         rng: &mut PfRng,
-    ) -> f64 {
+    ) -> (f64, bool) {
         crate::numerics::simd::dispatch(
             #[inline(always)]
-            || self.run_inline(x, idx, out, xbar, rng),
+            || self.run_inline(x, idx, out, xbar, pos, rng),
         )
     }
 
@@ -731,8 +762,11 @@ impl Transition {
         idx: Option<&[usize]>,
         out: &mut [State],
         xbar: &mut [State],
+        mut pos: Option<&mut [[[f64; BLOCK]; 3]]>,
         rng: &mut PfRng,
-    ) -> f64 {
+    ) -> (f64, bool) {
+        let soa = self.blocks.is_some() && self.diag.is_some();
+        let wrote = soa && pos.as_ref().is_some_and(|p| p.len() * BLOCK >= out.len());
         let mut g = rng.clone();
         let zig = Ziggurat::get();
         let mut lanes = Lanes::seed_from(&mut g);
@@ -756,7 +790,8 @@ impl Transition {
             };
             match (&self.blocks, &self.diag) {
                 (Some(cw), Some(d)) => {
-                    bad += self.block_soa(cw, d, xs, ib, os, xb_out, &eps, &mut scratch);
+                    let pb = pos.as_deref_mut().and_then(|p| p.get_mut(b));
+                    bad += self.block_soa(cw, d, xs, ib, os, xb_out, pb, &eps, &mut scratch);
                 }
                 _ => {
                     let mut xb_out = xb_out;
@@ -780,7 +815,7 @@ impl Transition {
             }
         }
         *rng = g;
-        bad
+        (bad, wrote)
     }
 
     /// One block of [`Transition::run`] in structure-of-arrays form (CW blocks, diagonal
@@ -796,6 +831,7 @@ impl Transition {
         ib: Option<&[usize]>,
         os: &mut [State],
         xb_out: Option<&mut [State]>,
+        pos: Option<&mut [[f64; BLOCK]; 3]>,
         eps: &[[f64; BLOCK]; N],
         scratch: &mut SoaBlocks,
     ) -> f64 {
@@ -854,6 +890,9 @@ impl Transition {
         }
         for (i, o) in os.iter_mut().enumerate() {
             *o = State::from_fn(|k, _| xn[k][i]);
+        }
+        if let Some(p) = pos {
+            p.copy_from_slice(&xn[..3]);
         }
         // only the block's own particles count (the padding holds stale values)
         bad.iter().take(os.len()).sum()
@@ -1300,6 +1339,13 @@ pub struct ParticleFilter {
     /// other reader applies it first, the saved state is written through it)
     pending: bool,
     perm: Vec<usize>,
+    /// the particles' positions by blocks of [`BLOCK`], transposed (structure of arrays):
+    /// written by the serial transition beside `x`, read by the next weighting instead of
+    /// a transposition of `x`'s positions
+    pos: Vec<[[f64; BLOCK]; 3]>,
+    /// `pos` holds the current particles' positions (set by a prediction that wrote it,
+    /// cleared by every update and every other change of the particles)
+    pos_fresh: bool,
     /// the spare weight buffer; after resampling, the genetic operators' fitness
     scratch: Vec<f64>,
     mean: State,
@@ -1384,6 +1430,8 @@ impl ParticleFilter {
             idx: vec![0; n],
             pending: false,
             perm: (0..n).collect(),
+            pos: vec![[[0.0; BLOCK]; 3]; n.div_ceil(BLOCK)],
+            pos_fresh: false,
             scratch: vec![0.0; n],
             mean: x0,
             cov: OnceCell::from(p0),
@@ -1414,6 +1462,7 @@ impl ParticleFilter {
 
     fn draw_prior(&mut self) {
         self.pending = false;
+        self.pos_fresh = false;
         // the prior is validated (diagonal, finite); a matrix set through `set_estimate`
         // that has no square root falls back to the square roots of its diagonal
         let l = psd_sqrt(&self.p0)
@@ -1631,7 +1680,8 @@ impl ParticleFilter {
 
     /// The log-weights `logw_tmp` and log-likelihoods of the transition-proposal kinds, in
     /// one pass ([`Likelihood::weigh_many`]); their maximum (per chunk on the parallel path).
-    fn weigh<M: MeasurementModel>(&mut self, lik: &Likelihood<'_, M>) -> f64 {
+    /// `fresh`: `pos` holds the particles' positions (the transition's, serial path).
+    fn weigh<M: MeasurementModel>(&mut self, lik: &Likelihood<'_, M>, fresh: bool) -> f64 {
         if self.chunked() {
             let jobs: Vec<_> = self
                 .x
@@ -1641,11 +1691,13 @@ impl ParticleFilter {
                 .zip(self.loglik.chunks_mut(CHUNK))
                 .collect();
             self.pool
-                .map(jobs, |(((x, lw), lwn), ll)| lik.weigh_many(x, lw, lwn, ll))
+                .map(jobs, |(((x, lw), lwn), ll)| lik.weigh_many(x, None, lw, lwn, ll))
                 .into_iter()
                 .fold(f64::NEG_INFINITY, |m, v| if v > m { v } else { m })
         } else {
-            lik.weigh_many(&self.x, &self.logw, &mut self.logw_tmp, &mut self.loglik)
+            // the positions as the transition left them transposed, when it did
+            let pos = fresh.then_some(&self.pos[..]);
+            lik.weigh_many(&self.x, pos, &self.logw, &mut self.logw_tmp, &mut self.loglik)
         }
     }
 
@@ -1776,6 +1828,8 @@ impl ParticleFilter {
         scales: &[f64; 3],
     ) -> Result<UpdateInfo, FilterError> {
         let n = self.x.len();
+        // whether `pos` is the current particles' (only until the particles change)
+        let fresh = std::mem::take(&mut self.pos_fresh);
         self.materialise();
         if self.awaiting_first {
             self.init_from_measurement(sensor, z, noise, scales)?;
@@ -1875,7 +1929,7 @@ impl ParticleFilter {
             }
             None
         } else {
-            Some(self.weigh(&lik))
+            Some(self.weigh(&lik, fresh))
         };
         let max = fused.unwrap_or_else(|| resample::max_ignoring_nan(&self.logw_tmp));
         // the literal transition-proposal filters' moments before resampling are their
@@ -2352,6 +2406,9 @@ impl Estimator for ParticleFilter {
         let cov = symmetrize(&(phi * *self.cov() * phi.transpose() + model.q));
         let rng_saved = self.rng.clone();
         self.save_chunk_rngs();
+        // `pos` is overwritten: current again only if the step succeeds and wrote it
+        self.pos_fresh = false;
+        let mut fresh = false;
         let check = if self.chunked() {
             let jobs: Vec<_> = self
                 .x
@@ -2361,18 +2418,21 @@ impl Estimator for ParticleFilter {
                 .zip(self.chunk_rng.iter_mut())
                 .collect();
             self.pool
-                .map(jobs, |(((x, xn), xb), rng)| tr.run(x, None, xn, xb, rng))
+                .map(jobs, |(((x, xn), xb), rng)| tr.run(x, None, xn, xb, None, rng).0)
                 .into_iter()
                 .sum()
         } else {
             let idx = self.pending.then_some(&self.idx[..]);
-            tr.run(
+            let (check, wrote) = tr.run(
                 &self.x,
                 idx,
                 &mut self.x_tmp,
                 &mut self.xbar_tmp,
+                Some(&mut self.pos),
                 &mut self.rng,
-            )
+            );
+            fresh = wrote;
+            check
         };
         // the Gaussian prior before the first weighting update moves with the particles
         let prior = self.prior_mode.then(|| {
@@ -2394,6 +2454,7 @@ impl Estimator for ParticleFilter {
         }
         std::mem::swap(&mut self.x, &mut self.x_tmp);
         std::mem::swap(&mut self.xbar, &mut self.xbar_tmp);
+        self.pos_fresh = fresh;
         if self.pending {
             // the particles were gathered: the log-likelihoods follow
             for (o, &i) in self.loglik_tmp.iter_mut().zip(&self.idx) {
@@ -2487,6 +2548,8 @@ impl Persist for ParticleFilter {
             idx,
             pending,
             perm,
+            pos: _,
+            pos_fresh: _,
             scratch: _,
             mean,
             cov,
@@ -2569,6 +2632,8 @@ impl Persist for ParticleFilter {
             idx,
             pending,
             perm,
+            pos: _,
+            pos_fresh,
             scratch: _,
             mean,
             cov,
@@ -2595,6 +2660,7 @@ impl Persist for ParticleFilter {
         } = self;
         let n = x.len();
         let _ = idx;
+        *pos_fresh = false;
         r.count("particle count", n)?;
         r.count("per-particle proposal count", pc.len())?;
         *x0 = r.matrix("prior mean x0")?;
@@ -2899,7 +2965,7 @@ mod tests {
                 let mut rng = PfRng::seed_from_u64(3);
                 let (mut xn, mut xb) =
                     (vec![State::zeros(); x.len()], vec![State::zeros(); x.len()]);
-                let bad = tr.run(&x, None, &mut xn, &mut xb, &mut rng);
+                let (bad, _) = tr.run(&x, None, &mut xn, &mut xb, None, &mut rng);
                 out.push((bits(&xn), bits(&xb), bad.to_bits(), rng));
             }
             let lik = Likelihood::new(&s, &z, &NoiseModel::Gaussian, &[0.5, 1e-4, 1e-4]);
@@ -2912,7 +2978,7 @@ mod tests {
             // the update pass and the normalisation's exponentials with the moments
             let lw: Vec<f64> = w.iter().map(|v| -v).collect();
             let (mut lwn, mut ll2) = (vec![0.0; x.len()], vec![0.0; x.len()]);
-            let max = lik.weigh_many(&x, &lw, &mut lwn, &mut ll2);
+            let max = lik.weigh_many(&x, None, &lw, &mut lwn, &mut ll2);
             let mut ew = vec![0.0; x.len()];
             let (esum, emom) = exp_moments(&State::from_element(0.1), &x, &lwn, max, &mut ew);
             let upd = (fbits(&lwn), fbits(&ll2), max.to_bits(), fbits(&ew));
@@ -2955,7 +3021,7 @@ mod tests {
         let n = x.len();
         let logw: Vec<f64> = (0..n).map(|k| -((k % 7) as f64) * 0.1).collect();
         let (mut lwn, mut ll) = (vec![0.0; n], vec![0.0; n]);
-        let max = lik.weigh_many(&x, &logw, &mut lwn, &mut ll);
+        let max = lik.weigh_many(&x, None, &logw, &mut lwn, &mut ll);
         assert_eq!(max.to_bits(), resample::max_ignoring_nan(&lwn).to_bits());
         for i in 0..n {
             assert_eq!(ll[i].to_bits(), lik.log(&x[i]).to_bits());
@@ -3018,7 +3084,7 @@ mod tests {
             let run = |src: &[State], ix: Option<&[usize]>| {
                 let mut rng = PfRng::seed_from_u64(3);
                 let (mut xn, mut xb) = (vec![State::zeros(); n], vec![State::zeros(); n]);
-                let bad = tr.run(src, ix, &mut xn, &mut xb, &mut rng);
+                let (bad, _) = tr.run(src, ix, &mut xn, &mut xb, None, &mut rng);
                 (xn, xb, bad.to_bits(), rng)
             };
             let want = run(&xr, None);
