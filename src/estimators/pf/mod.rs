@@ -492,20 +492,20 @@ impl<M: MeasurementModel> Likelihood<'_, M> {
     /// log-likelihoods `ll_i` ([`Likelihood::log`]'s bits) into `ll`, the new log-weights
     /// `l_i = logw_i + ll_i` into `logw_new`, and their maximum (NaN ignored, `-inf` if
     /// there is none; in four interleaved partial maxima per block). Run through
-    /// [`simd::dispatch`]. With `pos` (one block per [`BLOCK`] particles of `x`) the
-    /// positions are read from it, already transposed ([`Transition::run`]'s `pos`), instead
-    /// of from `x`: the same values.
+    /// [`simd::dispatch`]. With `soa` (`x` by blocks of [`BLOCK`], transposed: the
+    /// filter's `soa`) the positions are read from it instead of transposed from `x`: the
+    /// same values.
     fn weigh_many(
         &self,
         x: &[State],
-        pos: Option<&[[[f64; BLOCK]; 3]]>,
+        soa: Option<&[[[f64; BLOCK]; N]]>,
         logw: &[f64],
         logw_new: &mut [f64],
         ll: &mut [f64],
     ) -> f64 {
         simd::dispatch(
             #[inline(always)]
-            || self.weigh_many_inline(x, pos, logw, logw_new, ll),
+            || self.weigh_many_inline(x, soa, logw, logw_new, ll),
         )
     }
 
@@ -514,7 +514,7 @@ impl<M: MeasurementModel> Likelihood<'_, M> {
     fn weigh_many_inline(
         &self,
         x: &[State],
-        pos: Option<&[[[f64; BLOCK]; 3]]>,
+        soa: Option<&[[[f64; BLOCK]; N]]>,
         logw: &[f64],
         logw_new: &mut [f64],
         ll: &mut [f64],
@@ -531,7 +531,10 @@ impl<M: MeasurementModel> Likelihood<'_, M> {
             .zip(ll.chunks_mut(BLOCK));
         for (b, (((xs, lw), lwn), lls)) in blocks.enumerate() {
             let n = xs.len();
-            match pos.and_then(|p| p.get(b)) {
+            let pos = soa
+                .and_then(|p| p.get(b))
+                .and_then(|sb| <&[[f64; BLOCK]; 3]>::try_from(&sb[..3]).ok());
+            match pos {
                 Some(rb) => self.log_block_soa(rb, n, &mut d, &mut ok, &mut llb),
                 None => self.log_block(xs, &mut r, &mut d, &mut ok, &mut llb),
             }
@@ -736,21 +739,24 @@ impl Transition {
     /// resampling indices not yet applied, gathered by the block transposes instead of a
     /// copy of the cloud); without, `x[j]`.
     ///
-    /// With `pos` (one block per [`BLOCK`] particles of `out`) the structure-of-arrays path
-    /// (CW blocks, diagonal `Q`) also writes each block's new positions there, transposed
-    /// (the lanes past a short last block unspecified); returns whether it did.
+    /// With `soa` (one block per [`BLOCK`] particles of `out`) the structure-of-arrays path
+    /// (CW blocks, diagonal `Q`) also writes each block's new particles there, transposed
+    /// (the lanes past a short last block unspecified), and returns whether it did; with
+    /// `soa_in` as well (and no `idx`) it reads its input from `soa` (which then holds `x`,
+    /// transposed: the same values) instead of transposing `x`.
     fn run(
         &self,
         x: &[State],
         idx: Option<&[usize]>,
         out: &mut [State],
         xbar: &mut [State],
-        pos: Option<&mut [[[f64; BLOCK]; 3]]>,
+        soa: Option<&mut [[[f64; BLOCK]; N]]>,
+        soa_in: bool,
         rng: &mut PfRng,
     ) -> (f64, bool) {
         crate::numerics::simd::dispatch(
             #[inline(always)]
-            || self.run_inline(x, idx, out, xbar, pos, rng),
+            || self.run_inline(x, idx, out, xbar, soa, soa_in, rng),
         )
     }
 
@@ -762,11 +768,13 @@ impl Transition {
         idx: Option<&[usize]>,
         out: &mut [State],
         xbar: &mut [State],
-        mut pos: Option<&mut [[[f64; BLOCK]; 3]]>,
+        mut soa: Option<&mut [[[f64; BLOCK]; N]]>,
+        soa_in: bool,
         rng: &mut PfRng,
     ) -> (f64, bool) {
-        let soa = self.blocks.is_some() && self.diag.is_some();
-        let wrote = soa && pos.as_ref().is_some_and(|p| p.len() * BLOCK >= out.len());
+        let blockwise = self.blocks.is_some() && self.diag.is_some();
+        let wrote = blockwise && soa.as_ref().is_some_and(|p| p.len() * BLOCK >= out.len());
+        let soa_in = soa_in && wrote && idx.is_none();
         let mut g = rng.clone();
         let zig = Ziggurat::get();
         let mut lanes = Lanes::seed_from(&mut g);
@@ -790,8 +798,9 @@ impl Transition {
             };
             match (&self.blocks, &self.diag) {
                 (Some(cw), Some(d)) => {
-                    let pb = pos.as_deref_mut().and_then(|p| p.get_mut(b));
-                    bad += self.block_soa(cw, d, xs, ib, os, xb_out, pb, &eps, &mut scratch);
+                    let sb = soa.as_deref_mut().and_then(|p| p.get_mut(b));
+                    let io = sb.map(|sb| (sb, soa_in));
+                    bad += self.block_soa(cw, d, xs, ib, os, xb_out, io, &eps, &mut scratch);
                 }
                 _ => {
                     let mut xb_out = xb_out;
@@ -831,12 +840,18 @@ impl Transition {
         ib: Option<&[usize]>,
         os: &mut [State],
         xb_out: Option<&mut [State]>,
-        pos: Option<&mut [[f64; BLOCK]; 3]>,
+        soa: Option<(&mut [[f64; BLOCK]; N], bool)>,
         eps: &[[f64; BLOCK]; N],
         scratch: &mut SoaBlocks,
     ) -> f64 {
-        let a = &mut scratch.0;
+        let (mut soa, soa_in) = match soa {
+            Some((sb, i)) => (Some(sb), i),
+            None => (None, false),
+        };
+        let (a, xb, xn_tmp) = (&mut scratch.0, &mut scratch.1, &mut scratch.2);
         match ib {
+            // the block as the last step left it transposed: read in place below
+            None if soa_in && soa.is_some() => {}
             None => {
                 for (i, xi) in xs.iter().enumerate() {
                     for (k, ak) in a.iter_mut().enumerate() {
@@ -854,7 +869,29 @@ impl Transition {
                 }
             }
         }
-        let xb = &mut scratch.1;
+        // (separate functions over distinct references: no aliasing for the vectoriser)
+        match soa.as_deref() {
+            Some(sb) if soa_in && ib.is_none() => self.cw_means(cw, sb, xb),
+            _ => self.cw_means(cw, a, xb),
+        }
+        if let Some(xbo) = xb_out {
+            for (i, slot) in xbo.iter_mut().enumerate() {
+                *slot = State::from_fn(|k, _| xb[k][i]);
+            }
+        }
+        // the new block straight into `soa` when given (its input was read)
+        let bad = match soa.as_deref_mut() {
+            Some(sb) => Self::add_noise(d, xb, eps, sb, os),
+            None => Self::add_noise(d, xb, eps, xn_tmp, os),
+        };
+        // only the block's own particles count (the padding holds stale values)
+        bad.iter().take(os.len()).sum()
+    }
+
+    /// The transition means `xb = Phi a + u` of a transposed block `a` with the 16 + 4
+    /// products of [`CwBlocks::apply`] in its order.
+    #[inline(always)]
+    fn cw_means(&self, cw: &CwBlocks, a: &[[f64; BLOCK]; N], xb: &mut [[f64; BLOCK]; N]) {
         let (p, q) = (&cw.inp, &cw.out);
         let u = &self.u;
         // row by row, the row's coefficients held in registers across the block's lanes
@@ -875,7 +912,19 @@ impl Transition {
                 xb[*r][i] = c[0] * a[o2][i] + c[1] * a[o5][i] + ur;
             }
         }
-        let xn = &mut scratch.2;
+    }
+
+    /// `xn = xb + d * eps` lane by lane, also into `os` (one particle per lane); each
+    /// lane's `sum_k 0 * xn_k` (NaN once one is not finite).
+    #[inline(always)]
+    #[allow(clippy::needless_range_loop)] // index loops over fixed lanes: they vectorise
+    fn add_noise(
+        d: &State,
+        xb: &[[f64; BLOCK]; N],
+        eps: &[[f64; BLOCK]; N],
+        xn: &mut [[f64; BLOCK]; N],
+        os: &mut [State],
+    ) -> [f64; BLOCK] {
         let mut bad = [0.0; BLOCK];
         for k in 0..N {
             for i in 0..BLOCK {
@@ -883,19 +932,10 @@ impl Transition {
                 bad[i] += xn[k][i] * 0.0;
             }
         }
-        if let Some(xbo) = xb_out {
-            for (i, slot) in xbo.iter_mut().enumerate() {
-                *slot = State::from_fn(|k, _| xb[k][i]);
-            }
-        }
         for (i, o) in os.iter_mut().enumerate() {
             *o = State::from_fn(|k, _| xn[k][i]);
         }
-        if let Some(p) = pos {
-            p.copy_from_slice(&xn[..3]);
-        }
-        // only the block's own particles count (the padding holds stale values)
-        bad.iter().take(os.len()).sum()
+        bad
     }
 }
 
@@ -1339,13 +1379,13 @@ pub struct ParticleFilter {
     /// other reader applies it first, the saved state is written through it)
     pending: bool,
     perm: Vec<usize>,
-    /// the particles' positions by blocks of [`BLOCK`], transposed (structure of arrays):
-    /// written by the serial transition beside `x`, read by the next weighting instead of
-    /// a transposition of `x`'s positions
-    pos: Vec<[[f64; BLOCK]; 3]>,
-    /// `pos` holds the current particles' positions (set by a prediction that wrote it,
-    /// cleared by every update and every other change of the particles)
-    pos_fresh: bool,
+    /// the particles by blocks of [`BLOCK`], transposed (structure of arrays): written
+    /// beside `x` by the serial transition and the plain RPF's jitter, read by the next
+    /// weighting (the positions) and the next transition instead of transpositions of `x`
+    soa: Vec<[[f64; BLOCK]; N]>,
+    /// `soa` holds the current particles (set by the steps that wrote it, cleared by every
+    /// other change of the particles)
+    soa_fresh: bool,
     /// the spare weight buffer; after resampling, the genetic operators' fitness
     scratch: Vec<f64>,
     mean: State,
@@ -1430,8 +1470,8 @@ impl ParticleFilter {
             idx: vec![0; n],
             pending: false,
             perm: (0..n).collect(),
-            pos: vec![[[0.0; BLOCK]; 3]; n.div_ceil(BLOCK)],
-            pos_fresh: false,
+            soa: vec![[[0.0; BLOCK]; N]; n.div_ceil(BLOCK)],
+            soa_fresh: false,
             scratch: vec![0.0; n],
             mean: x0,
             cov: OnceCell::from(p0),
@@ -1462,7 +1502,7 @@ impl ParticleFilter {
 
     fn draw_prior(&mut self) {
         self.pending = false;
-        self.pos_fresh = false;
+        self.soa_fresh = false;
         // the prior is validated (diagonal, finite); a matrix set through `set_estimate`
         // that has no square root falls back to the square roots of its diagonal
         let l = psd_sqrt(&self.p0)
@@ -1680,7 +1720,7 @@ impl ParticleFilter {
 
     /// The log-weights `logw_tmp` and log-likelihoods of the transition-proposal kinds, in
     /// one pass ([`Likelihood::weigh_many`]); their maximum (per chunk on the parallel path).
-    /// `fresh`: `pos` holds the particles' positions (the transition's, serial path).
+    /// `fresh`: `soa` holds the particles (transposed, serial path).
     fn weigh<M: MeasurementModel>(&mut self, lik: &Likelihood<'_, M>, fresh: bool) -> f64 {
         if self.chunked() {
             let jobs: Vec<_> = self
@@ -1691,13 +1731,21 @@ impl ParticleFilter {
                 .zip(self.loglik.chunks_mut(CHUNK))
                 .collect();
             self.pool
-                .map(jobs, |(((x, lw), lwn), ll)| lik.weigh_many(x, None, lw, lwn, ll))
+                .map(jobs, |(((x, lw), lwn), ll)| {
+                    lik.weigh_many(x, None, lw, lwn, ll)
+                })
                 .into_iter()
                 .fold(f64::NEG_INFINITY, |m, v| if v > m { v } else { m })
         } else {
             // the positions as the transition left them transposed, when it did
-            let pos = fresh.then_some(&self.pos[..]);
-            lik.weigh_many(&self.x, pos, &self.logw, &mut self.logw_tmp, &mut self.loglik)
+            let soa = fresh.then_some(&self.soa[..]);
+            lik.weigh_many(
+                &self.x,
+                soa,
+                &self.logw,
+                &mut self.logw_tmp,
+                &mut self.loglik,
+            )
         }
     }
 
@@ -1828,8 +1876,8 @@ impl ParticleFilter {
         scales: &[f64; 3],
     ) -> Result<UpdateInfo, FilterError> {
         let n = self.x.len();
-        // whether `pos` is the current particles' (only until the particles change)
-        let fresh = std::mem::take(&mut self.pos_fresh);
+        // whether `soa` holds the current particles (cleared: the update may change them)
+        let fresh = std::mem::take(&mut self.soa_fresh);
         self.materialise();
         if self.awaiting_first {
             self.init_from_measurement(sensor, z, noise, scales)?;
@@ -2021,6 +2069,10 @@ impl ParticleFilter {
         }
         if self.params.moves && !self.rejuvenate(&lik, sensor, z) {
             self.summarise();
+        }
+        // particles left as the transition drew them: `soa` still holds them
+        if fresh && !resampling && !self.params.moves && !kind.unscented() {
+            self.soa_fresh = true;
         }
         self.prior_mode = false;
         let innovation = sensor
@@ -2406,8 +2458,8 @@ impl Estimator for ParticleFilter {
         let cov = symmetrize(&(phi * *self.cov() * phi.transpose() + model.q));
         let rng_saved = self.rng.clone();
         self.save_chunk_rngs();
-        // `pos` is overwritten: current again only if the step succeeds and wrote it
-        self.pos_fresh = false;
+        // `soa` is overwritten: current again only if the step succeeds and wrote it
+        let soa_in = std::mem::take(&mut self.soa_fresh);
         let mut fresh = false;
         let check = if self.chunked() {
             let jobs: Vec<_> = self
@@ -2418,7 +2470,9 @@ impl Estimator for ParticleFilter {
                 .zip(self.chunk_rng.iter_mut())
                 .collect();
             self.pool
-                .map(jobs, |(((x, xn), xb), rng)| tr.run(x, None, xn, xb, None, rng).0)
+                .map(jobs, |(((x, xn), xb), rng)| {
+                    tr.run(x, None, xn, xb, None, false, rng).0
+                })
                 .into_iter()
                 .sum()
         } else {
@@ -2428,7 +2482,8 @@ impl Estimator for ParticleFilter {
                 idx,
                 &mut self.x_tmp,
                 &mut self.xbar_tmp,
-                Some(&mut self.pos),
+                Some(&mut self.soa),
+                soa_in,
                 &mut self.rng,
             );
             fresh = wrote;
@@ -2454,7 +2509,7 @@ impl Estimator for ParticleFilter {
         }
         std::mem::swap(&mut self.x, &mut self.x_tmp);
         std::mem::swap(&mut self.xbar, &mut self.xbar_tmp);
-        self.pos_fresh = fresh;
+        self.soa_fresh = fresh;
         if self.pending {
             // the particles were gathered: the log-likelihoods follow
             for (o, &i) in self.loglik_tmp.iter_mut().zip(&self.idx) {
@@ -2548,8 +2603,8 @@ impl Persist for ParticleFilter {
             idx,
             pending,
             perm,
-            pos: _,
-            pos_fresh: _,
+            soa: _,
+            soa_fresh: _,
             scratch: _,
             mean,
             cov,
@@ -2632,8 +2687,8 @@ impl Persist for ParticleFilter {
             idx,
             pending,
             perm,
-            pos: _,
-            pos_fresh,
+            soa: _,
+            soa_fresh,
             scratch: _,
             mean,
             cov,
@@ -2660,7 +2715,7 @@ impl Persist for ParticleFilter {
         } = self;
         let n = x.len();
         let _ = idx;
-        *pos_fresh = false;
+        *soa_fresh = false;
         r.count("particle count", n)?;
         r.count("per-particle proposal count", pc.len())?;
         *x0 = r.matrix("prior mean x0")?;
@@ -2965,7 +3020,7 @@ mod tests {
                 let mut rng = PfRng::seed_from_u64(3);
                 let (mut xn, mut xb) =
                     (vec![State::zeros(); x.len()], vec![State::zeros(); x.len()]);
-                let (bad, _) = tr.run(&x, None, &mut xn, &mut xb, None, &mut rng);
+                let (bad, _) = tr.run(&x, None, &mut xn, &mut xb, None, false, &mut rng);
                 out.push((bits(&xn), bits(&xb), bad.to_bits(), rng));
             }
             let lik = Likelihood::new(&s, &z, &NoiseModel::Gaussian, &[0.5, 1e-4, 1e-4]);
@@ -3084,7 +3139,7 @@ mod tests {
             let run = |src: &[State], ix: Option<&[usize]>| {
                 let mut rng = PfRng::seed_from_u64(3);
                 let (mut xn, mut xb) = (vec![State::zeros(); n], vec![State::zeros(); n]);
-                let (bad, _) = tr.run(src, ix, &mut xn, &mut xb, None, &mut rng);
+                let (bad, _) = tr.run(src, ix, &mut xn, &mut xb, None, false, &mut rng);
                 (xn, xb, bad.to_bits(), rng)
             };
             let want = run(&xr, None);
