@@ -2482,7 +2482,8 @@ impl Estimator for ParticleFilter {
                 idx,
                 &mut self.x_tmp,
                 &mut self.xbar_tmp,
-                Some(&mut self.soa),
+                // (the unscented kinds' update reads its own proposals, never `soa`)
+                (!self.params.kind.unscented()).then_some(&mut self.soa[..]),
                 soa_in,
                 &mut self.rng,
             );
@@ -2582,7 +2583,8 @@ impl Estimator for ParticleFilter {
 /// definiteness, and the counters (resamplings, moves tried and accepted). The settings,
 /// the worker pool and the unscented proposal's weights are configuration; the `*_tmp`,
 /// `idx` and `scratch` buffers and the chunk generators' saved copies are
-/// overwritten by every step before they are read.
+/// overwritten by every step before they are read, and the transposed copy `soa` is not
+/// saved (marked stale by a load).
 impl Persist for ParticleFilter {
     fn save_state(&self, w: &mut Writer<'_>) {
         let Self {
