@@ -744,6 +744,7 @@ impl Transition {
     /// (the lanes past a short last block unspecified), and returns whether it did; with
     /// `soa_in` as well (and no `idx`) it reads its input from `soa` (which then holds `x`,
     /// transposed: the same values) instead of transposing `x`.
+    #[allow(clippy::too_many_arguments)]
     fn run(
         &self,
         x: &[State],
@@ -762,6 +763,7 @@ impl Transition {
 
     /// [`Transition::run`]'s body, inlined into its [`crate::numerics::simd::dispatch`].
     #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
     fn run_inline(
         &self,
         x: &[State],
@@ -844,7 +846,7 @@ impl Transition {
         eps: &[[f64; BLOCK]; N],
         scratch: &mut SoaBlocks,
     ) -> f64 {
-        let (mut soa, soa_in) = match soa {
+        let (soa, soa_in) = match soa {
             Some((sb, i)) => (Some(sb), i),
             None => (None, false),
         };
@@ -880,7 +882,7 @@ impl Transition {
             }
         }
         // the new block straight into `soa` when given (its input was read)
-        let bad = match soa.as_deref_mut() {
+        let bad = match soa {
             Some(sb) => Self::add_noise(d, xb, eps, sb, os),
             None => Self::add_noise(d, xb, eps, xn_tmp, os),
         };
