@@ -419,24 +419,30 @@ impl ParticleFilter {
         };
         let reference = self.mean;
         let w = 1.0 / self.x.len() as f64;
-        let run = |x: &mut [State], rng: &mut super::PfRng| {
-            crate::numerics::simd::dispatch(
-                #[inline(always)]
-                || jitter.run_inline(x, rng, &reference, w),
-            )
-        };
+        let run =
+            |x: &mut [State], soa: Option<&mut [[[f64; BLOCK]; N]]>, rng: &mut super::PfRng| {
+                crate::numerics::simd::dispatch(
+                    #[inline(always)]
+                    || jitter.run_inline(x, soa, rng, &reference, w),
+                )
+            };
         let sums = if self.chunked() {
             let jobs: Vec<_> = self
                 .x
                 .chunks_mut(CHUNK)
                 .zip(self.chunk_rng.iter_mut())
                 .collect();
-            let parts = self.pool.map(jobs, |(x, rng)| run(x, rng));
+            let parts = self.pool.map(jobs, |(x, rng)| run(x, None, rng));
             let mut total = Moments::new(reference);
             parts.iter().for_each(|p| total.merge(p));
             total
         } else {
-            run(&mut self.x, &mut self.rng)
+            // the moved particles also transposed, for the next transition and weighting
+            let fits = self.soa.len() * BLOCK >= self.x.len();
+            let soa = fits.then_some(&mut self.soa[..]);
+            let sums = run(&mut self.x, soa, &mut self.rng);
+            self.soa_fresh = fits;
+            sums
         };
         let (mean, cov) = sums.finish();
         self.mean = mean;
@@ -552,12 +558,14 @@ impl Jitter {
     /// steps ([`Jitter::block`]), the particles transposed in, moved and transposed out
     /// once, and the moments of the moved block (weight `w` each) accumulated about
     /// `reference` from the transposed offsets ([`MomentLanes::add_soa`]); lanes derived
-    /// from `rng`. Inlined into [`ParticleFilter::regularise`]'s dispatch.
+    /// from `rng`. With `soa` (one block per [`BLOCK`] particles) the moved blocks are
+    /// also stored there, transposed. Inlined into [`ParticleFilter::regularise`]'s dispatch.
     #[inline(always)]
     #[allow(clippy::needless_range_loop)] // index loops over fixed lanes: they vectorise
     fn run_inline(
         &self,
         x: &mut [State],
+        mut soa: Option<&mut [[[f64; BLOCK]; N]]>,
         rng: &mut super::PfRng,
         reference: &State,
         w: f64,
@@ -568,7 +576,7 @@ impl Jitter {
         let mut xs = [[0.0; BLOCK]; N];
         let mut d = [[0.0; BLOCK]; N];
         let mut mom = MomentLanes::new();
-        for xb in x.chunks_mut(BLOCK) {
+        for (b, xb) in x.chunks_mut(BLOCK).enumerate() {
             self.block(&mut lanes, rng, &mut e, &mut step);
             for (i, xi) in xb.iter().enumerate() {
                 for k in 0..N {
@@ -585,6 +593,9 @@ impl Jitter {
                 for k in 0..N {
                     xi[k] = xs[k][i];
                 }
+            }
+            if let Some(sb) = soa.as_deref_mut().and_then(|s| s.get_mut(b)) {
+                *sb = xs;
             }
             // a short last block: zero weight and zero offset in the padding
             let n = xb.len();
@@ -754,7 +765,7 @@ mod tests {
                     let mut rng = PfRng::seed_from_u64(9);
                     let m: Moments = dispatch(
                         #[inline(always)]
-                        || jit.run_inline(&mut x, &mut rng, &reference, w),
+                        || jit.run_inline(&mut x, None, &mut rng, &reference, w),
                     );
                     // the block loop's moments are those of the moved particles
                     let mut lanes = MomentLanes::new();
