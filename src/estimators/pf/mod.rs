@@ -2457,7 +2457,10 @@ impl LaneSums {
         n: usize,
         w: &[f64],
     ) -> Self {
-        let nc: [f64; N] = std::array::from_fn(|k| -reference[k]);
+        // `x + nc` with `nc` opaque: LLVM would turn `x + (-c)` back into `x - c`, whose
+        // loaded operand `x` cannot be folded into the instruction (one load more per
+        // component and four particles)
+        let nc: [f64; N] = std::hint::black_box(std::array::from_fn(|k| -reference[k]));
         let full = n / BLOCK;
         let rem = n - full * BLOCK;
         let mut acc = Self::new();
