@@ -1382,8 +1382,10 @@ pub struct ParticleFilter {
     pending: bool,
     perm: Vec<usize>,
     /// the particles by blocks of [`BLOCK`], transposed (structure of arrays): written
-    /// beside `x` by the serial transition and the plain RPF's jitter, read by the next
-    /// weighting (the positions) and the next transition instead of transpositions of `x`
+    /// beside `x` by the serial transition, the plain RPF's jitter and the literal GA-PF's
+    /// moves, read by the next weighting (the positions), the literal update's moments
+    /// ([`exp_moments_soa`], which transposes `x` here first when the copy is not current)
+    /// and the next transition instead of transpositions of `x`
     soa: Vec<[[f64; BLOCK]; N]>,
     /// `soa` holds the current particles (set by the steps that wrote it, cleared by every
     /// other change of the particles)
@@ -2670,6 +2672,16 @@ fn transpose_into(x: &[State], soa: &mut [[[f64; BLOCK]; N]]) {
                 }
             }
         },
+    )
+}
+
+/// [`Moments`] of the first `n` particles of `soa` (transposed, at least `n`) with weight one
+/// each (the weight sum the count) about `reference`, from the lanes ([`LaneSums`]). Run
+/// through [`simd::dispatch`].
+fn unit_moments_soa(reference: &State, soa: &[[[f64; BLOCK]; N]], n: usize) -> Moments {
+    simd::dispatch(
+        #[inline(always)]
+        || LaneSums::of_soa::<false>(reference, soa, n, &[]).finish(reference, n as f64),
     )
 }
 
