@@ -2529,6 +2529,7 @@ impl LaneSums {
 
     /// The group `(r, c)`'s sums from `self` (entries outside the triangle: zero).
     #[inline(always)]
+    #[allow(clippy::needless_range_loop)] // the group's entries by row and column
     fn load(&self, r0: usize, c0: usize, a: &mut [[L4; 3]; 3], s: &mut [L4; 3]) {
         for r in 0..3 {
             for c in 0..3 {
@@ -2537,15 +2538,14 @@ impl LaneSums {
                 }
             }
         }
-        if r0 == c0 {
-            for c in 0..3 {
-                s[c] = self.s1[c0 + c];
-            }
+        if let (true, Some(s1)) = (r0 == c0, self.s1.get(c0..c0 + 3)) {
+            s.copy_from_slice(s1);
         }
     }
 
     /// The group `(r, c)`'s sums into `self`.
     #[inline(always)]
+    #[allow(clippy::needless_range_loop)] // the group's entries by row and column
     fn store(&mut self, r0: usize, c0: usize, a: &[[L4; 3]; 3], s: &[L4; 3]) {
         for r in 0..3 {
             for c in 0..3 {
@@ -2554,10 +2554,8 @@ impl LaneSums {
                 }
             }
         }
-        if r0 == c0 {
-            for c in 0..3 {
-                self.s1[c0 + c] = s[c];
-            }
+        if let (true, Some(s1)) = (r0 == c0, self.s1.get_mut(c0..c0 + 3)) {
+            s1.copy_from_slice(s);
         }
     }
 
