@@ -79,7 +79,7 @@
 //! normals by [`Ziggurat::fill_batch_lanes`]; the GA-PF mutation no longer draws the
 //! unused sign word; the pairing draws `n / 2` indices instead of a full shuffle's `n - 1`
 //! (see `Pop::shuffle`). The laws are the same. Since `perf-gapf7` the literal GA-PF
-//! summarises the moved population itself (`unit_moments`: mean and covariance in one
+//! summarises the moved population itself (mean and covariance in one
 //! unweighted pass, instead of the filter's weighted mean pass and the next prediction's
 //! weighted moments pass); the random stream is unchanged, the particles move from before
 //! only by that summary's rounding (the next step's predictive Gaussian). Since `perf-gapf8`
@@ -316,8 +316,10 @@ fn cloud_probabilities(
 /// particle by particle: the offsets `d = x_i - r`, their sum and the full outer products
 /// `d d^T` (six columns of six, the form that vectorises within a particle: the sums stay
 /// in registers, no transposition), the upper triangle kept. The literal GA-PF's summary of
-/// the moved population: its mean and covariance in one pass, without the weight products
-/// of the weighted [`super::moments`] and without its separate mean pass. Run through
+/// the moved population on the parallel path (the serial filter transposes the population
+/// into `soa` and sums its lanes: [`super::unit_moments_soa`]): its mean and covariance in
+/// one pass, without the weight products of the weighted [`super::moments`] and without
+/// its separate mean pass. Run through
 /// [`simd::dispatch`] (AVX2 where present; each sum is one chain in particle order on either
 /// path, so the same bits); it differs from the weighted pass at rounding level.
 // index loops over fixed rows and columns: they vectorise
@@ -735,8 +737,10 @@ impl ParticleFilter {
     #[allow(clippy::needless_range_loop)]
     ///
     /// The literal GA-PF (`moves` off) sets the filter's mean and covariance from the moved
-    /// population in one pass (`unit_moments`) and returns true (the summary is set); with
-    /// `moves`, false (the rejuvenation sets it).
+    /// population in one pass and returns true (the summary is set); with `moves`, false
+    /// (the rejuvenation sets it). Serially the population is transposed into `soa` (marked
+    /// current: the next transition reads it there) and summed in lanes
+    /// ([`super::unit_moments_soa`]); in chunks particle by particle (`unit_moments`).
     pub(super) fn genetic_moves<M: MeasurementModel>(
         &mut self,
         lik: &Likelihood<'_, M>,
@@ -808,7 +812,17 @@ impl ParticleFilter {
         if self.params.moves {
             return false;
         }
-        let (mean, cov) = unit_moments(&self.x, &self.mean).finish();
+        let n = self.x.len();
+        let mom = if !self.chunked() && self.soa.len() * super::BLOCK >= n {
+            // the moved population transposed: its moments from the lanes, and the next
+            // transition's input (no transposition there)
+            super::transpose_into(&self.x, &mut self.soa);
+            self.soa_fresh = true;
+            super::unit_moments_soa(&self.mean, &self.soa, n)
+        } else {
+            unit_moments(&self.x, &self.mean)
+        };
+        let (mean, cov) = mom.finish();
         (self.mean, self.cov) = (mean, OnceCell::from(cov));
         true
     }
@@ -1271,6 +1285,24 @@ mod tests {
             assert!(
                 (fast.1 - p).amax() <= 1e-9 * (1.0 + p.amax()),
                 "{n}: covariance"
+            );
+            // the lane sums from the transposed copy (the serial filter's form; the short
+            // last block's padding holds garbage): the same bits on both paths, the same
+            // moments to rounding level
+            let mut soa =
+                vec![[[f64::NAN; super::super::BLOCK]; 6]; n.div_ceil(super::super::BLOCK)];
+            super::super::transpose_into(&x, &mut soa);
+            let lanes = super::super::unit_moments_soa(&r, &soa, n).finish();
+            let lanes_base =
+                simd::with_baseline(|| super::super::unit_moments_soa(&r, &soa, n)).finish();
+            assert!(
+                lanes.0 == lanes_base.0 && lanes.1 == lanes_base.1,
+                "{n}: bits"
+            );
+            assert!((lanes.0 - m).amax() <= 1e-9 * m.amax(), "{n}: lane mean");
+            assert!(
+                (lanes.1 - p).amax() <= 1e-9 * (1.0 + p.amax()),
+                "{n}: lane covariance"
             );
         }
     }

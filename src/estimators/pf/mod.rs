@@ -1382,8 +1382,10 @@ pub struct ParticleFilter {
     pending: bool,
     perm: Vec<usize>,
     /// the particles by blocks of [`BLOCK`], transposed (structure of arrays): written
-    /// beside `x` by the serial transition and the plain RPF's jitter, read by the next
-    /// weighting (the positions) and the next transition instead of transpositions of `x`
+    /// beside `x` by the serial transition, the plain RPF's jitter and the literal GA-PF's
+    /// moves, read by the next weighting (the positions), the literal update's moments
+    /// ([`exp_moments_soa`], which transposes `x` here first when the copy is not current)
+    /// and the next transition instead of transpositions of `x`
     soa: Vec<[[f64; BLOCK]; N]>,
     /// `soa` holds the current particles (set by the steps that wrote it, cleared by every
     /// other change of the particles)
@@ -1792,8 +1794,14 @@ impl ParticleFilter {
     /// ([`normalize_log_weights_with_max`]; chunk sums combined in order on the parallel
     /// path). With a `reference` (and a finite `max`) the same pass over the particles
     /// forms the weighted [`Moments`] about it ([`exp_moments`]; chunk sums merged in
-    /// order): the same weights, bit for bit.
-    fn normalise(&mut self, max: f64, reference: Option<State>) -> Option<(f64, Option<Moments>)> {
+    /// order): the same weights, bit for bit. `fresh`: `soa` holds the particles (serial
+    /// path: the moments read them there, [`exp_moments_soa`]).
+    fn normalise(
+        &mut self,
+        max: f64,
+        reference: Option<State>,
+        fresh: bool,
+    ) -> Option<(f64, Option<Moments>)> {
         let n = self.logw_tmp.len();
         if !max.is_finite() || (reference.is_none() && !self.chunked()) {
             // no weight, or infinite ones: the sequential rules (rare, exact either way)
@@ -1802,7 +1810,17 @@ impl ParticleFilter {
         }
         let (sum, mom) = match (reference, self.chunked()) {
             (Some(c), false) => {
-                let (sum, mom) = exp_moments(&c, &self.x, &self.logw_tmp, max, &mut self.scratch);
+                // the particles as the transition left them transposed; else transposed
+                // here, so that the moments are the same bits whether or not `soa` was
+                // current (it is not marked current: the update may still change `x`)
+                let (sum, mom) = if self.soa.len() * BLOCK >= n {
+                    if !fresh {
+                        transpose_into(&self.x, &mut self.soa);
+                    }
+                    exp_moments_soa(&c, &self.soa, &self.logw_tmp, max, &mut self.scratch)
+                } else {
+                    exp_moments(&c, &self.x, &self.logw_tmp, max, &mut self.scratch)
+                };
                 (sum, Some(mom))
             }
             (Some(c), true) => {
@@ -1987,11 +2005,11 @@ impl ParticleFilter {
         // the rejuvenation's replace them
         let reference = (fused.is_some() && !self.params.moves).then_some(self.pred_mean);
         // normalise into the spare buffer; nothing is committed if every weight is zero
-        let (log_mean, moments) = self
-            .normalise(max, reference)
-            .ok_or(FilterError::NonFinite(
-                "particle weights (every likelihood is zero)",
-            ))?;
+        let (log_mean, moments) =
+            self.normalise(max, reference, fresh)
+                .ok_or(FilterError::NonFinite(
+                    "particle weights (every likelihood is zero)",
+                ))?;
         // commit: from here on nothing can fail
         std::mem::swap(&mut self.w, &mut self.scratch);
         std::mem::swap(&mut self.logw, &mut self.logw_tmp);
@@ -2241,16 +2259,6 @@ impl MomentLanes {
         Self::accumulate(s1, s2, ws, wd, d, wb);
     }
 
-    /// Add a block already transposed: the offsets `d[k][i] = x_i[k] - reference[k]` and
-    /// the weights `wb` (padding: zero weight and zero offset), for loops that hold their
-    /// block in structure-of-arrays form anyway (the RPF's jitter); the same sums as
-    /// [`MomentLanes::add_block`] on the same block.
-    #[inline(always)]
-    fn add_soa(&mut self, d: &[[f64; BLOCK]; N], wb: &[f64; BLOCK]) {
-        let Self { s1, s2, ws, wd, .. } = self;
-        Self::accumulate(s1, s2, ws, wd, d, wb);
-    }
-
     /// The sums of one transposed block (`wd`: scratch for the weighted offsets).
     #[inline(always)]
     #[allow(clippy::needless_range_loop)] // index loops over fixed lanes: they vectorise
@@ -2388,6 +2396,226 @@ impl PointSums {
     }
 }
 
+/// Four `f64` lanes (one AVX2 vector).
+type L4 = [f64; 4];
+
+/// All-one weights for [`LaneSums::add`] with `W = false` (never read).
+const UNIT: [f64; BLOCK] = [1.0; BLOCK];
+
+/// `a + b` lane by lane.
+#[inline(always)]
+fn add4(a: L4, b: L4) -> L4 {
+    [a[0] + b[0], a[1] + b[1], a[2] + b[2], a[3] + b[3]]
+}
+
+/// `a b` lane by lane.
+#[inline(always)]
+fn mul4(a: L4, b: L4) -> L4 {
+    [a[0] * b[0], a[1] * b[1], a[2] * b[2], a[3] * b[3]]
+}
+
+/// [`TRIANGLE`]'s index of the upper-triangle entry `(r, c)`, `r <= c`.
+const fn tri(r: usize, c: usize) -> usize {
+    c * (c + 1) / 2 + r
+}
+
+/// Weighted first and second moments of particles held transposed (blocks
+/// `[[f64; BLOCK]; N]`, component-major: the filter's `soa`, the RPF jitter's moved block),
+/// four particles at a time: particle `4 m + j` of the run in lane `j` of every sum (one
+/// AVX2 vector per sum), the lanes added in order at the end ([`LaneSums::finish`]). The 21
+/// upper-triangle entries and the six first moments (27 four-wide sums) do not fit in the 16
+/// AVX2 registers beside their operands, so they are formed in three groups, each a loop
+/// over the blocks whose sums stay in registers ([`LaneSums::group`]): the triangle of rows
+/// and columns 0..3 with the first moments 0..3, the triangle of 3..6 with the first moments
+/// 3..6, and the cross block rows 0..3 x columns 3..6. Each entry is `sum d_r (w d_c)` as in
+/// [`MomentLanes`]; with `W = false` every weight is one (`wd = d`, no products). Inlined
+/// into the caller's [`simd::dispatch`]; both paths perform the same operations in the same
+/// order per lane, so the same bits. The order of the additions is fixed by the particle
+/// count: reproducible, and at rounding level from [`PointSums`]' one chain per sum.
+#[derive(Clone, Copy)]
+struct LaneSums {
+    s1: [L4; N],
+    /// the upper triangle, in [`TRIANGLE`]'s order
+    s2: [L4; 21],
+}
+
+impl LaneSums {
+    #[inline(always)]
+    fn new() -> Self {
+        Self {
+            s1: [[0.0; 4]; N],
+            s2: [[0.0; 4]; 21],
+        }
+    }
+
+    /// The sums of the first `n` particles of `soa` about `reference` (at least `n`
+    /// particles), with the weights `w` (`n` of them) when `W`, else weight one each. A
+    /// short last block is copied with its padding set to `reference` (offset zero) and
+    /// weight zero.
+    #[inline(always)]
+    fn of_soa<const W: bool>(
+        reference: &State,
+        soa: &[[[f64; BLOCK]; N]],
+        n: usize,
+        w: &[f64],
+    ) -> Self {
+        // `x + nc` with `nc` opaque: LLVM would turn `x + (-c)` back into `x - c`, whose
+        // loaded operand `x` cannot be folded into the instruction (one load more per
+        // component and four particles)
+        let nc: [f64; N] = std::hint::black_box(std::array::from_fn(|k| -reference[k]));
+        let full = n / BLOCK;
+        let rem = n - full * BLOCK;
+        let mut acc = Self::new();
+        let wf = w.get(..full * BLOCK).unwrap_or_default();
+        acc.add::<W>(soa.get(..full).unwrap_or_default(), wf, &nc);
+        if let (true, Some(last)) = (rem > 0, soa.get(full)) {
+            let mut tb = *last;
+            for (k, c) in tb.iter_mut().enumerate() {
+                c[rem..].fill(reference[k]);
+            }
+            let mut tw = [0.0; BLOCK];
+            if let Some(wt) = w.get(full * BLOCK..n) {
+                tw[..rem].copy_from_slice(wt);
+            }
+            acc.add::<W>(std::slice::from_ref(&tb), &tw, &nc);
+        }
+        acc
+    }
+
+    /// Add `blocks` with the weights `w` (`BLOCK` per block; with `W = false` every
+    /// weight is one and `w` is not read), the offsets `d_k = x_k + nc_k`
+    /// (`nc = -reference`: the same bits as `x_k - reference_k`). Each group is one loop
+    /// over the blocks with its sums in registers. Padding lanes must add zero (zero
+    /// offset, or zero weight and a finite offset).
+    #[inline(always)]
+    fn add<const W: bool>(&mut self, blocks: &[[[f64; BLOCK]; N]], w: &[f64], nc: &[f64; N]) {
+        self.pass::<0, 0, W>(blocks, w, nc);
+        self.pass::<3, 3, W>(blocks, w, nc);
+        self.pass::<0, 3, W>(blocks, w, nc);
+    }
+
+    /// One group's pass over `blocks` with its sums in registers, added to the sums at
+    /// the end.
+    #[inline(always)]
+    fn pass<const R: usize, const C: usize, const W: bool>(
+        &mut self,
+        blocks: &[[[f64; BLOCK]; N]],
+        w: &[f64],
+        nc: &[f64; N],
+    ) {
+        let mut a = [[[0.0; 4]; 3]; 3];
+        let mut s = [[0.0; 4]; 3];
+        if W {
+            for (blk, wb) in blocks.iter().zip(w.chunks_exact(BLOCK)) {
+                if let Ok(wb) = <&[f64; BLOCK]>::try_from(wb) {
+                    Self::quarters::<R, C, true>(&mut a, &mut s, blk, wb, nc);
+                }
+            }
+        } else {
+            for blk in blocks {
+                Self::quarters::<R, C, false>(&mut a, &mut s, blk, &UNIT, nc);
+            }
+        }
+        let (mut a0, mut s0) = ([[[0.0; 4]; 3]; 3], [[0.0; 4]; 3]);
+        self.load(R, C, &mut a0, &mut s0);
+        for (x, y) in a0.iter_mut().flatten().zip(a.iter().flatten()) {
+            *x = add4(*x, *y);
+        }
+        for (x, y) in s0.iter_mut().zip(&s) {
+            *x = add4(*x, *y);
+        }
+        self.store(R, C, &a0, &s0);
+    }
+
+    /// The group `(r, c)`'s sums from `self` (entries outside the triangle: zero).
+    #[inline(always)]
+    #[allow(clippy::needless_range_loop)] // the group's entries by row and column
+    fn load(&self, r0: usize, c0: usize, a: &mut [[L4; 3]; 3], s: &mut [L4; 3]) {
+        for r in 0..3 {
+            for c in 0..3 {
+                if r0 != c0 || r <= c {
+                    a[r][c] = self.s2[tri(r0 + r, c0 + c)];
+                }
+            }
+        }
+        if let (true, Some(s1)) = (r0 == c0, self.s1.get(c0..c0 + 3)) {
+            s.copy_from_slice(s1);
+        }
+    }
+
+    /// The group `(r, c)`'s sums into `self`.
+    #[inline(always)]
+    #[allow(clippy::needless_range_loop)] // the group's entries by row and column
+    fn store(&mut self, r0: usize, c0: usize, a: &[[L4; 3]; 3], s: &[L4; 3]) {
+        for r in 0..3 {
+            for c in 0..3 {
+                if r0 != c0 || r <= c {
+                    self.s2[tri(r0 + r, c0 + c)] = a[r][c];
+                }
+            }
+        }
+        if let (true, Some(s1)) = (r0 == c0, self.s1.get_mut(c0..c0 + 3)) {
+            s1.copy_from_slice(s);
+        }
+    }
+
+    /// One block's four quarters into the group sums `a` (rows `R..R + 3` by columns
+    /// `C..C + 3`; `R == C`: the upper triangle, and the columns' first moments into `s`);
+    /// weights `wb` when `W` (else one), offsets `x + nc`.
+    #[inline(always)]
+    #[allow(clippy::needless_range_loop)] // fixed-length lane loops: they vectorise
+    fn quarters<const R: usize, const C: usize, const W: bool>(
+        a: &mut [[L4; 3]; 3],
+        s: &mut [L4; 3],
+        blk: &[[f64; BLOCK]; N],
+        wb: &[f64; BLOCK],
+        nc: &[f64; N],
+    ) {
+        let diag = R == C;
+        for t in 0..BLOCK / 4 {
+            let o = 4 * t;
+            let quarter = |k: usize| -> L4 {
+                let v: L4 = std::array::from_fn(|j| blk[k][o + j]);
+                add4(v, [nc[k]; 4])
+            };
+            let wq: L4 = std::array::from_fn(|j| wb[o + j]);
+            let dr: [L4; 3] = [quarter(R), quarter(R + 1), quarter(R + 2)];
+            for c in 0..3 {
+                let dc = if diag { dr[c] } else { quarter(C + c) };
+                let wd = if W { mul4(wq, dc) } else { dc };
+                if diag {
+                    s[c] = add4(s[c], wd);
+                }
+                for r in 0..3 {
+                    if !diag || r <= c {
+                        a[r][c] = add4(a[r][c], mul4(dr[r], wd));
+                    }
+                }
+            }
+        }
+    }
+
+    /// The lanes added in order: the [`Moments`] about `reference` with the weights' sum
+    /// `wsum`.
+    #[inline(always)]
+    fn finish(&self, reference: &State, wsum: f64) -> Moments {
+        // the sums through memory: else LLVM sees the lane additions below as the sums'
+        // uses and its SLP vectoriser packs the loops across entries instead of lanes
+        // (scalar arithmetic with shuffles, measured three times the instructions)
+        let sums = std::hint::black_box(self);
+        let lanes = |v: &L4| v[0] + v[1] + v[2] + v[3];
+        let mut out = Moments::new(*reference);
+        out.wsum = wsum;
+        for (o, v) in out.s1.iter_mut().zip(&sums.s1) {
+            *o = lanes(v);
+        }
+        for (o, v) in out.s2.iter_mut().zip(&sums.s2) {
+            *o = lanes(v);
+        }
+        out
+    }
+}
+
 /// The normalisation's exponentials and the weighted moments in one pass over a run of
 /// particles: `w_i = exp(l_i - max)` (0 for a NaN `l_i`: the bits of
 /// [`resample::normalize_log_weights`] before its division), their sum in index order (its
@@ -2426,6 +2654,69 @@ fn exp_moments_inline(
         acc.add(xi, &rc, wi);
     }
     (acc.ws, acc.finish(reference))
+}
+
+/// `x` transposed into `soa` (one block per [`BLOCK`] particles, component-major; at least
+/// `x.len()` particles; the last block's padding lanes are left as they were).
+fn transpose_into(x: &[State], soa: &mut [[[f64; BLOCK]; N]]) {
+    simd::dispatch(
+        #[inline(always)]
+        || {
+            for (xb, sb) in x.chunks(BLOCK).zip(soa.iter_mut()) {
+                for (i, xi) in xb.iter().enumerate() {
+                    for k in 0..N {
+                        sb[k][i] = xi[k];
+                    }
+                }
+            }
+        },
+    )
+}
+
+/// [`Moments`] of the first `n` particles of `soa` (transposed, at least `n`) with weight one
+/// each (the weight sum the count) about `reference`, from the lanes ([`LaneSums`]). Run
+/// through [`simd::dispatch`].
+fn unit_moments_soa(reference: &State, soa: &[[[f64; BLOCK]; N]], n: usize) -> Moments {
+    simd::dispatch(
+        #[inline(always)]
+        || LaneSums::of_soa::<false>(reference, soa, n, &[]).finish(reference, n as f64),
+    )
+}
+
+/// [`exp_moments`] with the particles read from their transposed copy `soa` (one block per
+/// [`BLOCK`] particles, at least `w.len()` particles; the filter's `soa` when current):
+/// the same weights and weight sum, bit for bit; the moments from [`LaneSums`] (four lanes
+/// per sum instead of one chain: at rounding level from [`exp_moments`]'). A short last
+/// block is copied with its padding set to `reference` (offset zero) and weight zero.
+fn exp_moments_soa(
+    reference: &State,
+    soa: &[[[f64; BLOCK]; N]],
+    logw: &[f64],
+    max: f64,
+    w: &mut [f64],
+) -> (f64, Moments) {
+    simd::dispatch(
+        #[inline(always)]
+        || exp_moments_soa_inline(reference, soa, logw, max, w),
+    )
+}
+
+/// [`exp_moments_soa`]'s body, inlined into its [`simd::dispatch`].
+#[inline(always)]
+fn exp_moments_soa_inline(
+    reference: &State,
+    soa: &[[[f64; BLOCK]; N]],
+    logw: &[f64],
+    max: f64,
+    w: &mut [f64],
+) -> (f64, Moments) {
+    for (e, &l) in w.iter_mut().zip(logw) {
+        *e = if l.is_nan() { 0.0 } else { exp_nonpos(l - max) };
+    }
+    // in index order: the bits of the normalisation's sum
+    let sum = w.iter().fold(0.0, |s, &v| s + v);
+    let acc = LaneSums::of_soa::<true>(reference, soa, w.len(), w);
+    (sum, acc.finish(reference, sum))
 }
 
 impl Estimator for ParticleFilter {
@@ -3041,10 +3332,16 @@ mod tests {
             let mut ew = vec![0.0; x.len()];
             let (esum, emom) = exp_moments(&State::from_element(0.1), &x, &lwn, max, &mut ew);
             let upd = (fbits(&lwn), fbits(&ll2), max.to_bits(), fbits(&ew));
-            let em = [esum, emom.wsum]
+            let mut soa = vec![[[0.0; BLOCK]; N]; x.len().div_ceil(BLOCK)];
+            transpose_into(&x, &mut soa);
+            let (ssum, smom) = exp_moments_soa(&State::from_element(0.1), &soa, &lwn, max, &mut ew);
+            let em = [esum, emom.wsum, ssum, smom.wsum]
                 .into_iter()
                 .chain(emom.s1.iter().copied())
                 .chain(emom.s2)
+                .chain(smom.s1.iter().copied())
+                .chain(smom.s2)
+                .chain(ew.iter().copied())
                 .collect::<Vec<_>>();
             (
                 out,
@@ -3115,6 +3412,22 @@ mod tests {
         assert!((sum2 - sum).abs() <= 1e-12 * sum);
         assert!((m3 - m2).abs().max() <= 1e-12 * m2.abs().max());
         assert!((p3 - p2).abs().max() <= 1e-12 * scale);
+        // from the transposed copy (lane sums; a short last block whose padding holds
+        // garbage): the same weights and sum bit for bit, the moments to rounding
+        let mut soa = vec![[[f64::NAN; BLOCK]; N]; n.div_ceil(BLOCK)];
+        transpose_into(&x, &mut soa);
+        let mut w4 = vec![0.0; n];
+        let (sum4, mom4) = exp_moments_soa(&reference, &soa, &lwn, max, &mut w4);
+        assert_eq!(sum4.to_bits(), sum.to_bits());
+        assert_eq!(mom4.wsum.to_bits(), sum.to_bits());
+        w4.iter_mut().for_each(|v| *v *= inv);
+        assert!(w4
+            .iter()
+            .zip(&want)
+            .all(|(a, b)| a.to_bits() == b.to_bits()));
+        let (m4, p4) = mom4.mean_cov().expect("finite");
+        assert!((m4 - m2).abs().max() <= 1e-12 * m2.abs().max(), "{m4} {m2}");
+        assert!((p4 - p2).abs().max() <= 1e-12 * scale, "{p4} {p2}");
     }
 
     /// The transition gathering its input through resampling indices (the literal SIR's

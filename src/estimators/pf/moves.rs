@@ -98,7 +98,8 @@
 
 use super::par::CHUNK;
 use super::{
-    bandwidth, chol, psd_sqrt, Kernel, Likelihood, MomentLanes, Moments, ParticleFilter, BLOCK, N,
+    bandwidth, chol, psd_sqrt, Kernel, LaneSums, Likelihood, MomentLanes, Moments, ParticleFilter,
+    PointSums, BLOCK, N,
 };
 use crate::estimators::symmetrize;
 use crate::numerics::vexp::exp_nonpos;
@@ -408,22 +409,22 @@ impl ParticleFilter {
     }
 
     /// The plain RPF (without moves): every particle jittered by `h D eps`, kept. The
-    /// moments of the jittered set (uniform weights after the resampling) are accumulated
-    /// in the same block loop ([`MomentLanes`], about the mean before the resampling) and
-    /// become the filter's mean and covariance: true when they were set, false when there
-    /// was no kernel (nothing moved; the caller summarises).
+    /// moments of the jittered set (uniform weights after the resampling: weight one each,
+    /// the weight sum the count) are formed after the block loop from the moved blocks'
+    /// transposed copy ([`LaneSums`], about the mean before the resampling) and become the
+    /// filter's mean and covariance: true when they were set, false when there was no
+    /// kernel (nothing moved; the caller summarises).
     pub(super) fn regularise(&mut self, kernel: Kernel, cov_before: &Mat6) -> bool {
         // a non-finite particle covariance (particles near overflow) has no kernel: no jitter
         let Some(jitter) = Jitter::new(kernel, cov_before, self.x.len()) else {
             return false;
         };
         let reference = self.mean;
-        let w = 1.0 / self.x.len() as f64;
         let run =
             |x: &mut [State], soa: Option<&mut [[[f64; BLOCK]; N]]>, rng: &mut super::PfRng| {
                 crate::numerics::simd::dispatch(
                     #[inline(always)]
-                    || jitter.run_inline(x, soa, rng, &reference, w),
+                    || jitter.run_inline(x, soa, rng, &reference),
                 )
             };
         let sums = if self.chunked() {
@@ -556,10 +557,13 @@ impl Jitter {
 
     /// The plain RPF's loop over a run of particles, block by block: the block's kernel
     /// steps ([`Jitter::block`]), the particles transposed in, moved and transposed out
-    /// once, and the moments of the moved block (weight `w` each) accumulated about
-    /// `reference` from the transposed offsets ([`MomentLanes::add_soa`]); lanes derived
-    /// from `rng`. With `soa` (one block per [`BLOCK`] particles) the moved blocks are
-    /// also stored there, transposed. Inlined into [`ParticleFilter::regularise`]'s dispatch.
+    /// once; lanes derived from `rng`. With `soa` (one block per [`BLOCK`] particles) the
+    /// moved blocks are also stored there, transposed, and the moments of the moved set
+    /// (weight one each, about `reference`) are formed from them after the loop
+    /// ([`LaneSums`], each group's sums in registers for the whole run); without it
+    /// particle by particle from `x` ([`PointSums`]). (Accumulated in the block loop, the
+    /// lane sums broke the vectorisation of the block code: measured.) Inlined into
+    /// [`ParticleFilter::regularise`]'s dispatch.
     #[inline(always)]
     #[allow(clippy::needless_range_loop)] // index loops over fixed lanes: they vectorise
     fn run_inline(
@@ -568,14 +572,11 @@ impl Jitter {
         mut soa: Option<&mut [[[f64; BLOCK]; N]]>,
         rng: &mut super::PfRng,
         reference: &State,
-        w: f64,
     ) -> Moments {
         let mut lanes = Lanes::seed_from(rng);
         let mut e = [[0.0; BLOCK]; N];
         let mut step = [[0.0; BLOCK]; N];
         let mut xs = [[0.0; BLOCK]; N];
-        let mut d = [[0.0; BLOCK]; N];
-        let mut mom = MomentLanes::new();
         for (b, xb) in x.chunks_mut(BLOCK).enumerate() {
             self.block(&mut lanes, rng, &mut e, &mut step);
             for (i, xi) in xb.iter().enumerate() {
@@ -586,7 +587,6 @@ impl Jitter {
             for k in 0..N {
                 for i in 0..BLOCK {
                     xs[k][i] += step[k][i];
-                    d[k][i] = xs[k][i] - reference[k];
                 }
             }
             for (i, xi) in xb.iter_mut().enumerate() {
@@ -597,17 +597,24 @@ impl Jitter {
             if let Some(sb) = soa.as_deref_mut().and_then(|s| s.get_mut(b)) {
                 *sb = xs;
             }
-            // a short last block: zero weight and zero offset in the padding
-            let n = xb.len();
-            let wb: [f64; BLOCK] = std::array::from_fn(|i| if i < n { w } else { 0.0 });
-            if n < BLOCK {
-                for dk in d.iter_mut() {
-                    dk[n..].fill(0.0);
-                }
-            }
-            mom.add_soa(&d, &wb);
         }
-        mom.finish(reference)
+        // the moments of the moved set with weight one each (uniform weights: the sums of
+        // the offsets, the weight sum the count), from the transposed copy when it was
+        // written, else from `x`
+        let n = x.len();
+        match soa.as_deref() {
+            Some(s) if s.len() * BLOCK >= n => {
+                LaneSums::of_soa::<false>(reference, s, n, &[]).finish(reference, n as f64)
+            }
+            _ => {
+                let rc: [f64; N] = std::array::from_fn(|k| reference[k]);
+                let mut acc = PointSums::new();
+                for xi in x.iter() {
+                    acc.add(xi, &rc, 1.0);
+                }
+                acc.finish(reference)
+            }
+        }
     }
 }
 
@@ -644,8 +651,9 @@ fn epanechnikov_s(lanes: &mut Lanes) -> [f64; BLOCK] {
 
 #[cfg(test)]
 mod tests {
-    use super::{epanechnikov_s, Jitter, MomentLanes, Moments, BLOCK, N};
+    use super::{epanechnikov_s, Jitter, Moments, BLOCK, N};
     use crate::estimators::pf::{bandwidth, chol, Kernel, PfRng};
+    use crate::estimators::pf::{moments, weighted_sum};
     use crate::numerics::simd::{dispatch, with_baseline};
     use crate::numerics::ziggurat::Lanes;
     use crate::types::{Mat6, State};
@@ -747,44 +755,65 @@ mod tests {
 
     /// The plain RPF's block loop gives the same bits dispatched (AVX2 where present) and on
     /// the baseline path: the jittered particles, the moments and the generator, for both
-    /// kernels and both square roots, with a short last block; the moments equal
-    /// [`MomentLanes::add_block`]'s on the moved particles.
+    /// kernels and both square roots, with a short last block, with and without the
+    /// transposed copy; with the copy it holds the moved particles, and the moments (from
+    /// the copy's lanes, or particle by particle from `x` without it) equal the two-pass
+    /// moments of the moved particles (uniform weights, about their mean) to 1e-12.
     #[test]
+    #[allow(clippy::needless_range_loop)] // particle `i` of the transposed block
     fn jitter_dispatched_equals_baseline_bitwise() {
         let x0: Vec<State> = (0..1003)
             .map(|i| State::from_fn(|k, _| ((i * 31 + k * 17) % 97) as f64 * 0.1 - 4.0))
             .collect();
         let reference = State::from_element(0.2);
-        let w = 1.0 / x0.len() as f64;
+        let blocks = x0.len().div_ceil(BLOCK);
         let run = || {
             let mut out = Vec::new();
             for p in covariances() {
                 for kernel in [Kernel::Gaussian, Kernel::Epanechnikov] {
                     let jit = Jitter::new(kernel, &p, x0.len()).expect("a square root");
-                    let mut x = x0.clone();
-                    let mut rng = PfRng::seed_from_u64(9);
-                    let m: Moments = dispatch(
-                        #[inline(always)]
-                        || jit.run_inline(&mut x, None, &mut rng, &reference, w),
-                    );
-                    // the block loop's moments are those of the moved particles
-                    let mut lanes = MomentLanes::new();
-                    for xb in x.chunks(BLOCK) {
-                        lanes.add_block(&reference, xb, &[w; BLOCK][..xb.len()]);
+                    let mut moved = Vec::new();
+                    for with_soa in [false, true] {
+                        let mut x = x0.clone();
+                        let mut soa = vec![[[f64::NAN; BLOCK]; N]; blocks];
+                        let mut rng = PfRng::seed_from_u64(9);
+                        let s = with_soa.then_some(&mut soa[..]);
+                        let m: Moments = dispatch(
+                            #[inline(always)]
+                            || jit.run_inline(&mut x, s, &mut rng, &reference),
+                        );
+                        if with_soa {
+                            for (i, xi) in x.iter().enumerate() {
+                                for k in 0..N {
+                                    assert_eq!(soa[i / BLOCK][k][i % BLOCK], xi[k]);
+                                }
+                            }
+                        }
+                        // the moments are those of the moved particles
+                        let w = vec![1.0 / x.len() as f64; x.len()];
+                        let (ms, ws) = weighted_sum(&x, &w);
+                        let m2 = ms / ws;
+                        let (_, p2) = moments(&m2, &x, &w).finish();
+                        let (m1, p1) = m.finish();
+                        assert!((m1 - m2).abs().max() <= 1e-12 * m2.abs().max(), "{m1} {m2}");
+                        let scale = p2.abs().max();
+                        assert!((p1 - p2).abs().max() <= 1e-12 * scale, "{p1} {p2}");
+                        assert_eq!(m.wsum, x.len() as f64);
+                        let mut b: Vec<u64> = x
+                            .iter()
+                            .flat_map(|s| s.iter().map(|v| v.to_bits()))
+                            .collect();
+                        b.extend(
+                            m.s1.iter()
+                                .chain(&m.s2)
+                                .chain([&m.wsum])
+                                .map(|v| v.to_bits()),
+                        );
+                        moved.push(x);
+                        out.push((b, rng));
                     }
-                    let m2 = lanes.finish(&reference);
-                    assert!(m.s1 == m2.s1 && m.s2 == m2.s2 && m.wsum == m2.wsum);
-                    let mut b: Vec<u64> = x
-                        .iter()
-                        .flat_map(|s| s.iter().map(|v| v.to_bits()))
-                        .collect();
-                    b.extend(
-                        m.s1.iter()
-                            .chain(&m.s2)
-                            .chain([&m.wsum])
-                            .map(|v| v.to_bits()),
-                    );
-                    out.push((b, rng));
+                    // the same particles either way
+                    assert!(moved[0] == moved[1]);
                 }
             }
             out
