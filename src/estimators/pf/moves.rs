@@ -421,9 +421,9 @@ impl ParticleFilter {
         let w = 1.0 / self.x.len() as f64;
         let run =
             |x: &mut [State], soa: Option<&mut [[[f64; BLOCK]; N]]>, rng: &mut super::PfRng| {
-                crate::numerics::simd::dispatch(
+                crate::numerics::simd::dispatch_v3(
                     #[inline(always)]
-                    || jitter.run_inline(x, soa, rng, &reference, w),
+                    |v3| jitter.run_inline(v3, x, soa, rng, &reference, w),
                 )
             };
         let sums = if self.chunked() {
@@ -556,14 +556,17 @@ impl Jitter {
 
     /// The plain RPF's loop over a run of particles, block by block: the block's kernel
     /// steps ([`Jitter::block`]), the particles transposed in, moved and transposed out
-    /// once, and the moments of the moved block (weight `w` each) accumulated about
-    /// `reference` from the transposed offsets ([`MomentLanes::add_soa`]); lanes derived
-    /// from `rng`. With `soa` (one block per [`BLOCK`] particles) the moved blocks are
-    /// also stored there, transposed. Inlined into [`ParticleFilter::regularise`]'s dispatch.
+    /// once (out by [`super::block_to_rows`]' shuffles with the v3 token `v3`), and the
+    /// moments of the moved block (weight `w` each) accumulated about `reference` from the
+    /// transposed offsets ([`MomentLanes::add_soa`]); lanes derived from `rng`. With `soa`
+    /// (one block per [`BLOCK`] particles) the moved blocks are also stored there,
+    /// transposed. Inlined into [`ParticleFilter::regularise`]'s
+    /// [`crate::numerics::simd::dispatch_v3`].
     #[inline(always)]
     #[allow(clippy::needless_range_loop)] // index loops over fixed lanes: they vectorise
     fn run_inline(
         &self,
+        v3: Option<crate::numerics::simd::V3>,
         x: &mut [State],
         mut soa: Option<&mut [[[f64; BLOCK]; N]]>,
         rng: &mut super::PfRng,
@@ -578,6 +581,9 @@ impl Jitter {
         let mut mom = MomentLanes::new();
         for (b, xb) in x.chunks_mut(BLOCK).enumerate() {
             self.block(&mut lanes, rng, &mut e, &mut step);
+            // element copies: the shuffles measured worse here (inlined: +8 600 instructions
+            // per RPF step; in a function of their own, whose call spills the loop's vector
+            // registers: +14 500)
             for (i, xi) in xb.iter().enumerate() {
                 for k in 0..N {
                     xs[k][i] = xi[k];
@@ -589,11 +595,8 @@ impl Jitter {
                     d[k][i] = xs[k][i] - reference[k];
                 }
             }
-            for (i, xi) in xb.iter_mut().enumerate() {
-                for k in 0..N {
-                    xi[k] = xs[k][i];
-                }
-            }
+            // out by shuffles (with the token)
+            super::block_to_rows(v3, &xs, xb);
             if let Some(sb) = soa.as_deref_mut().and_then(|s| s.get_mut(b)) {
                 *sb = xs;
             }
@@ -646,7 +649,7 @@ fn epanechnikov_s(lanes: &mut Lanes) -> [f64; BLOCK] {
 mod tests {
     use super::{epanechnikov_s, Jitter, MomentLanes, Moments, BLOCK, N};
     use crate::estimators::pf::{bandwidth, chol, Kernel, PfRng};
-    use crate::numerics::simd::{dispatch, with_baseline};
+    use crate::numerics::simd::{dispatch, dispatch_v3, with_baseline};
     use crate::numerics::ziggurat::Lanes;
     use crate::types::{Mat6, State};
     use rand::SeedableRng;
@@ -763,9 +766,9 @@ mod tests {
                     let jit = Jitter::new(kernel, &p, x0.len()).expect("a square root");
                     let mut x = x0.clone();
                     let mut rng = PfRng::seed_from_u64(9);
-                    let m: Moments = dispatch(
+                    let m: Moments = dispatch_v3(
                         #[inline(always)]
-                        || jit.run_inline(&mut x, None, &mut rng, &reference, w),
+                        |v3| jit.run_inline(v3, &mut x, None, &mut rng, &reference, w),
                     );
                     // the block loop's moments are those of the moved particles
                     let mut lanes = MomentLanes::new();
