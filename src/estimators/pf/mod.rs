@@ -867,9 +867,7 @@ impl Transition {
             _ => self.cw_means(cw, a, xb),
         }
         if let Some(xbo) = xb_out {
-            for (i, slot) in xbo.iter_mut().enumerate() {
-                *slot = State::from_fn(|k, _| xb[k][i]);
-            }
+            block_to_rows(v3, xb, xbo);
         }
         // the new block straight into `soa` when given (its input was read)
         let bad = match soa {
