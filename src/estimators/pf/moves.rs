@@ -351,37 +351,43 @@ impl ParticleFilter {
         // lanes derived from the chunk's generator, the candidates, their likelihoods
         // together, then the accept step
         // (called from one place, inside the dispatch below: inlined there)
-        let run_inline = |x: &mut [State], loglik: &mut [f64], rng: &mut super::PfRng| {
-            let mut counts = (0u64, 0u64);
-            let mut cands = [State::zeros(); BLOCK];
-            let mut us = [0.0f64; BLOCK];
-            let mut lls = [0.0; BLOCK];
-            let mut lanes = Lanes::seed_from(rng);
-            let mut e = [[0.0; BLOCK]; N];
-            let mut step = [[0.0; BLOCK]; N];
-            for (xb, llb) in x.chunks_mut(BLOCK).zip(loglik.chunks_mut(BLOCK)) {
-                let n = xb.len();
-                jitter.block(&mut lanes, rng, &mut e, &mut step);
-                lanes.uniforms(&mut us);
-                for (i, (c, xi)) in cands.iter_mut().zip(xb.iter()).enumerate() {
-                    *c = *xi + State::from_fn(|k, _| step[k][i]);
-                }
-                lik.log_many(&cands[..n], &mut lls[..n]);
-                for (i, (xi, lli)) in xb.iter_mut().zip(llb.iter_mut()).enumerate() {
-                    let (cand, ll, u) = (cands[i], lls[i], us[i]);
-                    let lp = log_pi(&cand, ll);
-                    counts.0 += 1;
-                    // `u < min(1, e^d)` (`ln u < d` without the logarithm; NaN rejects)
-                    let d = lp - log_pi(xi, *lli);
-                    if lp.is_finite() && (d >= 0.0 || u < exp_nonpos(d)) {
-                        *xi = cand;
-                        *lli = ll;
-                        counts.1 += 1;
+        // (the attribute makes it so: without it LLVM kept the closure a function of its
+        // own, compiled for the baseline, and the dispatch had no effect on the loop;
+        // `identity` only because an attribute on a closure needs argument position)
+        let run_inline = std::convert::identity(
+            #[inline(always)]
+            |x: &mut [State], loglik: &mut [f64], rng: &mut super::PfRng| {
+                let mut counts = (0u64, 0u64);
+                let mut cands = [State::zeros(); BLOCK];
+                let mut us = [0.0f64; BLOCK];
+                let mut lls = [0.0; BLOCK];
+                let mut lanes = Lanes::seed_from(rng);
+                let mut e = [[0.0; BLOCK]; N];
+                let mut step = [[0.0; BLOCK]; N];
+                for (xb, llb) in x.chunks_mut(BLOCK).zip(loglik.chunks_mut(BLOCK)) {
+                    let n = xb.len();
+                    jitter.block(&mut lanes, rng, &mut e, &mut step);
+                    lanes.uniforms(&mut us);
+                    for (i, (c, xi)) in cands.iter_mut().zip(xb.iter()).enumerate() {
+                        *c = *xi + State::from_fn(|k, _| step[k][i]);
+                    }
+                    lik.log_many(&cands[..n], &mut lls[..n]);
+                    for (i, (xi, lli)) in xb.iter_mut().zip(llb.iter_mut()).enumerate() {
+                        let (cand, ll, u) = (cands[i], lls[i], us[i]);
+                        let lp = log_pi(&cand, ll);
+                        counts.0 += 1;
+                        // `u < min(1, e^d)` (`ln u < d` without the logarithm; NaN rejects)
+                        let d = lp - log_pi(xi, *lli);
+                        if lp.is_finite() && (d >= 0.0 || u < exp_nonpos(d)) {
+                            *xi = cand;
+                            *lli = ll;
+                            counts.1 += 1;
+                        }
                     }
                 }
-            }
-            counts
-        };
+                counts
+            },
+        );
         // AVX2 where present (the same bits)
         let run = |x: &mut [State], loglik: &mut [f64], rng: &mut super::PfRng| {
             crate::numerics::simd::dispatch(
