@@ -655,7 +655,7 @@ fn epanechnikov_s(lanes: &mut Lanes) -> [f64; BLOCK] {
 mod tests {
     use super::{epanechnikov_s, Jitter, MomentLanes, Moments, BLOCK, N};
     use crate::estimators::pf::{bandwidth, chol, Kernel, PfRng};
-    use crate::numerics::simd::{dispatch, dispatch_v3, with_baseline};
+    use crate::numerics::simd::{dispatch_v3, with_baseline};
     use crate::numerics::ziggurat::Lanes;
     use crate::types::{Mat6, State};
     use rand::SeedableRng;
