@@ -352,37 +352,43 @@ impl ParticleFilter {
         // lanes derived from the chunk's generator, the candidates, their likelihoods
         // together, then the accept step
         // (called from one place, inside the dispatch below: inlined there)
-        let run_inline = |x: &mut [State], loglik: &mut [f64], rng: &mut super::PfRng| {
-            let mut counts = (0u64, 0u64);
-            let mut cands = [State::zeros(); BLOCK];
-            let mut us = [0.0f64; BLOCK];
-            let mut lls = [0.0; BLOCK];
-            let mut lanes = Lanes::seed_from(rng);
-            let mut e = [[0.0; BLOCK]; N];
-            let mut step = [[0.0; BLOCK]; N];
-            for (xb, llb) in x.chunks_mut(BLOCK).zip(loglik.chunks_mut(BLOCK)) {
-                let n = xb.len();
-                jitter.block(&mut lanes, rng, &mut e, &mut step);
-                lanes.uniforms(&mut us);
-                for (i, (c, xi)) in cands.iter_mut().zip(xb.iter()).enumerate() {
-                    *c = *xi + State::from_fn(|k, _| step[k][i]);
-                }
-                lik.log_many(&cands[..n], &mut lls[..n]);
-                for (i, (xi, lli)) in xb.iter_mut().zip(llb.iter_mut()).enumerate() {
-                    let (cand, ll, u) = (cands[i], lls[i], us[i]);
-                    let lp = log_pi(&cand, ll);
-                    counts.0 += 1;
-                    // `u < min(1, e^d)` (`ln u < d` without the logarithm; NaN rejects)
-                    let d = lp - log_pi(xi, *lli);
-                    if lp.is_finite() && (d >= 0.0 || u < exp_nonpos(d)) {
-                        *xi = cand;
-                        *lli = ll;
-                        counts.1 += 1;
+        // (the attribute makes it so: without it LLVM kept the closure a function of its
+        // own, compiled for the baseline, and the dispatch had no effect on the loop;
+        // `identity` only because an attribute on a closure needs argument position)
+        let run_inline = std::convert::identity(
+            #[inline(always)]
+            |x: &mut [State], loglik: &mut [f64], rng: &mut super::PfRng| {
+                let mut counts = (0u64, 0u64);
+                let mut cands = [State::zeros(); BLOCK];
+                let mut us = [0.0f64; BLOCK];
+                let mut lls = [0.0; BLOCK];
+                let mut lanes = Lanes::seed_from(rng);
+                let mut e = [[0.0; BLOCK]; N];
+                let mut step = [[0.0; BLOCK]; N];
+                for (xb, llb) in x.chunks_mut(BLOCK).zip(loglik.chunks_mut(BLOCK)) {
+                    let n = xb.len();
+                    jitter.block(&mut lanes, rng, &mut e, &mut step);
+                    lanes.uniforms(&mut us);
+                    for (i, (c, xi)) in cands.iter_mut().zip(xb.iter()).enumerate() {
+                        *c = *xi + State::from_fn(|k, _| step[k][i]);
+                    }
+                    lik.log_many(&cands[..n], &mut lls[..n]);
+                    for (i, (xi, lli)) in xb.iter_mut().zip(llb.iter_mut()).enumerate() {
+                        let (cand, ll, u) = (cands[i], lls[i], us[i]);
+                        let lp = log_pi(&cand, ll);
+                        counts.0 += 1;
+                        // `u < min(1, e^d)` (`ln u < d` without the logarithm; NaN rejects)
+                        let d = lp - log_pi(xi, *lli);
+                        if lp.is_finite() && (d >= 0.0 || u < exp_nonpos(d)) {
+                            *xi = cand;
+                            *lli = ll;
+                            counts.1 += 1;
+                        }
                     }
                 }
-            }
-            counts
-        };
+                counts
+            },
+        );
         // AVX2 where present (the same bits)
         let run = |x: &mut [State], loglik: &mut [f64], rng: &mut super::PfRng| {
             crate::numerics::simd::dispatch(
@@ -422,9 +428,9 @@ impl ParticleFilter {
         let reference = self.mean;
         let run =
             |x: &mut [State], soa: Option<&mut [[[f64; BLOCK]; N]]>, rng: &mut super::PfRng| {
-                crate::numerics::simd::dispatch(
+                crate::numerics::simd::dispatch_v3(
                     #[inline(always)]
-                    || jitter.run_inline(x, soa, rng, &reference),
+                    |v3| jitter.run_inline(v3, x, soa, rng, &reference),
                 )
             };
         let sums = if self.chunked() {
@@ -557,17 +563,19 @@ impl Jitter {
 
     /// The plain RPF's loop over a run of particles, block by block: the block's kernel
     /// steps ([`Jitter::block`]), the particles transposed in, moved and transposed out
-    /// once; lanes derived from `rng`. With `soa` (one block per [`BLOCK`] particles) the
-    /// moved blocks are also stored there, transposed, and the moments of the moved set
-    /// (weight one each, about `reference`) are formed from them after the loop
-    /// ([`LaneSums`], each group's sums in registers for the whole run); without it
-    /// particle by particle from `x` ([`PointSums`]). (Accumulated in the block loop, the
-    /// lane sums broke the vectorisation of the block code: measured.) Inlined into
-    /// [`ParticleFilter::regularise`]'s dispatch.
+    /// once (out by [`super::block_to_rows`]' shuffles with the v3 token `v3`); lanes
+    /// derived from `rng`. With `soa` (one block per [`BLOCK`] particles) the moved blocks
+    /// are also stored there, transposed, and the moments of the moved set (weight one
+    /// each, about `reference`) are formed from them after the loop ([`LaneSums`], each
+    /// group's sums in registers for the whole run); without it particle by particle from
+    /// `x` ([`PointSums`]). (Accumulated in the block loop, the lane sums broke the
+    /// vectorisation of the block code: measured.) Inlined into
+    /// [`ParticleFilter::regularise`]'s [`crate::numerics::simd::dispatch_v3`].
     #[inline(always)]
     #[allow(clippy::needless_range_loop)] // index loops over fixed lanes: they vectorise
     fn run_inline(
         &self,
+        v3: Option<crate::numerics::simd::V3>,
         x: &mut [State],
         mut soa: Option<&mut [[[f64; BLOCK]; N]]>,
         rng: &mut super::PfRng,
@@ -579,6 +587,9 @@ impl Jitter {
         let mut xs = [[0.0; BLOCK]; N];
         for (b, xb) in x.chunks_mut(BLOCK).enumerate() {
             self.block(&mut lanes, rng, &mut e, &mut step);
+            // element copies: the shuffles measured worse here (inlined: +8 600 instructions
+            // per RPF step; in a function of their own, whose call spills the loop's vector
+            // registers: +14 500)
             for (i, xi) in xb.iter().enumerate() {
                 for k in 0..N {
                     xs[k][i] = xi[k];
@@ -589,11 +600,8 @@ impl Jitter {
                     xs[k][i] += step[k][i];
                 }
             }
-            for (i, xi) in xb.iter_mut().enumerate() {
-                for k in 0..N {
-                    xi[k] = xs[k][i];
-                }
-            }
+            // out by shuffles (with the token)
+            super::block_to_rows(v3, &xs, xb);
             if let Some(sb) = soa.as_deref_mut().and_then(|s| s.get_mut(b)) {
                 *sb = xs;
             }
@@ -654,7 +662,7 @@ mod tests {
     use super::{epanechnikov_s, Jitter, Moments, BLOCK, N};
     use crate::estimators::pf::{bandwidth, chol, Kernel, PfRng};
     use crate::estimators::pf::{moments, weighted_sum};
-    use crate::numerics::simd::{dispatch, with_baseline};
+    use crate::numerics::simd::{dispatch_v3, with_baseline};
     use crate::numerics::ziggurat::Lanes;
     use crate::types::{Mat6, State};
     use rand::SeedableRng;
@@ -778,9 +786,9 @@ mod tests {
                         let mut soa = vec![[[f64::NAN; BLOCK]; N]; blocks];
                         let mut rng = PfRng::seed_from_u64(9);
                         let s = with_soa.then_some(&mut soa[..]);
-                        let m: Moments = dispatch(
+                        let m: Moments = dispatch_v3(
                             #[inline(always)]
-                            || jit.run_inline(&mut x, s, &mut rng, &reference),
+                            |v3| jit.run_inline(v3, &mut x, s, &mut rng, &reference),
                         );
                         if with_soa {
                             for (i, xi) in x.iter().enumerate() {
