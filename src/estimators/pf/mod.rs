@@ -2694,6 +2694,15 @@ impl LaneSums {
     }
 }
 
+/// The normalisation's exponentials `w_i = exp(l_i - max)` (0 for a NaN `l_i`), vectorised
+/// across particles ([`exp_nonpos`]); inlined into its caller's [`simd::dispatch`].
+#[inline(always)]
+fn exp_weights(w: &mut [f64], logw: &[f64], max: f64) {
+    for (e, &l) in w.iter_mut().zip(logw) {
+        *e = if l.is_nan() { 0.0 } else { exp_nonpos(l - max) };
+    }
+}
+
 /// The normalisation's exponentials and the weighted moments in one pass over a run of
 /// particles: `w_i = exp(l_i - max)` (0 for a NaN `l_i`: the bits of
 /// [`resample::normalize_log_weights`] before its division), their sum in index order (its
@@ -2723,9 +2732,7 @@ fn exp_moments_inline(
     max: f64,
     w: &mut [f64],
 ) -> (f64, Moments) {
-    for (e, &l) in w.iter_mut().zip(logw) {
-        *e = if l.is_nan() { 0.0 } else { exp_nonpos(l - max) };
-    }
+    exp_weights(w, logw, max);
     let rc: [f64; N] = std::array::from_fn(|k| reference[k]);
     let mut acc = PointSums::new();
     for (xi, &wi) in x.iter().zip(w.iter()) {
@@ -2788,9 +2795,7 @@ fn exp_moments_soa_inline(
     max: f64,
     w: &mut [f64],
 ) -> (f64, Moments) {
-    for (e, &l) in w.iter_mut().zip(logw) {
-        *e = if l.is_nan() { 0.0 } else { exp_nonpos(l - max) };
-    }
+    exp_weights(w, logw, max);
     // in index order: the bits of the normalisation's sum
     let sum = w.iter().fold(0.0, |s, &v| s + v);
     let acc = LaneSums::of_soa::<true>(reference, soa, w.len(), w);
