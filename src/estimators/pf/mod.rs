@@ -2498,7 +2498,7 @@ const fn tri(r: usize, c: usize) -> usize {
 /// AVX2 vector per sum), the lanes added in order at the end ([`LaneSums::finish`]). The 21
 /// upper-triangle entries and the six first moments (27 four-wide sums) do not fit in the 16
 /// AVX2 registers beside their operands, so they are formed in three groups, each a loop
-/// over the blocks whose sums stay in registers ([`LaneSums::group`]): the triangle of rows
+/// over the blocks whose sums stay in registers ([`LaneSums::pass`]): the triangle of rows
 /// and columns 0..3 with the first moments 0..3, the triangle of 3..6 with the first moments
 /// 3..6, and the cross block rows 0..3 x columns 3..6. Each entry is `sum d_r (w d_c)` as in
 /// [`MomentLanes`]; with `W = false` every weight is one (`wd = d`, no products). Inlined
@@ -2748,17 +2748,14 @@ fn exp_moments_inline(
 }
 
 /// `x` transposed into `soa` (one block per [`BLOCK`] particles, component-major; at least
-/// `x.len()` particles; the last block's padding lanes are left as they were).
+/// `x.len()` particles; the last block's padding lanes are left as they were), block by
+/// block by [`rows_to_block_in`] (the transition's shuffles with the v3 token).
 fn transpose_into(x: &[State], soa: &mut [[[f64; BLOCK]; N]]) {
-    simd::dispatch(
+    simd::dispatch_v3(
         #[inline(always)]
-        || {
+        |v3| {
             for (xb, sb) in x.chunks(BLOCK).zip(soa.iter_mut()) {
-                for (i, xi) in xb.iter().enumerate() {
-                    for k in 0..N {
-                        sb[k][i] = xi[k];
-                    }
-                }
+                rows_to_block_in(v3, xb, sb);
             }
         },
     )
