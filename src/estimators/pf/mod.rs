@@ -950,49 +950,44 @@ fn gather_to_block(v3: Option<simd::V3>, xs: &[State], ib: &[usize], a: &mut [[f
     }
 }
 
-/// `a[k][i] = xs[i][k]`: the particles `xs` (at most [`BLOCK`]) into a transposed block,
-/// four at a time by [`simd::rows_to_lanes`]' shuffles (with the token), the rest element by
-/// element. The lanes from `xs.len()` on keep their values.
+/// `a[k][i] = row(&keys[i])[k]`: the particles named by `keys` (at most [`BLOCK`]) into a
+/// transposed block, four at a time by [`simd::rows_to_lanes`]' shuffles (with the token), the
+/// rest element by element. The lanes from `keys.len()` on keep their values.
 #[inline(always)]
-fn rows_to_block_in(v3: Option<simd::V3>, xs: &[State], a: &mut [[f64; BLOCK]; N]) {
-    let mut quads = xs.chunks_exact(4);
+fn keys_to_block_in<'a, T>(
+    v3: Option<simd::V3>,
+    keys: &'a [T],
+    row: impl Fn(&'a T) -> &'a State,
+    a: &mut [[f64; BLOCK]; N],
+) {
+    let mut quads = keys.chunks_exact(4);
     for (q, c) in (&mut quads).enumerate() {
-        if let [p0, p1, p2, p3] = c {
-            let rows = [&p0.data.0[0], &p1.data.0[0], &p2.data.0[0], &p3.data.0[0]];
+        if let [k0, k1, k2, k3] = c {
+            let rows = [k0, k1, k2, k3].map(|k| &row(k).data.0[0]);
             simd::rows_to_lanes(v3, rows, a, 4 * q);
         }
     }
-    let done = xs.len() - quads.remainder().len();
-    for (i, xi) in quads.remainder().iter().enumerate() {
+    let done = keys.len() - quads.remainder().len();
+    for (i, key) in quads.remainder().iter().enumerate() {
+        let xi = row(key);
         for (k, ak) in a.iter_mut().enumerate() {
             ak[done + i] = xi[k];
         }
     }
 }
 
+/// `a[k][i] = xs[i][k]`: the particles `xs` (at most [`BLOCK`]) into a transposed block
+/// ([`keys_to_block_in`]).
+#[inline(always)]
+fn rows_to_block_in(v3: Option<simd::V3>, xs: &[State], a: &mut [[f64; BLOCK]; N]) {
+    keys_to_block_in(v3, xs, |p| p, a);
+}
+
 /// `a[k][i] = xs[ib[i]][k]`: the particles `ib` (at most [`BLOCK`] indices into `xs`)
-/// gathered into a transposed block, as [`rows_to_block`].
+/// gathered into a transposed block ([`keys_to_block_in`]).
 #[inline(always)]
 fn gather_to_block_in(v3: Option<simd::V3>, xs: &[State], ib: &[usize], a: &mut [[f64; BLOCK]; N]) {
-    let mut quads = ib.chunks_exact(4);
-    for (q, c) in (&mut quads).enumerate() {
-        if let [j0, j1, j2, j3] = *c {
-            let rows = [
-                &xs[j0].data.0[0],
-                &xs[j1].data.0[0],
-                &xs[j2].data.0[0],
-                &xs[j3].data.0[0],
-            ];
-            simd::rows_to_lanes(v3, rows, a, 4 * q);
-        }
-    }
-    let done = ib.len() - quads.remainder().len();
-    for (i, &j) in quads.remainder().iter().enumerate() {
-        let xi = &xs[j];
-        for (k, ak) in a.iter_mut().enumerate() {
-            ak[done + i] = xi[k];
-        }
-    }
+    keys_to_block_in(v3, ib, |&j| &xs[j], a);
 }
 
 /// `os[i][k] = a[k][i]`: a transposed block out into the particles `os` (at most
