@@ -324,7 +324,7 @@ fn cloud_probabilities(
 /// path, so the same bits); it differs from the weighted pass at rounding level.
 // index loops over fixed rows and columns: they vectorise
 #[allow(clippy::needless_range_loop)]
-fn unit_moments(x: &[State], r: &State) -> Moments {
+pub(super) fn unit_moments(x: &[State], r: &State) -> Moments {
     simd::dispatch(
         #[inline(always)]
         || {

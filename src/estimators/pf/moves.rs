@@ -99,7 +99,7 @@
 use super::par::CHUNK;
 use super::{
     bandwidth, chol, psd_sqrt, Kernel, LaneSums, Likelihood, MomentLanes, Moments, ParticleFilter,
-    PointSums, BLOCK, N,
+    BLOCK, N,
 };
 use crate::estimators::symmetrize;
 use crate::numerics::vexp::exp_nonpos;
@@ -568,9 +568,10 @@ impl Jitter {
     /// are also stored there, transposed, and the moments of the moved set (weight one
     /// each, about `reference`) are formed from them after the loop ([`LaneSums`], each
     /// group's sums in registers for the whole run); without it particle by particle from
-    /// `x` ([`PointSums`]). (Accumulated in the block loop, the lane sums broke the
-    /// vectorisation of the block code: measured.) Inlined into
-    /// [`ParticleFilter::regularise`]'s [`crate::numerics::simd::dispatch_v3`].
+    /// `x` ([`super::genetic::unit_moments`], the same sums as the GA-PF's parallel path).
+    /// (Accumulated in the block loop, the lane sums broke the vectorisation of the block
+    /// code: measured.) Inlined into [`ParticleFilter::regularise`]'s
+    /// [`crate::numerics::simd::dispatch_v3`].
     #[inline(always)]
     #[allow(clippy::needless_range_loop)] // index loops over fixed lanes: they vectorise
     fn run_inline(
@@ -614,14 +615,7 @@ impl Jitter {
             Some(s) if s.len() * BLOCK >= n => {
                 LaneSums::of_soa::<false>(reference, s, n, &[]).finish(reference, n as f64)
             }
-            _ => {
-                let rc: [f64; N] = std::array::from_fn(|k| reference[k]);
-                let mut acc = PointSums::new();
-                for xi in x.iter() {
-                    acc.add(xi, &rc, 1.0);
-                }
-                acc.finish(reference)
-            }
+            _ => super::genetic::unit_moments(x, reference),
         }
     }
 }
