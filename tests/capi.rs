@@ -225,7 +225,7 @@ fn bad_new_fields_are_refused_with_their_name() {
             let msg = last_error();
             assert!(msg.contains(name), "{name}: {msg}");
             // and relnav_estimator_new refuses it the same way, leaving *out null
-            let mut p = 1usize as *mut relnav_estimator;
+            let mut p = std::ptr::dangling_mut::<relnav_estimator>();
             // SAFETY: valid pointers.
             assert_eq!(unsafe { relnav_estimator_new(&c, &mut p) }, INVALID);
             assert!(p.is_null());

@@ -732,7 +732,7 @@ impl HinfEstimator {
     /// Whether the designed (certified) gain runs: always without track initiation, after
     /// the hand-over with it.
     pub fn certified(&self) -> bool {
-        self.acquisition.as_ref().map_or(true, |a| a.certified())
+        self.acquisition.as_ref().is_none_or(|a| a.certified())
     }
     /// The period the matrices hold for [s].
     pub fn period(&self) -> f64 {

@@ -1117,7 +1117,7 @@ impl<M: MeasurementModel> Unscented<'_, M> {
             // (compared entry by entry without early exit: nalgebra's `==` walks an
             // iterator, about 800 instructions; a slice `==` exits at the first difference,
             // about 140)
-            if sd.pc.as_ref().map_or(true, |p| same_entries(p, pc)) {
+            if sd.pc.as_ref().is_none_or(|p| same_entries(p, pc)) {
                 return self.draw_shared(sd, xbar, rng);
             }
         }
@@ -1250,7 +1250,7 @@ impl<M: MeasurementModel> Unscented<'_, M> {
         let mut lane = [0u8; BLOCK];
         let mut own_corr = [0.0; BLOCK];
         for i in 0..n {
-            let eligible = sd.pc.as_ref().map_or(true, |p| same_entries(p, &pc[i]));
+            let eligible = sd.pc.as_ref().is_none_or(|p| same_entries(p, &pc[i]));
             if !eligible {
                 if let Some((xi, _, corr)) = self.draw(&xbar[i], &pc[i], rng) {
                     x_new[i] = xi;
