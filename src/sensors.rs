@@ -389,9 +389,10 @@ impl MeasurementModel for RadioSensor {
     }
     /// [`RadioSensor::residual_at`]'s small-residual branch for a block of positions with
     /// no branch in the loop (so it vectorises): every lane is evaluated by the series, and
-    /// a lane outside the series' domain (range below [`MIN_RANGE`], a residual cosine
-    /// below 1/2 or a sine beyond `2^-5`, the series' domain, NaN) is redone by `residual_at`
-    /// afterwards. The same values as `residual_at` lane by lane, bit for bit (tested).
+    /// a lane outside the series' domain is redone afterwards: a sine beyond `2^-5` (the
+    /// series' domain) with both cosines above 1/2 by [`asin_small`], as `residual_at`
+    /// forms it; range below [`MIN_RANGE`], a residual cosine below 1/2 or NaN by
+    /// `residual_at` itself. The same values as `residual_at` lane by lane, bit for bit (tested).
     /// Inlined (always) so that a caller's [`crate::numerics::simd::dispatch`] compiles
     /// it for AVX2.
     #[inline(always)]
@@ -435,15 +436,7 @@ impl MeasurementModel for RadioSensor {
         *ok = [true; B];
         // the lanes to redo, if any: one vector test per block in the common case
         if slow.iter().take(n).fold(false, |a, &s| a | s) {
-            for i in 0..n.min(B) {
-                if slow[i] {
-                    let ri = Vec3::new(r[0][i], r[1][i], r[2][i]);
-                    let v = self.residual_at(z, trig, &ri);
-                    ok[i] = v.is_some();
-                    let v = v.unwrap_or_default();
-                    (d[0][i], d[1][i], d[2][i]) = (v.x, v.y, v.z);
-                }
-            }
+            self.redo_residuals(z, trig, r, n, &slow, d, ok);
         }
     }
     /// The unscented transform without an `atan2` or `sin_cos` per sigma point. Each point's
@@ -810,6 +803,57 @@ pub struct RadioSensor {
 }
 
 impl RadioSensor {
+    /// The lanes of [`MeasurementModel::residuals_at`] that its loop flags (`slow`), apart
+    /// (cold, not inlined: the loop's code is the same with or without it). A lane in
+    /// [`MeasurementModel::residual_at`]'s small-residual branch whose sine is beyond the
+    /// series' domain (a particle off the measurement by more than 2^-5 rad) gets the loop's
+    /// values again and its angles by [`asin_small`], as `residual_at` forms them (`libm`'s
+    /// `asin` there), without `residual_at`'s matrix product and branches; any other lane
+    /// (range below [`MIN_RANGE`], a residual cosine below 1/2, NaN) is `residual_at`'s.
+    #[cold]
+    #[inline(never)]
+    #[allow(clippy::too_many_arguments, clippy::needless_range_loop)]
+    fn redo_residuals<const B: usize>(
+        &self,
+        z: &Vec3,
+        trig: &AngleTrig,
+        r: &[[f64; B]; 3],
+        n: usize,
+        slow: &[bool; B],
+        d: &mut [[f64; B]; 3],
+        ok: &mut [bool; B],
+    ) {
+        let [(j0, s0), (j1, s1), (j2, s2)] = self.frame.axis_map();
+        let (r0, r1, r2) = (&r[j0], &r[j1], &r[j2]);
+        let (se, ce) = trig.el;
+        let (sa, ca) = trig.az;
+        for i in 0..n.min(B) {
+            if !slow[i] {
+                continue;
+            }
+            let p = Vec3::new(s0 * r0[i], s1 * r1[i], s2 * r2[i]);
+            let rho_xy2 = p.x * p.x + p.y * p.y;
+            let rho = (rho_xy2 + p.z * p.z).sqrt();
+            let rho_xy = rho_xy2.sqrt();
+            if (rho >= MIN_RANGE)
+                & (rho_xy > 0.0)
+                & (ce * rho_xy + se * p.z > 0.5 * rho)
+                & (ca * p.x + sa * p.y > 0.5 * rho_xy)
+            {
+                let s_el = (se * rho_xy - ce * p.z) / rho;
+                let s_az = (sa * p.x - ca * p.y) / rho_xy;
+                d[1][i] = asin_small(s_az.clamp(-1.0, 1.0));
+                d[2][i] = asin_small(s_el.clamp(-1.0, 1.0));
+                continue;
+            }
+            let ri = Vec3::new(r[0][i], r[1][i], r[2][i]);
+            let v = self.residual_at(z, trig, &ri);
+            ok[i] = v.is_some();
+            let v = v.unwrap_or_default();
+            (d[0][i], d[1][i], d[2][i]) = (v.x, v.y, v.z);
+        }
+    }
+
     /// A sensor with the given frame and noise levels.
     pub fn new(frame: Frame, sigma_range: f64, sigma_angle: f64) -> Self {
         Self {
@@ -1023,7 +1067,8 @@ mod tests {
     /// small) equals `diff(z, predict(r))` everywhere: every frame, azimuths across 0 / 2 pi,
     /// residuals beyond 60 degrees (the atan2 fallback), near the poles.
     /// The block form equals `residual_at` lane by lane, bit for bit, near the
-    /// measurement (the vectorised series) and far from it, on the pole and at zero range
+    /// measurement (the vectorised series), off it by up to 0.09 rad (sines beyond the
+    /// series': `asin_small` afterwards) and far from it, on the pole and at zero range
     /// (the lanes redone by `residual_at`), in every frame; the last block is short.
     #[test]
     #[allow(clippy::needless_range_loop)]
@@ -1049,6 +1094,11 @@ mod tests {
                         1 => Vec3::zeros(),
                         2 => frame.vec_to_canonical(&Vec3::new(0.0, 0.0, 300.0)),
                         3 => centre * rng.random_range(0.5..1.5),
+                        // off the measurement by up to 0.09 rad (sines beyond the series')
+                        4 => {
+                            let across = centre.cross(&Vec3::new(0.2, 0.3, 1.0)).normalize();
+                            centre + across * rng.random_range(-60.0..60.0)
+                        }
                         _ => centre + Vec3::from_fn(|_, _| rng.random_range(-2.0..2.0)),
                     };
                     (r[0][i], r[1][i], r[2][i]) = (p.x, p.y, p.z);
