@@ -388,10 +388,10 @@ fn walk_cumulative(
 /// ```
 ///
 /// (`t_k` ascends with `k`: `k + u` and the product with `step > 0` are monotone in
-/// floating point), estimated as `ceil(C_i / step - u)` clamped to `[0, M]`, moved by one
-/// where the exact comparisons `t_(k-1) < C_i <= t_k` of the points themselves (the walk's
-/// expression `(k + u) * step`) say so, and verified by the same comparisons: should an
-/// estimate ever be off by more than one, the walk runs instead. The walk's index for point
+/// floating point), estimated as `ceil(C_i / step - u)` clamped to `[0, M]` and verified by
+/// the exact comparisons `t_(k-1) < C_i <= t_k` of the points themselves (the walk's
+/// expression `(k + u) * step`): should an estimate fail them (`C_i / step - u` within
+/// rounding of an integer), the walk runs instead. The walk's index for point
 /// `k` is the first `i` with `C_i > t_k`, or `last`: the number of particles `i < last` with
 /// `C_i <= t_k`, i.e. with `n_i <= k`: particle `i`'s copies are `out[n_(i-1)..n_i]`
 /// (`n_(-1) = 0`), and `last`'s the rest. They are written in ascending `i` as runs of a
@@ -459,11 +459,13 @@ fn write_runs(out: &mut [usize], first: usize, ends: &[u64], mut start: usize) -
 }
 
 /// [`walk_systematic`]'s counts for one chunk: `n[i]` the number of points
-/// `t_k = (k + u) step`, `k < m` (`mf = m < 2^52`), below `c[i]`, from the estimate
-/// `ceil(c[i] inv - u)` (`inv` about `1 / step`) moved by at most one; `false` if an
-/// estimate was off by more (then some `n[i]` is wrong). Branch-free, so that it vectorises;
-/// the count, an integer in `[0, 2^52)`, becomes one as the low bits of `k + 2^52` (exact;
-/// the conversion `as usize`, saturating, took 13 instructions per particle).
+/// `t_k = (k + u) step`, `k < m` (`mf = m < 2^52`), below `c[i]`, estimated as
+/// `ceil(c[i] inv - u)` clamped to `[0, m]` (`inv` about `1 / step`) and checked by the
+/// points' own comparisons `t_(k-1) < c[i] <= t_k`; `false` if an estimate failed them (then
+/// the walk runs: the estimate is off only where `c[i] / step - u` lies within rounding of
+/// an integer). Branch-free, so that it vectorises; the count, an integer in `[0, 2^52)`,
+/// becomes one as the low bits of `k + 2^52` (exact; the conversion `as usize`, saturating,
+/// took 13 instructions per particle).
 #[inline(always)]
 #[allow(clippy::needless_range_loop)] // index loops over fixed lanes: they vectorise
 fn count_below<const C: usize>(
@@ -478,18 +480,7 @@ fn count_below<const C: usize>(
     let mut off = [0u64; C];
     for i in 0..C {
         let ci = c[i];
-        let e = (ci * inv - u).ceil().max(0.0).min(mf);
-        let below = ((e - 1.0) + u) * step;
-        let at = (e + u) * step;
-        let down = (e > 0.0) & (below >= ci);
-        let up = (e < mf) & (at < ci);
-        let k = if down {
-            e - 1.0
-        } else if up {
-            e + 1.0
-        } else {
-            e
-        };
+        let k = (ci * inv - u).ceil().max(0.0).min(mf);
         let below = ((k - 1.0) + u) * step;
         let at = (k + u) * step;
         let exact = ((k <= 0.0) | (below < ci)) & ((k >= mf) | (at >= ci));
@@ -718,6 +709,22 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// The counts' check refuses an estimate that is off (here by a reciprocal 1 % too
+    /// large: the walk would then run) and accepts the exact one.
+    #[test]
+    fn counts_check_refuses_a_wrong_estimate() {
+        let (m, u) = (100usize, 0.37);
+        let step = 1.0 / m as f64;
+        let c: [f64; 8] = std::array::from_fn(|i| (i as f64 + 0.5) * 0.13);
+        let mut n = [0u64; 8];
+        assert!(count_below(&c, u, step, 1.0 / step, m as f64, &mut n));
+        for (ci, &ni) in c.iter().zip(&n) {
+            let want = (0..m).filter(|&k| (k as f64 + u) * step < *ci).count();
+            assert_eq!(ni as usize, want);
+        }
+        assert!(!count_below(&c, u, step, 1.01 / step, m as f64, &mut n));
     }
 
     #[test]
