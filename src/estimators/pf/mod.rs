@@ -1725,7 +1725,7 @@ impl ParticleFilter {
     }
 
     /// Reorder every per-particle array by `self.idx` (after resampling).
-    fn apply_resampling(&mut self) {
+    pub(super) fn apply_resampling(&mut self) {
         if self.chunked() {
             let (x, ll, idx) = (&self.x, &self.loglik, &self.idx);
             let jobs: Vec<_> = self
@@ -2136,6 +2136,13 @@ impl ParticleFilter {
                 && self.cov.get().is_some()
             {
                 self.pending = true;
+            } else if kind == PfKind::Rpf
+                && !self.params.moves
+                && !self.chunked()
+                && self.pc.is_empty()
+            {
+                // the plain RPF's jitter gathers through the indices itself (it applies
+                // the resampling if it cannot jitter)
             } else {
                 self.apply_resampling();
             }
@@ -2151,7 +2158,10 @@ impl ParticleFilter {
             let mut summarised = false;
             match kind {
                 PfKind::Rpf if self.params.moves => self.regularise_mh(&lik, &cov_before),
-                PfKind::Rpf => summarised = self.regularise(self.params.kernel, &cov_before),
+                PfKind::Rpf => {
+                    let gather = !self.chunked() && self.pc.is_empty();
+                    summarised = self.regularise(self.params.kernel, &cov_before, gather);
+                }
                 PfKind::Gapf => summarised = self.genetic_moves(&lik, &cov_before),
                 PfKind::Cgapf => self.cloud_moves(&lik),
                 PfKind::Sir | PfKind::Upf => {}

@@ -420,26 +420,35 @@ impl ParticleFilter {
     /// transposed copy ([`LaneSums`], about the mean before the resampling) and become the
     /// filter's mean and covariance: true when they were set, false when there was no
     /// kernel (nothing moved; the caller summarises).
-    pub(super) fn regularise(&mut self, kernel: Kernel, cov_before: &Mat6) -> bool {
+    /// With `gather` (the serial path, no particle covariances) the resampling is applied
+    /// here: the jitter reads each new particle's parent through `idx` and writes the moved
+    /// particle into the spare buffer, instead of [`ParticleFilter::apply_resampling`]
+    /// copying the parents first (the same particles and stream, one pass less).
+    pub(super) fn regularise(&mut self, kernel: Kernel, cov_before: &Mat6, gather: bool) -> bool {
         // a non-finite particle covariance (particles near overflow) has no kernel: no jitter
         let Some(jitter) = Jitter::new(kernel, cov_before, self.x.len()) else {
+            if gather {
+                self.apply_resampling();
+            }
             return false;
         };
         let reference = self.mean;
-        let run =
-            |x: &mut [State], soa: Option<&mut [[[f64; BLOCK]; N]]>, rng: &mut super::PfRng| {
-                crate::numerics::simd::dispatch_v3(
-                    #[inline(always)]
-                    |v3| jitter.run_inline(v3, x, soa, rng, &reference),
-                )
-            };
+        let run = |x: &mut [State],
+                   parents: Option<(&[State], &[usize])>,
+                   soa: Option<&mut [[[f64; BLOCK]; N]]>,
+                   rng: &mut super::PfRng| {
+            crate::numerics::simd::dispatch_v3(
+                #[inline(always)]
+                |v3| jitter.run_inline(v3, x, parents, soa, rng, &reference),
+            )
+        };
         let sums = if self.chunked() {
             let jobs: Vec<_> = self
                 .x
                 .chunks_mut(CHUNK)
                 .zip(self.chunk_rng.iter_mut())
                 .collect();
-            let parts = self.pool.map(jobs, |(x, rng)| run(x, None, rng));
+            let parts = self.pool.map(jobs, |(x, rng)| run(x, None, None, rng));
             let mut total = Moments::new(reference);
             parts.iter().for_each(|p| total.merge(p));
             total
@@ -447,7 +456,18 @@ impl ParticleFilter {
             // the moved particles also transposed, for the next transition and weighting
             let fits = self.soa.len() * BLOCK >= self.x.len();
             let soa = fits.then_some(&mut self.soa[..]);
-            let sums = run(&mut self.x, soa, &mut self.rng);
+            let sums = if gather {
+                for (l, &i) in self.loglik_tmp.iter_mut().zip(&self.idx) {
+                    *l = self.loglik[i];
+                }
+                std::mem::swap(&mut self.loglik, &mut self.loglik_tmp);
+                let parents = Some((&self.x[..], &self.idx[..]));
+                let sums = run(&mut self.x_tmp, parents, soa, &mut self.rng);
+                std::mem::swap(&mut self.x, &mut self.x_tmp);
+                sums
+            } else {
+                run(&mut self.x, None, soa, &mut self.rng)
+            };
             self.soa_fresh = fits;
             sums
         };
@@ -572,12 +592,17 @@ impl Jitter {
     /// (Accumulated in the block loop, the lane sums broke the vectorisation of the block
     /// code: measured.) Inlined into [`ParticleFilter::regularise`]'s
     /// [`crate::numerics::simd::dispatch_v3`].
+    ///
+    /// With `parents` `(src, idx)` particle `k` of `x` is written as `src[idx[k]]` moved
+    /// (the resampling applied on the way: the parents gathered into the block by
+    /// [`super::gather_to_block_in`]' shuffles), else `x` is moved in place.
     #[inline(always)]
     #[allow(clippy::needless_range_loop)] // index loops over fixed lanes: they vectorise
     fn run_inline(
         &self,
         v3: Option<crate::numerics::simd::V3>,
         x: &mut [State],
+        parents: Option<(&[State], &[usize])>,
         mut soa: Option<&mut [[[f64; BLOCK]; N]]>,
         rng: &mut super::PfRng,
         reference: &State,
@@ -588,12 +613,20 @@ impl Jitter {
         let mut xs = [[0.0; BLOCK]; N];
         for (b, xb) in x.chunks_mut(BLOCK).enumerate() {
             self.block(&mut lanes, rng, &mut e, &mut step);
-            // element copies: the shuffles measured worse here (inlined: +8 600 instructions
-            // per RPF step; in a function of their own, whose call spills the loop's vector
-            // registers: +14 500)
-            for (i, xi) in xb.iter().enumerate() {
-                for k in 0..N {
-                    xs[k][i] = xi[k];
+            match parents.and_then(|(src, idx)| Some((src, idx.get(b * BLOCK..)?))) {
+                Some((src, ib)) => {
+                    let ib = ib.get(..xb.len()).unwrap_or(ib);
+                    super::gather_to_block_in(v3, src, ib, &mut xs);
+                }
+                None => {
+                    // element copies: the shuffles measured worse here (inlined: +8 600
+                    // instructions per RPF step; in a function of their own, whose call
+                    // spills the loop's vector registers: +14 500)
+                    for (i, xi) in xb.iter().enumerate() {
+                        for k in 0..N {
+                            xs[k][i] = xi[k];
+                        }
+                    }
                 }
             }
             for k in 0..N {
@@ -782,7 +815,7 @@ mod tests {
                         let s = with_soa.then_some(&mut soa[..]);
                         let m: Moments = dispatch_v3(
                             #[inline(always)]
-                            |v3| jit.run_inline(v3, &mut x, s, &mut rng, &reference),
+                            |v3| jit.run_inline(v3, &mut x, None, s, &mut rng, &reference),
                         );
                         if with_soa {
                             for (i, xi) in x.iter().enumerate() {
