@@ -412,25 +412,15 @@ impl MeasurementModel for RadioSensor {
         // odd series of a zero sine: the log-likelihood's bits are the same)
         let [(j0, s0), (j1, s1), (j2, s2)] = self.frame.axis_map();
         let (r0, r1, r2) = (&r[j0], &r[j1], &r[j2]);
-        let (se, ce) = trig.el;
-        let (sa, ca) = trig.az;
         let mut slow = [false; B];
         for i in 0..B {
             let p = Vec3::new(s0 * r0[i], s1 * r1[i], s2 * r2[i]);
-            let rho_xy2 = p.x * p.x + p.y * p.y;
-            let rho = (rho_xy2 + p.z * p.z).sqrt();
-            let rho_xy = rho_xy2.sqrt();
-            let s_el = (se * rho_xy - ce * p.z) / rho;
-            let s_az = (sa * p.x - ca * p.y) / rho_xy;
-            let fast = (rho >= MIN_RANGE)
-                & (rho_xy > 0.0)
-                & (ce * rho_xy + se * p.z > 0.5 * rho)
-                & (ca * p.x + sa * p.y > 0.5 * rho_xy)
-                & (s_el.abs() <= ASIN_SERIES_MAX)
-                & (s_az.abs() <= ASIN_SERIES_MAX);
-            d[0][i] = z.x - rho;
-            d[1][i] = asin_series(s_az);
-            d[2][i] = asin_series(s_el);
+            let g = LaneGeometry::of(&p, trig);
+            let fast =
+                g.near & (g.s_el.abs() <= ASIN_SERIES_MAX) & (g.s_az.abs() <= ASIN_SERIES_MAX);
+            d[0][i] = z.x - g.rho;
+            d[1][i] = asin_series(g.s_az);
+            d[2][i] = asin_series(g.s_el);
             slow[i] = !fast;
         }
         *ok = [true; B];
@@ -791,6 +781,39 @@ impl MeasurementModel for CartesianSensor {
     }
 }
 
+/// One lane of [`RadioSensor`]'s block residuals at the sensor-frame position `p`: the
+/// range `rho`, the residual sines of elevation and azimuth (see
+/// [`MeasurementModel::residual_at`]) and `near`, whether `residual_at`'s small-residual
+/// branch applies (range at least [`MIN_RANGE`], off the pole, both residual cosines above
+/// 1/2). Shared by the vectorised loop of `residuals_at` and its cold redo of flagged lanes,
+/// so that both form the sines by the same expressions (the same bits).
+struct LaneGeometry {
+    rho: f64,
+    s_el: f64,
+    s_az: f64,
+    near: bool,
+}
+
+impl LaneGeometry {
+    #[inline(always)]
+    fn of(p: &Vec3, trig: &AngleTrig) -> Self {
+        let (se, ce) = trig.el;
+        let (sa, ca) = trig.az;
+        let rho_xy2 = p.x * p.x + p.y * p.y;
+        let rho = (rho_xy2 + p.z * p.z).sqrt();
+        let rho_xy = rho_xy2.sqrt();
+        Self {
+            rho,
+            s_el: (se * rho_xy - ce * p.z) / rho,
+            s_az: (sa * p.x - ca * p.y) / rho_xy,
+            near: (rho >= MIN_RANGE)
+                & (rho_xy > 0.0)
+                & (ce * rho_xy + se * p.z > 0.5 * rho)
+                & (ca * p.x + sa * p.y > 0.5 * rho_xy),
+        }
+    }
+}
+
 /// Range/azimuth/elevation sensor in a chosen I/O frame.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RadioSensor {
@@ -825,25 +848,15 @@ impl RadioSensor {
     ) {
         let [(j0, s0), (j1, s1), (j2, s2)] = self.frame.axis_map();
         let (r0, r1, r2) = (&r[j0], &r[j1], &r[j2]);
-        let (se, ce) = trig.el;
-        let (sa, ca) = trig.az;
         for i in 0..n.min(B) {
             if !slow[i] {
                 continue;
             }
             let p = Vec3::new(s0 * r0[i], s1 * r1[i], s2 * r2[i]);
-            let rho_xy2 = p.x * p.x + p.y * p.y;
-            let rho = (rho_xy2 + p.z * p.z).sqrt();
-            let rho_xy = rho_xy2.sqrt();
-            if (rho >= MIN_RANGE)
-                & (rho_xy > 0.0)
-                & (ce * rho_xy + se * p.z > 0.5 * rho)
-                & (ca * p.x + sa * p.y > 0.5 * rho_xy)
-            {
-                let s_el = (se * rho_xy - ce * p.z) / rho;
-                let s_az = (sa * p.x - ca * p.y) / rho_xy;
-                d[1][i] = asin_small(s_az.clamp(-1.0, 1.0));
-                d[2][i] = asin_small(s_el.clamp(-1.0, 1.0));
+            let g = LaneGeometry::of(&p, trig);
+            if g.near {
+                d[1][i] = asin_small(g.s_az.clamp(-1.0, 1.0));
+                d[2][i] = asin_small(g.s_el.clamp(-1.0, 1.0));
                 continue;
             }
             let ri = Vec3::new(r[0][i], r[1][i], r[2][i]);
