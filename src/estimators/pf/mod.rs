@@ -2120,6 +2120,10 @@ impl ParticleFilter {
                 PfKind::Rpf | PfKind::Gapf => *self.cov(),
                 _ => Mat6::zeros(),
             };
+            // the plain RPF on the serial path applies the resampling in its jitter
+            // (`regularise` with `gather`): one condition for both places below
+            let jitter_gathers =
+                kind == PfKind::Rpf && !self.params.moves && !self.chunked() && self.pc.is_empty();
             resample(
                 self.params.resampler,
                 &self.w,
@@ -2136,11 +2140,7 @@ impl ParticleFilter {
                 && self.cov.get().is_some()
             {
                 self.pending = true;
-            } else if kind == PfKind::Rpf
-                && !self.params.moves
-                && !self.chunked()
-                && self.pc.is_empty()
-            {
+            } else if jitter_gathers {
                 // the plain RPF's jitter gathers through the indices itself (it applies
                 // the resampling if it cannot jitter)
             } else {
@@ -2159,8 +2159,7 @@ impl ParticleFilter {
             match kind {
                 PfKind::Rpf if self.params.moves => self.regularise_mh(&lik, &cov_before),
                 PfKind::Rpf => {
-                    let gather = !self.chunked() && self.pc.is_empty();
-                    summarised = self.regularise(self.params.kernel, &cov_before, gather);
+                    summarised = self.regularise(self.params.kernel, &cov_before, jitter_gathers)
                 }
                 PfKind::Gapf => summarised = self.genetic_moves(&lik, &cov_before),
                 PfKind::Cgapf => self.cloud_moves(&lik),

@@ -613,11 +613,9 @@ impl Jitter {
         let mut xs = [[0.0; BLOCK]; N];
         for (b, xb) in x.chunks_mut(BLOCK).enumerate() {
             self.block(&mut lanes, rng, &mut e, &mut step);
-            match parents.and_then(|(src, idx)| Some((src, idx.get(b * BLOCK..)?))) {
-                Some((src, ib)) => {
-                    let ib = ib.get(..xb.len()).unwrap_or(ib);
-                    super::gather_to_block_in(v3, src, ib, &mut xs);
-                }
+            let block = b * BLOCK..b * BLOCK + xb.len();
+            match parents.and_then(|(src, idx)| Some((src, idx.get(block)?))) {
+                Some((src, ib)) => super::gather_to_block_in(v3, src, ib, &mut xs),
                 None => {
                     // element copies: the shuffles measured worse here (inlined: +8 600
                     // instructions per RPF step; in a function of their own, whose call

@@ -400,13 +400,14 @@ fn walk_cumulative(
 /// particle with more than [`RUN`] copies has the rest written by a loop of its own.
 fn walk_systematic(cum: &[f64], last: usize, out: &mut [usize], u: f64, step: f64) {
     let m = out.len();
+    // the points, as the walk and `count_below` form them
+    let t = |k: f64| (k + u) * step;
     let (Some(head), true) = (cum.get(..last), step > 0.0 && step.is_finite()) else {
-        return walk_cumulative(cum, last, out, (0..m).map(|k| (k as f64 + u) * step));
+        return walk_cumulative(cum, last, out, (0..m).map(|k| t(k as f64)));
     };
     const CHUNK: usize = 64;
     let mf = m as f64;
     let inv = 1.0 / step;
-    let t = |k: f64| (k + u) * step;
     let mut n_i = [0u64; CHUNK];
     let mut start = 0;
     for (b, c) in head.chunks(CHUNK).enumerate() {
