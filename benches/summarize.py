@@ -28,6 +28,30 @@ def instr(name):
     return f"{v / 1e9:.2f} G" if v > 1e8 else (f"{v / 1e6:.1f} M" if v > 1e5 else f"{v:.0f}")
 
 
+def machine():
+    """The CPU the run measured (model name, family/model, cores): the VM's host changes from
+    run to run, and the absolute medians with it."""
+    try:
+        info = pathlib.Path("/proc/cpuinfo").read_text()
+    except OSError:
+        return "unknown CPU"
+    first = {}
+    for line in info.splitlines():
+        k, _, v = line.partition(":")
+        first.setdefault(k.strip(), v.strip())
+    cores = info.count("processor\t:")
+    flags = first.get("flags", "").split()
+    v3 = all(f in flags for f in ("avx2", "fma", "bmi2"))
+    simd = "x86-64-v3 (AVX2)" if v3 else "the SSE2 baseline"
+    if "avx512f" in flags:
+        simd += "; AVX-512 present, not used"
+    return (f"{first.get('model name', '?')}, family {first.get('cpu family', '?')} model "
+            f"{first.get('model', '?')}, {cores} cores, {first.get('cpu MHz', '?')} MHz at the "
+            f"summary, particle loops on {simd}")
+
+
+print(f"Machine: {machine()}")
+print()
 anchor = json.loads(sys.argv[1])["filterpy_ukf_step_ns"] if len(sys.argv) > 1 else None
 rows = ["ekf_step", "ukf_step", "navigator_step_ekf", "navigator_step_ukf",
         "capi_step_ekf", "capi_step_ukf", "fmu_cycle_ekf", "fmu_cycle_ukf"]

@@ -167,9 +167,33 @@ impl Ziggurat {
         rng: &mut R,
         out: &mut [f64; Self::BATCH],
     ) {
+        self.fill_batch_lanes_with::<false, R>(lanes, rng, out);
+    }
+
+    /// [`Ziggurat::fill_batch_lanes`] (the same values) with the words from
+    /// [`Lanes::next_words_shifted`]: for the RPF's jitter (see [`Lanes`]).
+    #[inline(always)]
+    pub fn fill_batch_lanes_shifted<R: RngCore + ?Sized>(
+        &self,
+        lanes: &mut Lanes,
+        rng: &mut R,
+        out: &mut [f64; Self::BATCH],
+    ) {
+        self.fill_batch_lanes_with::<true, R>(lanes, rng, out);
+    }
+
+    /// [`Ziggurat::fill_batch_lanes`]' body; `SHIFTED`: the words by
+    /// [`Lanes::next_words_shifted`].
+    #[inline(always)]
+    fn fill_batch_lanes_with<const SHIFTED: bool, R: RngCore + ?Sized>(
+        &self,
+        lanes: &mut Lanes,
+        rng: &mut R,
+        out: &mut [f64; Self::BATCH],
+    ) {
         let mut words = [0u64; Self::BATCH];
         for w in words.chunks_exact_mut(LANES) {
-            w.copy_from_slice(&lanes.next_words());
+            w.copy_from_slice(&lanes.step::<SHIFTED>());
         }
         let mut flags = 0u32;
         for (k, (v, &w)) in out.iter_mut().zip(&words).enumerate() {
@@ -274,13 +298,17 @@ pub(crate) const LANES: usize = 4;
 /// four words. The state's rotation `rotl(s3, 45)` stays a constant rotation: measured on the
 /// particle steps, that mix vectorises the whole step in the simple loops and falls back to
 /// one `rorx` (not three scalar shifts) where the SLP vectoriser does not take the step
-/// (docs/evaluation.md, "Seventh pass"). The bits are the same (tested against the
-/// reference generator).
+/// (docs/evaluation.md, "Seventh pass"). One loop is the exception: the RPF's jitter, where
+/// the SLP vectoriser splits the step into 128-bit halves with a `rorx` and two extracts and
+/// inserts per word; it draws its words by [`Lanes::next_words_shifted`], with the state's
+/// rotation by opaque amounts as well, which keeps that step in AVX2 registers (about 40
+/// instructions per particle fewer; measured in docs/evaluation.md, "Eleventh pass"). The
+/// bits are the same either way (tested against the reference generator).
 #[derive(Debug, Clone)]
 pub struct Lanes {
     s: [[u64; LANES]; 4],
-    /// `[23, 41]`: the left and right shifts of `rotl(x, 23)`.
-    rot: [u32; 2],
+    /// `[23, 41, 45, 19]`: the left and right shifts of `rotl(x, 23)` and of `rotl(x, 45)`.
+    rot: [u32; 4],
 }
 
 impl Lanes {
@@ -301,7 +329,7 @@ impl Lanes {
         }
         Self {
             s,
-            rot: std::hint::black_box([23, 41]),
+            rot: std::hint::black_box([23, 41, 45, 19]),
         }
     }
 
@@ -323,7 +351,21 @@ impl Lanes {
     /// by the opaque shifts `rot`, see the type's docs).
     #[inline(always)]
     pub fn next_words(&mut self) -> [u64; LANES] {
-        let [l23, r41] = self.rot;
+        self.step::<false>()
+    }
+
+    /// [`Lanes::next_words`] (the same words) with the state's rotation `rotl(s3, 45)` by
+    /// opaque shifts too (see the type's docs: for a loop where the SLP vectoriser would
+    /// split the step around a `rorx`).
+    #[inline(always)]
+    pub fn next_words_shifted(&mut self) -> [u64; LANES] {
+        self.step::<true>()
+    }
+
+    /// One step of the lanes; `SHIFTED`: the state's rotation by the opaque shifts.
+    #[inline(always)]
+    fn step<const SHIFTED: bool>(&mut self) -> [u64; LANES] {
+        let [l23, r41, l45, r19] = self.rot;
         let [s0, s1, s2, s3] = &mut self.s;
         let mut r = [0u64; LANES];
         for j in 0..LANES {
@@ -335,7 +377,11 @@ impl Lanes {
             s1[j] ^= s2[j];
             s0[j] ^= s3[j];
             s2[j] ^= t;
-            s3[j] = s3[j].rotate_left(45);
+            s3[j] = if SHIFTED {
+                s3[j].wrapping_shl(l45) | s3[j].wrapping_shr(r19)
+            } else {
+                s3[j].rotate_left(45)
+            };
         }
         r
     }
@@ -514,12 +560,35 @@ mod tests {
             .iter()
             .map(|&w| Xoshiro256PlusPlus::seed_from_u64(w))
             .collect();
-        for _ in 0..1000 {
-            let got = lanes.next_words();
+        for t in 0..1000 {
+            // both forms of the step, interleaved: the same state transition and words
+            let got = if t % 3 == 0 {
+                lanes.next_words_shifted()
+            } else {
+                lanes.next_words()
+            };
             for (j, r) in refs.iter_mut().enumerate() {
                 assert_eq!(got[j], r.next_u64());
             }
         }
+    }
+
+    /// The shifted batches are the plain batches, slow paths included (bit for bit).
+    #[test]
+    fn shifted_lane_batches_equal_the_plain_ones() {
+        let z = Ziggurat::get();
+        let (mut ra, mut rb) = (
+            Xoshiro256PlusPlus::seed_from_u64(33),
+            Xoshiro256PlusPlus::seed_from_u64(33),
+        );
+        let (mut la, mut lb) = (Lanes::seed_from(&mut ra), Lanes::seed_from(&mut rb));
+        let (mut a, mut b) = ([0.0; Ziggurat::BATCH], [0.0; Ziggurat::BATCH]);
+        for _ in 0..20_000 {
+            z.fill_batch_lanes(&mut la, &mut ra, &mut a);
+            z.fill_batch_lanes_shifted(&mut lb, &mut rb, &mut b);
+            assert_eq!(a.map(f64::to_bits), b.map(f64::to_bits));
+        }
+        assert_eq!(ra, rb, "the same slow-path words");
     }
 
     #[test]

@@ -367,7 +367,7 @@ impl ParticleFilter {
                 let mut step = [[0.0; BLOCK]; N];
                 for (xb, llb) in x.chunks_mut(BLOCK).zip(loglik.chunks_mut(BLOCK)) {
                     let n = xb.len();
-                    jitter.block(&mut lanes, rng, &mut e, &mut step);
+                    jitter.block::<false>(&mut lanes, rng, &mut e, &mut step);
                     lanes.uniforms(&mut us);
                     for (i, (c, xi)) in cands.iter_mut().zip(xb.iter()).enumerate() {
                         *c = *xi + State::from_fn(|k, _| step[k][i]);
@@ -534,9 +534,14 @@ impl Jitter {
     /// six batches of normals from `lanes` ([`Ziggurat::fill_batch_lanes`], the rare slow
     /// paths from `rng`), for the Epanechnikov kernel four batches of uniforms for the
     /// radius (see the type's docs), then `step = h D eps` row by row.
+    ///
+    /// `SHIFTED`: the normals by [`Ziggurat::fill_batch_lanes_shifted`] (the same values;
+    /// the plain RPF's loop, where it keeps the generator's step in AVX2 registers), else by
+    /// [`Ziggurat::fill_batch_lanes`] (the MH moves' loop, where the shifted form measured
+    /// more instructions: docs/evaluation.md, "Eleventh pass").
     #[inline(always)]
     #[allow(clippy::needless_range_loop)] // index loops over fixed lanes: they vectorise
-    fn block(
+    fn block<const SHIFTED: bool>(
         &self,
         lanes: &mut Lanes,
         rng: &mut super::PfRng,
@@ -545,7 +550,11 @@ impl Jitter {
     ) {
         let zig = Ziggurat::get();
         for c in e.iter_mut() {
-            zig.fill_batch_lanes(lanes, rng, c);
+            if SHIFTED {
+                zig.fill_batch_lanes_shifted(lanes, rng, c);
+            } else {
+                zig.fill_batch_lanes(lanes, rng, c);
+            }
         }
         if self.kernel == Kernel::Epanechnikov {
             let s = epanechnikov_s(lanes);
@@ -612,7 +621,7 @@ impl Jitter {
         let mut step = [[0.0; BLOCK]; N];
         let mut xs = [[0.0; BLOCK]; N];
         for (b, xb) in x.chunks_mut(BLOCK).enumerate() {
-            self.block(&mut lanes, rng, &mut e, &mut step);
+            self.block::<true>(&mut lanes, rng, &mut e, &mut step);
             let block = b * BLOCK..b * BLOCK + xb.len();
             match parents.and_then(|(src, idx)| Some((src, idx.get(block)?))) {
                 Some((src, ib)) => super::gather_to_block_in(v3, src, ib, &mut xs),
@@ -760,7 +769,7 @@ mod tests {
                 let blocks = 4000;
                 let l = chol(p).map(|l| l * h);
                 for _ in 0..blocks {
-                    jit.block(&mut lanes, &mut rng, &mut e, &mut step);
+                    jit.block::<true>(&mut lanes, &mut rng, &mut e, &mut step);
                     for i in 0..BLOCK {
                         let v = State::from_fn(|k, _| step[k][i]);
                         s2 += v * v.transpose();
