@@ -170,22 +170,10 @@ impl Ziggurat {
         self.fill_batch_lanes_with::<false, R>(lanes, rng, out);
     }
 
-    /// [`Ziggurat::fill_batch_lanes`] (the same values) with the words from
-    /// [`Lanes::next_words_shifted`]: for the RPF's jitter (see [`Lanes`]).
+    /// [`Ziggurat::fill_batch_lanes`]' body with the words from [`Lanes::step`]`::<SHIFTED>`
+    /// (the same values either way; `SHIFTED` for the RPF's jitter, see [`Lanes`]).
     #[inline(always)]
-    pub fn fill_batch_lanes_shifted<R: RngCore + ?Sized>(
-        &self,
-        lanes: &mut Lanes,
-        rng: &mut R,
-        out: &mut [f64; Self::BATCH],
-    ) {
-        self.fill_batch_lanes_with::<true, R>(lanes, rng, out);
-    }
-
-    /// [`Ziggurat::fill_batch_lanes`]' body; `SHIFTED`: the words by
-    /// [`Lanes::next_words_shifted`].
-    #[inline(always)]
-    fn fill_batch_lanes_with<const SHIFTED: bool, R: RngCore + ?Sized>(
+    pub(crate) fn fill_batch_lanes_with<const SHIFTED: bool, R: RngCore + ?Sized>(
         &self,
         lanes: &mut Lanes,
         rng: &mut R,
@@ -300,7 +288,7 @@ pub(crate) const LANES: usize = 4;
 /// one `rorx` (not three scalar shifts) where the SLP vectoriser does not take the step
 /// (docs/evaluation.md, "Seventh pass"). One loop is the exception: the RPF's jitter, where
 /// the SLP vectoriser splits the step into 128-bit halves with a `rorx` and two extracts and
-/// inserts per word; it draws its words by [`Lanes::next_words_shifted`], with the state's
+/// inserts per word; it draws its words by `Lanes::step::<true>`, with the state's
 /// rotation by opaque amounts as well, which keeps that step in AVX2 registers (about 40
 /// instructions per particle fewer; measured in docs/evaluation.md, "Eleventh pass"). The
 /// bits are the same either way (tested against the reference generator).
@@ -354,17 +342,11 @@ impl Lanes {
         self.step::<false>()
     }
 
-    /// [`Lanes::next_words`] (the same words) with the state's rotation `rotl(s3, 45)` by
-    /// opaque shifts too (see the type's docs: for a loop where the SLP vectoriser would
-    /// split the step around a `rorx`).
+    /// One step of the lanes: [`Lanes::next_words`]; with `SHIFTED` the same words with the
+    /// state's rotation `rotl(s3, 45)` by opaque shifts too (see the type's docs: for a loop
+    /// where the SLP vectoriser would split the step around a `rorx`).
     #[inline(always)]
-    pub fn next_words_shifted(&mut self) -> [u64; LANES] {
-        self.step::<true>()
-    }
-
-    /// One step of the lanes; `SHIFTED`: the state's rotation by the opaque shifts.
-    #[inline(always)]
-    fn step<const SHIFTED: bool>(&mut self) -> [u64; LANES] {
+    pub(crate) fn step<const SHIFTED: bool>(&mut self) -> [u64; LANES] {
         let [l23, r41, l45, r19] = self.rot;
         let [s0, s1, s2, s3] = &mut self.s;
         let mut r = [0u64; LANES];
@@ -563,7 +545,7 @@ mod tests {
         for t in 0..1000 {
             // both forms of the step, interleaved: the same state transition and words
             let got = if t % 3 == 0 {
-                lanes.next_words_shifted()
+                lanes.step::<true>()
             } else {
                 lanes.next_words()
             };
@@ -585,7 +567,7 @@ mod tests {
         let (mut a, mut b) = ([0.0; Ziggurat::BATCH], [0.0; Ziggurat::BATCH]);
         for _ in 0..20_000 {
             z.fill_batch_lanes(&mut la, &mut ra, &mut a);
-            z.fill_batch_lanes_shifted(&mut lb, &mut rb, &mut b);
+            z.fill_batch_lanes_with::<true, _>(&mut lb, &mut rb, &mut b);
             assert_eq!(a.map(f64::to_bits), b.map(f64::to_bits));
         }
         assert_eq!(ra, rb, "the same slow-path words");

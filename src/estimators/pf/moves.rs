@@ -535,10 +535,10 @@ impl Jitter {
     /// paths from `rng`), for the Epanechnikov kernel four batches of uniforms for the
     /// radius (see the type's docs), then `step = h D eps` row by row.
     ///
-    /// `SHIFTED`: the normals by [`Ziggurat::fill_batch_lanes_shifted`] (the same values;
-    /// the plain RPF's loop, where it keeps the generator's step in AVX2 registers), else by
-    /// [`Ziggurat::fill_batch_lanes`] (the MH moves' loop, where the shifted form measured
-    /// more instructions: docs/evaluation.md, "Eleventh pass").
+    /// `SHIFTED` goes to [`Ziggurat::fill_batch_lanes_with`] (the same values either way):
+    /// true in the plain RPF's loop, where it keeps the generator's step in AVX2 registers,
+    /// false in the MH moves' loop, where the shifted form measured more instructions
+    /// (docs/evaluation.md, "Eleventh pass").
     #[inline(always)]
     #[allow(clippy::needless_range_loop)] // index loops over fixed lanes: they vectorise
     fn block<const SHIFTED: bool>(
@@ -550,11 +550,7 @@ impl Jitter {
     ) {
         let zig = Ziggurat::get();
         for c in e.iter_mut() {
-            if SHIFTED {
-                zig.fill_batch_lanes_shifted(lanes, rng, c);
-            } else {
-                zig.fill_batch_lanes(lanes, rng, c);
-            }
+            zig.fill_batch_lanes_with::<SHIFTED, _>(lanes, rng, c);
         }
         if self.kernel == Kernel::Epanechnikov {
             let s = epanechnikov_s(lanes);
