@@ -122,6 +122,7 @@ use crate::numerics::state::{refuse, Persist, Reader, StateError, Writer};
 use crate::numerics::vexp::exp_nonpos;
 use crate::numerics::vlog::{is_normal_pos, ln_normal, ln_pos};
 use crate::numerics::ziggurat::{Lanes, Ziggurat};
+use crate::numerics::{lane_sum, lane_sum_sq};
 use crate::sensors::{AngleTrig, MeasurementModel};
 use crate::types::{Mat3, Mat6, State, Vec3};
 use genetic::{CloudParams, GeneticParams};
@@ -1928,7 +1929,7 @@ impl ParticleFilter {
                         w.iter_mut().zip(lw).for_each(|(x, &l)| {
                             *x = if l.is_nan() { 0.0 } else { exp_nonpos(l - max) }
                         });
-                        w.iter().sum::<f64>()
+                        lane_sum(w)
                     })
                     .into_iter()
                     .sum();
@@ -1951,11 +1952,7 @@ impl ParticleFilter {
             return effective_sample_size(&self.w);
         }
         let jobs: Vec<_> = self.w.chunks(CHUNK).collect();
-        let s: f64 = self
-            .pool
-            .map(jobs, |w| w.iter().map(|x| x * x).sum::<f64>())
-            .into_iter()
-            .sum();
+        let s: f64 = self.pool.map(jobs, lane_sum_sq).into_iter().sum();
         if s > 0.0 && s.is_finite() {
             1.0 / s
         } else {
@@ -2722,9 +2719,10 @@ fn exp_weights(w: &mut [f64], logw: &[f64], max: f64) {
 
 /// The normalisation's exponentials and the weighted moments in one pass over a run of
 /// particles: `w_i = exp(l_i - max)` (0 for a NaN `l_i`: the bits of
-/// [`resample::normalize_log_weights`] before its division), their sum in index order (its
-/// bits too; it is also the moments' weight sum) and the [`Moments`] about `reference` with
-/// the weights `w_i` ([`PointSums`]: each sum one chain in particle order). The exponentials
+/// [`resample::normalize_log_weights`] before its division), their sum in sixteen lanes
+/// ([`lane_sum`]: its bits too) and the [`Moments`] about `reference` with the weights `w_i`
+/// ([`PointSums`]: each sum, the moments' weight sum included, one chain in particle order,
+/// at rounding level from the lanes'). The exponentials
 /// run a block of [`BLOCK`] at a time (vectorised across particles), the moments particle by
 /// particle. `max` is the largest `l_i` (finite). Run through [`simd::dispatch`].
 fn exp_moments(
@@ -2755,7 +2753,7 @@ fn exp_moments_inline(
     for (xi, &wi) in x.iter().zip(w.iter()) {
         acc.add(xi, &rc, wi);
     }
-    (acc.ws, acc.finish(reference))
+    (lane_sum(w), acc.finish(reference))
 }
 
 /// `x` transposed into `soa` (one block per [`BLOCK`] particles, component-major; at least
@@ -2810,8 +2808,8 @@ fn exp_moments_soa_inline(
     w: &mut [f64],
 ) -> (f64, Moments) {
     exp_weights(w, logw, max);
-    // in index order: the bits of the normalisation's sum
-    let sum = w.iter().fold(0.0, |s, &v| s + v);
+    // in lanes: the bits of the normalisation's sum
+    let sum = lane_sum(w);
     let acc = LaneSums::of_soa::<true>(reference, soa, w.len(), w);
     (sum, acc.finish(reference, sum))
 }

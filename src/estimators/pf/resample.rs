@@ -38,6 +38,7 @@
 //! weights are taken as uniform.
 
 use crate::numerics::vexp::exp_nonpos;
+use crate::numerics::{lane_sum, lane_sum_sq};
 use rand::Rng;
 use rand_distr::{Distribution, Exp1};
 
@@ -178,9 +179,10 @@ pub fn resample<R: Rng + ?Sized>(
 
 /// Effective sample size `1 / sum w_i^2` of normalised weights (`N` for uniform weights,
 /// 1 for a single particle carrying all the weight). Returns 0 if the sum of squares is zero
-/// or not finite (including an empty slice).
+/// or not finite (including an empty slice). The squares are summed in sixteen lanes
+/// ([`lane_sum_sq`]), not in one chain of dependent adds.
 pub fn effective_sample_size(w: &[f64]) -> f64 {
-    let s: f64 = w.iter().map(|x| x * x).sum();
+    let s = lane_sum_sq(w);
     if s > 0.0 && s.is_finite() {
         1.0 / s
     } else {
@@ -224,17 +226,18 @@ pub fn normalize_log_weights_with_max(logw: &[f64], w: &mut [f64], max: f64) -> 
         }
         return Some(f64::INFINITY);
     }
-    // exp(l - max) is in [0, 1]; the maximum contributes exactly 1, so sum >= 1. The
-    // branch-free exponential (within 2 ulp of libm's) lets the loop vectorise.
-    crate::numerics::simd::dispatch(
+    // exp(l - max) is in [0, 1]; the maximum contributes exactly 1, so sum >= 1 (in any
+    // order of the adds: rounding is monotone). The branch-free exponential (within 2 ulp
+    // of libm's) lets the loop vectorise; the sum runs in sixteen lanes ([`lane_sum`]).
+    let sum = crate::numerics::simd::dispatch(
         #[inline(always)]
         || {
             w.iter_mut()
                 .zip(logw)
-                .for_each(|(x, &l)| *x = if l.is_nan() { 0.0 } else { exp_nonpos(l - max) })
+                .for_each(|(x, &l)| *x = if l.is_nan() { 0.0 } else { exp_nonpos(l - max) });
+            lane_sum(&w[..n])
         },
     );
-    let sum: f64 = w.iter().take(n).sum();
     let inv = 1.0 / sum;
     w.iter_mut().take(n).for_each(|x| *x *= inv);
     Some(sum.ln() + max - (n as f64).ln())
