@@ -4,7 +4,9 @@
 //! the thread setting of the BLAS linked for the H-infinity design, and [`state`] (the
 //! explicit bytes of saved state) and [`vexp`] (a branch-free `e^x` for `x <= 0` that
 //! vectorises, for the particle weights) and [`ziggurat`] (exact standard normals in batches,
-//! for the particle filters), and [`simd`] (run-time dispatch of hot loops to AVX2, same bits). Lives below its users; imports nothing from them.
+//! for the particle filters), [`simd`] (run-time dispatch of hot loops to AVX2, same bits),
+//! and [`lane_sum`] (sums in sixteen lanes, for the particle weights). Lives below its
+//! users; imports nothing from them.
 
 #[cfg(feature = "hinf")]
 #[allow(unsafe_code)]
@@ -29,9 +31,9 @@ pub fn all_finite(v: &[f64]) -> bool {
 /// The number of partial sums of [`lane_sum`] and [`lane_sum_sq`]: four AVX2 vectors (eight
 /// SSE2 ones), enough independent chains to cover the latency of a floating-point add
 /// (3-4 cycles) at one or two adds per cycle.
-pub const SUM_LANES: usize = 16;
+const SUM_LANES: usize = 16;
 
-/// `sum v_i` in [`SUM_LANES`] interleaved partial sums (`v_i` goes to lane `i mod 16`; the
+/// `sum v_i` in sixteen interleaved partial sums (`v_i` goes to lane `i mod 16`; the
 /// tail of fewer than 16 values to lanes `0..`), the lanes then added pairwise in a fixed
 /// order (lane `j` plus lane `j + 8`, then `j + 4`, `j + 2`, `j + 1`). The particle
 /// filters' weight sums and sums of squares (issue 15): one chain in index order is 1 500
