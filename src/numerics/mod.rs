@@ -101,30 +101,32 @@ mod tests {
             let v: Vec<f64> = (0..n)
                 .map(|i| (1.0 + (i as f64) * 0.37).powi(3) * if i % 3 == 0 { 1e-9 } else { 1.0 })
                 .collect();
-            let mut lanes = [0.0f64; SUM_LANES];
-            let full = n / SUM_LANES * SUM_LANES;
-            for (i, x) in v[..full].iter().enumerate() {
-                lanes[i % SUM_LANES] += x;
-            }
-            for (i, x) in v[full..].iter().enumerate() {
-                lanes[i] += x;
-            }
-            let mut sq = [0.0f64; SUM_LANES];
-            for (i, x) in v[..full].iter().enumerate() {
-                sq[i % SUM_LANES] += x * x;
-            }
-            for (i, x) in v[full..].iter().enumerate() {
-                sq[i] += x * x;
-            }
-            for l in [&mut lanes, &mut sq] {
+            let reference = |f: fn(f64) -> f64| {
+                let mut l = [0.0f64; SUM_LANES];
+                let full = n / SUM_LANES * SUM_LANES;
+                for (i, &x) in v[..full].iter().enumerate() {
+                    l[i % SUM_LANES] += f(x);
+                }
+                for (i, &x) in v[full..].iter().enumerate() {
+                    l[i] += f(x);
+                }
                 for half in [8, 4, 2, 1] {
                     for j in 0..half {
                         l[j] += l[j + half];
                     }
                 }
-            }
-            assert_eq!(lane_sum(&v).to_bits(), lanes[0].to_bits(), "n = {n}");
-            assert_eq!(lane_sum_sq(&v).to_bits(), sq[0].to_bits(), "n = {n}");
+                l[0]
+            };
+            assert_eq!(
+                lane_sum(&v).to_bits(),
+                reference(|x| x).to_bits(),
+                "n = {n}"
+            );
+            assert_eq!(
+                lane_sum_sq(&v).to_bits(),
+                reference(|x| x * x).to_bits(),
+                "n = {n}"
+            );
             // and at rounding level from the in-order sum
             let plain: f64 = v.iter().sum();
             assert!((lane_sum(&v) - plain).abs() <= 1e-15 * n as f64 * plain.abs().max(1.0));
