@@ -6,8 +6,9 @@ examples/pf_steps and the relnav CLI (scripts/bench.sh builds them). Prints one 
   {"instructions": {case: count per design or per step}, "iterations": {design: "n"},
    "throughput": {scenario: runs per second}}
 
-Per-step Kalman counts are (I(n2) - I(n1)) / (n2 - n1) less the same for the measurement
-generation alone (`kalman_profile none`), which cancels the setup.
+Per-step Kalman counts (the bare step, the navigator's, the C ABI's and the FMU cycle) are
+(I(n2) - I(n1)) / (n2 - n1) less the same for the measurement generation alone
+(`kalman_profile none`), which cancels the setup.
 Usage: instructions.py [--no-callgrind] [--no-throughput] [--runs R]
 """
 import argparse
@@ -50,9 +51,12 @@ def main():
         n1, n2 = 100, 1100
         gen = {n: callgrind([kp, "none", str(n)])[0] for n in (n1, n2)}  # the measurements alone
         for f in ("ekf", "ukf"):
-            i1, _ = callgrind([kp, f, str(n1)])
-            i2, _ = callgrind([kp, f, str(n2)])
-            out["instructions"][f"{f}_step"] = ((i2 - gen[n2]) - (i1 - gen[n1])) / (n2 - n1)
+            # the bare step and the same step through the navigator, the C ABI and the FMU cycle
+            for mode, name in ((f, f"{f}_step"), (f"nav-{f}", f"navigator_step_{f}"),
+                               (f"capi-{f}", f"capi_step_{f}"), (f"fmu-{f}", f"fmu_cycle_{f}")):
+                i1, _ = callgrind([kp, mode, str(n1)])
+                i2, _ = callgrind([kp, mode, str(n2)])
+                out["instructions"][name] = ((i2 - gen[n2]) - (i1 - gen[n1])) / (n2 - n1)
         # particle steps at N = 1500 (examples/pf_steps): (I(20 + 10) - I(20 + 0)) / 10
         pf = str(rel / "examples" / "pf_steps")
         for name, kind, moves in (("sir_literal", "pf", "literal"), ("sir", "pf", "moves"),

@@ -12,9 +12,12 @@
 //! `time-ekf` / `time-ukf` (second argument: the number of batches) are the wall-clock
 //! companion: the bare step, the navigator's step and the FMU cycle, 600 steps each, timed
 //! **interleaved** batch by batch so that a busy machine slows all three alike; the minimum,
-//! 10th percentile and median ns per step of each and the cycle's overhead over the bare step
-//! (the minimum of many short batches is the uncontended figure on a shared machine;
-//! criterion stays the reference for the README).
+//! 10th percentile and median ns per step of each and the cycle's overhead over the bare step,
+//! also paired: the median over the batches of each batch's cycle less the bare step timed
+//! just before it, which a host whose speed drifts between two criterion benches minutes
+//! apart does not bias (the minimum of many short batches is the uncontended figure on a
+//! shared machine). `time-json` prints both filters' figures as one JSON line
+//! (benches/instructions.py, for scripts/bench.sh's summary).
 //! `cargo run --release --example kalman_profile -- ekf 600`,
 //! `cargo run --release --example kalman_profile -- time-ukf 300`.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
@@ -205,9 +208,18 @@ fn run_fmu(kind: FilterKind, steps: usize) -> Vec<f64> {
     y.to_vec()
 }
 
+/// Wall-clock figures of one filter from [`time_layers`], ns per step.
+struct Timing {
+    /// Minimum, 10th percentile and median of the bare step, the navigator's and the FMU cycle.
+    layers: [[f64; 3]; 3],
+    /// Median and minimum over the batches of the FMU cycle less the bare step of the same
+    /// batch (paired: the two run back to back, so a slow phase of the host slows both).
+    paired: [f64; 2],
+}
+
 /// `time-*`: the bare step, the navigator's and the FMU cycle timed interleaved, `batches`
 /// batches of 600 steps each (see the module docs).
-fn time_layers<E: Estimator>(kind: FilterKind, make: impl Fn() -> E, batches: usize) {
+fn time_layers<E: Estimator>(kind: FilterKind, make: impl Fn() -> E, batches: usize) -> Timing {
     const STEPS: usize = 600;
     let (zs, zv) = (measurements(STEPS), measurement_vecs(STEPS));
     let (d, sensor) = paper000();
@@ -224,7 +236,7 @@ fn time_layers<E: Estimator>(kind: FilterKind, make: impl Fn() -> E, batches: us
         s.elapsed().as_nanos() as f64 / STEPS as f64
     };
     let mut t = [Vec::new(), Vec::new(), Vec::new()];
-    for _ in 0..batches {
+    for _ in 0..batches.max(1) {
         let mut f = make();
         t[0].push(per_step(&mut || {
             for z in &zv {
@@ -247,31 +259,40 @@ fn time_layers<E: Estimator>(kind: FilterKind, make: impl Fn() -> E, batches: us
     }
     // SAFETY: freed once.
     unsafe { fmi2FreeInstance(comp) };
+    let mut diff: Vec<f64> = t[2].iter().zip(&t[0]).map(|(c, b)| c - b).collect();
+    diff.sort_by(f64::total_cmp);
     for v in t.iter_mut() {
         v.sort_by(f64::total_cmp);
     }
     let q = |v: &[f64], p: f64| v[((v.len() - 1) as f64 * p) as usize];
+    Timing {
+        layers: [0, 1, 2].map(|i| [q(&t[i], 0.0), q(&t[i], 0.1), q(&t[i], 0.5)]),
+        paired: [q(&diff, 0.5), q(&diff, 0.0)],
+    }
+}
+
+/// Print [`time_layers`]' figures as a table.
+fn print_timing(kind: FilterKind, t: &Timing) {
     let k = kind.name();
-    for (name, v) in [
+    for (name, [min, p10, med]) in [
         format!("{k}_step"),
         format!("navigator_step_{k}"),
         format!("fmu_cycle_{k}"),
     ]
     .iter()
-    .zip(&t)
+    .zip(&t.layers)
     {
-        println!(
-            "{name:20} min {:7.1}  p10 {:7.1}  median {:7.1} ns",
-            q(v, 0.0),
-            q(v, 0.1),
-            q(v, 0.5)
-        );
+        println!("{name:20} min {min:7.1}  p10 {p10:7.1}  median {med:7.1} ns");
     }
     println!(
-        "{:20} min {:7.1}  p10 {:7.1} ns",
+        "{:20} min {:7.1}  p10 {:7.1} ns (of the minima / 10th percentiles)",
         "fmu - bare",
-        q(&t[2], 0.0) - q(&t[0], 0.0),
-        q(&t[2], 0.1) - q(&t[0], 0.1)
+        t.layers[2][0] - t.layers[0][0],
+        t.layers[2][1] - t.layers[0][1]
+    );
+    println!(
+        "{:20} median {:7.1}  min {:7.1} ns (paired: batch by batch)",
+        "fmu - bare", t.paired[0], t.paired[1]
     );
 }
 
@@ -298,11 +319,36 @@ fn main() {
         .unwrap_or(600);
     let cfg = NavConfig::default();
     let (x0, p0) = (cfg.initial_state(), cfg.initial_covariance());
+    let make_ukf = || Ukf::new(x0, p0, UkfParams::default());
     match which.as_str() {
-        "time-ekf" => return time_layers(FilterKind::Ekf, || Ekf::new(x0, p0), steps),
+        "time-ekf" => {
+            let t = time_layers(FilterKind::Ekf, || Ekf::new(x0, p0), steps);
+            return print_timing(FilterKind::Ekf, &t);
+        }
         "time-ukf" => {
-            let make = || Ukf::new(x0, p0, UkfParams::default());
-            return time_layers(FilterKind::Ukf, make, steps);
+            let t = time_layers(FilterKind::Ukf, make_ukf, steps);
+            return print_timing(FilterKind::Ukf, &t);
+        }
+        "time-json" => {
+            // both filters, for benches/instructions.py: one JSON line
+            let e = time_layers(FilterKind::Ekf, || Ekf::new(x0, p0), steps);
+            let u = time_layers(FilterKind::Ukf, make_ukf, steps);
+            let one = |k: &str, t: &Timing| {
+                format!(
+                    "\"{k}\": {{\"step_min\": {:.1}, \"step_median\": {:.1}, \"fmu_min\": {:.1}, \
+                     \"fmu_median\": {:.1}, \"overhead_paired_median\": {:.1}, \
+                     \"overhead_paired_min\": {:.1}, \"batches\": {}}}",
+                    t.layers[0][0],
+                    t.layers[0][2],
+                    t.layers[2][0],
+                    t.layers[2][2],
+                    t.paired[0],
+                    t.paired[1],
+                    steps.max(1)
+                )
+            };
+            println!("{{{}, {}}}", one("ekf", &e), one("ukf", &u));
+            return;
         }
         _ => {}
     }
