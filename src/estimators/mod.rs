@@ -332,6 +332,42 @@ fn axpy6(y: &mut [f64; 6], x: &[f64; 6], a: f64) {
     }
 }
 
+/// Lower Cholesky factor `L` (`P = L L^T`) of a symmetric 6 x 6 matrix from its lower
+/// triangle, the upper triangle zero: nalgebra's column algorithm (`Cholesky::new` then
+/// `unpack`) operation for operation, so the same bits (tested), and `None` for the same
+/// matrices (a zero, negative or NaN pivot). Written out so that it inlines into the
+/// navigator's UKF step: nalgebra's generic factorisation stays an out-of-line call there,
+/// with copies of the matrix in and out (issue 15, the UKF's FMU cycle overhead).
+#[inline(always)]
+pub(crate) fn chol6(p: &Mat6) -> Option<Mat6> {
+    let mut m = *p;
+    for j in 0..6 {
+        for k in 0..j {
+            // column j from row j down, less L[j][k] times column k (nalgebra's `axpy`:
+            // `a x + y` with `a = -L[j][k]`)
+            let f = -m[(j, k)];
+            for r in j..6 {
+                m[(r, j)] += f * m[(r, k)];
+            }
+        }
+        let d = m[(j, j)];
+        if !(d > 0.0) {
+            return None;
+        }
+        let root = d.sqrt();
+        m[(j, j)] = root;
+        for r in j + 1..6 {
+            m[(r, j)] /= root;
+        }
+    }
+    for c in 1..6 {
+        for r in 0..c {
+            m[(r, c)] = 0.0;
+        }
+    }
+    Some(m)
+}
+
 /// Cholesky factor `L` (lower, `S = L L^T`) of a symmetric 3 x 3 matrix from its lower
 /// triangle, in closed form on the stack, with the reciprocals of its diagonal; `None`
 /// when a pivot is not positive (nalgebra's `cholesky` refuses the same: zero, negative or
@@ -584,6 +620,32 @@ mod tests {
         let dense = symmetrize(&(phi * p * phi.transpose() + qa));
         let got = propagate_covariance(&phi, &p, &qa);
         assert!((got - dense).norm() <= 1e-14 * dense.norm());
+    }
+
+    /// The written-out 6 x 6 Cholesky factor is nalgebra's bit for bit, and refuses the same
+    /// matrices.
+    #[test]
+    fn chol6_is_nalgebras_factor_bit_for_bit() {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
+        for _ in 0..500 {
+            let a = Mat6::from_fn(|_, _| rng.random_range(-3.0..3.0));
+            let scale = 10f64.powi(rng.random_range(-6..6));
+            let p = (a * a.transpose() + Mat6::identity() * 1e-9) * scale;
+            let ours = chol6(&p).unwrap();
+            let theirs = p.cholesky().unwrap().unpack();
+            for (x, y) in ours.iter().zip(theirs.iter()) {
+                assert_eq!(x.to_bits(), y.to_bits(), "{p}");
+            }
+        }
+        let mut bad = Mat6::identity();
+        for v in [0.0, -0.0, -1.0, f64::NAN] {
+            bad[(3, 3)] = v;
+            assert!(chol6(&bad).is_none() && bad.cholesky().is_none(), "{v}");
+        }
+        let mut rank1 = Mat6::zeros();
+        rank1[(0, 0)] = 1.0;
+        assert!(chol6(&rank1).is_none() && rank1.cholesky().is_none());
     }
 
     /// The closed-form 3 x 3 Cholesky factor solves like nalgebra's and refuses the same
