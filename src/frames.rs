@@ -96,9 +96,17 @@ impl Frame {
         self.rotation().transpose() * v
     }
 
-    /// State `(r, v)` from canonical to this frame.
+    /// State `(r, v)` from canonical to this frame, `x_io = diag(T, T) x_c`, read as the
+    /// signed permutation of [`Frame::axis_map`]: `x_io,i = s x_c,j` (plus `0.0`, so that a
+    /// zero comes out `+0.0` as from the full product). Equal to `rotation6() * x` for every
+    /// finite state (tested); six loads instead of the product's 36 multiplications, on
+    /// every output of the navigator, the C ABI and the FMU.
     pub fn state_from_canonical(self, x: &State) -> State {
-        self.rotation6() * x
+        let m = self.axis_map();
+        State::from_fn(|i, _| {
+            let (j, s) = m[i % 3];
+            s * x[j + 3 * (i / 3)] + 0.0
+        })
     }
 
     /// State `(r, v)` from this frame to canonical.
@@ -147,6 +155,29 @@ impl Frame {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The permuted state equals the full product `diag(T, T) x`, zeros included.
+    #[test]
+    fn state_from_canonical_is_the_full_product() {
+        let xs = [
+            State::from_row_slice(&[400.0, -500.0, 200.0, 0.0, -0.0, 1e-3]),
+            State::from_row_slice(&[-1.5, 2.5e-9, -3.0e7, 4.0, -5.0, 6.0]),
+            State::zeros(),
+        ];
+        for f in [
+            Frame::RadialAlongNormal,
+            Frame::AlongRadialAntinormal,
+            Frame::AlongAntinormalNadir,
+        ] {
+            for x in &xs {
+                let full = f.rotation6() * x;
+                let got = f.state_from_canonical(x);
+                for (a, b) in got.iter().zip(full.iter()) {
+                    assert_eq!(a.to_bits(), b.to_bits(), "{f:?} {x}");
+                }
+            }
+        }
+    }
 
     /// `axis_map` is `rotation`, read as a signed permutation.
     #[test]
