@@ -98,9 +98,11 @@ impl Frame {
 
     /// State `(r, v)` from canonical to this frame, `x_io = diag(T, T) x_c`, read as the
     /// signed permutation of [`Frame::axis_map`]: `x_io,i = s x_c,j` (plus `0.0`, so that a
-    /// zero comes out `+0.0` as from the full product). Equal to `rotation6() * x` for every
-    /// finite state (tested); six loads instead of the product's 36 multiplications, on
-    /// every output of the navigator, the C ABI and the FMU.
+    /// zero comes out `+0.0` as from the full product). Equal to `rotation6() * x` bit for bit
+    /// for every finite state (tested) but one corner: a zero component the full product
+    /// gives as `-0.0` (when all six of its terms are `-0.0`: the other five components
+    /// negative or `-0.0`) comes out `+0.0`. Six loads instead of the product's 36
+    /// multiplications, on every output of the navigator, the C ABI and the FMU.
     pub fn state_from_canonical(self, x: &State) -> State {
         let m = self.axis_map();
         State::from_fn(|i, _| {
