@@ -104,10 +104,10 @@ impl Frame {
     /// negative or `-0.0`) comes out `+0.0`. Six loads instead of the product's 36
     /// multiplications, on every output of the navigator, the C ABI and the FMU.
     pub fn state_from_canonical(self, x: &State) -> State {
-        let m = self.axis_map();
+        let m = self.state_map();
         State::from_fn(|i, _| {
-            let (j, s) = m[i % 3];
-            s * x[j + 3 * (i / 3)] + 0.0
+            let (j, s) = m[i];
+            s * x[j] + 0.0
         })
     }
 
@@ -133,16 +133,26 @@ impl Frame {
         }
     }
 
+    /// [`Frame::axis_map`] for the six state components `(r, v)`: for each component `i`
+    /// of this frame the canonical component `j` and the sign `s` with `x_io,i = s x_c,j`
+    /// (the velocity block is the position block shifted by 3).
+    fn state_map(self) -> [(usize, f64); 6] {
+        let m = self.axis_map();
+        std::array::from_fn(|i| {
+            let (j, s) = m[i % 3];
+            (j + 3 * (i / 3), s)
+        })
+    }
+
     /// The diagonal of [`Frame::cov_from_canonical`] alone: `(T6 P_c T6^T)_ii = s^2 P_c,jj`
     /// with `(j, s)` from [`Frame::axis_map`], i.e. the permuted diagonal of `P_c`, the
     /// same bits as the full congruence's diagonal for a finite `P_c`. The 1-sigma
     /// outputs of the navigator, the C ABI and the FMU need only these (six loads
     /// instead of the full congruence's 432 multiplications).
     pub fn variances_from_canonical(self, p: &Mat6) -> [f64; 6] {
-        let m = self.axis_map();
+        let m = self.state_map();
         std::array::from_fn(|i| {
-            let (j, s) = m[i % 3];
-            let j = j + 3 * (i / 3);
+            let (j, s) = m[i];
             s * p[(j, j)] * s
         })
     }

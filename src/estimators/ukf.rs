@@ -706,7 +706,7 @@ impl Ukf {
     ) -> Result<UpdateInfo, FilterError> {
         // `measurement_update` with the factor written out (`chol6`, the same bits): inlined
         // into the navigator's step, nalgebra's factorisation stays an out-of-line call with
-        // copies in and out (171 instructions per FMU cycle, measured)
+        // copies in and out (168 instructions per FMU cycle, measured)
         let l =
             super::chol6(&self.p).ok_or(FilterError::NotPositiveDefinite("state covariance P"))?;
         let (x, p, info) =
