@@ -176,11 +176,7 @@ mod tests {
             State::from_row_slice(&[-1.5, 2.5e-9, -3.0e7, 4.0, -5.0, 6.0]),
             State::zeros(),
         ];
-        for f in [
-            Frame::RadialAlongNormal,
-            Frame::AlongRadialAntinormal,
-            Frame::AlongAntinormalNadir,
-        ] {
+        for f in Frame::ALL {
             for x in &xs {
                 let full = f.rotation6() * x;
                 let got = f.state_from_canonical(x);
