@@ -1,5 +1,5 @@
 """Anchor for the H-infinity design bench: the same SDP (paper 002, Theorem 1 / Corollary 1,
-with the same conditioning as src/hinf/design.rs: balanced uncertainty scaling, R <= 1e4 I,
+with the same conditioning as crates/core/src/hinf/design.rs: balanced uncertainty scaling, R <= 1e4 I,
 margins 1e-5) posed in cvxpy and solved by Clarabel. Timed per solve with the problem
 assembly included (variables, constraints, canonicalisation), median of repeated runs.
 Prints one JSON line: {"cvxpy_hinf_design_ns": median, "gamma": ..., "status": ...}.

@@ -6,16 +6,16 @@
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use rand::SeedableRng;
-use relnav::dynamics::{CwModel, Discretization};
-use relnav::estimators::{Aqukf, Ekf, Estimator, Imm, Ukf, UkfParams};
-use relnav::ffi;
-use relnav::fmi::description::guid;
-use relnav::fmi::functions::*;
-use relnav::fmi::types::*;
-use relnav::fmi::variables::vr;
-use relnav::nav::{FilterKind, NavConfig, Navigator};
-use relnav::sensors::RadioSensor;
-use relnav::types::{Mat3, Mat6, State, Vec3};
+use relnav as ffi;
+use relnav_core::dynamics::{CwModel, Discretization};
+use relnav_core::estimators::{Aqukf, Ekf, Estimator, Imm, Ukf, UkfParams};
+use relnav_core::nav::{FilterKind, NavConfig, Navigator};
+use relnav_core::sensors::RadioSensor;
+use relnav_core::types::{Mat3, Mat6, State, Vec3};
+use relnav_fmi::description::guid;
+use relnav_fmi::functions::*;
+use relnav_fmi::types::*;
+use relnav_fmi::variables::vr;
 use std::hint::black_box;
 
 const STEPS: usize = 600;

@@ -7,11 +7,11 @@
 #![allow(missing_docs, clippy::unwrap_used)]
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use relnav::hinf::design::{
+use relnav_core::hinf::design::{
     design_observer_sdp, design_open_loop, design_open_loop_mixed, design_paper_spec, DesignOptions,
 };
-use relnav::hinf::{HinfFilter, HinfSpec};
-use relnav::types::{State, Vec3};
+use relnav_core::hinf::{HinfFilter, HinfSpec};
+use relnav_core::types::{State, Vec3};
 use std::hint::black_box;
 
 fn bench(c: &mut Criterion) {
@@ -27,7 +27,7 @@ fn bench(c: &mut Criterion) {
     });
     // the previous route of the gamma-optimal observer (the eliminated SDP, issue 15), kept
     // as its reference and fallback: the before/after pair in one binary
-    let open = relnav::hinf::HinfPlant::open_loop(&spec);
+    let open = relnav_core::hinf::HinfPlant::open_loop(&spec);
     g.bench_function("hinf_design_observer_sdp", |b| {
         b.iter(|| design_observer_sdp(black_box(&open), spec.period, &opts).unwrap())
     });
@@ -35,8 +35,8 @@ fn bench(c: &mut Criterion) {
         b.iter(|| design_open_loop_mixed(black_box(&spec), 1.5, &opts).unwrap())
     });
     // filter 9's default on paper 000's example with a quiet truth (derived B, D)
-    let quiet = relnav::nav::NavConfig {
-        filter: relnav::nav::FilterKind::Hinf,
+    let quiet = relnav_core::nav::NavConfig {
+        filter: relnav_core::nav::FilterKind::Hinf,
         accel_psd: 1e-10,
         q_pos: [0.0; 3],
         q_vel: [0.0; 3],

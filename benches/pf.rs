@@ -13,12 +13,12 @@
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use rand::SeedableRng;
-use relnav::dynamics::{CwModel, DiscreteModel, Discretization};
-use relnav::estimators::pf::{ParticleFilter, PfKind, PfParams};
-use relnav::estimators::Estimator;
-use relnav::nav::NavConfig;
-use relnav::sensors::RadioSensor;
-use relnav::types::{Mat3, Mat6, State, Vec3};
+use relnav_core::dynamics::{CwModel, DiscreteModel, Discretization};
+use relnav_core::estimators::pf::{ParticleFilter, PfKind, PfParams};
+use relnav_core::estimators::Estimator;
+use relnav_core::nav::NavConfig;
+use relnav_core::sensors::RadioSensor;
+use relnav_core::types::{Mat3, Mat6, State, Vec3};
 use std::hint::black_box;
 
 /// Paper 000's model, sensor and a long run of noisy measurements (frame 2).

@@ -11,11 +11,11 @@
 //! e` (docs/evaluation.md, "Riccati route for the gamma-optimal observer").
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-use relnav::hinf::design::{
+use relnav_core::hinf::design::{
     design_observer, design_observer_full, design_observer_sdp, design_open_loop_mixed,
     design_paper_full, design_paper_spec, DesignOptions,
 };
-use relnav::hinf::HinfSpec;
+use relnav_core::hinf::HinfSpec;
 
 fn main() {
     let which = std::env::args()
@@ -31,8 +31,8 @@ fn main() {
         opts.bound = rho;
     }
     let spec = HinfSpec::paper();
-    let quiet = relnav::nav::NavConfig {
-        filter: relnav::nav::FilterKind::Hinf,
+    let quiet = relnav_core::nav::NavConfig {
+        filter: relnav_core::nav::FilterKind::Hinf,
         accel_psd: 1e-10,
         q_pos: [0.0; 3],
         q_vel: [0.0; 3],
@@ -48,16 +48,16 @@ fn main() {
                 (d.gamma, d.h2_norm, format!("{}", d.iterations))
             }
             "paper_full" => {
-                let plant = relnav::hinf::HinfPlant::paper_closed_loop(
+                let plant = relnav_core::hinf::HinfPlant::paper_closed_loop(
                     &spec,
-                    &relnav::hinf::PAPER_K,
-                    relnav::hinf::PAPER_MASS,
+                    &relnav_core::hinf::PAPER_K,
+                    relnav_core::hinf::PAPER_MASS,
                 );
                 let d = design_paper_full(&plant, spec.period, &opts).expect("paper design");
                 (d.gamma, d.h2_norm, format!("{}", d.iterations))
             }
             "observer_full" => {
-                let plant = relnav::hinf::HinfPlant::open_loop(&spec);
+                let plant = relnav_core::hinf::HinfPlant::open_loop(&spec);
                 let d = design_observer_full(&plant, spec.period, &opts).expect("observer");
                 (d.gamma, d.h2_norm, format!("{}", d.iterations))
             }
@@ -67,9 +67,9 @@ fn main() {
                 } else {
                     &spec
                 };
-                let plant = relnav::hinf::HinfPlant::open_loop(sp);
+                let plant = relnav_core::hinf::HinfPlant::open_loop(sp);
                 if std::env::var_os("RELNAV_PRINT_CERTIFICATE").is_some() {
-                    let r = relnav::hinf::riccati::observer(&plant).expect("riccati");
+                    let r = relnav_core::hinf::riccati::observer(&plant).expect("riccati");
                     let p = r.x.try_inverse().expect("X invertible") * (r.gamma * r.gamma);
                     let ev = p.symmetric_eigenvalues();
                     println!(
@@ -88,7 +88,7 @@ fn main() {
                     .and_then(|s| s.parse::<f64>().ok())
                 {
                     // the same SDP in the coordinates e' = diag(I, tau I) e
-                    let (sp, _) = relnav::hinf::design::scaled_plant(&plant, tau);
+                    let (sp, _) = relnav_core::hinf::design::scaled_plant(&plant, tau);
                     let d = design_observer_sdp(&sp, 1.0, &opts).expect("scaled SDP");
                     println!(
                         "SDP at tau {tau}: gamma {:.8} ({} iterations)",

@@ -23,16 +23,16 @@
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 use rand::SeedableRng;
-use relnav::dynamics::{CwModel, Discretization};
-use relnav::estimators::{Ekf, Estimator, Ukf, UkfParams};
-use relnav::ffi;
-use relnav::fmi::description::guid;
-use relnav::fmi::functions::*;
-use relnav::fmi::types::*;
-use relnav::fmi::variables::vr;
-use relnav::nav::{FilterKind, NavConfig, Navigator};
-use relnav::sensors::RadioSensor;
-use relnav::types::{Mat3, Mat6, State, Vec3};
+use relnav as ffi;
+use relnav_core::dynamics::{CwModel, Discretization};
+use relnav_core::estimators::{Ekf, Estimator, Ukf, UkfParams};
+use relnav_core::nav::{FilterKind, NavConfig, Navigator};
+use relnav_core::sensors::RadioSensor;
+use relnav_core::types::{Mat3, Mat6, State, Vec3};
+use relnav_fmi::description::guid;
+use relnav_fmi::functions::*;
+use relnav_fmi::types::*;
+use relnav_fmi::variables::vr;
 use std::hint::black_box;
 use std::time::Instant;
 
@@ -52,7 +52,7 @@ fn run<E: Estimator>(f: Option<E>, steps: usize) -> (State, Mat6) {
 }
 
 /// Paper 000's discrete model over 1 s (the default process noise) and radio sensor.
-fn paper000() -> (relnav::dynamics::DiscreteModel, RadioSensor) {
+fn paper000() -> (relnav_core::dynamics::DiscreteModel, RadioSensor) {
     let cfg = NavConfig::default();
     let fr = cfg.frame;
     let model = CwModel::new(cfg.mean_motion);

@@ -17,12 +17,12 @@
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)] // example code
 
 use rand::SeedableRng;
-use relnav::dynamics::{CwModel, Discretization};
-use relnav::estimators::pf::{Kernel, ParticleFilter, PfKind, PfParams};
-use relnav::estimators::Estimator;
-use relnav::nav::NavConfig;
-use relnav::sensors::RadioSensor;
-use relnav::types::{Mat3, Mat6, State, Vec3};
+use relnav_core::dynamics::{CwModel, Discretization};
+use relnav_core::estimators::pf::{Kernel, ParticleFilter, PfKind, PfParams};
+use relnav_core::estimators::Estimator;
+use relnav_core::nav::NavConfig;
+use relnav_core::sensors::RadioSensor;
+use relnav_core::types::{Mat3, Mat6, State, Vec3};
 
 fn main() {
     let arg = |i: usize, d: usize| -> usize {

@@ -1,39 +1,55 @@
-//! relnav — spacecraft relative navigation near a target on a circular orbit.
+//! relnav's C ABI: the library C and C++ programs link (`librelnav.a`, `librelnav.so`),
+//! declared in `include/relnav.h`, generated from this crate alone by cbindgen and checked
+//! in. A thin shell over the safe core (`relnav-core`): every call converts and checks its
+//! arguments, runs the core's navigator and turns its result into a status.
 //!
-//! Data flows one way: [`dynamics`] (CW truth and discrete models) → [`sensors`]
-//! (range/azimuth/elevation) → [`estimators`] (EKF, UKF behind one trait) → [`nav`] (frames,
-//! units, step semantics) → [`ffi`] (the C ABI, `include/relnav.h`) → [`fmi`] (the FMI 2.0
-//! Co-Simulation layer). Beside it, [`eval`] runs Monte Carlo campaigns of scenario files
-//! against the posterior Cramér–Rao bound (the `relnav` CLI), with the measurement-noise
-//! densities of [`noise`]. The system kit's truth plant ([`plant`], over [`orbit`] for
-//! two-body + J2) and guidance law ([`guidance`]) sit beside the chain as models of their
-//! own FMUs. See `ARCHITECTURE.md` for the map and the invariants.
-#![deny(unsafe_code)]
+//! Conventions, after rustls-ffi:
+//! * Every function is `relnav_<object>_<verb>`, returns a [`relnav_status`] (or a value that
+//!   cannot fail), and runs inside one panic boundary ([`boundary`]): nothing unwinds into C;
+//!   a panic becomes `RELNAV_ERROR_PANIC`.
+//! * Every pointer is checked; a null one gives `RELNAV_ERROR_NULL_POINTER` and names the
+//!   argument in the message. Numeric inputs are checked (NaN/inf, non-positive step or
+//!   mass, unknown enum codes) before anything changes: on error the estimator is untouched.
+//! * A failing call stores a readable message, fetched with [`relnav_last_error`] (per
+//!   thread, valid until the next failing call on that thread; a successful call leaves it).
+//! * `relnav_estimator` is opaque: created by [`relnav_estimator_new`], owned by the caller,
+//!   released by [`relnav_estimator_free`] (null is accepted). It may move between threads
+//!   but must not be used from two threads at once.
+//! * Vectors are `double` arrays of the stated length, in the configured frame, SI units,
+//!   angles in radians. Matrices are row-major.
+//!
+//! One module per domain, after rustls-ffi: [`error`] (status codes, last-error message),
+//! [`panic`] (the one panic boundary), [`ptr`] (null-checked array access), [`config`]
+//! (`relnav_config` and its enums), [`estimator`] (the estimator handle and its calls),
+//! [`hinf`] (the H-infinity design and the runtime filter), [`state`] (saving and
+//! restoring an estimator's state).
 
-pub mod dynamics;
-pub mod estimators;
-/// cbindgen:ignore
-#[cfg(feature = "eval")]
-pub mod eval;
-pub mod frames;
-/// cbindgen:ignore
-pub mod guidance;
+#![allow(non_camel_case_types)]
+
+pub mod config;
+pub mod error;
+pub mod estimator;
 pub mod hinf;
-pub mod nav;
-pub mod noise;
-pub mod numerics;
-/// cbindgen:ignore
-pub mod orbit;
-/// cbindgen:ignore
-pub mod plant;
-pub mod sensors;
-pub mod types;
+mod panic;
+mod ptr;
+pub mod state;
 
-#[allow(unsafe_code)]
-pub mod ffi;
-/// cbindgen:ignore
-#[allow(unsafe_code)]
-pub mod fmi;
+pub use config::*;
+pub use error::*;
+pub use estimator::*;
+pub use hinf::*;
+pub use state::*;
 
-/// Library version (`CARGO_PKG_VERSION`).
-pub const VERSION: &str = env!("CARGO_PKG_VERSION");
+use std::ffi::{c_char, CStr};
+
+static VERSION_C: &CStr =
+    match CStr::from_bytes_with_nul(concat!(env!("CARGO_PKG_VERSION"), "\0").as_bytes()) {
+        Ok(s) => s,
+        Err(_) => c"unknown",
+    };
+
+/// Library version, e.g. `"0.1.0"` (static string, never null).
+#[no_mangle]
+pub extern "C" fn relnav_version() -> *const c_char {
+    VERSION_C.as_ptr()
+}

@@ -13,12 +13,12 @@
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::StandardNormal;
-use relnav::dynamics::CwModel;
-use relnav::estimators::{AdaptationLaw, Estimator, Ukf, UkfParams};
-use relnav::frames::Frame;
-use relnav::nav::{FilterKind, NavConfig, Navigator};
-use relnav::sensors::RadioSensor;
-use relnav::types::{Mat3, Mat6, State, Vec3};
+use relnav_core::dynamics::CwModel;
+use relnav_core::estimators::{AdaptationLaw, Estimator, Ukf, UkfParams};
+use relnav_core::frames::Frame;
+use relnav_core::nav::{FilterKind, NavConfig, Navigator};
+use relnav_core::sensors::RadioSensor;
+use relnav_core::types::{Mat3, Mat6, State, Vec3};
 
 const N: f64 = 2.0 * std::f64::consts::PI / 7200.0;
 const MASS: f64 = 100.0;
@@ -371,7 +371,7 @@ fn window_one_equals_the_undamped_maybeck_update() {
         let mut model = cw.discretize(
             1.0,
             &Mat3::from_diagonal(&q_now),
-            relnav::dynamics::Discretization::Exact,
+            relnav_core::dynamics::Discretization::Exact,
         );
         model.q = cw.van_loan_q(&Mat3::from_diagonal(&q_now), 1.0);
         ukf.predict(&model, &Vec3::zeros()).unwrap();
@@ -420,7 +420,7 @@ fn failed_step_is_undone(law: AdaptationLaw) {
     // sets a fading factor > 1 for the prediction that will fail
     let mut probe = a.clone();
     probe.update(&zs[10]).unwrap();
-    if let relnav::nav::AnyFilter::Aqukf(f) = probe.filter() {
+    if let relnav_core::nav::AnyFilter::Aqukf(f) = probe.filter() {
         let ad = f.core().adaptive();
         eprintln!(
             "{law:?} in the failing step: gate open {}, inflation {}",

@@ -6,8 +6,8 @@
 //! law and the IMM (code 10) with `relnav_estimator_get_mode_probabilities`.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)] // test code
 
-use relnav::ffi::*;
-use relnav::noise::NoiseModel;
+use relnav::*;
+use relnav_core::noise::NoiseModel;
 use std::ffi::CStr;
 
 const OK: relnav_status = relnav_status::RELNAV_OK;

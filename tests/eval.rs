@@ -3,12 +3,12 @@
 //! do not depend on the thread count.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)] // test code
 
-use relnav::estimators::Estimator;
-use relnav::eval::builtin;
-use relnav::eval::metrics::summarize;
-use relnav::eval::runner::{run, Options};
-use relnav::eval::scenario::Scenario;
-use relnav::eval::sim::Prepared;
+use relnav_core::estimators::Estimator;
+use relnav_eval::builtin;
+use relnav_eval::metrics::summarize;
+use relnav_eval::runner::{run, Options};
+use relnav_eval::scenario::Scenario;
+use relnav_eval::sim::Prepared;
 
 /// Linear-Gaussian: Cartesian position measurements, white Gaussian process and
 /// measurement noise, the truth's initial state drawn from the filters' prior, and a KF
@@ -64,7 +64,7 @@ fn pcrlb_equals_the_kalman_covariance_on_a_linear_gaussian_scenario() {
     let f = &prep.filters[0];
     let mut kf = f.instantiate(0);
     let frame = s.io_frame();
-    let mut z_dummy = relnav::types::Vec3::new(1.0, 2.0, 3.0);
+    let mut z_dummy = relnav_core::types::Vec3::new(1.0, 2.0, 3.0);
     assert_eq!(bound.len(), prep.steps + 1);
     for (k, b) in bound.iter().enumerate() {
         if prep.measured[k] {
@@ -82,7 +82,8 @@ fn pcrlb_equals_the_kalman_covariance_on_a_linear_gaussian_scenario() {
             );
         }
         if k < prep.steps {
-            kf.predict(&f.model, &relnav::types::Vec3::zeros()).unwrap();
+            kf.predict(&f.model, &relnav_core::types::Vec3::zeros())
+                .unwrap();
         }
     }
     // and the Monte Carlo error matches the bound: efficiency 1 within sampling error.
@@ -163,7 +164,7 @@ fn results_do_not_depend_on_the_thread_count() {
         },
     )
     .unwrap();
-    let strip = |mut r: relnav::eval::results::McResult| {
+    let strip = |mut r: relnav_eval::results::McResult| {
         for f in &mut r.filters {
             f.us_per_step = 0.0;
         }
@@ -178,7 +179,7 @@ fn results_do_not_depend_on_the_thread_count() {
 /// rely on). Partial sums out of order or from another campaign are refused.
 #[test]
 fn chunks_computed_apart_reduce_to_the_runners_result() {
-    use relnav::eval::runner::{Campaign, Partial};
+    use relnav_eval::runner::{Campaign, Partial};
     use std::sync::atomic::{AtomicBool, AtomicU64};
     let (_, text) = builtin::for_paper("000")[0];
     let mut s = Scenario::from_toml(text).unwrap();
@@ -219,7 +220,7 @@ fn chunks_computed_apart_reduce_to_the_runners_result() {
     }
     assert!(r.add(&c, &parts[2]).is_err(), "a chunk added twice");
     let apart = c.finish(r);
-    let strip = |mut r: relnav::eval::results::McResult| {
+    let strip = |mut r: relnav_eval::results::McResult| {
         for f in &mut r.filters {
             f.us_per_step = 0.0;
         }

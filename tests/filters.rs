@@ -6,12 +6,12 @@
 
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
-use relnav::dynamics::{CwModel, Discretization};
-use relnav::estimators::{Ekf, Estimator, Ukf, UkfParams};
-use relnav::frames::Frame;
-use relnav::nav::{FilterKind, NavConfig, Navigator};
-use relnav::sensors::RadioSensor;
-use relnav::types::{Mat3, Mat6, State, Vec3};
+use relnav_core::dynamics::{CwModel, Discretization};
+use relnav_core::estimators::{Ekf, Estimator, Ukf, UkfParams};
+use relnav_core::frames::Frame;
+use relnav_core::nav::{FilterKind, NavConfig, Navigator};
+use relnav_core::sensors::RadioSensor;
+use relnav_core::types::{Mat3, Mat6, State, Vec3};
 
 /// Per-axis RMSE over `runs` seeded runs of paper 000's example; returns
 /// (worst per-axis RMSE for t >= 80 s, position RMSE over 80..600 s).

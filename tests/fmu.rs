@@ -4,11 +4,11 @@
 //! suite and the C++ harness, which can define C-variadic loggers.)
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)] // test code
 
-use relnav::ffi;
-use relnav::fmi::description::{guid, model_description};
-use relnav::fmi::functions::*;
-use relnav::fmi::types::*;
-use relnav::fmi::variables::{vr, VARIABLES};
+use relnav as ffi;
+use relnav_fmi::description::{guid, model_description};
+use relnav_fmi::functions::*;
+use relnav_fmi::types::*;
+use relnav_fmi::variables::{vr, VARIABLES};
 use std::ffi::CString;
 
 const OK: fmi2Status = fmi2Status::fmi2OK;
@@ -404,7 +404,7 @@ fn variable_steps_and_status_queries() {
 /// every build of one commit. Checked against git's own date formatting.
 #[test]
 fn generation_date_is_the_commit_date() {
-    use relnav::fmi::description::GENERATION_DATE;
+    use relnav_fmi::description::GENERATION_DATE;
     let date = GENERATION_DATE;
     assert!(
         model_description().contains(&format!(r#"generationDateAndTime="{date}""#)),
@@ -452,7 +452,7 @@ fn readme_variable_table_is_current() {
         .expect("README lacks the variables:end marker");
     assert_eq!(
         readme.get(start..end).unwrap_or_default(),
-        relnav::fmi::description::variables_markdown(),
+        relnav_fmi::description::variables_markdown(),
         "README variable table is stale"
     );
 }

@@ -8,19 +8,19 @@
 #![cfg(feature = "hinf")]
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)] // test code
 
-use relnav::hinf::design::{
+use relnav_core::hinf::design::{
     design_observer, design_observer_full, design_observer_sdp, design_open_loop,
     design_open_loop_mixed, design_paper, design_paper_full, scaled_plant, DesignOptions,
     DesignRoute, HinfDesign,
 };
-use relnav::hinf::riccati::RiccatiFailure;
-use relnav::hinf::verify::{
+use relnav_core::hinf::riccati::RiccatiFailure;
+use relnav_core::hinf::verify::{
     delta_grid, dlyap, h2_norm, observer_certified_norm, observer_error_covariance,
     observer_error_norm, observer_h2_norm, spectral_radius, verify_filter,
 };
-use relnav::hinf::*;
-use relnav::nav::{FilterKind, HinfDesignKind, NavConfig, Navigator};
-use relnav::types::{Mat6, State, Vec3};
+use relnav_core::hinf::*;
+use relnav_core::nav::{FilterKind, HinfDesignKind, NavConfig, Navigator};
+use relnav_core::types::{Mat6, State, Vec3};
 
 fn closed_loop(spec: &HinfSpec) -> (HinfPlant, impl Fn(f64) -> Mat6 + '_) {
     (
@@ -233,7 +233,7 @@ fn eliminated_designs_match_the_literal_sdps() {
 fn runtime_observer_tracks_a_thrusting_chaser() {
     let spec = HinfSpec::paper();
     let d = design_open_loop(&spec, &DesignOptions::default()).unwrap_or_else(|e| panic!("{e}"));
-    let model = relnav::dynamics::CwModel::new(spec.w0);
+    let model = relnav_core::dynamics::CwModel::new(spec.w0);
     let mut x = State::from_row_slice(&[600.0, 550.0, 1040.0, 0.02, -0.08, 0.03]);
     let mut f = HinfFilter::new(
         d.matrices,
@@ -252,12 +252,12 @@ fn runtime_observer_tracks_a_thrusting_chaser() {
 
 /// The H2-optimal (Kalman, predictor form) gain of the observer plant by iterating the
 /// Riccati recursion to its fixed point: the lower bound of every observer's H2 norm.
-fn kalman_gain(plant: &HinfPlant) -> relnav::types::Mat63 {
+fn kalman_gain(plant: &HinfPlant) -> relnav_core::types::Mat63 {
     let (a, c) = (plant.a, plant.c);
     let q = plant.b * plant.b.transpose();
     let r = plant.d * plant.d.transpose();
     let mut p = Mat6::identity();
-    let mut k = relnav::types::Mat63::zeros();
+    let mut k = relnav_core::types::Mat63::zeros();
     for _ in 0..100_000 {
         let s = c * p * c.transpose() + r;
         k = a * p * c.transpose() * s.try_inverse().unwrap();
@@ -387,7 +387,7 @@ fn mixed_design_paper_noise() {
     assert!(m15.h2_norm <= m11.h2_norm * (1.0 + 1e-4));
 }
 
-fn quiet_config(frame: relnav::frames::Frame, x0: [f64; 6]) -> NavConfig {
+fn quiet_config(frame: relnav_core::frames::Frame, x0: [f64; 6]) -> NavConfig {
     NavConfig {
         filter: FilterKind::Hinf,
         frame,
@@ -407,7 +407,7 @@ fn quiet_config(frame: relnav::frames::Frame, x0: [f64; 6]) -> NavConfig {
 /// m; 0.0455 with delta_bar = 0).
 #[test]
 fn mixed_design_derived_quiet_noise() {
-    use relnav::frames::Frame;
+    use relnav_core::frames::Frame;
     let cfg = quiet_config(
         Frame::AlongRadialAntinormal,
         [405.0, 505.0, 205.0, 0.1, 0.1, 0.1],
@@ -415,11 +415,12 @@ fn mixed_design_derived_quiet_noise() {
     let spec = cfg.hinf_spec().unwrap();
     // B B^T = Van Loan Qd of the acceleration density (q_* = 0 here), D D^T = J R J^T
     let b = spec.b();
-    let qd = relnav::dynamics::CwModel::new(cfg.mean_motion)
-        .van_loan_q(&(relnav::types::Mat3::identity() * 1e-10), 1.0);
+    let qd = relnav_core::dynamics::CwModel::new(cfg.mean_motion)
+        .van_loan_q(&(relnav_core::types::Mat3::identity() * 1e-10), 1.0);
     assert!((b * b.transpose() - qd).abs().max() < 1e-9 * qd.abs().max());
     let d = spec.d();
-    let sensor = relnav::sensors::RadioSensor::new(cfg.frame, cfg.sigma_range, cfg.sigma_angle);
+    let sensor =
+        relnav_core::sensors::RadioSensor::new(cfg.frame, cfg.sigma_range, cfg.sigma_angle);
     let r = sensor
         .position_covariance(&cfg.initial_state().fixed_rows::<3>(0).into_owned())
         .unwrap();
@@ -466,7 +467,7 @@ fn mixed_design_derived_quiet_noise() {
 /// when set; bad H-infinity parameters are refused with their name.
 #[test]
 fn navigator_design_selection_and_parameters() {
-    use relnav::frames::Frame;
+    use relnav_core::frames::Frame;
     let cfg = quiet_config(
         Frame::RadialAlongNormal,
         [-2000.0, 4500.0, 1000.0, 0.0, 0.0, 0.0],
@@ -565,8 +566,8 @@ fn navigator_design_selection_and_parameters() {
 /// the set and the next measurements re-acquire; a reset starts over.
 #[test]
 fn acquisition_hands_over_keeps_and_reacquires() {
-    use relnav::estimators::Estimator;
-    use relnav::sensors::CartesianSensor;
+    use relnav_core::estimators::Estimator;
+    use relnav_core::sensors::CartesianSensor;
     let spec = HinfSpec::paper();
     let m = design_open_loop_mixed(&spec, 1.5, &DesignOptions::default()).unwrap();
     let plant = HinfPlant::open_loop(&spec);
@@ -588,16 +589,16 @@ fn acquisition_hands_over_keeps_and_reacquires() {
         * (1.0 + ACQUISITION_MARGIN);
     let in_set = |p: &Mat6| nalgebra::Cholesky::new(bound - p).is_some();
     let sensor = CartesianSensor {
-        frame: relnav::frames::Frame::RadialAlongNormal,
+        frame: relnav_core::frames::Frame::RadialAlongNormal,
         sigma: 0.1,
     };
-    let model = relnav::dynamics::CwModel::new(spec.w0).discretize(
+    let model = relnav_core::dynamics::CwModel::new(spec.w0).discretize(
         spec.period,
-        &relnav::types::Mat3::zeros(),
-        relnav::dynamics::Discretization::Exact,
+        &relnav_core::types::Mat3::zeros(),
+        relnav_core::dynamics::Discretization::Exact,
     );
     let mut x = State::from_row_slice(&[600.0, 550.0, 1040.0, 0.02, -0.08, 0.03]);
-    let cw = relnav::dynamics::CwModel::new(spec.w0);
+    let cw = relnav_core::dynamics::CwModel::new(spec.w0);
     let mut handover = None;
     for k in 0..20_000 {
         let dropout = (10_000..10_600).contains(&k);
@@ -718,7 +719,7 @@ fn check_riccati_route(
 /// certificate reaches 6.7e6 there; docs/evaluation.md); posed in balanced units it agrees.
 #[test]
 fn riccati_route_matches_the_sdp() {
-    use relnav::frames::Frame;
+    use relnav_core::frames::Frame;
     let paper = HinfSpec::paper();
     let quiet = quiet_config(
         Frame::AlongRadialAntinormal,

@@ -4,13 +4,13 @@
 //! `fmi2DoStep` / `fmi2SetReal` / `fmi2GetReal`.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)] // test code
 
-use relnav::estimators::AdaptationLaw;
-use relnav::ffi;
-use relnav::fmi::description::guid;
-use relnav::fmi::functions::*;
-use relnav::fmi::types::*;
-use relnav::fmi::variables::vr;
-use relnav::nav::{FilterKind, NavConfig, Navigator};
+use relnav as ffi;
+use relnav_core::estimators::AdaptationLaw;
+use relnav_core::nav::{FilterKind, NavConfig, Navigator};
+use relnav_fmi::description::guid;
+use relnav_fmi::functions::*;
+use relnav_fmi::types::*;
+use relnav_fmi::variables::vr;
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 
@@ -308,9 +308,9 @@ fn fmu_cycles_do_not_allocate(filter: i32, law: i32) {
 /// few vectors per loop (ARCHITECTURE.md, invariants).
 #[test]
 fn particle_filter_steps_do_not_allocate() {
-    use relnav::estimators::pf::resample::Resampler;
-    use relnav::estimators::pf::PARALLEL_MIN_PARTICLES;
-    use relnav::nav::NoiseKind;
+    use relnav_core::estimators::pf::resample::Resampler;
+    use relnav_core::estimators::pf::PARALLEL_MIN_PARTICLES;
+    use relnav_core::nav::NoiseKind;
     const PARTICLES: usize = 300;
     const { assert!(PARTICLES < PARALLEL_MIN_PARTICLES) };
     let kinds = [

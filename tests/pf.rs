@@ -9,14 +9,14 @@ use rand::Rng;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::StandardNormal;
-use relnav::dynamics::{CwModel, Discretization};
-use relnav::estimators::pf::resample::Resampler;
-use relnav::estimators::pf::{Kernel, ParticleFilter, PfInit, PfKind, PfParams};
-use relnav::estimators::{Ekf, Estimator};
-use relnav::frames::Frame;
-use relnav::nav::{FilterKind, NavConfig, Navigator};
-use relnav::sensors::{CartesianSensor, MeasurementModel, RadioSensor};
-use relnav::types::{Mat3, Mat6, State, Vec3};
+use relnav_core::dynamics::{CwModel, Discretization};
+use relnav_core::estimators::pf::resample::Resampler;
+use relnav_core::estimators::pf::{Kernel, ParticleFilter, PfInit, PfKind, PfParams};
+use relnav_core::estimators::{Ekf, Estimator};
+use relnav_core::frames::Frame;
+use relnav_core::nav::{FilterKind, NavConfig, Navigator};
+use relnav_core::sensors::{CartesianSensor, MeasurementModel, RadioSensor};
+use relnav_core::types::{Mat3, Mat6, State, Vec3};
 
 /// Mean over time of |x_pf - x_kf| (position) on a linear-Gaussian problem where the KF
 /// is the exact posterior mean, and the mean posterior position sd.
@@ -290,7 +290,7 @@ fn small_process_noise_moving_filters_match_the_ekf_literal_sir_degenerates() {
 /// weights, means and covariances for every kind (with and without moves).
 #[test]
 fn parallel_path_is_independent_of_the_thread_count() {
-    use relnav::estimators::pf::PARALLEL_MIN_PARTICLES;
+    use relnav_core::estimators::pf::PARALLEL_MIN_PARTICLES;
     let cfg = NavConfig::default();
     let f = cfg.frame;
     let model = CwModel::new(cfg.mean_motion);
@@ -370,7 +370,7 @@ fn bad_parameters_are_rejected() {
         assert!(p.validate().unwrap_err().contains("threshold"), "{t}");
     }
     let p = PfParams {
-        threads: relnav::estimators::pf::MAX_THREADS + 1,
+        threads: relnav_core::estimators::pf::MAX_THREADS + 1,
         ..Default::default()
     };
     assert!(p.validate().unwrap_err().contains("threads"));
@@ -397,8 +397,8 @@ fn reproduce(
     keep: &[&str],
     runs: u32,
     duration: f64,
-) -> Vec<relnav::eval::metrics::Summary> {
-    use relnav::eval::{builtin::BUILTIN, metrics::summarize, runner, scenario::Scenario};
+) -> Vec<relnav_eval::metrics::Summary> {
+    use relnav_eval::{builtin::BUILTIN, metrics::summarize, runner, scenario::Scenario};
     let (_, _, text) = BUILTIN.iter().find(|(_, n, _)| *n == name).unwrap();
     let mut s = Scenario::from_toml(text).unwrap();
     s.filters.retain(|f| keep.contains(&f.label.as_str()));
@@ -417,9 +417,9 @@ fn reproduce(
 }
 
 fn row<'a>(
-    sm: &'a [relnav::eval::metrics::Summary],
+    sm: &'a [relnav_eval::metrics::Summary],
     label: &str,
-) -> &'a relnav::eval::metrics::Summary {
+) -> &'a relnav_eval::metrics::Summary {
     sm.iter().find(|s| s.label == label).unwrap()
 }
 
@@ -487,12 +487,12 @@ fn paper003_particle_filters_beat_the_gaussian_filters() {
 }
 
 /// Every particle filter kind, literal and with moves, gives the same bits with its hot
-/// loops dispatched to AVX2 (`relnav::numerics::simd::dispatch`, where the CPU has it) as
+/// loops dispatched to AVX2 (`relnav_core::numerics::simd::dispatch`, where the CPU has it) as
 /// on the baseline path (`with_baseline`): particles, weights, mean and covariance after
 /// steps of paper 000's model (one thread: the override is per thread).
 #[test]
 fn dispatched_and_baseline_filters_agree_bit_for_bit() {
-    use relnav::numerics::simd::with_baseline;
+    use relnav_core::numerics::simd::with_baseline;
     let cfg = NavConfig::default();
     let f = cfg.frame;
     let model = CwModel::new(cfg.mean_motion);

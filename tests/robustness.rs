@@ -10,12 +10,12 @@
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use relnav::ffi::*;
-use relnav::fmi::description::guid;
-use relnav::fmi::functions::*;
-use relnav::fmi::types::*;
-use relnav::fmi::variables::VARIABLES;
-use relnav::nav::{FilterKind, NavConfig, NavErrorKind, Navigator, MAX_STEP_PERIODS};
+use relnav::*;
+use relnav_core::nav::{FilterKind, NavConfig, NavErrorKind, Navigator, MAX_STEP_PERIODS};
+use relnav_fmi::description::guid;
+use relnav_fmi::functions::*;
+use relnav_fmi::types::*;
+use relnav_fmi::variables::VARIABLES;
 use std::ffi::{CStr, CString};
 use std::sync::mpsc;
 use std::time::Duration;
@@ -333,8 +333,8 @@ fn c_abi_absurd_steps_give_an_error_status_and_message() {
 #[cfg(feature = "hinf")]
 #[test]
 fn hinf_design_at_the_edges_returns() {
-    use relnav::hinf::design::{design_open_loop, DesignOptions};
-    use relnav::hinf::HinfSpec;
+    use relnav_core::hinf::design::{design_open_loop, DesignOptions};
+    use relnav_core::hinf::HinfSpec;
     let base = HinfSpec {
         w0: 2.0 * std::f64::consts::PI / 7200.0,
         ..HinfSpec::paper()

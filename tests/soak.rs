@@ -32,12 +32,12 @@
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::StandardNormal;
-use relnav::ffi::*;
-use relnav::fmi::description::guid;
-use relnav::fmi::functions::*;
-use relnav::fmi::types::*;
-use relnav::fmi::variables::VARIABLES;
-use relnav::types::{Mat6, State};
+use relnav::*;
+use relnav_core::types::{Mat6, State};
+use relnav_fmi::description::guid;
+use relnav_fmi::functions::*;
+use relnav_fmi::types::*;
+use relnav_fmi::variables::VARIABLES;
 use std::ffi::CString;
 use std::time::Instant;
 
@@ -494,7 +494,7 @@ fn soak_with(
             continue; // no covariance: NEES and P checks do not apply
         }
         r.max_asym = r.max_asym.max((p - p.transpose()).abs().max());
-        match relnav::numerics::eigen::symmetric_eigenvalues(p) {
+        match relnav_core::numerics::eigen::symmetric_eigenvalues(p) {
             Some(ev) => r.min_eig = r.min_eig.min(ev.min()),
             None => r.not_pd += 1,
         }

@@ -11,17 +11,17 @@
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::StandardNormal;
-use relnav::dynamics::CwModel;
-use relnav::ffi::{self, relnav_status};
-use relnav::fmi::description::guid;
-use relnav::fmi::functions::*;
-use relnav::fmi::instance::{Instance, Logger, ModelState};
-use relnav::fmi::state::FMU_STATE_FORMAT_VERSION;
-use relnav::fmi::types::*;
-use relnav::fmi::variables::{vr, N_VARS, VARIABLES};
-use relnav::nav::{FilterKind, NavConfig, NavErrorKind, Navigator, STATE_FORMAT_VERSION};
-use relnav::sensors::{MeasurementModel, RadioSensor};
-use relnav::types::Vec3;
+use relnav::{self as ffi, relnav_status};
+use relnav_core::dynamics::CwModel;
+use relnav_core::nav::{FilterKind, NavConfig, NavErrorKind, Navigator, STATE_FORMAT_VERSION};
+use relnav_core::sensors::{MeasurementModel, RadioSensor};
+use relnav_core::types::Vec3;
+use relnav_fmi::description::guid;
+use relnav_fmi::functions::*;
+use relnav_fmi::instance::{Instance, Logger, ModelState};
+use relnav_fmi::state::FMU_STATE_FORMAT_VERSION;
+use relnav_fmi::types::*;
+use relnav_fmi::variables::{vr, N_VARS, VARIABLES};
 use std::ffi::{CStr, CString};
 
 const STEPS: usize = 30;
@@ -773,7 +773,7 @@ impl Fmu {
     fn reals(&self) -> Vec<u64> {
         let refs: Vec<u32> = VARIABLES
             .iter()
-            .filter(|v| matches!(v.ty, relnav::fmi::variables::VarType::Real(_)))
+            .filter(|v| matches!(v.ty, relnav_fmi::variables::VarType::Real(_)))
             .map(|v| v.vr)
             .collect();
         let mut y = vec![0.0; refs.len()];

@@ -13,7 +13,7 @@ Exit status 0 when every filter named by --require (default: all of them) meets 
 published bar, 1 otherwise. The particle filters meet it with their posterior-invariant
 moves (`pf_move`, on by default; issue 10). Without them (`pf_move` = false) the plain SIR
 and the unscented PF keep impoverished velocity draws (the paper's 1e-3 m/s velocity noise
-cannot refine them) and drift; see src/estimators/pf/moves.rs and docs/evaluation.md.
+cannot refine them) and drift; see crates/core/src/estimators/pf/moves.rs and docs/evaluation.md.
 """
 
 from __future__ import annotations

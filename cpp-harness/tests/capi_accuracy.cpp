@@ -211,7 +211,7 @@ void run_case(const std::string& name, const Paper000& p, int filter, int runs) 
 // A particle filter through the C ABI: CGA-PF (code 8, `particles` particles, its seed = the
 // run index) on paper 000's example (`p.steps` long). Particle filters are checked against what they do on
 // this example, not the Kalman filters' per-axis bar: their velocity error after 600 s
-// is a few cm/s, above paper 000's 0.02 m/s (see src/estimators/pf/mod.rs). Checked: the
+// is a few cm/s, above paper 000's 0.02 m/s (see crates/core/src/estimators/pf/mod.rs). Checked: the
 // position RMSE after 80 s < 0.5 m, every final position error < 1 m, the effective
 // sample size in [1, particles] at every step, and a second estimator with the same seed
 // reproducing the first bit for bit over the first fifth of the run.

@@ -29,7 +29,7 @@
 
 use arbitrary::Arbitrary;
 use libfuzzer_sys::fuzz_target;
-use relnav::ffi::*;
+use relnav::*;
 use relnav_fuzz::{damage, measure, same_bits, values3, Damage, Num, ESTIMATOR_HEADER};
 use std::cell::Cell;
 use std::ffi::CStr;

@@ -25,10 +25,10 @@
 
 use arbitrary::Arbitrary;
 use libfuzzer_sys::fuzz_target;
-use relnav::fmi::description::guid;
-use relnav::fmi::functions::*;
-use relnav::fmi::types::*;
-use relnav::fmi::variables::{VarType, VARIABLES};
+use relnav_fmi::description::guid;
+use relnav_fmi::functions::*;
+use relnav_fmi::types::*;
+use relnav_fmi::variables::{VarType, VARIABLES};
 use relnav_fuzz::{damage, log_text, measure, same_bits, values3, Damage, Num, FMU_HEADER};
 use std::cell::Cell;
 use std::ffi::{c_int, CStr, CString};

@@ -149,7 +149,7 @@ pub fn reseal(b: &mut [u8], hl: usize) {
     b[hl - 12..hl - 4].copy_from_slice(&n.to_le_bytes());
     let mut all = b[..hl - 4].to_vec();
     all.extend_from_slice(&b[hl..]);
-    let c = relnav::numerics::state::crc32(&all);
+    let c = relnav_core::numerics::state::crc32(&all);
     b[hl - 4..hl].copy_from_slice(&c.to_le_bytes());
 }
 

@@ -9,11 +9,11 @@ use numpy::{PyArray1, PyArrayMethods};
 use pyo3::exceptions::PyRuntimeError;
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict, PyList};
-use relnav::eval::metrics::{summarize, Summary};
-use relnav::eval::report::{self, Field, SUMMARY_COLUMNS};
-use relnav::eval::results::McResult;
-use relnav::eval::runner::{Campaign, Partial, Reducer};
-use relnav::eval::scenario::Scenario;
+use relnav_eval::metrics::{summarize, Summary};
+use relnav_eval::report::{self, Field, SUMMARY_COLUMNS};
+use relnav_eval::results::McResult;
+use relnav_eval::runner::{Campaign, Partial, Reducer};
+use relnav_eval::scenario::Scenario;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, AtomicU64};
 use std::sync::Mutex;
@@ -56,7 +56,7 @@ pub fn scenario_toml(py: Python<'_>, source: &Bound<'_, PyAny>) -> PyResult<Stri
 /// The text of a built-in scenario (`relnav scenarios`), if `name` is one.
 #[pyfunction]
 pub fn builtin_scenario(name: &str) -> Option<&'static str> {
-    relnav::eval::builtin::BUILTIN
+    relnav_eval::builtin::BUILTIN
         .iter()
         .find(|(_, n, _)| *n == name)
         .map(|(_, _, t)| *t)
@@ -65,7 +65,7 @@ pub fn builtin_scenario(name: &str) -> Option<&'static str> {
 /// Names of the built-in scenarios.
 #[pyfunction]
 pub fn builtin_scenarios() -> Vec<&'static str> {
-    relnav::eval::builtin::BUILTIN
+    relnav_eval::builtin::BUILTIN
         .iter()
         .map(|(_, n, _)| *n)
         .collect()

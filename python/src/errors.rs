@@ -6,7 +6,7 @@ use pyo3::exceptions::PyRuntimeError;
 use pyo3::prelude::*;
 use pyo3::sync::PyOnceLock;
 use pyo3::types::PyType;
-use relnav::nav::{NavError, NavErrorKind};
+use relnav_core::nav::{NavError, NavErrorKind};
 
 /// The C ABI's status codes (`relnav_status`), by the name of their Python class.
 #[derive(Debug, Clone, Copy)]

@@ -1,4 +1,4 @@
-//! `relnav.Estimator`: a `relnav::nav::Navigator` configured by the FMU's parameter names,
+//! `relnav.Estimator`: a `relnav_core::nav::Navigator` configured by the FMU's parameter names,
 //! with the library's step semantics, and a batch `run` over numpy arrays without the GIL.
 
 use crate::errors::{error, invalid, nav_error, Status};
@@ -7,8 +7,8 @@ use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyUnty
 use pyo3::exceptions::PyRuntimeError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyFloat, PyInt, PyList, PyTuple};
-use relnav::fmi::variables::N_VARS;
-use relnav::nav::{NavError, Navigator};
+use relnav_core::nav::{NavError, Navigator};
+use relnav_fmi::variables::N_VARS;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::sync::{Mutex, MutexGuard, TryLockError};
 

@@ -4,7 +4,7 @@
 //! (`relnav.campaign`, on threads or on Dask), and the parameter table itself. The
 //! pure-Python part (`python/relnav/`) holds the exceptions and the campaign scheduler.
 //!
-//! This crate sits beside the C ABI, above `relnav::nav` and `relnav::eval`: it calls the
+//! This crate sits beside the C ABI, above `relnav_core::nav` and `relnav::eval`: it calls the
 //! Rust API directly (no `unsafe`), and takes the FMU's parameter-to-configuration
 //! mapping from `relnav::fmi` so that both front ends read parameters the same way.
 
@@ -18,7 +18,7 @@ use pyo3::prelude::*;
 /// Spacecraft relative navigation (Rust extension of the ``relnav`` package).
 #[pymodule]
 fn _relnav(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add("__version__", relnav::VERSION)?;
+    m.add("__version__", relnav_core::VERSION)?;
     m.add_class::<estimator::Estimator>()?;
     m.add_class::<campaign::PyCampaign>()?;
     m.add_class::<campaign::PyReducer>()?;

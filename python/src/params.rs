@@ -1,16 +1,16 @@
 //! Estimator parameters by their FMU names, driven by the one variable table
-//! (`relnav::fmi::variables::VARIABLES`): every variable of causality *parameter* is a
+//! (`relnav_fmi::variables::VARIABLES`): every variable of causality *parameter* is a
 //! keyword argument with the table's name, type, start value and description; the values
 //! become a configuration through the FMU's own mapping
-//! (`relnav::fmi::relnav::config_of`) and are validated by the library
+//! (`relnav_fmi::relnav::config_of`) and are validated by the library
 //! (`NavConfig::try_from`). A parameter appended to the table is therefore accepted here
 //! with nothing to change.
 
 use crate::errors::{invalid, nav_error};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
-use relnav::fmi::variables::{Causality, EnumType, VarDef, VarType, N_VARS, VARIABLES};
-use relnav::nav::NavConfig;
+use relnav_core::nav::NavConfig;
+use relnav_fmi::variables::{Causality, EnumType, VarDef, VarType, N_VARS, VARIABLES};
 
 /// The table's parameters, in table order.
 pub fn parameters() -> impl Iterator<Item = &'static VarDef> {
@@ -225,7 +225,7 @@ pub fn values_from_kwargs(
 
 /// The validated library configuration of these values (the FMU's mapping).
 pub fn config(py: Python<'_>, values: &[f64; N_VARS]) -> PyResult<NavConfig> {
-    let c = relnav::fmi::relnav::config_of(values);
+    let c = relnav_fmi::relnav::config_of(values);
     NavConfig::try_from(&c).map_err(|e| nav_error(py, e))
 }
 

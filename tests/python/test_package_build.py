@@ -1,7 +1,7 @@
 """How the Python package is built and installed: a wheel with its type information, and
-one compiled relnav shared by the CLI/FMU build and the extension's build (the features
-of every crate both depend on are the same, so cargo builds it once: a full release
-compile less in CI)."""
+one compiled relnav-core (and relnav-eval, relnav-fmi) shared by the CLI/FMU build and the
+extension's build (the features of every crate both depend on are the same, so cargo builds
+it once: a full release compile less in CI)."""
 
 from __future__ import annotations
 
@@ -15,12 +15,13 @@ import pytest
 import relnav
 from conftest import REPO_ROOT
 
-def crate_features(package: str) -> dict:
+def crate_features(*packages: str) -> dict:
     cargo = shutil.which("cargo")
     if cargo is None:
         pytest.fail("cargo not found (scripts/test.sh puts ~/.cargo/bin on PATH)", pytrace=False)
     out = subprocess.run(
-        [cargo, "tree", "--offline", "--locked", "-e", "features,no-dev", "-p", package, "--prefix", "none", "-f", "{p} | {f}"],
+        [cargo, "tree", "--offline", "--locked", "-e", "features,no-dev", *(a for p in packages for a in ("-p", p)),
+         "--prefix", "none", "-f", "{p} | {f}"],
         cwd=REPO_ROOT, capture_output=True, text=True, timeout=120, check=True,
     ).stdout
     feats: dict = {}
@@ -32,9 +33,11 @@ def crate_features(package: str) -> dict:
 
 
 def test_cli_and_extension_builds_share_relnavs_dependencies():
-    alone, ext = crate_features("relnav"), crate_features("relnav-python")
+    # what `cargo build --release` builds (the workspace's default members) and the extension
+    alone = crate_features("relnav", "relnav-core", "relnav-eval", "relnav-fmi")
+    ext = crate_features("relnav-python")
     differ = {k: (alone[k], ext[k]) for k in alone if k in ext and alone[k] != ext[k]}
-    assert any(name == "relnav" for name, _ in ext) and len(alone) > 50
+    assert any(name == "relnav-core" for name, _ in ext) and len(alone) > 50
     assert not differ, (
         "these crates get other features in the Python extension's build than in `cargo build --release`, so "
         "relnav and its dependencies would be compiled twice; request the extension's features in the top-level "

@@ -1,0 +1,113 @@
+//! The papers' numerical examples, shipped inside the binary (the files are
+//! `scenarios/*.toml`; `relnav scenarios` lists them, `--show NAME` prints one).
+
+/// (paper, scenario name, TOML text), in reproduction order.
+pub const BUILTIN: &[(&str, &str, &str)] = &[
+    (
+        "000",
+        "paper000",
+        include_str!("../../../scenarios/paper000.toml"),
+    ),
+    (
+        "000",
+        "paper000_particles",
+        include_str!("../../../scenarios/paper000_particles.toml"),
+    ),
+    (
+        "002",
+        "paper002_no_manoeuvre",
+        include_str!("../../../scenarios/paper002_no_manoeuvre.toml"),
+    ),
+    (
+        "002",
+        "paper002_manoeuvre",
+        include_str!("../../../scenarios/paper002_manoeuvre.toml"),
+    ),
+    (
+        "001",
+        "model_error_burns",
+        include_str!("../../../scenarios/model_error_burns.toml"),
+    ),
+    (
+        "001",
+        "model_error_j2",
+        include_str!("../../../scenarios/model_error_j2.toml"),
+    ),
+    (
+        "001",
+        "model_error_quiet",
+        include_str!("../../../scenarios/model_error_quiet.toml"),
+    ),
+    (
+        "002",
+        "paper002_stress_uniform",
+        include_str!("../../../scenarios/paper002_stress_uniform.toml"),
+    ),
+    (
+        "002",
+        "paper002_stress_laplace",
+        include_str!("../../../scenarios/paper002_stress_laplace.toml"),
+    ),
+    (
+        "002",
+        "paper002_stress_ar1",
+        include_str!("../../../scenarios/paper002_stress_ar1.toml"),
+    ),
+    (
+        "002",
+        "paper002_quiet_radio",
+        include_str!("../../../scenarios/paper002_quiet_radio.toml"),
+    ),
+    (
+        "002",
+        "paper002_quiet_radio_delta",
+        include_str!("../../../scenarios/paper002_quiet_radio_delta.toml"),
+    ),
+    (
+        "003",
+        "paper003",
+        include_str!("../../../scenarios/paper003.toml"),
+    ),
+];
+
+/// Paper 001's Mars approach (its own problem, not a relative-navigation scenario):
+/// (paper, name, TOML text of a [`crate::mars::MarsScenario`]).
+pub const MARS: &[(&str, &str, &str)] = &[(
+    "001",
+    "paper001_mars",
+    include_str!("../../../scenarios/paper001_mars.toml"),
+)];
+
+/// Parse a Mars-approach file (strict keys).
+pub fn parse_mars(text: &str) -> Result<crate::mars::MarsScenario, String> {
+    toml::from_str(text).map_err(|e| e.to_string())
+}
+
+/// The built-in scenarios of one paper (`"all"` for every paper).
+pub fn for_paper(paper: &str) -> Vec<(&'static str, &'static str)> {
+    BUILTIN
+        .iter()
+        .filter(|(p, _, _)| paper == "all" || *p == paper)
+        .map(|(_, n, t)| (*n, *t))
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scenario::Scenario;
+
+    #[test]
+    fn every_builtin_parses_and_round_trips() {
+        for (_, name, text) in BUILTIN {
+            let s = Scenario::from_toml(text).unwrap_or_else(|e| panic!("{name}: {e}"));
+            assert_eq!(&s.name, name);
+            let back = Scenario::from_toml(&s.to_toml().unwrap()).unwrap();
+            assert_eq!(s, back);
+        }
+        for (_, name, text) in MARS {
+            let s = parse_mars(text).unwrap_or_else(|e| panic!("{name}: {e}"));
+            assert_eq!(&s.name, name);
+        }
+    }
+}

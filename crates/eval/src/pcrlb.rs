@@ -1,0 +1,105 @@
+//! Posterior Cramér–Rao lower bound (PCRLB) by Tichavský's recursion (P. Tichavský,
+//! C. Muravchik, A. Nehorai, "Posterior Cramér–Rao bounds for discrete-time nonlinear
+//! filtering", IEEE TSP 46(5), 1998), for additive Gaussian process noise and a
+//! measurement with additive white noise of any regular density:
+//!
+//! ```text
+//! J_0     = P_0^-1 + E[H_0^T I_v H_0]                     (if measured at t_0)
+//! J_(k+1) = (F J_k^-1 F^T + Q)^-1 + E[H_(k+1)^T I_v H_(k+1)]   (measurement term only when measured)
+//! ```
+//!
+//! `F` is the truth's (linear) transition — closed loop with feedback thrust — `Q` the
+//! truth's process noise, `H_k` the measurement Jacobian at the true state, `I_v` the
+//! Fisher information matrix of the measurement noise, `diag(f / sigma_i^2)` with `f`
+//! from [`relnav_core::noise::NoiseModel::fisher_factor`] (1 for a Gaussian). The expectation
+//! is the Monte Carlo average over the campaign's truth trajectories. The prior `P_0` is
+//! the truth's initial spread when the scenario draws one (`truth.initial_sigma`), else
+//! the first filter's initial covariance (the filters' common prior assumption).
+//!
+//! The bound is undefined — and reported as such with the reason — when the noise density
+//! is not regular (uniform), not white (AR(1)), or when the true orbit rate is random per
+//! run (the transition itself is then uncertain).
+
+use crate::scenario::OrbitRateError;
+use crate::sim::Prepared;
+use relnav_core::dynamics::CwModel;
+use relnav_core::types::{Mat6, State};
+
+/// Why the bound is undefined for this scenario, or `None` when it is defined.
+pub fn undefined_reason(prep: &Prepared) -> Option<String> {
+    if prep.noise.fisher_factor().is_none() {
+        return Some(format!(
+            "undefined: the {:?} measurement noise has no finite Fisher information",
+            prep.noise
+        ));
+    }
+    if prep.scenario.truth.dynamics != crate::scenario::TruthDynamics::Cw {
+        return Some("the truth is not the CW model (nonlinear two-body motion with J2)".into());
+    }
+    if let OrbitRateError::Uniform { .. } = prep.scenario.truth.orbit_rate_error {
+        return Some("undefined: the true orbit rate is random per run".into());
+    }
+    None
+}
+
+/// The measurement information `H^T I_v H` at a true state (canonical), zero when the
+/// geometry is singular.
+pub fn measurement_information(prep: &Prepared, x: &State) -> Mat6 {
+    use relnav_core::sensors::MeasurementModel;
+    let f = prep.noise.fisher_factor().unwrap_or(0.0);
+    let r = x.fixed_rows::<3>(0).into_owned();
+    match prep.truth_sensor.linearize(&r) {
+        Ok(g) => {
+            let iv = nalgebra::SMatrix::<f64, 3, 3>::from_diagonal(&nalgebra::Vector3::from_fn(
+                |i, _| f / (prep.noise_sigma[i] * prep.noise_sigma[i]),
+            ));
+            g.h.transpose() * iv * g.h
+        }
+        Err(_) => Mat6::zeros(),
+    }
+}
+
+/// Run the recursion given the Monte Carlo mean of `H^T I_v H` at each time (zero where
+/// nothing was measured). Returns the diagonal of `J_k^-1` in the I/O frame per time.
+pub fn recursion(prep: &Prepared, mean_info: &[Mat6]) -> Result<Vec<[f64; 6]>, String> {
+    if let Some(r) = undefined_reason(prep) {
+        return Err(r);
+    }
+    let s = &prep.scenario;
+    let frame = s.io_frame();
+    let delta = match s.truth.orbit_rate_error {
+        OrbitRateError::Fixed { delta } => delta,
+        _ => 0.0,
+    };
+    let model = CwModel::new(prep.n0 * (1.0 + delta));
+    let mut f = model.phi(prep.dt);
+    if let Some(k) = &prep.feedback {
+        f += model.gamma(prep.dt) * k;
+    }
+    let q = prep.truth_q;
+    let p0 = if s.truth.initial_sigma.iter().all(|v| *v > 0.0) {
+        frame.cov_to_canonical(&Mat6::from_diagonal(&State::from_fn(|i, _| {
+            s.truth.initial_sigma[i].powi(2)
+        })))
+    } else {
+        prep.filters.first().map(|f| f.p0).ok_or("no filter")?
+    };
+    let inv = |m: &Mat6, what: &str| -> Result<Mat6, String> {
+        let sym = (m + m.transpose()) * 0.5;
+        sym.cholesky()
+            .map(|c| c.inverse())
+            .ok_or_else(|| format!("PCRLB: {what} is not positive definite"))
+    };
+    let mut out = Vec::with_capacity(mean_info.len());
+    let mut j = inv(&p0, "P0")? + mean_info.first().copied().unwrap_or_else(Mat6::zeros);
+    for (k, info) in mean_info.iter().enumerate() {
+        if k > 0 {
+            let jinv = inv(&j, "J")?;
+            let pred = f * jinv * f.transpose() + q;
+            j = inv(&pred, "the predicted bound")? + info;
+        }
+        let b = frame.cov_from_canonical(&inv(&j, "J")?);
+        out.push(std::array::from_fn(|i| b[(i, i)]));
+    }
+    Ok(out)
+}

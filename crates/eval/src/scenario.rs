@@ -1,0 +1,784 @@
+//! Scenarios as data: one TOML file describes the orbit, the truth, the thrust, the
+//! sensor and its noise, the campaign and the filters to compare. Parsing is strict
+//! (`deny_unknown_fields`): a misspelt key is an error that names it and lists the keys
+//! expected there. See `scenarios/*.toml` for the papers' examples and
+//! `docs/scenarios.md` for the full key reference.
+
+use relnav_core::dynamics::Discretization;
+use relnav_core::frames::Frame;
+use relnav_core::noise::NoiseModel;
+use relnav_core::types::{Mat6, State};
+use serde::{Deserialize, Serialize};
+
+/// Standard gravitational parameter of the Earth [m^3/s^2] (EGM-96), used with
+/// `orbit.altitude`.
+pub const MU_EARTH: f64 = 3.986_004_418e14;
+/// Equatorial radius of the Earth [m], used with `orbit.altitude`.
+pub const R_EARTH: f64 = 6_378_137.0;
+
+/// A whole scenario file.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scenario {
+    /// Short name (used for the output folder).
+    pub name: String,
+    /// Title for tables and plots.
+    pub title: String,
+    /// Free notes: which paper, which errata were applied and why.
+    #[serde(default)]
+    pub notes: String,
+    /// Frame of every vector in this file and of the reported errors.
+    pub frame: FrameName,
+    /// The target's circular orbit.
+    pub orbit: Orbit,
+    /// The true relative motion.
+    pub truth: Truth,
+    /// The chaser's thrust.
+    #[serde(default)]
+    pub thrust: Thrust,
+    /// The sensor and its noise.
+    pub sensor: Sensor,
+    /// Campaign settings.
+    pub simulation: Simulation,
+    /// Filters to compare, in table order.
+    #[serde(rename = "filter")]
+    pub filters: Vec<FilterSpec>,
+    /// The paper's published figures: filter label -> text, shown beside ours.
+    #[serde(default)]
+    pub published: Vec<Published>,
+}
+
+/// Frame names as written in scenario files.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FrameName {
+    /// Code 1.
+    RadialAlongNormal,
+    /// Code 2 (paper 000).
+    AlongRadialAntinormal,
+    /// Code 3 (paper 003).
+    AlongAntinormalNadir,
+}
+
+impl From<FrameName> for Frame {
+    fn from(f: FrameName) -> Frame {
+        match f {
+            FrameName::RadialAlongNormal => Frame::RadialAlongNormal,
+            FrameName::AlongRadialAntinormal => Frame::AlongRadialAntinormal,
+            FrameName::AlongAntinormalNadir => Frame::AlongAntinormalNadir,
+        }
+    }
+}
+
+/// The target's circular orbit: exactly one of the three keys.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Orbit {
+    /// Mean motion [rad/s].
+    pub mean_motion: Option<f64>,
+    /// Orbital period [s].
+    pub period: Option<f64>,
+    /// Altitude above the Earth's equatorial radius [m] (two-body, `MU_EARTH`).
+    pub altitude: Option<f64>,
+}
+
+impl Orbit {
+    /// The mean motion, or which keys are wrong.
+    pub fn mean_motion(&self) -> Result<f64, String> {
+        match (self.mean_motion, self.period, self.altitude) {
+            (Some(n), None, None) => Ok(n),
+            (None, Some(p), None) => Ok(2.0 * std::f64::consts::PI / p),
+            (None, None, Some(h)) => Ok((MU_EARTH / (R_EARTH + h).powi(3)).sqrt()),
+            _ => Err("orbit: give exactly one of mean_motion, period, altitude".into()),
+        }
+    }
+}
+
+/// The true relative motion.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Truth {
+    /// Initial relative state (x, y, z [m], vx, vy, vz [m/s]).
+    pub initial_state: [f64; 6],
+    /// 1-sigma per component of a random initial offset drawn per run (default 0: the
+    /// truth starts exactly at `initial_state`).
+    #[serde(default)]
+    pub initial_sigma: [f64; 6],
+    /// Chaser mass [kg].
+    pub chaser_mass: f64,
+    /// Continuous white-acceleration spectral density acting on the truth [m^2/s^3].
+    #[serde(default)]
+    pub accel_psd: f64,
+    /// Discrete process-noise variances added per `simulation.step` (x .. vz, I/O frame),
+    /// as papers 000 and 003 state their `Q`.
+    #[serde(default)]
+    pub process_noise: [f64; 6],
+    /// Relative error `delta` of the true orbit rate, `w = w0 (1 + delta)` (paper 002).
+    #[serde(default)]
+    pub orbit_rate_error: OrbitRateError,
+    /// The truth's dynamics: the CW model (default) or both spacecraft around the Earth.
+    #[serde(default)]
+    pub dynamics: TruthDynamics,
+}
+
+/// The truth's equations of motion.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum TruthDynamics {
+    /// The CW model (exact transition), with the truth's process noise.
+    #[default]
+    Cw,
+    /// Target and chaser propagated in Earth-centred inertial coordinates, point mass plus
+    /// J2, by a 10th-order Gragg–Bulirsch–Stoer step of `substep` seconds; the target starts
+    /// on the circular orbit of `orbit` at inclination `inclination_deg`, at its ascending
+    /// node; the relative state is taken in the target's local-vertical frame. The truth's
+    /// process noise is not used (the model error is the point).
+    TwoBodyJ2 {
+        /// Inclination of the target's orbit [deg].
+        inclination_deg: f64,
+        /// Integration step [s] (a divisor of `simulation.step`).
+        substep: f64,
+    },
+}
+
+/// How the true orbit rate differs from the nominal one.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum OrbitRateError {
+    /// No error.
+    #[default]
+    None,
+    /// The same `delta` in every run.
+    Fixed {
+        /// Relative error.
+        delta: f64,
+    },
+    /// `delta` drawn uniformly in `[-bound, bound]` per run.
+    Uniform {
+        /// Bound `delta_bar`.
+        bound: f64,
+    },
+}
+
+/// The chaser's thrust.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum Thrust {
+    /// No thrust.
+    #[default]
+    None,
+    /// Burns: constant forces over time windows.
+    Burns {
+        /// The burns.
+        burns: Vec<Burn>,
+        /// Whether the filters are told the thrust (false: unreported manoeuvres).
+        #[serde(default = "yes")]
+        reported: bool,
+    },
+    /// Known linear state feedback `F = K x` (force [N] from the I/O-frame state).
+    Feedback {
+        /// Gain `K` (3 rows of 6) [N/m, N/(m/s)].
+        gain: [[f64; 6]; 3],
+    },
+}
+
+fn yes() -> bool {
+    true
+}
+
+/// One burn.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Burn {
+    /// Start time [s] (inclusive).
+    pub start: f64,
+    /// Stop time [s] (exclusive).
+    pub stop: f64,
+    /// Force (I/O frame) [N].
+    pub force: [f64; 3],
+}
+
+/// The sensor.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Sensor {
+    /// Measurement type.
+    pub kind: SensorKind,
+    /// Range noise scale [m] (radio, lidar).
+    #[serde(default)]
+    pub sigma_range: f64,
+    /// Angle noise scale [deg] (radio, lidar; degrees in the file, radians inside).
+    #[serde(default)]
+    pub sigma_angle_deg: f64,
+    /// Position noise scale per axis [m] (cartesian).
+    #[serde(default)]
+    pub sigma_position: f64,
+    /// Sample period [s] (a multiple of `simulation.step`).
+    pub period: f64,
+    /// Windows without measurements.
+    #[serde(default)]
+    pub dropouts: Vec<Window>,
+    /// Noise density of the truth's measurements (the Kalman filters assume a Gaussian
+    /// of the same variance).
+    #[serde(default)]
+    pub noise: NoiseModel,
+}
+
+/// Measurement types.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SensorKind {
+    /// Radio range/azimuth/elevation (paper 000).
+    Radio,
+    /// Lidar range/azimuth/elevation (paper 003) — the same geometry.
+    Lidar,
+    /// Indirect Cartesian position (paper 002).
+    Cartesian,
+}
+
+/// A time window `[start, stop)`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Window {
+    /// Start [s].
+    pub start: f64,
+    /// Stop [s].
+    pub stop: f64,
+}
+
+/// Campaign settings.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Simulation {
+    /// Duration [s].
+    pub duration: f64,
+    /// Filter and truth step [s].
+    pub step: f64,
+    /// Monte Carlo runs.
+    pub runs: u32,
+    /// Base seed; run `i` uses a seed derived from it (see `runner`).
+    pub seed: u64,
+    /// Errors are averaged from this time on [s].
+    pub convergence_time: f64,
+    /// Per-axis thresholds (position [m], velocity [m/s]) defining the convergence time.
+    pub convergence_threshold: [f64; 2],
+}
+
+/// One filter to run.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FilterSpec {
+    /// Row label.
+    pub label: String,
+    /// Filter kind (`ekf`, `ukf`; the others land with their issues).
+    pub kind: String,
+    /// Initial estimate (I/O frame).
+    pub initial_state: [f64; 6],
+    /// Initial 1-sigma per position axis [m].
+    pub sigma_pos0: f64,
+    /// Initial 1-sigma per velocity axis [m/s].
+    pub sigma_vel0: f64,
+    /// Continuous white-acceleration density assumed [m^2/s^3].
+    #[serde(default)]
+    pub accel_psd: f64,
+    /// Discrete process-noise variances per step assumed (x .. vz, I/O frame).
+    #[serde(default)]
+    pub process_noise: [f64; 6],
+    /// `exact` (default) or `euler`.
+    #[serde(default)]
+    pub discretization: DiscretizationName,
+    /// Relative error of the filter's orbit rate (a filter that does not know the model).
+    #[serde(default)]
+    pub orbit_rate_error: f64,
+    /// With feedback thrust: whether the filter models the closed loop `Phi + Gamma K / m`
+    /// (true) or ignores the thrust (false: it does not know the controller).
+    #[serde(default = "yes")]
+    pub knows_control: bool,
+    /// UKF `alpha`.
+    #[serde(default = "one")]
+    pub ukf_alpha: f64,
+    /// UKF `beta`.
+    #[serde(default = "two")]
+    pub ukf_beta: f64,
+    /// UKF `kappa`.
+    #[serde(default)]
+    pub ukf_kappa: f64,
+    /// Particle filters: number of particles.
+    #[serde(default = "default_particles")]
+    pub particles: usize,
+    /// Particle filters: `multinomial`, `systematic` (default), `stratified`, `residual`.
+    #[serde(default)]
+    pub resampler: ResamplerName,
+    /// Particle filters: resample when `N_eff < threshold N` (default 2/3, paper 000).
+    #[serde(default = "default_threshold")]
+    pub threshold: f64,
+    /// Particle filters: `first_measurement` or `prior` (paper 000 literally); default
+    /// `first_measurement` for pf/rpf/gapf, `prior` for the unscented upf/cgapf.
+    #[serde(default)]
+    pub init: Option<InitName>,
+    /// Regularised PF: `gaussian` (default) or `epanechnikov`.
+    #[serde(default)]
+    pub kernel: Option<KernelName>,
+    /// Unscented PF / CGA-PF: carry each particle's UKF covariance (van der Merwe
+    /// literally) instead of restarting it from `Q` each step (default false).
+    #[serde(default)]
+    pub carry_covariance: bool,
+    /// Particle filters: the posterior-invariant moves after every update (default true;
+    /// false: the papers' literal filters). Key `move`.
+    #[serde(default = "yes", rename = "move")]
+    pub moves: bool,
+    /// AQUKF: sliding-window width (default 10, paper 001). Its initial adaptive density
+    /// is the velocity part of `process_noise` divided by `simulation.step`.
+    #[serde(default = "default_window")]
+    pub window: usize,
+    /// AQUKF: lower bound on each adaptive `q_vv` [m^2/s^3] (default 0).
+    #[serde(default)]
+    pub q_vv_floor: f64,
+    /// AQUKF: upper bound on each adaptive `q_vv` [m^2/s^3] (default 1).
+    #[serde(default = "one")]
+    pub q_vv_ceiling: f64,
+    /// AQUKF: adaptation law, `gated` (default: adapt only while the windowed NIS exceeds
+    /// its chi-square bound) or `window` (paper 001: at every update).
+    #[serde(default)]
+    pub adaptation: AdaptationName,
+    /// AQUKF, gated law: updates in the windowed NIS (default 10).
+    #[serde(default = "default_window")]
+    pub gate_window: usize,
+    /// AQUKF, gated law: chi-square probability of the gate (default 0.999).
+    #[serde(default = "default_gate_quantile")]
+    pub gate_quantile: f64,
+    /// IMM (`kind = "imm"`): number of modes, 2 or 3 (default 3).
+    #[serde(default = "default_imm_modes")]
+    pub imm_modes: usize,
+    /// IMM: white-acceleration density added to the filter's process noise in each mode
+    /// [m^2/s^3] (default 0, 1e-6, 1e-3).
+    #[serde(default = "default_imm_accel_psd")]
+    pub imm_accel_psd: [f64; 3],
+    /// IMM: probability of staying in each mode over one second (default 0.99999, 0.9,
+    /// 0.9).
+    #[serde(default = "default_imm_p_stay")]
+    pub imm_p_stay: [f64; 3],
+    /// H-infinity (`kind = "hinf"`): `paper` (Theorem 1 / Corollary 1 on the closed loop
+    /// `u = K x`, Euler as the paper; needs `thrust.kind = "feedback"`), `published` (the
+    /// paper's printed `A_F, B_F, C_F`, T = 0.1 s), `observer` (open-loop observer form,
+    /// the known thrust as feed-forward, gamma-optimal) or `mixed` (the same observer form,
+    /// least H2 norm under `gamma <= hinf_gamma_factor * gamma_opt`; filter code 9's
+    /// default). Default `paper`.
+    #[serde(default)]
+    pub hinf_design: Option<String>,
+    /// H-infinity: uncertainty bound `delta_bar` of the design (default 0.05).
+    #[serde(default)]
+    pub hinf_delta_bar: Option<f64>,
+    /// H-infinity: noise scalings `(b_pos, b_vel, d)` of the design (default the paper's
+    /// 0.05, 0.001, 0.1). Zeros are derived as filter code 9 derives them: `b_pos = b_vel
+    /// = 0` gives `B = Qd^(1/2)` of this filter's `accel_psd` and `process_noise`, `d = 0`
+    /// gives `D = R^(1/2)` of the sensor noise this filter assumes (radio: the indirect
+    /// position's covariance at its initial estimate).
+    #[serde(default)]
+    pub hinf_scalings: Option<[f64; 3]>,
+    /// H-infinity, `mixed`: bound on gamma as a multiple of the gamma-optimal observer's
+    /// (default 1.5).
+    #[serde(default)]
+    pub hinf_gamma_factor: Option<f64>,
+    /// H-infinity, `observer` and `mixed`: start with the Kalman gain of the design's noise
+    /// model and hand over to the designed gain ([`relnav_core::hinf::HinfAcquisition`]). Default
+    /// false here (issue 5's rows); filter code 9's default is true.
+    #[serde(default)]
+    pub hinf_acquisition: bool,
+}
+
+fn default_window() -> usize {
+    10
+}
+
+fn default_gate_quantile() -> f64 {
+    relnav_core::estimators::AqParams::default().gate_quantile
+}
+
+fn default_imm_modes() -> usize {
+    relnav_core::estimators::ImmParams::default().modes
+}
+
+fn default_imm_accel_psd() -> [f64; 3] {
+    relnav_core::estimators::ImmParams::default().accel_psd
+}
+
+fn default_imm_p_stay() -> [f64; 3] {
+    relnav_core::estimators::ImmParams::default().p_stay
+}
+
+/// AQUKF adaptation-law names in scenario files.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum AdaptationName {
+    /// Paper 001 literally.
+    Window,
+    /// Adapt only while the windowed NIS exceeds its chi-square bound.
+    #[default]
+    Gated,
+}
+
+impl From<AdaptationName> for relnav_core::estimators::AdaptationLaw {
+    fn from(a: AdaptationName) -> Self {
+        match a {
+            AdaptationName::Window => relnav_core::estimators::AdaptationLaw::Window,
+            AdaptationName::Gated => relnav_core::estimators::AdaptationLaw::Gated,
+        }
+    }
+}
+
+fn default_particles() -> usize {
+    1500
+}
+fn default_threshold() -> f64 {
+    2.0 / 3.0
+}
+
+/// Resampler names in scenario files.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum ResamplerName {
+    /// Multinomial (paper 000).
+    Multinomial,
+    /// Systematic.
+    #[default]
+    Systematic,
+    /// Stratified.
+    Stratified,
+    /// Residual.
+    Residual,
+}
+
+/// Particle initialisation names.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum InitName {
+    /// From the first measurement.
+    FirstMeasurement,
+    /// From the prior.
+    Prior,
+}
+
+/// Kernel names.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum KernelName {
+    /// Gaussian.
+    Gaussian,
+    /// Epanechnikov.
+    Epanechnikov,
+}
+
+impl FilterSpec {
+    /// AQUKF settings: `window`, `q_vv_floor`, `q_vv_ceiling`, and the initial `q_vv`
+    /// (canonical) = velocity variances of `process_noise` (I/O frame) per `step`.
+    pub fn aq_params(&self, step: f64, frame: Frame) -> relnav_core::estimators::AqParams {
+        let mut d = [0.0; 6];
+        for (di, p) in d.iter_mut().zip(self.process_noise).skip(3) {
+            *di = p / step;
+        }
+        let c = frame.cov_to_canonical(&Mat6::from_diagonal(&State::from_row_slice(&d)));
+        relnav_core::estimators::AqParams {
+            window: self.window,
+            q_vv0: relnav_core::types::Vec3::new(c[(3, 3)], c[(4, 4)], c[(5, 5)]),
+            floor: self.q_vv_floor,
+            ceiling: self.q_vv_ceiling,
+            law: self.adaptation.into(),
+            gate_window: self.gate_window,
+            gate_quantile: self.gate_quantile,
+        }
+    }
+
+    /// IMM settings: `imm_modes`, `imm_accel_psd`, `imm_p_stay`.
+    pub fn imm_params(&self) -> relnav_core::estimators::ImmParams {
+        relnav_core::estimators::ImmParams {
+            modes: self.imm_modes,
+            accel_psd: self.imm_accel_psd,
+            p_stay: self.imm_p_stay,
+        }
+    }
+
+    /// Particle-filter settings of this spec (for the particle kinds), seeded with `seed`.
+    pub fn pf_params(&self, seed: u64) -> relnav_core::estimators::pf::PfParams {
+        use relnav_core::estimators::pf::{resample::Resampler, Kernel, PfInit, PfKind, PfParams};
+        let kind = PfKind::from_name(&self.kind).unwrap_or_default();
+        PfParams {
+            particles: self.particles,
+            resampler: match self.resampler {
+                ResamplerName::Multinomial => Resampler::Multinomial,
+                ResamplerName::Systematic => Resampler::Systematic,
+                ResamplerName::Stratified => Resampler::Stratified,
+                ResamplerName::Residual => Resampler::Residual,
+            },
+            threshold: self.threshold,
+            kernel: match self.kernel {
+                Some(KernelName::Epanechnikov) => Kernel::Epanechnikov,
+                _ => Kernel::Gaussian,
+            },
+            init: match self.init {
+                Some(InitName::FirstMeasurement) => PfInit::FirstMeasurement,
+                Some(InitName::Prior) => PfInit::Prior,
+                None => kind.default_init(),
+            },
+            seed,
+            carry_covariance: self.carry_covariance,
+            moves: self.moves,
+            ..PfParams::new(kind)
+        }
+    }
+}
+
+fn one() -> f64 {
+    1.0
+}
+fn two() -> f64 {
+    2.0
+}
+
+/// Discretisation names in scenario files.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum DiscretizationName {
+    /// Exact.
+    #[default]
+    Exact,
+    /// Euler.
+    Euler,
+}
+
+impl From<DiscretizationName> for Discretization {
+    fn from(d: DiscretizationName) -> Discretization {
+        match d {
+            DiscretizationName::Exact => Discretization::Exact,
+            DiscretizationName::Euler => Discretization::Euler,
+        }
+    }
+}
+
+/// A published figure.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Published {
+    /// Filter label it belongs to (may be a filter not run here yet).
+    pub filter: String,
+    /// The figure, as text.
+    pub figure: String,
+}
+
+impl Scenario {
+    /// Parse a scenario from TOML text; errors name the key and the line.
+    pub fn from_toml(text: &str) -> Result<Scenario, String> {
+        let s: Scenario = toml::from_str(text).map_err(|e| e.to_string())?;
+        s.validate()?;
+        Ok(s)
+    }
+
+    /// Serialise back to TOML.
+    pub fn to_toml(&self) -> Result<String, String> {
+        toml::to_string(self).map_err(|e| e.to_string())
+    }
+
+    /// Check values that parse but make no sense; the message names the key.
+    pub fn validate(&self) -> Result<(), String> {
+        let pos = |k: &str, v: f64| {
+            if v.is_finite() && v > 0.0 {
+                Ok(())
+            } else {
+                Err(format!("{k} must be finite and > 0 (got {v})"))
+            }
+        };
+        let n = self.orbit.mean_motion()?;
+        pos("orbit (mean motion)", n)?;
+        pos("truth.chaser_mass", self.truth.chaser_mass)?;
+        pos("simulation.duration", self.simulation.duration)?;
+        pos("simulation.step", self.simulation.step)?;
+        pos("sensor.period", self.sensor.period)?;
+        let ratio = self.sensor.period / self.simulation.step;
+        if (ratio - ratio.round()).abs() > 1e-9 || ratio.round() < 1.0 {
+            return Err(format!(
+                "sensor.period ({}) must be a whole multiple of simulation.step ({})",
+                self.sensor.period, self.simulation.step
+            ));
+        }
+        if self.simulation.runs == 0 {
+            return Err("simulation.runs must be >= 1".into());
+        }
+        match self.sensor.kind {
+            SensorKind::Radio | SensorKind::Lidar => {
+                pos("sensor.sigma_range", self.sensor.sigma_range)?;
+                pos("sensor.sigma_angle_deg", self.sensor.sigma_angle_deg)?;
+            }
+            SensorKind::Cartesian => pos("sensor.sigma_position", self.sensor.sigma_position)?,
+        }
+        self.sensor
+            .noise
+            .validate()
+            .map_err(|e| format!("sensor.{e}"))?;
+        if self
+            .truth
+            .process_noise
+            .iter()
+            .any(|q| !(q.is_finite() && *q >= 0.0))
+        {
+            return Err("truth.process_noise entries must be finite and >= 0".into());
+        }
+        if let TruthDynamics::TwoBodyJ2 { substep, .. } = self.truth.dynamics {
+            pos("truth.dynamics.substep", substep)?;
+            let r = self.simulation.step / substep;
+            if (r - r.round()).abs() > 1e-9 || r.round() < 1.0 {
+                return Err(format!(
+                    "truth.dynamics.substep ({substep}) must divide simulation.step ({})",
+                    self.simulation.step
+                ));
+            }
+            if matches!(self.thrust, Thrust::Feedback { .. }) {
+                return Err("truth.dynamics: two_body_j2 does not support feedback thrust".into());
+            }
+            if !matches!(self.truth.orbit_rate_error, OrbitRateError::None) {
+                return Err("truth.dynamics: two_body_j2 takes no orbit_rate_error".into());
+            }
+        }
+        if self.filters.is_empty() {
+            return Err("at least one [[filter]] is required".into());
+        }
+        for f in &self.filters {
+            let is_pf = relnav_core::estimators::pf::PfKind::from_name(&f.kind).is_some();
+            if !(is_pf || matches!(f.kind.as_str(), "ekf" | "ukf" | "aqukf" | "hinf" | "imm")) {
+                return Err(format!(
+                    "filter \"{}\": kind \"{}\" is not available (implemented: ekf, ukf, \
+                     aqukf, pf, rpf, upf, gapf, cgapf, hinf, imm)",
+                    f.label, f.kind
+                ));
+            }
+            if f.kind == "aqukf" {
+                f.aq_params(self.simulation.step, self.io_frame())
+                    .validate()
+                    .map_err(|e| format!("filter \"{}\": {e}", f.label))?;
+            }
+            if f.kind == "imm" {
+                f.imm_params()
+                    .validate()
+                    .map_err(|e| format!("filter \"{}\": {e}", f.label))?;
+            }
+            if is_pf {
+                f.pf_params(0)
+                    .validate()
+                    .map_err(|e| format!("filter \"{}\": {e}", f.label))?;
+            }
+            pos(&format!("filter \"{}\".sigma_pos0", f.label), f.sigma_pos0)?;
+            pos(&format!("filter \"{}\".sigma_vel0", f.label), f.sigma_vel0)?;
+        }
+        Ok(())
+    }
+
+    /// The I/O frame.
+    pub fn io_frame(&self) -> Frame {
+        self.frame.into()
+    }
+
+    /// Truth's discrete process noise of one step (canonical frame), `Qd` of the
+    /// acceleration density plus the diagonal per-step variances.
+    pub fn truth_q(&self, van_loan: Mat6) -> Mat6 {
+        van_loan
+            + self
+                .io_frame()
+                .cov_to_canonical(&Mat6::from_diagonal(&State::from_row_slice(
+                    &self.truth.process_noise,
+                )))
+    }
+
+    /// Feedback gain as acceleration per canonical state, `T^T K T6 / m`, if any.
+    pub fn feedback_accel_gain(&self) -> Option<nalgebra::SMatrix<f64, 3, 6>> {
+        match &self.thrust {
+            Thrust::Feedback { gain } => {
+                let f = self.io_frame();
+                let k = nalgebra::SMatrix::<f64, 3, 6>::from_fn(|i, j| gain[i][j]);
+                let kc: nalgebra::SMatrix<f64, 3, 6> =
+                    f.rotation().transpose() * k * f.rotation6() / self.truth.chaser_mass;
+                Some(kc)
+            }
+            _ => None,
+        }
+    }
+
+    /// Sensor noise scales as (range [m], angle [rad]) or position [m].
+    pub fn sigma_angle(&self) -> f64 {
+        self.sensor.sigma_angle_deg.to_radians()
+    }
+
+    /// The filters' assumed measurement covariance diagonal (variance-matched to the
+    /// truth's noise model).
+    pub fn filter_r_diag(&self) -> [f64; 3] {
+        let vf = self.sensor.noise.variance_factor();
+        match self.sensor.kind {
+            SensorKind::Cartesian => [self.sensor.sigma_position.powi(2) * vf; 3],
+            _ => {
+                let a = self.sigma_angle().powi(2) * vf;
+                [self.sensor.sigma_range.powi(2) * vf, a, a]
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const MINIMAL: &str = r#"
+name = "t"
+title = "test"
+frame = "radial_along_normal"
+[orbit]
+period = 7200.0
+[truth]
+initial_state = [1.0, 2.0, 3.0, 0.0, 0.0, 0.0]
+chaser_mass = 100.0
+[sensor]
+kind = "radio"
+sigma_range = 0.5
+sigma_angle_deg = 0.01
+period = 1.0
+[simulation]
+duration = 10.0
+step = 1.0
+runs = 2
+seed = 1
+convergence_time = 5.0
+convergence_threshold = [1.0, 0.1]
+[[filter]]
+label = "EKF"
+kind = "ekf"
+initial_state = [1.0, 2.0, 3.0, 0.0, 0.0, 0.0]
+sigma_pos0 = 1.0
+sigma_vel0 = 0.1
+"#;
+
+    #[test]
+    fn round_trip() {
+        let s = Scenario::from_toml(MINIMAL).unwrap();
+        let back = Scenario::from_toml(&s.to_toml().unwrap()).unwrap();
+        assert_eq!(s, back);
+        assert_eq!(s.thrust, Thrust::None);
+        assert_eq!(s.sensor.noise, NoiseModel::Gaussian);
+    }
+
+    #[test]
+    fn wrong_key_is_named() {
+        let bad = MINIMAL.replace("sigma_range", "sigma_rnage");
+        let e = Scenario::from_toml(&bad).unwrap_err();
+        assert!(e.contains("sigma_rnage"), "{e}");
+        let bad = MINIMAL.replace("kind = \"radio\"", "kind = \"sonar\"");
+        let e = Scenario::from_toml(&bad).unwrap_err();
+        assert!(e.contains("sonar") && e.contains("radio"), "{e}");
+        let bad = MINIMAL.replace("period = 7200.0", "period = 7200.0\naltitude = 4e5");
+        assert!(Scenario::from_toml(&bad)
+            .unwrap_err()
+            .contains("exactly one"));
+        let bad = MINIMAL.replace("kind = \"ekf\"", "kind = \"kalman\"");
+        let e = Scenario::from_toml(&bad).unwrap_err();
+        assert!(e.contains("kalman") && e.contains("ekf, ukf"), "{e}");
+        let bad = MINIMAL.replace("kind = \"ekf\"", "kind = \"pf\"\nparticles = 0");
+        let e = Scenario::from_toml(&bad).unwrap_err();
+        assert!(e.contains("particles"), "{e}");
+    }
+}

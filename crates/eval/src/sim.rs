@@ -1,0 +1,666 @@
+//! One Monte Carlo run: truth, measurements and every filter of a scenario, scored at
+//! each time step. Everything derived from the scenario once lives in [`Prepared`].
+//!
+//! Timeline of a run with step `h` and `K = duration / h` steps, `t_k = k h`:
+//! * truth: `x_(k+1) = Phi_true x_k + Gamma_true a_k + w_k`, `w_k ~ N(0, Q_true)` with
+//!   `a_k` the thrust acceleration held over `[t_k, t_(k+1))` (burns, or the feedback
+//!   `K x_k / m` on the true state — a sampled-data controller);
+//! * a measurement is taken at `t_k` when `t_k` is a multiple of `sensor.period` and not
+//!   in a dropout window, drawn from the scenario's noise model;
+//! * each filter, at `t_k`, applies the measurement (if any), is **scored** there (the a
+//!   posteriori estimate; the prediction when there was no measurement), then predicts to
+//!   `t_(k+1)` with the thrust it is told about.
+
+use crate::scenario::{Scenario, SensorKind, Thrust, TruthDynamics};
+use nalgebra::SMatrix;
+use rand::Rng;
+use rand_chacha::ChaCha8Rng;
+use rand_distr::StandardNormal;
+use relnav_core::dynamics::{CwModel, DiscreteModel, Discretization};
+use relnav_core::estimators::pf::ParticleFilter;
+use relnav_core::estimators::{AqParams, Aqukf, Ekf, Estimator, Imm, Ukf, UkfParams};
+use relnav_core::nav::AnyFilter;
+use relnav_core::noise::NoiseModel;
+use relnav_core::sensors::{AngleTrig, CartesianSensor, Geometry, MeasurementModel, RadioSensor};
+use relnav_core::types::{Mat3, Mat6, State, Vec3};
+
+/// A sensor of either kind.
+#[derive(Debug, Clone, Copy)]
+pub enum AnySensor {
+    /// Range/azimuth/elevation.
+    Radio(RadioSensor),
+    /// Cartesian position.
+    Cartesian(CartesianSensor),
+}
+
+impl MeasurementModel for AnySensor {
+    fn predict(&self, r: &Vec3) -> Option<Vec3> {
+        match self {
+            AnySensor::Radio(s) => s.h(r),
+            AnySensor::Cartesian(s) => s.predict(r),
+        }
+    }
+    fn linearize(&self, r: &Vec3) -> Result<Geometry, relnav_core::sensors::GeometryError> {
+        match self {
+            AnySensor::Radio(s) => s.geometry(r),
+            AnySensor::Cartesian(s) => s.linearize(r),
+        }
+    }
+    fn diff(&self, z: &Vec3, z_hat: &Vec3) -> Vec3 {
+        match self {
+            AnySensor::Radio(_) => RadioSensor::residual(z, z_hat),
+            AnySensor::Cartesian(s) => s.diff(z, z_hat),
+        }
+    }
+    fn residuals_at<const B: usize>(
+        &self,
+        z: &Vec3,
+        trig: &relnav_core::sensors::AngleTrig,
+        r: &[[f64; B]; 3],
+        n: usize,
+        d: &mut [[f64; B]; 3],
+        ok: &mut [bool; B],
+    ) {
+        match self {
+            AnySensor::Radio(s) => s.residuals_at(z, trig, r, n, d, ok),
+            AnySensor::Cartesian(s) => s.residuals_at(z, trig, r, n, d, ok),
+        }
+    }
+    fn weighted_mean(&self, w: &[f64], zs: &[Vec3]) -> Vec3 {
+        match self {
+            AnySensor::Radio(s) => s.weighted_mean(w, zs),
+            AnySensor::Cartesian(s) => s.weighted_mean(w, zs),
+        }
+    }
+    fn noise_cov(&self) -> Mat3 {
+        match self {
+            AnySensor::Radio(s) => s.noise_cov(),
+            AnySensor::Cartesian(s) => s.noise_cov(),
+        }
+    }
+    fn invert(&self, z: &Vec3) -> Option<Vec3> {
+        match self {
+            AnySensor::Radio(s) => s.invert(z),
+            AnySensor::Cartesian(s) => s.invert(z),
+        }
+    }
+    fn residual_at(&self, z: &Vec3, trig: &AngleTrig, r: &Vec3) -> Option<Vec3> {
+        match self {
+            AnySensor::Radio(s) => s.residual_at(z, trig, r),
+            AnySensor::Cartesian(s) => s.residual_at(z, trig, r),
+        }
+    }
+    fn unscented(&self, r: &[Vec3], wm: &[f64], dz: &mut [Vec3]) -> Option<Vec3> {
+        match self {
+            AnySensor::Radio(s) => s.unscented(r, wm, dz),
+            AnySensor::Cartesian(s) => s.unscented(r, wm, dz),
+        }
+    }
+    fn azimuth_usable(&self, r: &Vec3) -> Result<bool, relnav_core::sensors::GeometryError> {
+        match self {
+            AnySensor::Radio(s) => s.azimuth_usable(r),
+            AnySensor::Cartesian(s) => s.azimuth_usable(r),
+        }
+    }
+    fn unscented_seven(
+        &self,
+        z: &Vec3,
+        trig: &AngleTrig,
+        c: &Vec3,
+        o: &[Vec3; 3],
+        wm: (f64, f64),
+        dz: &mut [Vec3; 7],
+    ) -> Option<(Vec3, bool)> {
+        match self {
+            AnySensor::Radio(s) => s.unscented_seven(z, trig, c, o, wm, dz),
+            AnySensor::Cartesian(s) => s.unscented_seven(z, trig, c, o, wm, dz),
+        }
+    }
+}
+
+/// A filter ready to be instantiated for each run.
+#[derive(Debug, Clone)]
+pub struct PreparedFilter {
+    /// Label.
+    pub label: String,
+    /// Kind name.
+    pub kind: String,
+    /// Initial estimate (canonical).
+    pub x0: State,
+    /// Initial covariance.
+    pub p0: Mat6,
+    /// The filter's discrete model (closed loop when it knows the controller).
+    pub model: DiscreteModel,
+    /// Whether it is told the burns' thrust.
+    pub told_thrust: bool,
+    /// Its measurement model (variance-matched Gaussian).
+    pub sensor: AnySensor,
+    ukf: UkfParams,
+    aq: AqParams,
+    mean_motion: f64,
+    spec: crate::scenario::FilterSpec,
+    /// H-infinity: the designed (or published) runtime filter, built once per scenario.
+    pub hinf: Option<relnav_core::hinf::HinfEstimator>,
+    /// H-infinity observer under feedback thrust: the applied thrust `K x` is known and fed
+    /// forward (the FMU's case); the Kalman filters instead model the closed loop.
+    pub feedforward_feedback: bool,
+}
+
+impl PreparedFilter {
+    /// A fresh estimator at the initial estimate; `seed` seeds a particle filter.
+    pub fn instantiate(&self, seed: u64) -> AnyFilter {
+        if let Some(h) = &self.hinf {
+            let mut h = *h;
+            h.set_estimate(self.x0, self.p0);
+            return AnyFilter::Hinf(h);
+        }
+        match self.kind.as_str() {
+            "ukf" => AnyFilter::Ukf(Ukf::new(self.x0, self.p0, self.ukf)),
+            "aqukf" => AnyFilter::Aqukf(Aqukf::new(
+                self.x0,
+                self.p0,
+                self.ukf,
+                self.aq,
+                self.mean_motion,
+            )),
+            "imm" => AnyFilter::Imm(Imm::new(
+                self.x0,
+                self.p0,
+                self.spec.imm_params(),
+                self.mean_motion,
+            )),
+            "pf" | "rpf" | "upf" | "gapf" | "cgapf" => AnyFilter::Pf(ParticleFilter::new(
+                self.x0,
+                self.p0,
+                self.spec.pf_params(seed),
+            )),
+            _ => AnyFilter::Ekf(Ekf::new(self.x0, self.p0)),
+        }
+    }
+}
+
+/// Everything a run needs, derived once from a scenario.
+#[derive(Debug, Clone)]
+pub struct Prepared {
+    /// The scenario.
+    pub scenario: Scenario,
+    /// Nominal mean motion [rad/s].
+    pub n0: f64,
+    /// Step [s].
+    pub dt: f64,
+    /// Number of steps (times are `0..=steps`).
+    pub steps: usize,
+    /// Whether a measurement is taken at each time.
+    pub measured: Vec<bool>,
+    /// Burn acceleration (canonical) held over `[t_k, t_(k+1))`.
+    pub burn_accel: Vec<Vec3>,
+    /// Feedback acceleration gain (canonical), if any.
+    pub feedback: Option<SMatrix<f64, 3, 6>>,
+    /// Square root of the truth's process-noise covariance (canonical) for the nominal
+    /// rate (recomputed per run when the rate is random).
+    pub truth_q_sqrt: Mat6,
+    /// Truth's process noise covariance for the nominal rate.
+    pub truth_q: Mat6,
+    /// The truth's measurement noise model.
+    pub noise: NoiseModel,
+    /// Noise scales per measurement component.
+    pub noise_sigma: [f64; 3],
+    /// The noise-free sensor geometry of the truth.
+    pub truth_sensor: AnySensor,
+    /// Filters.
+    pub filters: Vec<PreparedFilter>,
+}
+
+/// The H-infinity filter of a scenario's `[[filter]]` with `kind = "hinf"` (designed once
+/// per scenario; see [`crate::scenario::FilterSpec::hinf_design`]). `qd` is the filter's
+/// own process-noise covariance per step and `sensor` its measurement model (for derived
+/// noise inputs, zero `hinf_scalings`). Returns the filter and whether the feedback thrust
+/// is fed forward.
+#[allow(clippy::too_many_arguments)]
+fn prepare_hinf(
+    f: &crate::scenario::FilterSpec,
+    n0: f64,
+    dt: f64,
+    feedback: Option<&SMatrix<f64, 3, 6>>,
+    x0: State,
+    p0: Mat6,
+    qd: &Mat6,
+    sensor: &AnySensor,
+) -> Result<(relnav_core::hinf::HinfEstimator, bool), String> {
+    use relnav_core::hinf::{psd_sqrt, HinfEstimator, HinfMatrices, HinfSpec};
+    let sc = f.hinf_scalings.unwrap_or([0.05, 0.001, 0.1]);
+    let d_matrix = if sc[2] == 0.0 {
+        let r = match sensor {
+            AnySensor::Radio(s) => s
+                .position_covariance(&x0.fixed_rows::<3>(0).into_owned())
+                .ok_or("hinf_scalings: d = 0 needs an initial estimate off zero range")?,
+            AnySensor::Cartesian(s) => Mat3::identity() * (s.sigma * s.sigma),
+        };
+        Some(psd_sqrt(&r))
+    } else {
+        None
+    };
+    let spec = HinfSpec {
+        w0: n0,
+        delta_bar: f.hinf_delta_bar.unwrap_or(0.05),
+        period: dt,
+        b_pos: sc[0],
+        b_vel: sc[1],
+        d: sc[2],
+        b_matrix: (sc[0] == 0.0 && sc[1] == 0.0).then(|| psd_sqrt(qd)),
+        d_matrix,
+    };
+    let design = f.hinf_design.as_deref().unwrap_or("paper");
+    if f.hinf_acquisition && !matches!(design, "observer" | "mixed") {
+        return Err(format!(
+            "hinf_acquisition needs an observer-form design (observer, mixed), not \"{design}\""
+        ));
+    }
+    if design == "published" {
+        if (dt - relnav_core::hinf::PAPER_PERIOD).abs() > 1e-12 {
+            return Err(format!(
+                "the published H-infinity filter holds for T = 0.1 s only (simulation.step = {dt})"
+            ));
+        }
+        let m = HinfMatrices::paper_published();
+        return HinfEstimator::new(m, f64::NAN, x0)
+            .map(|h| (h, false))
+            .map_err(|e| e.to_string());
+    }
+    #[cfg(feature = "hinf")]
+    {
+        use relnav_core::hinf::design::{
+            design_observer, design_open_loop_mixed, design_paper, DesignOptions,
+        };
+        use relnav_core::hinf::HinfPlant;
+        let opts = DesignOptions::default();
+        let (d, ff) = match design {
+            "paper" => {
+                let k = feedback.ok_or(
+                    "hinf_design = \"paper\" needs thrust.kind = \"feedback\" (the closed loop \
+                     u = K x)",
+                )?;
+                let plant = HinfPlant::closed_loop_accel(&spec, k);
+                (design_paper(&plant, dt, &opts), false)
+            }
+            "observer" => {
+                spec.validate().map_err(|e| e.to_string())?;
+                (
+                    design_observer(&HinfPlant::open_loop(&spec), dt, &opts),
+                    feedback.is_some(),
+                )
+            }
+            "mixed" => (
+                design_open_loop_mixed(&spec, f.hinf_gamma_factor.unwrap_or(1.5), &opts)
+                    .map(|m| m.mixed),
+                feedback.is_some(),
+            ),
+            other => {
+                return Err(format!(
+                    "unknown hinf_design \"{other}\" (paper, published, observer, mixed)"
+                ))
+            }
+        };
+        let d = d.map_err(|e| format!("H-infinity design: {e}"))?;
+        let mut h = HinfEstimator::new(d.matrices, d.gamma, x0)
+            .map_err(|e| e.to_string())?
+            .with_h2_norm(d.h2_norm);
+        if f.hinf_acquisition {
+            h = h
+                .with_acquisition(&HinfPlant::open_loop(&spec), p0)
+                .map_err(|e| e.to_string())?;
+        }
+        Ok((h, ff))
+    }
+    #[cfg(not(feature = "hinf"))]
+    {
+        let _ = (feedback, spec, p0);
+        Err(format!(
+            "hinf_design = \"{design}\" needs the `hinf` cargo feature (the LMI solver)"
+        ))
+    }
+}
+
+/// Symmetric square root of a PSD matrix (eigen-decomposition; negative rounding
+/// eigenvalues clipped to 0); `None` when `q` is not finite or the capped eigensolver
+/// ([`relnav_core::numerics::eigen`]) does not converge.
+pub fn psd_sqrt(q: &Mat6) -> Option<Mat6> {
+    let e = relnav_core::numerics::eigen::symmetric_eigen((q + q.transpose()) * 0.5)?;
+    let d = e.eigenvalues.map(|v| v.max(0.0).sqrt());
+    Some(e.eigenvectors * Mat6::from_diagonal(&d) * e.eigenvectors.transpose())
+}
+
+impl Prepared {
+    /// Derive everything from a (validated) scenario.
+    pub fn new(scenario: &Scenario) -> Result<Prepared, String> {
+        scenario.validate()?;
+        let s = scenario;
+        let frame = s.io_frame();
+        let n0 = s.orbit.mean_motion()?;
+        let dt = s.simulation.step;
+        let steps = (s.simulation.duration / dt).round() as usize;
+        let every = (s.sensor.period / dt).round() as usize;
+        let times: Vec<f64> = (0..=steps).map(|k| k as f64 * dt).collect();
+        let measured = times
+            .iter()
+            .enumerate()
+            .map(|(k, t)| {
+                k % every.max(1) == 0
+                    && !s
+                        .sensor
+                        .dropouts
+                        .iter()
+                        .any(|w| *t >= w.start && *t < w.stop)
+            })
+            .collect();
+        let burn_accel = times
+            .iter()
+            .map(|t| match &s.thrust {
+                Thrust::Burns { burns, .. } => {
+                    let mut f = Vec3::zeros();
+                    for b in burns {
+                        if *t >= b.start - 1e-9 && *t < b.stop - 1e-9 {
+                            f += Vec3::from_row_slice(&b.force);
+                        }
+                    }
+                    frame.vec_to_canonical(&f) / s.truth.chaser_mass
+                }
+                _ => Vec3::zeros(),
+            })
+            .collect();
+        let feedback = s.feedback_accel_gain();
+        let qc = Mat3::identity() * s.truth.accel_psd;
+        let truth_q = s.truth_q(
+            CwModel::new(n0)
+                .discretize(dt, &qc, Discretization::Exact)
+                .q,
+        );
+        let noise = s.sensor.noise;
+        let (noise_sigma, truth_sensor, filter_sensor) = match s.sensor.kind {
+            SensorKind::Radio | SensorKind::Lidar => {
+                let r = s.filter_r_diag();
+                (
+                    [s.sensor.sigma_range, s.sigma_angle(), s.sigma_angle()],
+                    AnySensor::Radio(RadioSensor::new(
+                        frame,
+                        s.sensor.sigma_range,
+                        s.sigma_angle(),
+                    )),
+                    AnySensor::Radio(RadioSensor::new(frame, r[0].sqrt(), r[1].sqrt())),
+                )
+            }
+            SensorKind::Cartesian => {
+                let r = s.filter_r_diag();
+                (
+                    [s.sensor.sigma_position; 3],
+                    AnySensor::Cartesian(CartesianSensor {
+                        frame,
+                        sigma: s.sensor.sigma_position,
+                    }),
+                    AnySensor::Cartesian(CartesianSensor {
+                        frame,
+                        sigma: r[0].sqrt(),
+                    }),
+                )
+            }
+        };
+        let told_thrust = match &s.thrust {
+            Thrust::Burns { reported, .. } => *reported,
+            _ => false,
+        };
+        let mut filters = Vec::new();
+        for f in &s.filters {
+            let nf = n0 * (1.0 + f.orbit_rate_error);
+            let mut model = CwModel::new(nf).discretize(
+                dt,
+                &(Mat3::identity() * f.accel_psd),
+                f.discretization.into(),
+            );
+            // the AQUKF adapts the velocity part (its initial q_vv comes from it)
+            let mut pn = f.process_noise;
+            if f.kind == "aqukf" {
+                pn[3..].fill(0.0);
+            }
+            model.q += frame.cov_to_canonical(&Mat6::from_diagonal(&State::from_row_slice(&pn)));
+            if let (Some(k), true) = (&feedback, f.knows_control) {
+                model.phi += model.gamma * k;
+            }
+            let (p, v) = (f.sigma_pos0.powi(2), f.sigma_vel0.powi(2));
+            let x0 = frame.state_to_canonical(&State::from_row_slice(&f.initial_state));
+            let p0 = Mat6::from_diagonal(&State::from_row_slice(&[p, p, p, v, v, v]));
+            let (hinf, feedforward_feedback) = if f.kind == "hinf" {
+                let (h, ff) = prepare_hinf(
+                    f,
+                    n0,
+                    dt,
+                    feedback.as_ref(),
+                    x0,
+                    p0,
+                    &model.q,
+                    &filter_sensor,
+                )
+                .map_err(|e| format!("filter \"{}\": {e}", f.label))?;
+                (Some(h), ff)
+            } else {
+                (None, false)
+            };
+            filters.push(PreparedFilter {
+                label: f.label.clone(),
+                kind: f.kind.clone(),
+                x0: frame.state_to_canonical(&State::from_row_slice(&f.initial_state)),
+                p0: Mat6::from_diagonal(&State::from_row_slice(&[p, p, p, v, v, v])),
+                model,
+                told_thrust,
+                sensor: filter_sensor,
+                ukf: UkfParams {
+                    alpha: f.ukf_alpha,
+                    beta: f.ukf_beta,
+                    kappa: f.ukf_kappa,
+                },
+                aq: f.aq_params(dt, frame),
+                mean_motion: nf,
+                spec: f.clone(),
+                hinf,
+                feedforward_feedback,
+            });
+        }
+        Ok(Prepared {
+            scenario: s.clone(),
+            n0,
+            dt,
+            steps,
+            measured,
+            burn_accel,
+            feedback,
+            truth_q_sqrt: psd_sqrt(&truth_q)
+                .ok_or("the truth's process noise has no square root (not finite)")?,
+            truth_q,
+            noise,
+            noise_sigma,
+            truth_sensor,
+            filters,
+        })
+    }
+
+    /// Times `t_k`.
+    pub fn times(&self) -> Vec<f64> {
+        (0..=self.steps).map(|k| k as f64 * self.dt).collect()
+    }
+
+    /// The true orbit rate error of a run.
+    fn delta<R: Rng>(&self, rng: &mut R) -> f64 {
+        use crate::scenario::OrbitRateError;
+        match self.scenario.truth.orbit_rate_error {
+            OrbitRateError::None => 0.0,
+            OrbitRateError::Fixed { delta } => delta,
+            OrbitRateError::Uniform { bound } => bound * (2.0 * rng.random::<f64>() - 1.0),
+        }
+    }
+
+    /// Truth states (canonical) and measurements of one run.
+    pub fn simulate_truth(&self, rng: &mut ChaCha8Rng) -> (Vec<State>, Vec<Option<Vec3>>) {
+        let s = &self.scenario;
+        let frame = s.io_frame();
+        let delta = self.delta(rng);
+        let model = CwModel::new(self.n0 * (1.0 + delta));
+        let (phi, gamma) = (model.phi(self.dt), model.gamma(self.dt));
+        let mut x0 = State::from_row_slice(&s.truth.initial_state);
+        for i in 0..6 {
+            x0[i] += s.truth.initial_sigma[i] * rng.sample::<f64, _>(StandardNormal);
+        }
+        let mut x = frame.state_to_canonical(&x0);
+        if let TruthDynamics::TwoBodyJ2 {
+            inclination_deg,
+            substep,
+        } = s.truth.dynamics
+        {
+            return self.simulate_two_body(x, inclination_deg.to_radians(), substep, rng);
+        }
+        let mut states = Vec::with_capacity(self.steps + 1);
+        let mut meas = Vec::with_capacity(self.steps + 1);
+        let mut ar = [0.0; 3];
+        for (i, a) in ar.iter_mut().enumerate() {
+            *a = self.noise.initial_state(self.noise_sigma[i], rng);
+        }
+        for k in 0..=self.steps {
+            states.push(x);
+            if self.measured[k] {
+                meas.push(self.measure(&x, &mut ar, rng));
+            } else {
+                // (coloured noise advances at the measurement rate only)
+                meas.push(None);
+            }
+            if k < self.steps {
+                let mut a = self.burn_accel[k];
+                if let Some(kg) = &self.feedback {
+                    a += kg * x;
+                }
+                let w: State =
+                    self.truth_q_sqrt * State::from_fn(|_, _| rng.sample::<f64, _>(StandardNormal));
+                x = phi * x + gamma * a + w;
+            }
+        }
+        (states, meas)
+    }
+}
+
+impl Prepared {
+    /// Noisy measurement of a true canonical state (or `None` at zero range).
+    fn measure(&self, x: &State, ar: &mut [f64; 3], rng: &mut ChaCha8Rng) -> Option<Vec3> {
+        let r = x.fixed_rows::<3>(0).into_owned();
+        match &self.truth_sensor {
+            // scales: noise_sigma = the sensor's (sigma_range, sigma_angle, sigma_angle)
+            AnySensor::Radio(s) => s.measure_with(&r, &self.noise, ar, rng),
+            AnySensor::Cartesian(s) => s.predict(&r).map(|z0| {
+                let mut z = z0;
+                for i in 0..3 {
+                    z[i] += self.noise.sample(self.noise_sigma[i], &mut ar[i], rng);
+                }
+                z
+            }),
+        }
+    }
+
+    /// The truth of a `two_body_j2` scenario: target and chaser around the Earth (point
+    /// mass + J2, GBS steps of `substep`), burns acting on the chaser (inertial direction of
+    /// the Hill axes at the step's start), relative state in the target's Hill frame.
+    fn simulate_two_body(
+        &self,
+        rel0: State,
+        incl: f64,
+        substep: f64,
+        rng: &mut ChaCha8Rng,
+    ) -> (Vec<State>, Vec<Option<Vec3>>) {
+        let mut truth = relnav_core::orbit::TwoBodyJ2::new(self.n0, incl, &rel0, substep);
+        let mut states = Vec::with_capacity(self.steps + 1);
+        let mut meas = Vec::with_capacity(self.steps + 1);
+        let mut ar = [0.0; 3];
+        for (i, a) in ar.iter_mut().enumerate() {
+            *a = self.noise.initial_state(self.noise_sigma[i], rng);
+        }
+        for k in 0..=self.steps {
+            let x = truth.relative();
+            states.push(x);
+            meas.push(if self.measured[k] {
+                self.measure(&x, &mut ar, rng)
+            } else {
+                None
+            });
+            if k < self.steps {
+                truth.step(&self.burn_accel[k], k as f64 * self.dt, self.dt);
+            }
+        }
+        (states, meas)
+    }
+}
+
+/// Per-time score of one filter in one run: squared errors (I/O frame), NEES, NIS (NaN
+/// without a measurement), position and velocity error norms.
+pub type Score = [f64; 10];
+
+/// Run one filter over a run's truth and measurements. `Err` when the filter fails
+/// numerically (the run is then excluded from its statistics and counted).
+pub fn run_filter(
+    prep: &Prepared,
+    f: &PreparedFilter,
+    truth: &[State],
+    meas: &[Option<Vec3>],
+    seed: u64,
+    out: &mut Vec<Score>,
+) -> Result<(), String> {
+    let frame = prep.scenario.io_frame();
+    let t6 = frame.rotation6();
+    let mut est = f.instantiate(seed);
+    out.clear();
+    for k in 0..=prep.steps {
+        let mut nis = f64::NAN;
+        if let Some(z) = &meas[k] {
+            let info = match &mut est {
+                // particle filters weigh with the true noise density (heavy tails included)
+                AnyFilter::Pf(pf) => {
+                    pf.update_with(&prep.truth_sensor, z, &prep.noise, &prep.noise_sigma)
+                }
+                other => other.update(&f.sensor, z),
+            }
+            .map_err(|e| format!("t = {}: {e}", k as f64 * prep.dt))?;
+            nis = info.nis;
+        }
+        let e = est.state() - truth[k];
+        let p = est.covariance();
+        // a collapsed particle set claims zero uncertainty: its NEES is infinite
+        // the H-infinity filter has no covariance (NaN): no NEES either
+        let nees = if p[(0, 0)].is_nan() {
+            f64::NAN
+        } else {
+            p.cholesky()
+                .map(|c| e.dot(&c.solve(&e)))
+                .unwrap_or(f64::INFINITY)
+        };
+        let eio = t6 * e;
+        out.push([
+            eio[0] * eio[0],
+            eio[1] * eio[1],
+            eio[2] * eio[2],
+            eio[3] * eio[3],
+            eio[4] * eio[4],
+            eio[5] * eio[5],
+            nees,
+            nis,
+            eio.fixed_rows::<3>(0).norm(),
+            eio.fixed_rows::<3>(3).norm(),
+        ]);
+        if k < prep.steps {
+            let mut a = if f.told_thrust {
+                prep.burn_accel[k]
+            } else {
+                Vec3::zeros()
+            };
+            if let (true, Some(kg)) = (f.feedforward_feedback, &prep.feedback) {
+                a += kg * truth[k];
+            }
+            est.predict(&f.model, &a)
+                .map_err(|e| format!("t = {}: {e}", k as f64 * prep.dt))?;
+        }
+    }
+    Ok(())
+}

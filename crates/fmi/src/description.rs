@@ -1,0 +1,353 @@
+//! `modelDescription.xml`, generated from a model's variable table ([`ModelInfo`]; relnav's is
+//! [`crate::variables`]), and the GUID derived from it.
+//!
+//! The GUID is a name-based UUID (version 5, SHA-1) of the XML text itself, with
+//! placeholders where the GUID and `generationDateAndTime` go, as the FMI standard suggests
+//! (a fingerprint of the relevant information in the XML): the binary computes the same
+//! value from the same table, so archive and binary cannot disagree. Nothing in the XML
+//! depends on the build machine or the build time: `generationDateAndTime` is the commit
+//! date of the source ([`GENERATION_DATE`], set by `build.rs`), so one commit gives one
+//! XML; the date is left out of the GUID, so a commit that changes nothing else keeps it
+//! (a library built before the commit and an archive packed after it still match).
+
+use crate::model::ModelInfo;
+use crate::variables::{Causality, VarDef, VarType, Variability, UNITS};
+use std::fmt::Write;
+
+/// relnav's model identifier (and binary name).
+pub const MODEL_IDENTIFIER: &str = "relnav";
+
+/// Logging categories, in the order declared in the XML.
+pub const LOG_CATEGORIES: [(&str, &str); 4] = [
+    (
+        "logStatusError",
+        "Errors: rejected calls, invalid parameters or inputs, failed steps",
+    ),
+    ("logStatusWarning", "Warnings"),
+    ("logInfo", "Initialisation and configuration summary"),
+    ("logCalls", "Every FMI call with its arguments"),
+];
+
+const GUID_PLACEHOLDER: &str = "@GUID@";
+const DATE_PLACEHOLDER: &str = "@DATE@";
+
+/// `generationDateAndTime` (UTC, `xs:dateTime`): `SOURCE_DATE_EPOCH` when set at build
+/// time, else the commit date of `HEAD` (`git log -1 --format=%ct`), else
+/// 1970-01-01T00:00:00Z (a source tree without git); computed by `build.rs`.
+pub const GENERATION_DATE: &str = env!("RELNAV_GENERATION_DATE");
+
+/// relnav's `description` attribute.
+pub const MODEL_DESCRIPTION: &str =
+    "Spacecraft relative navigation near a target on a circular orbit \
+(Clohessy-Wiltshire): estimate of the chaser's relative position and velocity, with 1-sigma \
+uncertainty, from its thrust and range/azimuth/elevation measurements, by a Kalman filter \
+(EKF, UKF, or the sliding-window adaptive AQUKF), a particle filter (SIR, regularised, \
+unscented, genetic or cloud-genetic) or the robust H-infinity filter designed by an LMI";
+
+/// A variable's description as published: for a code list, followed by
+/// `Codes: 1 ekf, 2 ukf, ...` (the item names stay documented in the XML itself).
+pub fn published_description(v: &VarDef) -> String {
+    match v.ty {
+        VarType::Code(t) => format!("{}. Codes: {}", v.description, t.codes()),
+        _ => v.description.to_string(),
+    }
+}
+
+fn escape(s: &str) -> String {
+    let mut o = String::with_capacity(s.len());
+    for c in s.chars() {
+        match c {
+            '&' => o.push_str("&amp;"),
+            '<' => o.push_str("&lt;"),
+            '>' => o.push_str("&gt;"),
+            '"' => o.push_str("&quot;"),
+            '\'' => o.push_str("&apos;"),
+            c => o.push(c),
+        }
+    }
+    o
+}
+
+fn causality(c: Causality) -> &'static str {
+    match c {
+        Causality::Parameter => "parameter",
+        Causality::Input => "input",
+        Causality::Output => "output",
+    }
+}
+
+fn variability(v: Variability) -> &'static str {
+    match v {
+        Variability::Fixed => "fixed",
+        Variability::Discrete => "discrete",
+        Variability::Continuous => "continuous",
+    }
+}
+
+fn body(info: &ModelInfo) -> String {
+    let mut x = String::new();
+    // write! into a String cannot fail; the results are ignored deliberately.
+    let _ = writeln!(x, r#"<?xml version="1.0" encoding="UTF-8"?>"#);
+    let _ = writeln!(
+        x,
+        r#"<fmiModelDescription fmiVersion="2.0" modelName="{}" guid="{GUID_PLACEHOLDER}" description="{}" author="relnav developers" version="{}" generationTool="relnav {}" generationDateAndTime="{DATE_PLACEHOLDER}" variableNamingConvention="flat">"#,
+        info.model_identifier,
+        escape(info.description),
+        relnav_core::VERSION,
+        relnav_core::VERSION
+    );
+    let _ = writeln!(
+        x,
+        r#"  <CoSimulation modelIdentifier="{}" needsExecutionTool="false" canHandleVariableCommunicationStepSize="true" canInterpolateInputs="false" maxOutputDerivativeOrder="0" canRunAsynchronuously="false" canBeInstantiatedOnlyOncePerProcess="false" canNotUseMemoryManagementFunctions="true" canGetAndSetFMUstate="true" canSerializeFMUstate="true" providesDirectionalDerivative="false"/>"#,
+        info.model_identifier
+    );
+    let _ = writeln!(x, "  <UnitDefinitions>");
+    // the units the table uses, in the order of the master list
+    let used = UNITS.iter().filter(|(u, _)| {
+        info.variables
+            .iter()
+            .any(|v| matches!(v.ty, VarType::Real(w) if w == *u))
+    });
+    for (name, [kg, m, s, rad]) in used {
+        let mut attrs = String::new();
+        for (n, e) in [("kg", kg), ("m", m), ("s", s), ("rad", rad)] {
+            if *e != 0 {
+                let _ = write!(attrs, r#" {n}="{e}""#);
+            }
+        }
+        let _ = writeln!(
+            x,
+            r#"    <Unit name="{}"><BaseUnit{attrs}/></Unit>"#,
+            escape(name)
+        );
+    }
+    let _ = writeln!(x, "  </UnitDefinitions>");
+    let _ = writeln!(x, "  <LogCategories>");
+    for (n, d) in LOG_CATEGORIES {
+        let _ = writeln!(
+            x,
+            r#"    <Category name="{n}" description="{}"/>"#,
+            escape(d)
+        );
+    }
+    let _ = writeln!(x, "  </LogCategories>");
+    let e = info.default_experiment;
+    let _ = writeln!(
+        x,
+        r#"  <DefaultExperiment startTime="{}" stopTime="{}" stepSize="{}"/>"#,
+        e.start, e.stop, e.step
+    );
+    let _ = writeln!(x, "  <ModelVariables>");
+    for v in info.variables {
+        let _ = writeln!(
+            x,
+            r#"    <!-- index {} --><ScalarVariable name="{}" valueReference="{}" description="{}" causality="{}" variability="{}">"#,
+            v.vr + 1,
+            v.name,
+            v.vr,
+            escape(&published_description(v)),
+            causality(v.causality),
+            variability(v.variability)
+        );
+        // parameters are initial="exact" and inputs need a start; outputs are calculated
+        let start = |s: String| {
+            if v.causality == Causality::Output {
+                String::new()
+            } else {
+                format!(r#" start="{s}""#)
+            }
+        };
+        let elem = match v.ty {
+            VarType::Real(u) => {
+                let unit = if u.is_empty() {
+                    String::new()
+                } else {
+                    format!(r#" unit="{}""#, escape(u))
+                };
+                format!(r#"<Real{unit}{}/>"#, start(format!("{}", v.start)))
+            }
+            VarType::Integer => format!("<Integer{}/>", start(format!("{}", v.start as i64))),
+            VarType::Boolean => format!(
+                "<Boolean{}/>",
+                start(if v.start != 0.0 { "true" } else { "false" }.to_string())
+            ),
+            VarType::Code(t) => {
+                let (lo, hi) = t.range();
+                format!(
+                    r#"<Integer min="{lo}" max="{hi}"{}/>"#,
+                    start(format!("{}", v.start as i64))
+                )
+            }
+        };
+        let _ = writeln!(x, "      {elem}");
+        let _ = writeln!(x, "    </ScalarVariable>");
+    }
+    let _ = writeln!(x, "  </ModelVariables>");
+    let _ = writeln!(x, "  <ModelStructure>");
+    let outputs: Vec<_> = info
+        .variables
+        .iter()
+        .filter(|v| v.causality == Causality::Output)
+        .collect();
+    let _ = writeln!(x, "    <Outputs>");
+    for v in &outputs {
+        // dependencies="": no direct feedthrough, outputs change only in fmi2DoStep (true of
+        // every model here: relnav, the plant and the guidance law)
+        let _ = writeln!(
+            x,
+            r#"      <Unknown index="{}" dependencies=""/>"#,
+            v.vr + 1
+        );
+    }
+    let _ = writeln!(x, "    </Outputs>");
+    let _ = writeln!(x, "    <InitialUnknowns>");
+    for v in &outputs {
+        // initial values depend on the parameters (relnav: initial estimate and sigma)
+        let _ = writeln!(x, r#"      <Unknown index="{}"/>"#, v.vr + 1);
+    }
+    let _ = writeln!(x, "    </InitialUnknowns>");
+    let _ = writeln!(x, "  </ModelStructure>");
+    let _ = writeln!(x, "</fmiModelDescription>");
+    x
+}
+
+/// The GUID and the XML of a body (with its GUID and date placeholders) for a given
+/// `generationDateAndTime`. The GUID is a UUID v5 of the body *before* the date goes in:
+/// it fingerprints the model's interface (variables, units, capabilities, description,
+/// version), not the commit that built it, so a commit that changes nothing in the XML
+/// but its date keeps the GUID, and a binary built before such a commit still matches an
+/// archive packed after it.
+fn finish(body: &str, date: &str) -> (String, String) {
+    let id = uuid::Uuid::new_v5(&uuid::Uuid::NAMESPACE_URL, body.as_bytes());
+    let guid = format!("{{{id}}}");
+    let xml = body
+        .replacen(GUID_PLACEHOLDER, &guid, 1)
+        .replacen(DATE_PLACEHOLDER, date, 1);
+    (guid, xml)
+}
+
+fn generated(info: &'static ModelInfo) -> &'static (String, String) {
+    info.generated
+        .get_or_init(|| finish(&body(info), GENERATION_DATE))
+}
+
+/// A model's GUID, `{xxxxxxxx-...}`.
+pub fn guid_of(info: &'static ModelInfo) -> &'static str {
+    &generated(info).0
+}
+
+/// A model's full `modelDescription.xml` text.
+pub fn model_description_of(info: &'static ModelInfo) -> &'static str {
+    &generated(info).1
+}
+
+/// relnav's GUID, `{xxxxxxxx-...}`.
+pub fn guid() -> &'static str {
+    guid_of(&crate::relnav::INFO)
+}
+
+/// relnav's full `modelDescription.xml` text.
+pub fn model_description() -> &'static str {
+    model_description_of(&crate::relnav::INFO)
+}
+
+/// relnav's variable table as Markdown (for the README; a test keeps the README in sync).
+pub fn variables_markdown() -> String {
+    variables_markdown_of(&crate::relnav::INFO)
+}
+
+/// A model's variable table as Markdown (the README's and `docs/kit.md`'s tables; tests
+/// keep them in sync).
+pub fn variables_markdown_of(info: &ModelInfo) -> String {
+    let mut x = String::new();
+    let _ = writeln!(
+        x,
+        "| name | vr | causality | variability | type | unit | start | description |"
+    );
+    let _ = writeln!(x, "|---|---:|---|---|---|---|---|---|");
+    for v in info.variables {
+        let (ty, unit, start) = match v.ty {
+            VarType::Real(u) => ("Real", u.to_string(), format!("{}", v.start)),
+            VarType::Integer => ("Integer", String::new(), format!("{}", v.start as i64)),
+            VarType::Boolean => (
+                "Boolean",
+                String::new(),
+                if v.start != 0.0 { "true" } else { "false" }.to_string(),
+            ),
+            VarType::Code(t) => {
+                let item = t.item(v.start).map(|it| it.0).unwrap_or("");
+                (
+                    "Integer",
+                    String::new(),
+                    format!("{} ({item})", v.start as i64),
+                )
+            }
+        };
+        let start = if v.causality == Causality::Output {
+            "—".to_string()
+        } else {
+            start
+        };
+        let _ = writeln!(
+            x,
+            "| `{}` | {} | {} | {} | {ty} | {unit} | {start} | {} |",
+            v.name,
+            v.vr,
+            causality(v.causality),
+            variability(v.variability),
+            published_description(v)
+        );
+    }
+    let _ = writeln!(x);
+    let _ = writeln!(
+        x,
+        "Codes of the Integer parameters that select a method (the C ABI's enums; a code outside the list is refused at `fmi2SetInteger`):"
+    );
+    let _ = writeln!(x);
+    let _ = writeln!(x, "| parameter | code | name | meaning |");
+    let _ = writeln!(x, "|---|---:|---|---|");
+    for v in info.variables {
+        if let VarType::Code(t) = v.ty {
+            for (n, code, d) in t.items {
+                let _ = writeln!(x, "| `{}` | {code} | `{n}` | {d} |", v.name);
+            }
+        }
+    }
+    x
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn xml_contains_every_variable_and_the_guid() {
+        use crate::variables::VARIABLES;
+        let xml = model_description();
+        assert!(xml.contains(&format!(r#"guid="{}""#, guid())));
+        assert!(!xml.contains(GUID_PLACEHOLDER));
+        for v in VARIABLES {
+            assert!(xml.contains(&format!(r#"name="{}" valueReference="{}""#, v.name, v.vr)));
+        }
+        assert!(xml.contains("canRunAsynchronuously"));
+        assert_eq!(guid().len(), 38);
+        assert!(xml.contains(&format!(r#"generationDateAndTime="{GENERATION_DATE}""#)));
+    }
+
+    #[test]
+    fn guid_depends_on_the_interface_not_on_the_generation_date() {
+        let b = body(&crate::relnav::INFO);
+        assert_eq!(b.matches(DATE_PLACEHOLDER).count(), 1);
+        let (g1, x1) = finish(&b, "2026-01-01T00:00:00Z");
+        let (g2, x2) = finish(&b, "2026-12-01T21:00:00Z");
+        assert_eq!(g1, g2);
+        assert_ne!(x1, x2);
+        assert_eq!(g1, guid());
+        // any change to the interface changes it
+        let (g3, _) = finish(&b.replacen("relnav developers", "relnav developer", 1), "x");
+        assert_ne!(g1, g3);
+        // the plant's and the guidance's differ from relnav's
+        assert_ne!(guid_of(&crate::plant::INFO), guid());
+        assert_ne!(guid_of(&crate::guidance::INFO), guid());
+    }
+}

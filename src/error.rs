@@ -1,0 +1,91 @@
+//! Status codes, the per-thread last-error message and the internal [`Failure`] that
+//! carries both to the boundary.
+
+use relnav_core::nav::{NavError, NavErrorKind};
+use std::cell::RefCell;
+use std::ffi::{c_char, c_int, CStr, CString};
+use std::panic::catch_unwind;
+
+/// Result of every fallible call. Values are stable.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum relnav_status {
+    /// Success.
+    RELNAV_OK = 0,
+    /// A required pointer argument was null.
+    RELNAV_ERROR_NULL_POINTER = 1,
+    /// An argument is out of its domain (NaN/inf, non-positive step or mass, unknown code).
+    RELNAV_ERROR_INVALID_ARGUMENT = 2,
+    /// The requested filter is not implemented in this build.
+    RELNAV_ERROR_NOT_IMPLEMENTED = 3,
+    /// The filter could not complete the step (zero range, loss of positive definiteness).
+    RELNAV_ERROR_NUMERICAL = 4,
+    /// A Rust panic was caught at the boundary (a bug in relnav; please report it).
+    RELNAV_ERROR_PANIC = 5,
+    /// The H-infinity design has no solution (the LMI is infeasible for these inputs).
+    RELNAV_ERROR_INFEASIBLE = 6,
+    /// The caller's buffer is too small (`relnav_estimator_save`: the needed size is in
+    /// `*len`).
+    RELNAV_ERROR_BUFFER_TOO_SMALL = 7,
+    /// A saved state was refused (`relnav_estimator_restore`): truncated, corrupted,
+    /// another format version, or saved for another configuration; the estimator is
+    /// unchanged.
+    RELNAV_ERROR_INVALID_STATE = 8,
+}
+
+thread_local! {
+    static LAST_ERROR: RefCell<CString> = RefCell::new(CString::default());
+}
+
+pub(crate) fn set_last_error(msg: &str) {
+    let clean: Vec<u8> = msg.bytes().filter(|b| *b != 0).collect();
+    let c = CString::new(clean).unwrap_or_default();
+    LAST_ERROR.with(|e| *e.borrow_mut() = c);
+}
+
+/// An error that crosses the boundary: status plus message.
+pub(crate) struct Failure(pub(crate) relnav_status, pub(crate) String);
+
+impl From<NavError> for Failure {
+    fn from(e: NavError) -> Self {
+        let status = match e.kind {
+            NavErrorKind::InvalidArgument => relnav_status::RELNAV_ERROR_INVALID_ARGUMENT,
+            NavErrorKind::NotImplemented => relnav_status::RELNAV_ERROR_NOT_IMPLEMENTED,
+            NavErrorKind::Numerical => relnav_status::RELNAV_ERROR_NUMERICAL,
+            NavErrorKind::InvalidState => relnav_status::RELNAV_ERROR_INVALID_STATE,
+        };
+        Failure(status, e.message)
+    }
+}
+
+pub(crate) fn null(arg: &str, func: &str) -> Failure {
+    Failure(
+        relnav_status::RELNAV_ERROR_NULL_POINTER,
+        format!("{func}: argument `{arg}` is null"),
+    )
+}
+
+/// A static, readable name for a status code (unknown codes give `"unknown status"`).
+#[no_mangle]
+pub extern "C" fn relnav_status_string(status: c_int) -> *const c_char {
+    let s: &'static CStr = match status {
+        0 => c"ok",
+        1 => c"null pointer argument",
+        2 => c"invalid argument",
+        3 => c"not implemented",
+        4 => c"numerical failure",
+        5 => c"internal panic",
+        6 => c"infeasible design",
+        7 => c"buffer too small",
+        8 => c"invalid saved state",
+        _ => c"unknown status",
+    };
+    s.as_ptr()
+}
+
+/// The message of the most recent failing call on this thread (empty string if none).
+/// The pointer stays valid until the next failing call on the same thread.
+#[no_mangle]
+pub extern "C" fn relnav_last_error() -> *const c_char {
+    catch_unwind(|| LAST_ERROR.with(|e| e.borrow().as_ptr())).unwrap_or(c"".as_ptr())
+}
