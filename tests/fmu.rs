@@ -436,24 +436,24 @@ fn generation_date_is_the_commit_date() {
     }
 }
 
-/// The README's variable table is the generated one (regenerate with
-/// `cargo run --bin relnav-fmu -- --variables-markdown`).
+/// `docs/fmu.md`'s variable table is the generated one (regenerate with
+/// `tools/bless_readme_variables.sh`, i.e. `cargo run --bin relnav-fmu -- --variables-markdown`).
 #[test]
 fn readme_variable_table_is_current() {
     let readme =
-        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/README.md")).unwrap();
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/docs/fmu.md")).unwrap();
     let begin = "<!-- variables:begin (generated: cargo run --bin relnav-fmu -- --variables-markdown) -->\n";
     let start = readme
         .find(begin)
-        .expect("README lacks the variables:begin marker")
+        .expect("docs/fmu.md lacks the variables:begin marker")
         + begin.len();
     let end = readme
         .find("<!-- variables:end -->")
-        .expect("README lacks the variables:end marker");
+        .expect("docs/fmu.md lacks the variables:end marker");
     assert_eq!(
         readme.get(start..end).unwrap_or_default(),
         relnav_fmi::description::variables_markdown(),
-        "README variable table is stale"
+        "docs/fmu.md variable table is stale"
     );
 }
 

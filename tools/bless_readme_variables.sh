@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Regenerate the README's FMU variable table (between the variables:begin/end markers) from
+# Regenerate docs/fmu.md's FMU variable table (between the variables:begin/end markers) from
 # the one variable table: cargo run --bin relnav-fmu -- --variables-markdown.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
@@ -7,9 +7,9 @@ table="$(cargo run -q --bin relnav-fmu -- --variables-markdown)"
 python3 - "$table" <<'PY'
 import re, sys
 table = sys.argv[1].rstrip("\n") + "\n"
-s = open("README.md").read()
+s = open("docs/fmu.md").read()
 begin = s.index("<!-- variables:begin")
 begin = s.index("\n", begin) + 1
 end = s.index("<!-- variables:end -->")
-open("README.md", "w").write(s[:begin] + table + s[end:])
+open("docs/fmu.md", "w").write(s[:begin] + table + s[end:])
 PY
