@@ -68,7 +68,7 @@ def main(argv=None) -> int:
         ap.error(f"unknown filter(s) {unknown}; choose from {list(every)}")
 
     if not args.fmu.is_file():
-        print(f"error: FMU not found at {args.fmu}; build it with `cargo run --release --bin relnav-fmu`", file=sys.stderr)
+        print(f"error: FMU not found at {args.fmu}; build it with `bash fmu/build.sh`", file=sys.stderr)
         return 2
 
     with tempfile.TemporaryDirectory(prefix="relnav-fmu-") as tmp:

@@ -1,7 +1,7 @@
 """Shared fixtures for relnav's FMU test suite.
 
 The FMU is found at ``target/fmu/relnav.fmu`` relative to the repository root (or at
-$RELNAV_FMU). Build it first with ``cargo run --release --bin relnav-fmu`` (scripts/test.sh
+$RELNAV_FMU). Build it first with ``bash fmu/build.sh`` (scripts/test.sh
 does). The truth model and the FMU drivers live in ``tools/`` and are shared with
 ``tools/paper000_fmu.py``.
 """
@@ -31,7 +31,7 @@ def pytest_report_header(config):
 
         stamp = time.strftime("%Y-%m-%d %H:%M:%S", time.localtime(path.stat().st_mtime))
         return f"relnav FMU: {path} (built {stamp})"
-    return f"relnav FMU: {path} MISSING - build it with `cargo run --release --bin relnav-fmu`"
+    return f"relnav FMU: {path} MISSING - build it with `bash fmu/build.sh`"
 
 
 @pytest.fixture(scope="session")
@@ -40,7 +40,7 @@ def fmu_path() -> Path:
     if not path.is_file():
         pytest.fail(
             f"relnav FMU not found at {path}.\n"
-            "Build it first: `cargo run --release --bin relnav-fmu` from the repository root "
+            "Build it first: `bash fmu/build.sh` from the repository root "
             "(scripts/test.sh does this), or point $RELNAV_FMU at an .fmu file.",
             pytrace=False,
         )
