@@ -10,10 +10,10 @@ Error at t + 1 = FMU output after the step at t minus truth at t + 1.
                                           [--require ekf,ukf] [--frame 2] [--driver simulate_fmu]
 
 Exit status 0 when every filter named by --require (default: all of them) meets the
-published bar, 1 otherwise. The particle filters meet it with their posterior-invariant
+published bar, 1 otherwise. The particle filters meet it with their Gaussian-prior
 moves (`pf_move`, on by default; issue 10). Without them (`pf_move` = false) the plain SIR
 and the unscented PF keep impoverished velocity draws (the paper's 1e-3 m/s velocity noise
-cannot refine them) and drift; see crates/core/src/estimators/pf/moves.rs and docs/evaluation.md.
+cannot refine them) and drift; see crates/core/src/estimators/pf/moves.rs and docs/filters.md.
 """
 
 from __future__ import annotations

@@ -10,7 +10,7 @@ sensor (0.5 m, 0.01 deg at 1 Hz), 600 s, six seeded runs per case.
   most 1.2x the UKF's position and velocity RMSE over t >= 100 s (issue 12's bar; the UKF
   and EKF run in the same test). Paper 001's window
   law (``aq_law`` 1) is measured beside them and reported, not held to the bar: it pays for
-  the scatter of its estimate (docs/evaluation.md).
+  the scatter of its estimate (docs/filters.md, "AQUKF").
 * Unreported burns (the filters are told no thrust): a 60 s burn of (2, -1, 0.5) N on the
   1000 kg chaser in frame 2, and two burns of (0.5, -1, 0.3) N (30 s) and (-1, 0, 0.5) N
   (10 s) on a 100 kg chaser in frame 3. Every adaptive filter's position RMSE from the first

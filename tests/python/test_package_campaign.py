@@ -1,6 +1,6 @@
 """relnav.campaign gives `relnav simulate`'s result bit for bit: on local threads, on a
 Dask LocalCluster of 2 worker processes (one chunk per task, or two), from the file or
-from a dict, and through the README's campaign example. Only the wall-clock column
+from a dict, and through docs/python.md's campaign example. Only the wall-clock column
 ``us_per_step`` of summary.csv may differ.
 
 A small campaign keeps this cheap: paper 000 cut to 60 s, three Kalman filters and one
@@ -156,7 +156,7 @@ def test_bad_scenarios_raise(tmp_path):
 
 
 def test_campaign_example_runs_on_a_local_cluster(scenario_file, tmp_path):
-    """examples/relnav_campaign.py (shown verbatim in README.md) on a 2-process
+    """examples/relnav_campaign.py (shown verbatim in docs/python.md) on a 2-process
     LocalCluster: exit 0, a progress bar, the table, and the CLI's CSV numbers."""
     proc = subprocess.run(
         [sys.executable, str(EXAMPLE), str(scenario_file), "6"],
