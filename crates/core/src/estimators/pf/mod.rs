@@ -113,16 +113,21 @@ pub mod resample;
 
 pub use par::{CHUNK, MAX_THREADS, PARALLEL_MIN_PARTICLES};
 
-use super::ukf::{lower6, SharedPrior, Ukf, UkfParams, WhitenedBlock};
-use super::{symmetrize, Estimator, FilterError, UpdateInfo};
+use super::ukf::{SharedPrior, Ukf, UkfParams, WhitenedBlock};
+use super::{Estimator, FilterError, UpdateInfo};
 use crate::dynamics::DiscreteModel;
 use crate::noise::NoiseModel;
+use crate::numerics::cholesky::{
+    chol, chol_loaded, half_logdet, log_gauss, log_gauss_with, lower6,
+};
+use crate::numerics::eigen::psd_sqrt;
+use crate::numerics::lanes::{add4, mul4, L4};
 use crate::numerics::simd;
 use crate::numerics::state::{refuse, Persist, Reader, StateError, Writer};
 use crate::numerics::vexp::exp_nonpos;
 use crate::numerics::vlog::{is_normal_pos, ln_normal, ln_pos};
 use crate::numerics::ziggurat::{Lanes, Ziggurat};
-use crate::numerics::{lane_sum, lane_sum_sq};
+use crate::numerics::{lane_sum, lane_sum_sq, symmetrize};
 use crate::sensors::{AngleTrig, MeasurementModel};
 use crate::types::{Mat3, Mat6, State, Vec3};
 use genetic::{CloudParams, GeneticParams};
@@ -557,25 +562,6 @@ impl<M: MeasurementModel> Likelihood<'_, M> {
     }
 }
 
-/// `ln N(x; m, L L^T)` up to the constant `-3 ln 2 pi`, `L` lower triangular.
-fn log_gauss(x: &State, m: &State, l: &Mat6) -> f64 {
-    log_gauss_with(x, m, l, half_logdet(l))
-}
-
-/// `sum_i ln L_ii = ln det(L L^T) / 2`.
-fn half_logdet(l: &Mat6) -> f64 {
-    (0..N).map(|i| l[(i, i)].ln()).sum()
-}
-
-/// [`log_gauss`] with `half_logdet(l)` given (a factor shared by many particles).
-fn log_gauss_with(x: &State, m: &State, l: &Mat6, half_logdet: f64) -> f64 {
-    let d = x - m;
-    match l.solve_lower_triangular(&d) {
-        Some(u) => -0.5 * u.norm_squared() - half_logdet,
-        None => f64::NEG_INFINITY,
-    }
-}
-
 /// Weighted first and second moments accumulated in one pass about a reference point
 /// `c` near the cloud: `m = c + s1 / W`, `P = s2 / W - (m - c)(m - c)^T` with
 /// `s1 = sum w_i d_i`, `s2 = sum w_i d_i d_i^T`, `d_i = x_i - c`, `W = sum w_i`. Shifting
@@ -679,20 +665,6 @@ impl CwBlocks {
         let [p2, p5] = self.out.each_ref().map(dot2);
         State::new(p0, p1, p2, p3, p4, p5)
     }
-}
-
-/// Lower Cholesky factor, `None` unless positive definite.
-fn chol(p: &Mat6) -> Option<Mat6> {
-    symmetrize(p).cholesky().map(|c| c.unpack())
-}
-
-/// Lower Cholesky factor, with a relative `1e-12` diagonal load if the matrix is only
-/// semi-definite (a cloud that lost a dimension to rounding).
-fn chol_loaded(p: &Mat6) -> Option<Mat6> {
-    chol(p).or_else(|| {
-        let eps = 1e-12 * p.trace().max(f64::MIN_POSITIVE);
-        chol(&(p + Mat6::identity() * eps))
-    })
 }
 
 /// One step of the transition `x <- Phi x + Gamma a + w`, `w ~ N(0, Q)`.
@@ -1508,14 +1480,6 @@ fn gauss6<R: Rng + ?Sized>(rng: &mut R) -> State {
     let mut e = [0.0; N];
     Ziggurat::get().fill(rng, &mut e);
     State::from(e)
-}
-
-/// Symmetric square root of a PSD matrix (negative rounding eigenvalues clipped); `None`
-/// when `q` is not finite or the (iteration-capped) eigensolver does not converge.
-fn psd_sqrt(q: &Mat6) -> Option<Mat6> {
-    let e = crate::numerics::eigen::symmetric_eigen(symmetrize(q))?;
-    let d = e.eigenvalues.map(|v| v.max(0.0).sqrt());
-    Some(e.eigenvectors * Mat6::from_diagonal(&d) * e.eigenvectors.transpose())
 }
 
 impl ParticleFilter {
@@ -2477,23 +2441,8 @@ impl PointSums {
     }
 }
 
-/// Four `f64` lanes (one AVX2 vector).
-type L4 = [f64; 4];
-
 /// All-one weights for [`LaneSums::add`] with `W = false` (never read).
 const UNIT: [f64; BLOCK] = [1.0; BLOCK];
-
-/// `a + b` lane by lane.
-#[inline(always)]
-fn add4(a: L4, b: L4) -> L4 {
-    [a[0] + b[0], a[1] + b[1], a[2] + b[2], a[3] + b[3]]
-}
-
-/// `a b` lane by lane.
-#[inline(always)]
-fn mul4(a: L4, b: L4) -> L4 {
-    [a[0] * b[0], a[1] * b[1], a[2] * b[2], a[3] * b[3]]
-}
 
 /// [`TRIANGLE`]'s index of the upper-triangle entry `(r, c)`, `r <= c`.
 const fn tri(r: usize, c: usize) -> usize {

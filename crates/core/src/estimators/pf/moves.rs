@@ -101,7 +101,7 @@ use super::{
     bandwidth, chol, psd_sqrt, Kernel, LaneSums, Likelihood, MomentLanes, Moments, ParticleFilter,
     BLOCK, N,
 };
-use crate::estimators::symmetrize;
+use crate::numerics::symmetrize;
 use crate::numerics::vexp::exp_nonpos;
 use crate::numerics::ziggurat::{Lanes, Ziggurat, LANES};
 use crate::sensors::MeasurementModel;
