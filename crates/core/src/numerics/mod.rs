@@ -6,8 +6,10 @@
 //! vectorises, for the particle weights) and [`ziggurat`] (exact standard normals in batches,
 //! for the particle filters), [`simd`] (run-time dispatch of hot loops to AVX2, same bits),
 //! [`lanes`] (fixed-length array arithmetic: [`lane_sum`], sums in sixteen lanes, for the
-//! particle weights), `cholesky` (small Cholesky factors on the stack) and [`symmetrize`].
-//! Lives below its users; imports nothing from them.
+//! particle weights), `cholesky` (small Cholesky factors on the stack), `soa` (particles
+//! transposed to structure-of-arrays blocks and back), `moments` (weighted first and
+//! second moments of 6-vectors, in lanes) and [`symmetrize`]. Lives below its users;
+//! imports nothing from them.
 
 #[cfg(feature = "hinf")]
 #[allow(unsafe_code)]
@@ -15,7 +17,9 @@ pub mod blas;
 pub(crate) mod cholesky;
 pub mod eigen;
 pub mod lanes;
+pub(crate) mod moments;
 pub mod simd;
+pub(crate) mod soa;
 pub mod state;
 pub mod vexp;
 pub mod vlog;

@@ -92,9 +92,8 @@
 //! unchanged; the log ratios are summed in another order, so the particles move from before
 //! at rounding level.
 
-use super::{
-    bandwidth, psd_sqrt, Kernel, Likelihood, Moments, ParticleFilter, PfRng, BLOCK, TRIANGLE,
-};
+use super::{bandwidth, psd_sqrt, Kernel, Likelihood, ParticleFilter, PfRng, BLOCK};
+use crate::numerics::moments::unit_moments;
 use crate::numerics::simd;
 use crate::numerics::vexp::exp_nonpos;
 use crate::numerics::ziggurat::{Lanes, Ziggurat, LANES};
@@ -310,47 +309,6 @@ fn cloud_probabilities(
         let p = if en1 == 0.0 { 0.0 } else { p };
         *o = if fi < f_avg || flat { k } else { p };
     }
-}
-
-/// [`Moments`] of equally weighted particles (weight 1 each) about `r` in one pass,
-/// particle by particle: the offsets `d = x_i - r`, their sum and the full outer products
-/// `d d^T` (six columns of six, the form that vectorises within a particle: the sums stay
-/// in registers, no transposition), the upper triangle kept. The literal GA-PF's summary of
-/// the moved population on the parallel path (the serial filter transposes the population
-/// into `soa` and sums its lanes: [`super::unit_moments_soa`]): its mean and covariance in
-/// one pass, without the weight products of the weighted [`super::moments`] and without
-/// its separate mean pass. Run through
-/// [`simd::dispatch`] (AVX2 where present; each sum is one chain in particle order on either
-/// path, so the same bits); it differs from the weighted pass at rounding level.
-// index loops over fixed rows and columns: they vectorise
-#[allow(clippy::needless_range_loop)]
-pub(super) fn unit_moments(x: &[State], r: &State) -> Moments {
-    simd::dispatch(
-        #[inline(always)]
-        || {
-            let rr: [f64; 6] = std::array::from_fn(|k| r[k]);
-            let mut s1 = [0.0; 6];
-            let mut s2 = [[0.0; 6]; 6];
-            for xi in x {
-                let d: [f64; 6] = std::array::from_fn(|k| xi[k] - rr[k]);
-                for k in 0..6 {
-                    s1[k] += d[k];
-                }
-                for c in 0..6 {
-                    for k in 0..6 {
-                        s2[c][k] += d[k] * d[c];
-                    }
-                }
-            }
-            let mut out = Moments::new(*r);
-            out.wsum = x.len() as f64;
-            out.s1 = State::from_fn(|k, _| s1[k]);
-            for (o, &(r, c)) in out.s2.iter_mut().zip(&TRIANGLE) {
-                *o = s2[c][r];
-            }
-            out
-        },
-    )
 }
 
 /// The move steps' target `ln pi(x) = ln p(z | x) + ln N(x; m-, P-)` on blocks of
@@ -1249,61 +1207,6 @@ mod tests {
                     assert!(want == f64::NEG_INFINITY && got < -700.0, "{got} {want}");
                 }
             }
-        }
-    }
-
-    /// `unit_moments` gives the same bits on the dispatched and the baseline path, and the
-    /// weighted pass's mean and covariance (weights `1/n`) to rounding level, for a short
-    /// last block and a cloud far from the reference.
-    #[test]
-    fn unit_moments_agree_with_the_weighted_pass() {
-        use super::super::moments;
-        use rand::Rng;
-        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(5);
-        for n in [1, 7, 16, 1500] {
-            let x: Vec<State> = (0..n)
-                .map(|_| {
-                    State::from_fn(|k, _| 1e3 * (k as f64 + 1.0) + rng.random_range(-50.0..50.0))
-                })
-                .collect();
-            let r = State::from_element(900.0);
-            let fast = super::unit_moments(&x, &r).finish();
-            let base = simd::with_baseline(|| super::unit_moments(&x, &r)).finish();
-            assert!(fast
-                .0
-                .iter()
-                .zip(base.0.iter())
-                .all(|(a, b)| a.to_bits() == b.to_bits()));
-            assert!(fast
-                .1
-                .iter()
-                .zip(base.1.iter())
-                .all(|(a, b)| a.to_bits() == b.to_bits()));
-            let w = vec![1.0 / n as f64; n];
-            let (m, p) = moments(&r, &x, &w).finish();
-            assert!((fast.0 - m).amax() <= 1e-9 * m.amax(), "{n}: mean");
-            assert!(
-                (fast.1 - p).amax() <= 1e-9 * (1.0 + p.amax()),
-                "{n}: covariance"
-            );
-            // the lane sums from the transposed copy (the serial filter's form; the short
-            // last block's padding holds garbage): the same bits on both paths, the same
-            // moments to rounding level
-            let mut soa =
-                vec![[[f64::NAN; super::super::BLOCK]; 6]; n.div_ceil(super::super::BLOCK)];
-            super::super::transpose_into(&x, &mut soa);
-            let lanes = super::super::unit_moments_soa(&r, &soa, n).finish();
-            let lanes_base =
-                simd::with_baseline(|| super::super::unit_moments_soa(&r, &soa, n)).finish();
-            assert!(
-                lanes.0 == lanes_base.0 && lanes.1 == lanes_base.1,
-                "{n}: bits"
-            );
-            assert!((lanes.0 - m).amax() <= 1e-9 * m.amax(), "{n}: lane mean");
-            assert!(
-                (lanes.1 - p).amax() <= 1e-9 * (1.0 + p.amax()),
-                "{n}: lane covariance"
-            );
         }
     }
 

@@ -101,6 +101,7 @@ use super::{
     bandwidth, chol, psd_sqrt, Kernel, LaneSums, Likelihood, MomentLanes, Moments, ParticleFilter,
     BLOCK, N,
 };
+use crate::numerics::moments::unit_moments;
 use crate::numerics::symmetrize;
 use crate::numerics::vexp::exp_nonpos;
 use crate::numerics::ziggurat::{Lanes, Ziggurat, LANES};
@@ -593,7 +594,7 @@ impl Jitter {
     /// are also stored there, transposed, and the moments of the moved set (weight one
     /// each, about `reference`) are formed from them after the loop ([`LaneSums`], each
     /// group's sums in registers for the whole run); without it particle by particle from
-    /// `x` ([`super::genetic::unit_moments`], the same sums as the GA-PF's parallel path).
+    /// `x` ([`unit_moments`], the same sums as the GA-PF's parallel path).
     /// (Accumulated in the block loop, the lane sums broke the vectorisation of the block
     /// code: measured.) Inlined into [`ParticleFilter::regularise`]'s
     /// [`crate::numerics::simd::dispatch_v3`].
@@ -651,7 +652,7 @@ impl Jitter {
             Some(s) if s.len() * BLOCK >= n => {
                 LaneSums::of_soa::<false>(reference, s, n, &[]).finish(reference, n as f64)
             }
-            _ => super::genetic::unit_moments(x, reference),
+            _ => unit_moments(x, reference),
         }
     }
 }
