@@ -9,7 +9,7 @@
 
 use crate::dynamics::DiscreteModel;
 use crate::sensors::{GeometryError, MeasurementModel};
-use crate::types::{Mat3, Mat6, State, Vec3};
+use crate::types::{Mat6, State, Vec3};
 
 pub mod aqukf;
 mod covariance;
@@ -116,6 +116,7 @@ pub(crate) fn check_update_predict<F: Estimator + Clone + PartialEq + std::fmt::
     ) -> Result<UpdateInfo, FilterError>,
 ) {
     use crate::dynamics::{CwModel, Discretization};
+    use crate::types::Mat3;
     let sensor =
         crate::sensors::RadioSensor::new(crate::frames::Frame::AlongRadialAntinormal, 0.5, 1.7e-4);
     let model = CwModel::new(std::f64::consts::TAU / 7200.0);

@@ -9,7 +9,7 @@
 
 use super::lanes::{add4, mul4, L4};
 use super::simd;
-use super::soa::{transpose_into, BLOCK};
+use super::soa::BLOCK;
 use crate::types::{Mat6, State};
 
 /// Components per particle.
@@ -598,6 +598,7 @@ pub(crate) fn unit_moments_soa(reference: &State, soa: &[[[f64; BLOCK]; N]], n: 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::numerics::soa::transpose_into;
     use rand::SeedableRng;
 
     /// Merged partial moments equal the one-pass moments of the whole set.

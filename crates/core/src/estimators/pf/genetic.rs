@@ -92,126 +92,23 @@
 //! unchanged; the log ratios are summed in another order, so the particles move from before
 //! at rounding level.
 
-use super::{bandwidth, psd_sqrt, Kernel, Likelihood, ParticleFilter, PfRng, BLOCK};
+pub use super::params::{CloudParams, GeneticParams};
+
+use super::likelihood::Likelihood;
+use super::params::{bandwidth, Kernel};
+use super::rng::PfRng;
+use super::ParticleFilter;
+use crate::numerics::eigen::psd_sqrt;
 use crate::numerics::moments::unit_moments;
+use crate::numerics::moments::unit_moments_soa;
 use crate::numerics::simd;
+use crate::numerics::soa::{transpose_into, BLOCK};
 use crate::numerics::vexp::exp_nonpos;
 use crate::numerics::ziggurat::{Lanes, Ziggurat, LANES};
 use crate::sensors::MeasurementModel;
 use crate::types::{Mat6, State};
 use rand::RngCore;
 use std::cell::OnceCell;
-
-/// GA-PF operators.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct GeneticParams {
-    /// Crossover probability of a pair, in [0, 1].
-    pub crossover: f64,
-    /// Mutation probability of a particle, in [0, 1] (default 0.5: with 0.1 the velocities
-    /// stay impoverished on paper 000, 13.9 m off against 0.40 m).
-    pub mutation: f64,
-    /// Mutation step over the Gaussian kernel's optimal bandwidth (> 0).
-    pub mutation_scale: f64,
-}
-
-impl Default for GeneticParams {
-    fn default() -> Self {
-        Self {
-            crossover: 0.8,
-            mutation: 0.5,
-            mutation_scale: 1.0,
-        }
-    }
-}
-
-impl GeneticParams {
-    /// Check the settings.
-    pub fn validate(&self) -> Result<(), String> {
-        prob("genetic crossover probability", self.crossover)?;
-        prob("genetic mutation probability", self.mutation)?;
-        positive("genetic mutation_scale", self.mutation_scale)
-    }
-}
-
-/// Cloud-genetic operators of the CGA-PF (paper 003).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct CloudParams {
-    /// Entropy divisor of the adaptive probabilities, `En = (f_max - f_avg) / c1`.
-    pub c1: f64,
-    /// Hyper-entropy divisor of the adaptive probabilities, `He = En / c2`.
-    pub c2: f64,
-    /// Mutation entropy divisor, `En = range / c3` (paper: 3..6).
-    pub c3: f64,
-    /// Mutation hyper-entropy divisor, `He = En / c4` (paper: 3..5).
-    pub c4: f64,
-    /// Certainty of the least fit particle (paper: 0.2).
-    pub mu_min: f64,
-    /// Certainty of the fittest particle (paper: 0.95).
-    pub mu_max: f64,
-    /// Largest crossover probability `k_c`.
-    pub k_crossover: f64,
-    /// Largest mutation probability `k_m`.
-    pub k_mutation: f64,
-    /// Rounds of crossover and mutation per resampling (>= 1).
-    pub generations: usize,
-}
-
-impl Default for CloudParams {
-    fn default() -> Self {
-        Self {
-            c1: 3.0,
-            c2: 10.0,
-            c3: 4.0,
-            c4: 4.0,
-            mu_min: 0.2,
-            mu_max: 0.95,
-            k_crossover: 0.8,
-            k_mutation: 0.2,
-            generations: 3,
-        }
-    }
-}
-
-impl CloudParams {
-    /// Check the settings.
-    pub fn validate(&self) -> Result<(), String> {
-        positive("cloud c1", self.c1)?;
-        positive("cloud c2", self.c2)?;
-        positive("cloud c3", self.c3)?;
-        positive("cloud c4", self.c4)?;
-        if !(self.mu_min > 0.0 && self.mu_min <= self.mu_max && self.mu_max < 1.0) {
-            return Err(format!(
-                "cloud certainties need 0 < mu_min <= mu_max < 1 (got {}, {})",
-                self.mu_min, self.mu_max
-            ));
-        }
-        prob("cloud k_crossover", self.k_crossover)?;
-        prob("cloud k_mutation", self.k_mutation)?;
-        if self.generations == 0 || self.generations > 100 {
-            return Err(format!(
-                "cloud generations must lie in 1..=100 (got {})",
-                self.generations
-            ));
-        }
-        Ok(())
-    }
-}
-
-fn prob(name: &str, v: f64) -> Result<(), String> {
-    if (0.0..=1.0).contains(&v) {
-        Ok(())
-    } else {
-        Err(format!("{name} must lie in [0, 1] (got {v})"))
-    }
-}
-
-fn positive(name: &str, v: f64) -> Result<(), String> {
-    if v.is_finite() && v > 0.0 {
-        Ok(())
-    } else {
-        Err(format!("{name} must be finite and > 0 (got {v})"))
-    }
-}
 
 /// Lanes of a candidate block (one [`Ziggurat::fill_batch_lanes`] per component).
 const B: usize = BLOCK;
@@ -698,7 +595,7 @@ impl ParticleFilter {
     /// population in one pass and returns true (the summary is set); with `moves`, false
     /// (the rejuvenation sets it). Serially the population is transposed into `soa` (marked
     /// current: the next transition reads it there) and summed in lanes
-    /// ([`super::unit_moments_soa`]); in chunks particle by particle (`unit_moments`).
+    /// ([`unit_moments_soa`]); in chunks particle by particle (`unit_moments`).
     pub(super) fn genetic_moves<M: MeasurementModel>(
         &mut self,
         lik: &Likelihood<'_, M>,
@@ -771,12 +668,12 @@ impl ParticleFilter {
             return false;
         }
         let n = self.x.len();
-        let mom = if !self.chunked() && self.soa.len() * super::BLOCK >= n {
+        let mom = if !self.chunked() && self.soa.len() * BLOCK >= n {
             // the moved population transposed: its moments from the lanes, and the next
             // transition's input (no transposition there)
-            super::transpose_into(&self.x, &mut self.soa);
+            transpose_into(&self.x, &mut self.soa);
             self.soa_fresh = true;
-            super::unit_moments_soa(&self.mean, &self.soa, n)
+            unit_moments_soa(&self.mean, &self.soa, n)
         } else {
             unit_moments(&self.x, &self.mean)
         };

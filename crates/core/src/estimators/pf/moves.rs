@@ -96,12 +96,14 @@
 //! The GA-PF's and the CGA-PF's operators are Metropolis–Hastings moves for the same
 //! `pi` ([`super::genetic`]).
 
+use super::likelihood::Likelihood;
 use super::par::CHUNK;
-use super::{
-    bandwidth, chol, psd_sqrt, Kernel, LaneSums, Likelihood, MomentLanes, Moments, ParticleFilter,
-    BLOCK, N,
-};
-use crate::numerics::moments::unit_moments;
+use super::params::{bandwidth, Kernel};
+use super::{ParticleFilter, N};
+use crate::numerics::cholesky::chol;
+use crate::numerics::eigen::psd_sqrt;
+use crate::numerics::moments::{unit_moments, LaneSums, MomentLanes, Moments};
+use crate::numerics::soa::{block_to_rows, gather_to_block_in, BLOCK};
 use crate::numerics::symmetrize;
 use crate::numerics::vexp::exp_nonpos;
 use crate::numerics::ziggurat::{Lanes, Ziggurat, LANES};
@@ -589,7 +591,7 @@ impl Jitter {
 
     /// The plain RPF's loop over a run of particles, block by block: the block's kernel
     /// steps ([`Jitter::block`]), the particles transposed in, moved and transposed out
-    /// once (out by [`super::block_to_rows`]' shuffles with the v3 token `v3`); lanes
+    /// once (out by [`block_to_rows`]' shuffles with the v3 token `v3`); lanes
     /// derived from `rng`. With `soa` (one block per [`BLOCK`] particles) the moved blocks
     /// are also stored there, transposed, and the moments of the moved set (weight one
     /// each, about `reference`) are formed from them after the loop ([`LaneSums`], each
@@ -601,7 +603,7 @@ impl Jitter {
     ///
     /// With `parents` `(src, idx)` particle `k` of `x` is written as `src[idx[k]]` moved
     /// (the resampling applied on the way: the parents gathered into the block by
-    /// [`super::gather_to_block_in`]' shuffles), else `x` is moved in place.
+    /// [`gather_to_block_in`]' shuffles), else `x` is moved in place.
     #[inline(always)]
     #[allow(clippy::needless_range_loop)] // index loops over fixed lanes: they vectorise
     fn run_inline(
@@ -621,7 +623,7 @@ impl Jitter {
             self.block::<true>(&mut lanes, rng, &mut e, &mut step);
             let block = b * BLOCK..b * BLOCK + xb.len();
             match parents.and_then(|(src, idx)| Some((src, idx.get(block)?))) {
-                Some((src, ib)) => super::gather_to_block_in(v3, src, ib, &mut xs),
+                Some((src, ib)) => gather_to_block_in(v3, src, ib, &mut xs),
                 None => {
                     // element copies: the shuffles measured worse here (inlined: +8 600
                     // instructions per RPF step; in a function of their own, whose call
@@ -639,7 +641,7 @@ impl Jitter {
                 }
             }
             // out by shuffles (with the token)
-            super::block_to_rows(v3, &xs, xb);
+            block_to_rows(v3, &xs, xb);
             if let Some(sb) = soa.as_deref_mut().and_then(|s| s.get_mut(b)) {
                 *sb = xs;
             }
@@ -691,8 +693,9 @@ fn epanechnikov_s(lanes: &mut Lanes) -> [f64; BLOCK] {
 #[cfg(test)]
 mod tests {
     use super::{epanechnikov_s, Jitter, Moments, BLOCK, N};
-    use crate::estimators::pf::{bandwidth, chol, Kernel, PfRng};
-    use crate::estimators::pf::{moments, weighted_sum};
+    use crate::estimators::pf::{bandwidth, Kernel, PfRng};
+    use crate::numerics::cholesky::chol;
+    use crate::numerics::moments::{moments, weighted_sum};
     use crate::numerics::simd::{dispatch_v3, with_baseline};
     use crate::numerics::ziggurat::Lanes;
     use crate::types::{Mat6, State};
