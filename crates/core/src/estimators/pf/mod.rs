@@ -115,6 +115,7 @@ mod par;
 mod params;
 mod persist;
 mod predict;
+mod regularise;
 pub mod resample;
 mod rng;
 #[cfg(test)]
