@@ -8,7 +8,7 @@
 //! [`lanes`] (fixed-length array arithmetic: [`lane_sum`], sums in sixteen lanes, for the
 //! particle weights), `cholesky` (small Cholesky factors on the stack), `soa` (particles
 //! transposed to structure-of-arrays blocks and back), `moments` (weighted first and
-//! second moments of 6-vectors, in lanes) and [`symmetrize`]. Lives below its users;
+//! second moments of 6-vectors, in lanes) and `symmetrize`. Lives below its users;
 //! imports nothing from them.
 
 #[cfg(feature = "hinf")]

@@ -42,7 +42,8 @@ pub fn wrap_2pi(a: f64) -> f64 {
 }
 
 /// The sines and cosines of a measurement's azimuth (component 1) and elevation
-/// (component 2), formed once per measurement for [`MeasurementModel::residual_at`].
+/// (component 2), formed once per measurement for
+/// [`MeasurementModel::residual_at`](super::MeasurementModel::residual_at).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AngleTrig {
     /// `(sin z_1, cos z_1)`

@@ -1,9 +1,9 @@
 //! Radio (or lidar) sensor: range, azimuth and elevation of the chaser relative to the
-//! target, expressed in a chosen [`Frame`] (paper 000, sec. 2 "measurement model"; the
-//! digest's erratum: use `atan2(y, x)`, not `arctan(y / x)`).
+//! target, expressed in a chosen [`Frame`](crate::frames::Frame) (paper 000, sec. 2
+//! "measurement model"; the digest's erratum: use `atan2(y, x)`, not `arctan(y / x)`).
 //!
 //! With `p = T r` the relative position in the measurement frame (`T` from
-//! [`Frame::rotation`], `r` canonical):
+//! [`Frame::rotation`](crate::frames::Frame::rotation), `r` canonical):
 //!
 //! ```text
 //! rho   = |p|

@@ -22,7 +22,7 @@ fn exp_weights(w: &mut [f64], logw: &[f64], max: f64) {
 
 /// The normalisation's exponentials and the weighted moments in one pass over a run of
 /// particles: `w_i = exp(l_i - max)` (0 for a NaN `l_i`: the bits of
-/// [`resample::normalize_log_weights`] before its division), their sum in sixteen lanes
+/// [`super::resample::normalize_log_weights`] before its division), their sum in sixteen lanes
 /// ([`lane_sum`]: its bits too) and the [`Moments`] about `reference` with the weights `w_i`
 /// ([`PointSums`]: each sum, the moments' weight sum included, one chain in particle order,
 /// at rounding level from the lanes'). The exponentials

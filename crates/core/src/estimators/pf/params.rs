@@ -115,7 +115,7 @@ pub struct PfParams {
     /// filters (paper 000's SIR, the plain RPF, van der Merwe's UPF), which degenerate
     /// with small process noise.
     pub moves: bool,
-    /// Worker threads of the particle loops from [`PARALLEL_MIN_PARTICLES`] particles on:
+    /// Worker threads of the particle loops from [`super::PARALLEL_MIN_PARTICLES`] particles on:
     /// 0 (default) rayon's global pool (one per core), 1 the calling thread, more a pool of
     /// the filter's own. The results do not depend on it.
     pub threads: usize,

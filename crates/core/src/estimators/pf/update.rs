@@ -475,7 +475,7 @@ impl ParticleFilter {
         })
     }
 
-    /// The unscented kinds' first update from the Gaussian prior ([`PfInit::Prior`]):
+    /// The unscented kinds' first update from the Gaussian prior ([`super::PfInit::Prior`]):
     /// one UKF posterior of the prior, every particle drawn from it.
     fn propose_from_prior<M: MeasurementModel>(
         &mut self,
