@@ -193,7 +193,7 @@ fn observer_design_reduces_to_the_paper_result() {
 }
 
 /// The designs with the filter matrices eliminated (`design_paper`, `design_observer_sdp`;
-/// `src/hinf/design.rs`, "Elimination of the filter matrices") against the literal SDPs in
+/// `src/hinf/design/mod.rs`, "Elimination of the filter matrices") against the literal SDPs in
 /// all variables: the same certified gamma to 1e-4 relative, both LMIs checked with
 /// nalgebra. The eliminated one may only be less conservative (its margins sit on the
 /// smaller LMIs), never above the literal one's gamma by more than the solver tolerance.

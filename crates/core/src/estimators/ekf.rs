@@ -14,13 +14,12 @@
 //!
 //! Both covariance products use the CW structure (issue 15): `Phi` is block diagonal in
 //! the in-plane and out-of-plane components and `H = [H_r 0]` has zero velocity columns
-//! (`propagate_covariance`, `joseph_update` in the module `estimators`).
+//! (`propagate_covariance`, `joseph_update` in the module `estimators::covariance`).
 
-use super::{
-    chol3, finite, joseph_update, propagate_covariance, time_update, Estimator, FilterError,
-    UpdateInfo,
-};
+use super::covariance::{joseph_update, propagate_covariance, time_update};
+use super::{finite, Estimator, FilterError, UpdateInfo};
 use crate::dynamics::DiscreteModel;
+use crate::numerics::cholesky::chol3;
 use crate::numerics::state::{Persist, Reader, StateError, Writer};
 use crate::sensors::MeasurementModel;
 use crate::types::{Mat3, Mat6, Mat63, State, Vec3};

@@ -40,9 +40,10 @@
 //! prediction works on a copy of the modes on the stack and commits only on success, so a
 //! failed step changes nothing.
 
-use super::{finite, symmetrize, Ekf, Estimator, FilterError, UpdateInfo};
+use super::{finite, Ekf, Estimator, FilterError, UpdateInfo};
 use crate::dynamics::{CwModel, DiscreteModel};
 use crate::numerics::state::{refuse, Persist, Reader, StateError, Writer};
+use crate::numerics::symmetrize;
 use crate::sensors::MeasurementModel;
 use crate::types::{Mat3, Mat6, State, Vec3};
 

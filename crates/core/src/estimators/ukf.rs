@@ -29,11 +29,12 @@
 //! plus `Q` and stays positive definite; small `alpha` (1e-3, common in textbooks) gives
 //! `Wc_0 ~ -1e6` and loses about twelve digits of the covariance for this problem.
 
-use super::{
-    finite, propagate_covariance, symmetrize, time_update, Estimator, FilterError, UpdateInfo,
-};
+use super::covariance::{propagate_covariance, time_update};
+use super::{finite, Estimator, FilterError, UpdateInfo};
 use crate::dynamics::DiscreteModel;
+use crate::numerics::cholesky::{self, chol3_lane, dot3, forward_lane, lower6, outer6};
 use crate::numerics::state::{Persist, Reader, StateError, Writer};
+use crate::numerics::symmetrize;
 use crate::sensors::{AngleTrig, GeometryError, MeasurementModel, SevenBlock};
 use crate::types::{Mat3, Mat6, Mat63, State, Vec3};
 use nalgebra::{SMatrix, SVector};
@@ -176,7 +177,7 @@ impl Ukf {
         // the closed-form 3 x 3 factor, inlined (nalgebra's generic factor and solves are
         // out-of-line calls from the navigator's step, whose copies were a third of the
         // UKF's FMU cycle overhead: issue 15)
-        let chol = super::chol3(&pzz).ok_or(FilterError::NotPositiveDefinite(
+        let chol = cholesky::chol3(&pzz).ok_or(FilterError::NotPositiveDefinite(
             "innovation covariance Pzz",
         ))?;
         // `K = Pxz Pzz^-1`, row by row (`Pzz` is symmetric)
@@ -486,51 +487,6 @@ impl<const B: usize> Default for WhitenedBlock<B> {
     }
 }
 
-/// [`chol3`] on one lane without a branch: `(l00, l10, l20, l11, l21, l22)`, the
-/// reciprocals of the diagonal and whether `chol3` would have succeeded (every pivot
-/// positive, every entry finite). The same operations in the same order, so the same bits
-/// where it succeeds.
-#[inline(always)]
-fn chol3_lane(a: [f64; 6]) -> ([f64; 6], [f64; 3], bool) {
-    let d0 = a[0];
-    let l00 = d0.sqrt();
-    let i0 = 1.0 / l00;
-    let l10 = a[1] * i0;
-    let l20 = a[2] * i0;
-    let d1 = a[3] - l10 * l10;
-    let l11 = d1.sqrt();
-    let i1 = 1.0 / l11;
-    let l21 = (a[4] - l20 * l10) * i1;
-    let d2 = a[5] - l20 * l20 - l21 * l21;
-    let l22 = d2.sqrt();
-    let i2 = 1.0 / l22;
-    let ok = (d0 > 0.0)
-        & (d1 > 0.0)
-        & (d2 > 0.0)
-        & l00.is_finite()
-        & l11.is_finite()
-        & l22.is_finite()
-        & l10.is_finite()
-        & l20.is_finite()
-        & l21.is_finite();
-    ([l00, l10, l20, l11, l21, l22], [i0, i1, i2], ok)
-}
-
-/// `Chol3::forward` on one lane: `y = L^-1 b` with `l` and `inv` from [`chol3_lane`].
-#[inline(always)]
-fn forward_lane(l: &[f64; 6], inv: &[f64; 3], b: [f64; 3]) -> [f64; 3] {
-    let y0 = b[0] * inv[0];
-    let y1 = (b[1] - l[1] * y0) * inv[1];
-    let y2 = (b[2] - l[2] * y0 - l[4] * y1) * inv[2];
-    [y0, y1, y2]
-}
-
-/// nalgebra's `Vector3::dot`: `(a0 b0 + a1 b1) + a2 b2`.
-#[inline(always)]
-fn dot3(a: &[f64; 3], b: &[f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
 impl SharedPrior {
     /// [`SharedPrior::update`] of a block of states at once (`c[k][i]` component `k` of
     /// state `i`'s position; the velocities do not enter) in structure-of-arrays form,
@@ -653,42 +609,14 @@ impl WhitenedUpdate {
     }
 }
 
-/// The lower triangle of the symmetric `d d^T`, in the order `(00, 10, 20, 11, 21, 22)` of
-/// [`lower6`] (the innovation covariance's sums over the sigma points).
-#[inline(always)]
-fn outer6(d: &[f64; 3]) -> [f64; 6] {
-    [
-        d[0] * d[0],
-        d[0] * d[1],
-        d[0] * d[2],
-        d[1] * d[1],
-        d[1] * d[2],
-        d[2] * d[2],
-    ]
-}
-
-/// The lower triangle of `m`, `(m00, m10, m20, m11, m21, m22)`: the packed form of the
-/// shared-prior updates' symmetric 3 x 3 matrices.
-#[inline(always)]
-pub(crate) fn lower6(m: &Mat3) -> [f64; 6] {
-    [
-        m[(0, 0)],
-        m[(1, 0)],
-        m[(2, 0)],
-        m[(1, 1)],
-        m[(2, 1)],
-        m[(2, 2)],
-    ]
-}
-
 /// The Cholesky factor of the symmetric 3 x 3 matrix with lower triangle `(a00, a10,
-/// a20, a11, a21, a22)` ([`super::chol3`]); `None` unless positive definite (NaN included)
+/// a20, a11, a21, a22)` ([`cholesky::chol3`]); `None` unless positive definite (NaN included)
 /// with a finite factor.
-fn chol3(a: &[f64; 6]) -> Option<super::Chol3> {
-    super::chol3(&Mat3::new(
+fn chol3(a: &[f64; 6]) -> Option<cholesky::Chol3> {
+    cholesky::chol3(&Mat3::new(
         a[0], a[1], a[2], a[1], a[3], a[4], a[2], a[4], a[5],
     ))
-    .filter(super::Chol3::is_finite)
+    .filter(cholesky::Chol3::is_finite)
 }
 
 impl Ukf {
@@ -707,8 +635,8 @@ impl Ukf {
         // `measurement_update` with the factor written out (`chol6`, the same bits): inlined
         // into the navigator's step, nalgebra's factorisation stays an out-of-line call with
         // copies in and out (168 instructions per FMU cycle, measured)
-        let l =
-            super::chol6(&self.p).ok_or(FilterError::NotPositiveDefinite("state covariance P"))?;
+        let l = cholesky::chol6(&self.p)
+            .ok_or(FilterError::NotPositiveDefinite("state covariance P"))?;
         let (x, p, info) =
             self.measurement_update_factored(&self.x, &self.p, &l, sensor, &sensor.noise_cov(), z)?;
         // the time update of `Estimator::predict`, from the uncommitted update

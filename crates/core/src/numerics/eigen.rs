@@ -20,6 +20,9 @@ use nalgebra::{
     SymmetricEigen, SVD, U1,
 };
 
+use super::symmetrize;
+use crate::types::Mat6;
+
 /// Iteration cap per dimension. The implicit QR sweeps converge in two to three sweeps
 /// per eigenvalue on finite input; 64 per dimension only ever stops a non-converging case.
 pub const MAX_SWEEPS_PER_DIM: usize = 64;
@@ -74,6 +77,14 @@ pub fn singular_values(m: &DMatrix<Complex<f64>>) -> Option<DVector<f64>> {
     SVD::try_new(m.clone(), false, false, f64::EPSILON, cap(n))
         .map(|s| s.singular_values)
         .filter(|sv| sv.iter().all(|v| v.is_finite()))
+}
+
+/// Symmetric square root of a PSD matrix (negative rounding eigenvalues clipped); `None`
+/// when `q` is not finite or the (iteration-capped) eigensolver does not converge.
+pub(crate) fn psd_sqrt(q: &Mat6) -> Option<Mat6> {
+    let e = symmetric_eigen(symmetrize(q))?;
+    let d = e.eigenvalues.map(|v| v.max(0.0).sqrt());
+    Some(e.eigenvectors * Mat6::from_diagonal(&d) * e.eigenvectors.transpose())
 }
 
 #[cfg(test)]
