@@ -6,7 +6,7 @@
 use crate::status::Status;
 use std::ffi::CStr;
 
-/// A binding's part of an instance (FMI 2.0: [`crate::fmi2::Logger`]).
+/// A binding's part of an instance (FMI 2.0: `fmi2::Logger`).
 pub trait Binding {
     /// The call that ends initialisation (from then on the parameters are fixed).
     const EXIT_INITIALIZATION: &'static str;

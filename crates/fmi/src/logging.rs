@@ -1,6 +1,5 @@
 //! Log categories: the instance decides what is sent (errors always; the other categories
-//! when logging is on and the category enabled), the binding how
-//! ([`crate::binding::Binding::log`]).
+//! when logging is on and the category enabled), the binding how (`Binding::log`).
 
 /// Logging categories, in the order declared in the model description. The first is always
 /// sent.

@@ -1,7 +1,7 @@
 //! The states of an instance's life cycle, shared by the bindings: each FMI version's
 //! state machine maps onto them (FMI 2.0 co-simulation: the same five states; FMI 3.0
 //! co-simulation: its Step Mode is [`ModelState::StepComplete`]). Each binding keeps, per
-//! function, the mask of the states it is allowed in ([`crate::instance::FmuInstance::require`]).
+//! function, the mask of the states it is allowed in (`FmuInstance::require`).
 //!
 //! The codes are bit flags (for the masks) and are written into saved FMU states
 //! (`docs/state-format.md`), so they never change; a state a later binding needs (FMI 3.0's

@@ -2,13 +2,13 @@
 //! `model.h`, for every FMI version: a model is its static [`ModelInfo`] (identifier,
 //! description, variable table, default experiment) and a [`Model`] implementation (early
 //! parameter checks, the outputs before initialisation, initialise, step, reset, its
-//! dynamic state as bytes). The instance ([`crate::instance`]) keeps the value of every
+//! dynamic state as bytes). The instance (`instance.rs`) keeps the value of every
 //! variable in one array indexed by value reference and does the typed get/set by value
 //! reference itself, driven by the table: start values, type classes, causality and
 //! code-list checks are the same for every model, so no model writes a dispatch. A model
 //! reads its parameters and inputs from that array and writes its outputs into it.
 //!
-//! Nothing here is specific to an FMI version; the bindings ([`crate::fmi2`]) call it.
+//! Nothing here is specific to an FMI version; the bindings (`fmi2/`) call it.
 
 use crate::variables::VarDef;
 use std::sync::OnceLock;

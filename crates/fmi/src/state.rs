@@ -12,7 +12,7 @@
 //! is checked the same way.
 //!
 //! What a restore brings back and what it refuses is the instance's
-//! ([`crate::instance::FmuInstance::restore_state`]); this module writes the bytes
+//! (`FmuInstance::restore_state`); this module writes the bytes
 //! ([`encode`]) and checks everything that does not depend on the restoring instance
 //! ([`decode`]): truncated or over-long bytes, a CRC-32 mismatch, another magic or format
 //! version, another FMU's GUID, a header that disagrees with the parameters it carries, a
