@@ -7,7 +7,9 @@ use crate::identity::{vr, INFO, N_VARS, VARIABLES};
 use crate::params::config_of;
 use relnav_core::estimators::{AdaptiveQ, AqParams, ImmParams, MAX_MODES};
 use relnav_core::hinf::{DesignRoute, HinfDesignInfo};
-use relnav_core::nav::{FilterKind, HinfDesignKind, NavConfig, NavError, Navigator};
+use relnav_core::nav::{
+    FilterKind, HinfDesignKind, NavConfig, NavError, Navigator, MEAN_MOTION_RANGE,
+};
 use relnav_core::types::Vec3;
 use relnav_fmi::model::{Model, ModelInfo};
 use relnav_fmi::variables::VarDef;
@@ -23,15 +25,15 @@ pub struct RelnavFmu {
 
 /// Parameters whose valid values depend on another parameter, with that partner set to
 /// its most permissive value for [`RelnavFmu::check_alone`]:
-/// * `hinf_period` must satisfy `mean_motion * hinf_period <= 0.5`, and the smallest
-///   `mean_motion` the library accepts is 1e-9 rad/s (`nav::MEAN_MOTION_RANGE`, checked by
-///   a test), so only periods that no orbit admits are refused before initialisation ends;
+/// * `hinf_period` must satisfy `mean_motion * hinf_period <= 0.5`; with the smallest
+///   `mean_motion` the library accepts (`MEAN_MOTION_RANGE`, 1e-9 rad/s) only periods that
+///   no orbit admits are refused before initialisation ends;
 /// * `hinf_b_pos` and `hinf_b_vel` are set together (both > 0) or derived together (both
 ///   0): the partner takes the value's kind (1 for a positive value, else 0).
 fn permissive_partner(vr_: u32, value: f64) -> Option<(u32, f64)> {
     let same_kind = if value > 0.0 { 1.0 } else { 0.0 };
     match vr_ {
-        vr::HINF_PERIOD => Some((vr::MEAN_MOTION, 1e-9)),
+        vr::HINF_PERIOD => Some((vr::MEAN_MOTION, MEAN_MOTION_RANGE.0)),
         vr::HINF_B_POS => Some((vr::HINF_B_VEL, same_kind)),
         vr::HINF_B_VEL => Some((vr::HINF_B_POS, same_kind)),
         _ => None,
@@ -475,11 +477,16 @@ mod tests {
     /// accepts, so the early check refuses only periods no orbit admits.
     #[test]
     fn permissive_partner_is_the_library_bound() {
-        assert_eq!(
-            permissive_partner(vr::HINF_PERIOD, 1.0),
-            Some((vr::MEAN_MOTION, relnav_core::nav::MEAN_MOTION_RANGE.0))
-        );
         let lookup = |r: u32| VARIABLES.get(r as usize);
+        // the partner of hinf_period is a mean motion the library accepts, and no smaller
+        // one is accepted
+        let Some((partner, loose)) = permissive_partner(vr::HINF_PERIOD, 1.0) else {
+            panic!("hinf_period has a partner")
+        };
+        assert_eq!(partner, vr::MEAN_MOTION);
+        let mean_motion = lookup(partner).unwrap();
+        assert!(RelnavFmu::check_alone(mean_motion, loose).is_ok());
+        assert!(RelnavFmu::check_alone(mean_motion, loose * 0.99).is_err());
         for (a, b) in [(vr::HINF_B_POS, 0.05), (vr::HINF_B_VEL, 0.001)] {
             assert_eq!(
                 lookup(a).map(|d| RelnavFmu::check_alone(d, b).is_ok()),
