@@ -5,7 +5,7 @@
 //! parameters and inputs into outputs ([`crate::model`]), as the Reference-FMUs keep
 //! `model.c` apart from `cosimulation.c` and `fmi2Functions.c`.
 //!
-//! Nothing here depends on an FMI version: a binding ([`crate::fmi2`]) converts the C
+//! Nothing here depends on an FMI version: a binding (`fmi2/`) converts the C
 //! arguments, passes the name of its function (messages name the call the master made)
 //! and the mask of the states that function is allowed in, and converts the [`Status`]
 //! back.

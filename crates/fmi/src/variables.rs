@@ -31,8 +31,8 @@ pub enum Variability {
 /// Declared in `modelDescription.xml` as an FMI **Integer** with `min`/`max` and the
 /// codes with their names in the description, not as an FMI Enumeration: libcosim
 /// ignores Enumeration variables and Ecos drops them (`../shared/docs/fmi-masters.md`),
-/// so an Enumeration could be set from fmpy only. A code outside the list is refused at
-/// `fmi2SetInteger`.
+/// so an Enumeration could be set from fmpy only. A code outside the list is refused when
+/// it is set.
 #[derive(Debug)]
 pub struct EnumType {
     /// Name of the list (the README's code table and error messages).
@@ -96,16 +96,16 @@ pub struct VarDef {
     pub description: &'static str,
 }
 
-/// The FMI base type class a `fmi2Get*` / `fmi2Set*` function reads or writes: Real,
-/// Integer (Integer variables and codes), Boolean.
+/// The base type class a typed get or set reads or writes (each FMI version has one get
+/// and one set function per class: FMI 2.0's `fmi2GetReal`, `fmi2SetInteger`, ...).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[repr(u8)]
 pub enum TypeClass {
-    /// `fmi2GetReal` / `fmi2SetReal`.
+    /// Real (64-bit float).
     Real = 1,
-    /// `fmi2GetInteger` / `fmi2SetInteger` (Integer and code variables).
+    /// Integer (32-bit; Integer and code variables).
     Integer = 2,
-    /// `fmi2GetBoolean` / `fmi2SetBoolean`.
+    /// Boolean.
     Boolean = 3,
 }
 
