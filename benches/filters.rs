@@ -12,11 +12,17 @@ use relnav_core::estimators::{Aqukf, Ekf, Estimator, Imm, Ukf, UkfParams};
 use relnav_core::nav::{FilterKind, NavConfig, Navigator};
 use relnav_core::sensors::RadioSensor;
 use relnav_core::types::{Mat3, Mat6, State, Vec3};
-use relnav_fmi::description::guid;
-use relnav_fmi::functions::*;
-use relnav_fmi::types::*;
-use relnav_fmi::variables::vr;
+use relnav_fmi::fmi2::types::*;
+use relnav_nav_model::vr;
 use std::hint::black_box;
+
+// relnav.fmu's fmi2* functions in this binary, as the FMU's shared library exports them
+relnav_fmi::export_fmi2!(relnav_nav_model::RelnavFmu);
+
+/// relnav.fmu's GUID.
+fn guid() -> &'static str {
+    relnav_fmi::fmi2::description::guid_of(&relnav_nav_model::INFO)
+}
 
 const STEPS: usize = 600;
 

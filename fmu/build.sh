@@ -6,11 +6,10 @@
 #   relnav_guidance.fmu  the hold-point guidance law (fmu/guidance)
 #   relnav_system.ssp    the closed GNC loop of the three (fmu/ssp/*.ssd)
 #
-# (and each FMU unpacked in target/fmu/<id>/). The kit's cdylibs are built in their own
-# cargo invocation and profile (`kit`, Cargo.toml: release without LTO; output target/kit/):
-# cargo unifies a package's features within one invocation, and relnav-fmi's feature
-# `fmi-exports` (relnav.fmu's fmi2* symbols) must stay out of them. Extra arguments go to
-# cargo (e.g. -j2). Set CARGO_TARGET_DIR as usual.
+# (and each FMU unpacked in target/fmu/<id>/). One cargo invocation in the release profile
+# builds the three cdylibs and the packer `relnav-fmu` (fmu/pack): only the cdylibs export
+# fmi2* symbols, one model each. Extra arguments go to cargo (e.g. -j2). Set
+# CARGO_TARGET_DIR as usual.
 set -euo pipefail
 
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -19,9 +18,7 @@ if ! command -v cargo >/dev/null 2>&1 && [ -x "$HOME/.cargo/bin/cargo" ]; then
     PATH="$HOME/.cargo/bin:$PATH"
 fi
 
-cargo build --release -p relnav_fmu -p relnav-fmi --lib --bins "$@"
+cargo build --release -p relnav_fmu -p relnav_plant -p relnav_guidance -p relnav-fmu-pack "$@"
 TARGET="${CARGO_TARGET_DIR:-$ROOT/target}"
-cargo build --profile kit -p relnav_plant -p relnav_guidance "$@"
-# beside librelnav_fmu.so, where the packer looks
-cp "$TARGET/kit/librelnav_plant.so" "$TARGET/kit/librelnav_guidance.so" "$TARGET/release/"
+# the packer finds the cdylibs beside itself, in target/release/
 "$TARGET/release/relnav-fmu" --all

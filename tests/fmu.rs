@@ -5,11 +5,23 @@
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)] // test code
 
 use relnav as ffi;
-use relnav_fmi::description::{guid, model_description};
-use relnav_fmi::functions::*;
-use relnav_fmi::types::*;
-use relnav_fmi::variables::{vr, VARIABLES};
+use relnav_fmi::fmi2::description::model_description_of;
+use relnav_fmi::fmi2::types::*;
+use relnav_nav_model::{vr, INFO, VARIABLES};
 use std::ffi::CString;
+
+// relnav.fmu's fmi2* functions in this binary, as the FMU's shared library exports them
+relnav_fmi::export_fmi2!(relnav_nav_model::RelnavFmu);
+
+/// relnav.fmu's GUID.
+fn guid() -> &'static str {
+    relnav_fmi::fmi2::description::guid_of(&relnav_nav_model::INFO)
+}
+
+/// relnav.fmu's modelDescription.xml.
+fn model_description() -> &'static str {
+    model_description_of(&INFO)
+}
 
 const OK: fmi2Status = fmi2Status::fmi2OK;
 const ERR: fmi2Status = fmi2Status::fmi2Error;
@@ -404,7 +416,7 @@ fn variable_steps_and_status_queries() {
 /// every build of one commit. Checked against git's own date formatting.
 #[test]
 fn generation_date_is_the_commit_date() {
-    use relnav_fmi::description::GENERATION_DATE;
+    use relnav_fmi::fmi2::description::GENERATION_DATE;
     let date = GENERATION_DATE;
     assert!(
         model_description().contains(&format!(r#"generationDateAndTime="{date}""#)),
@@ -452,7 +464,7 @@ fn readme_variable_table_is_current() {
         .expect("docs/fmu.md lacks the variables:end marker");
     assert_eq!(
         readme.get(start..end).unwrap_or_default(),
-        relnav_fmi::description::variables_markdown(),
+        relnav_fmi::fmi2::description::variables_markdown_of(&INFO),
         "docs/fmu.md variable table is stale"
     );
 }
@@ -529,11 +541,34 @@ fn run_pf(
     (outs, ess)
 }
 
-fn last_error() -> String {
-    // SAFETY: relnav_last_error returns a valid NUL-terminated string.
-    unsafe { std::ffi::CStr::from_ptr(ffi::relnav_last_error()) }
-        .to_string_lossy()
-        .into_owned()
+/// The message relnav.fmu logs under `logStatusError` for the first refused set of
+/// `sets` (each through the `fmi2Set*` of its type), or, if none is refused, for the end
+/// of initialisation (empty if that succeeds): the same calls on an instance in Rust,
+/// whose refusal is what the binding logs (a Rust test cannot define FMI 2.0's C-variadic
+/// logger; the fmpy suite and the C++ harness check the logging itself).
+fn refusal(sets: &[(u32, f64)]) -> String {
+    use relnav_fmi::variables::TypeClass;
+    let mut inst = relnav_fmi::fmi2::Instance::<relnav_nav_model::RelnavFmu>::new(
+        c"t".into(),
+        relnav_fmi::fmi2::Logger::new(None, std::ptr::null_mut()),
+        false,
+        guid(),
+    );
+    for &(r, v) in sets {
+        let class = TypeClass::of(&VARIABLES[r as usize].ty);
+        let func = match class {
+            TypeClass::Real => "fmi2SetReal",
+            TypeClass::Integer => "fmi2SetInteger",
+            TypeClass::Boolean => "fmi2SetBoolean",
+        };
+        if let Err(e) = inst.set(r, v, func, class) {
+            return e.message;
+        }
+    }
+    inst.enter_initialization();
+    inst.exit_initialization()
+        .err()
+        .map_or_else(String::new, |e| e.message)
 }
 
 /// Codes 4-8 on paper 000's example (1500 particles, seeded noisy measurements, 120 s,
@@ -655,8 +690,8 @@ fn ess_output_of_kalman_and_particle_filters() {
 
 /// Bad particle-filter and noise parameters are refused when set (codes outside their
 /// lists, values invalid alone), a combination at fmi2ExitInitializationMode, with a
-/// message naming the parameter (the message the FMU logs under logStatusError comes from
-/// the C ABI's last error, checked here; the logging itself is checked by the fmpy suite).
+/// message naming the parameter (the message the FMU logs under logStatusError, checked
+/// here by [`refusal`]; the logging itself is checked by the fmpy suite).
 #[test]
 fn bad_particle_filter_parameters_are_refused() {
     let c = instantiate();
@@ -696,7 +731,7 @@ fn bad_particle_filter_parameters_are_refused() {
                 set_real(c, r, v)
             };
             assert_eq!(st, ERR, "{name} = {v} accepted (filter {filter})");
-            let msg = last_error();
+            let msg = refusal(&[(vr::FILTER, f64::from(filter)), (r, v)]);
             assert!(msg.contains(name), "{name} = {v}: message {msg:?}");
             assert_eq!(fmi2Reset(c), OK);
         }
@@ -714,7 +749,13 @@ fn bad_particle_filter_parameters_are_refused() {
                     assert_eq!(fmi2ExitInitializationMode(c), OK, "filter {filter}, Q = 0");
                 } else {
                     assert_eq!(fmi2ExitInitializationMode(c), ERR, "filter {filter}, Q = 0");
-                    assert!(last_error().contains("process noise"), "{}", last_error());
+                    let mut sets = vec![
+                        (vr::FILTER, f64::from(filter)),
+                        (vr::PF_MOVE, f64::from(u8::from(moves))),
+                    ];
+                    sets.extend((vr::Q_POS_X..=vr::Q_VEL_Z).map(|r| (r, 0.0)));
+                    let msg = refusal(&sets);
+                    assert!(msg.contains("process noise"), "{msg}");
                 }
                 assert_eq!(fmi2Reset(c), OK);
             }

@@ -4,13 +4,13 @@
 //! by the kit (value references and names of the table).
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-use relnav_fmi::description::{guid_of, model_description_of, variables_markdown_of};
+use relnav_fmi::fmi2::description::{guid_of, model_description_of, variables_markdown_of};
 use relnav_fmi::model::ModelInfo;
 
 fn kit() -> [(&'static ModelInfo, &'static str); 2] {
     [
-        (&relnav_fmi::plant::INFO, "plant"),
-        (&relnav_fmi::guidance::INFO, "guidance"),
+        (&relnav_models::plant::INFO, "plant"),
+        (&relnav_models::guidance::INFO, "guidance"),
     ]
 }
 
@@ -41,7 +41,7 @@ fn kit_doc_variable_tables_are_current() {
 /// its table at its value reference (and nothing of relnav's).
 #[test]
 fn kit_descriptions_are_their_own() {
-    let relnav_guid = relnav_fmi::description::guid();
+    let relnav_guid = guid_of(&relnav_nav_model::INFO);
     for (info, _) in kit() {
         let xml = model_description_of(info);
         let id = info.model_identifier;
@@ -70,7 +70,7 @@ fn kit_descriptions_are_their_own() {
 /// first ones of issue 1's table, spot-checked by name, and the table is still dense.
 #[test]
 fn relnav_value_references_are_unchanged() {
-    use relnav_fmi::variables::VARIABLES;
+    use relnav_nav_model::VARIABLES;
     let vr_of = |n: &str| VARIABLES.iter().find(|v| v.name == n).map(|v| v.vr);
     for (name, vr) in [
         ("filter", 0),
@@ -84,5 +84,5 @@ fn relnav_value_references_are_unchanged() {
     for (i, v) in VARIABLES.iter().enumerate() {
         assert_eq!(v.vr as usize, i, "{}", v.name);
     }
-    assert_eq!(relnav_fmi::relnav::INFO.model_identifier, "relnav");
+    assert_eq!(relnav_nav_model::INFO.model_identifier, "relnav");
 }

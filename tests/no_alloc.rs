@@ -7,12 +7,18 @@
 use relnav as ffi;
 use relnav_core::estimators::AdaptationLaw;
 use relnav_core::nav::{FilterKind, NavConfig, Navigator};
-use relnav_fmi::description::guid;
-use relnav_fmi::functions::*;
-use relnav_fmi::types::*;
-use relnav_fmi::variables::vr;
+use relnav_fmi::fmi2::types::*;
+use relnav_nav_model::vr;
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
+
+// relnav.fmu's fmi2* functions in this binary, as the FMU's shared library exports them
+relnav_fmi::export_fmi2!(relnav_nav_model::RelnavFmu);
+
+/// relnav.fmu's GUID.
+fn guid() -> &'static str {
+    relnav_fmi::fmi2::description::guid_of(&relnav_nav_model::INFO)
+}
 
 struct Counting;
 

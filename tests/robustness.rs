@@ -12,13 +12,19 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use relnav::*;
 use relnav_core::nav::{FilterKind, NavConfig, NavErrorKind, Navigator, MAX_STEP_PERIODS};
-use relnav_fmi::description::guid;
-use relnav_fmi::functions::*;
-use relnav_fmi::types::*;
-use relnav_fmi::variables::VARIABLES;
+use relnav_fmi::fmi2::types::*;
+use relnav_nav_model::VARIABLES;
 use std::ffi::{CStr, CString};
 use std::sync::mpsc;
 use std::time::Duration;
+
+// relnav.fmu's fmi2* functions in this binary, as the FMU's shared library exports them
+relnav_fmi::export_fmi2!(relnav_nav_model::RelnavFmu);
+
+/// relnav.fmu's GUID.
+fn guid() -> &'static str {
+    relnav_fmi::fmi2::description::guid_of(&relnav_nav_model::INFO)
+}
 
 /// Hang detector: run `f` on its own thread and fail when it has not returned within
 /// 10 s (a hung thread is left behind; the test fails either way).

@@ -34,12 +34,18 @@ use rand_chacha::ChaCha8Rng;
 use rand_distr::StandardNormal;
 use relnav::*;
 use relnav_core::types::{Mat6, State};
-use relnav_fmi::description::guid;
-use relnav_fmi::functions::*;
-use relnav_fmi::types::*;
-use relnav_fmi::variables::VARIABLES;
+use relnav_fmi::fmi2::types::*;
+use relnav_nav_model::VARIABLES;
 use std::ffi::CString;
 use std::time::Instant;
+
+// relnav.fmu's fmi2* functions in this binary, as the FMU's shared library exports them
+relnav_fmi::export_fmi2!(relnav_nav_model::RelnavFmu);
+
+/// relnav.fmu's GUID.
+fn guid() -> &'static str {
+    relnav_fmi::fmi2::description::guid_of(&relnav_nav_model::INFO)
+}
 
 const N: f64 = 2.0 * std::f64::consts::PI / 5400.0;
 const MASS: f64 = 1000.0;

@@ -16,13 +16,33 @@ use relnav_core::dynamics::CwModel;
 use relnav_core::nav::{FilterKind, NavConfig, NavErrorKind, Navigator, STATE_FORMAT_VERSION};
 use relnav_core::sensors::{MeasurementModel, RadioSensor};
 use relnav_core::types::Vec3;
-use relnav_fmi::description::guid;
-use relnav_fmi::functions::*;
-use relnav_fmi::instance::{Instance, Logger, ModelState};
+use relnav_fmi::fmi2::types::*;
+use relnav_fmi::fmi2::Logger;
+use relnav_fmi::machine::ModelState;
 use relnav_fmi::state::FMU_STATE_FORMAT_VERSION;
-use relnav_fmi::types::*;
-use relnav_fmi::variables::{vr, N_VARS, VARIABLES};
+use relnav_nav_model::{vr, N_VARS, VARIABLES};
 use std::ffi::{CStr, CString};
+
+// relnav.fmu's fmi2* functions in this binary, as the FMU's shared library exports them
+relnav_fmi::export_fmi2!(relnav_nav_model::RelnavFmu);
+
+/// relnav.fmu's GUID.
+fn guid() -> &'static str {
+    relnav_fmi::fmi2::description::guid_of(&relnav_nav_model::INFO)
+}
+
+/// What an `fmi2Component` of relnav.fmu points to.
+type Instance = relnav_fmi::fmi2::Instance<relnav_nav_model::RelnavFmu>;
+
+/// A fresh instance without a logger.
+fn instance() -> Instance {
+    Instance::new(
+        c"t".into(),
+        Logger::new(None, std::ptr::null_mut()),
+        false,
+        guid(),
+    )
+}
 
 const STEPS: usize = 30;
 /// Save points: before anything, after the first (initialising) update, mid-run, during a
@@ -1011,7 +1031,7 @@ fn fmu_refuses_bad_states() {
     assert!(b.deserialize(&good).is_ok());
 
     let reason =
-        |bytes: &[u8]| -> String { Instance::check_state(bytes, "test").unwrap_err().message };
+        |bytes: &[u8]| -> String { instance().check_state(bytes, "test").unwrap_err().message };
     let mut c = good.clone();
     c[12 + 5] ^= 1; // a GUID character
     reseal(&mut c, FMU_HEADER);
@@ -1040,7 +1060,7 @@ fn fmu_refuses_bad_states() {
     c[est_at + 40] ^= 1;
     reseal(&mut c, FMU_HEADER);
     let sc = b.deserialize(&c).unwrap();
-    let mut inst = Instance::new(c"t".into(), Logger::new(None, std::ptr::null_mut()), false);
+    let mut inst = instance();
     let m = inst
         .restore_state(&c, "fmi2SetFMUstate")
         .unwrap_err()
@@ -1049,7 +1069,7 @@ fn fmu_refuses_bad_states() {
     assert_eq!(inst.state, ModelState::Instantiated);
     assert_eq!(b.set_state(sc), FERR);
     // other parameters while stepping: the reason names the parameter
-    let mut inst = Instance::new(c"t".into(), Logger::new(None, std::ptr::null_mut()), false);
+    let mut inst = instance();
     inst.enter_initialization();
     inst.exit_initialization().unwrap();
     let m = inst

@@ -25,13 +25,20 @@
 
 use arbitrary::Arbitrary;
 use libfuzzer_sys::fuzz_target;
-use relnav_fmi::description::guid;
-use relnav_fmi::functions::*;
-use relnav_fmi::types::*;
-use relnav_fmi::variables::{VarType, VARIABLES};
+use relnav_fmi::fmi2::types::*;
+use relnav_fmi::variables::VarType;
 use relnav_fuzz::{damage, log_text, measure, same_bits, values3, Damage, Num, FMU_HEADER};
+use relnav_nav_model::VARIABLES;
 use std::cell::Cell;
 use std::ffi::{c_int, CStr, CString};
+
+// relnav.fmu's fmi2* functions in this binary, as the FMU's shared library exports them
+relnav_fmi::export_fmi2!(relnav_nav_model::RelnavFmu);
+
+/// relnav.fmu's GUID.
+fn guid() -> &'static str {
+    relnav_fmi::fmi2::description::guid_of(&relnav_nav_model::INFO)
+}
 
 thread_local! {
     /// Error messages logged since the last reset of the counter.

@@ -1,16 +1,16 @@
 //! Estimator parameters by their FMU names, driven by the one variable table
-//! (`relnav_fmi::variables::VARIABLES`): every variable of causality *parameter* is a
-//! keyword argument with the table's name, type, start value and description; the values
-//! become a configuration through the FMU's own mapping
-//! (`relnav_fmi::relnav::config_of`) and are validated by the library
-//! (`NavConfig::try_from`). A parameter appended to the table is therefore accepted here
-//! with nothing to change.
+//! (`relnav_nav_model::VARIABLES`): every variable of causality *parameter* is a keyword
+//! argument with the table's name, type, start value and description; the values become a
+//! validated configuration through the FMU's own mapping (`relnav_nav_model::config_of`,
+//! which converts through `NavConfig::try_from`). A parameter appended to the table is
+//! therefore accepted here with nothing to change.
 
 use crate::errors::{invalid, nav_error};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 use relnav_core::nav::NavConfig;
-use relnav_fmi::variables::{Causality, EnumType, VarDef, VarType, N_VARS, VARIABLES};
+use relnav_fmi::variables::{Causality, EnumType, VarDef, VarType};
+use relnav_nav_model::{N_VARS, VARIABLES};
 
 /// The table's parameters, in table order.
 pub fn parameters() -> impl Iterator<Item = &'static VarDef> {
@@ -225,8 +225,7 @@ pub fn values_from_kwargs(
 
 /// The validated library configuration of these values (the FMU's mapping).
 pub fn config(py: Python<'_>, values: &[f64; N_VARS]) -> PyResult<NavConfig> {
-    let c = relnav_fmi::relnav::config_of(values);
-    NavConfig::try_from(&c).map_err(|e| nav_error(py, e))
+    relnav_nav_model::config_of(values).map_err(|e| nav_error(py, e))
 }
 
 /// `relnav.parameters()`: one dict per parameter of the variable table, in table order.

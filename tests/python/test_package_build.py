@@ -1,7 +1,7 @@
 """How the Python package is built and installed: a wheel with its type information, and
-one compiled relnav-core (and relnav-eval, relnav-fmi) shared by the CLI/FMU build and the
-extension's build (the features of every crate both depend on are the same, so cargo builds
-it once: a full release compile less in CI)."""
+one compiled relnav-core (and relnav-eval, relnav-fmi, relnav-nav-model) shared by the
+CLI/FMU build and the extension's build (the features of every crate both depend on are the
+same, so cargo builds it once: a full release compile less in CI)."""
 
 from __future__ import annotations
 
@@ -34,7 +34,9 @@ def crate_features(*packages: str) -> dict:
 
 def test_cli_and_extension_builds_share_relnavs_dependencies():
     # what `cargo build --release` builds (the workspace's default members) and the extension
-    alone = crate_features("relnav", "relnav-core", "relnav-eval", "relnav-fmi")
+    alone = crate_features(
+        "relnav", "relnav-core", "relnav-eval", "relnav-fmi", "relnav-models", "relnav-nav-model", "relnav-fmu-pack"
+    )
     ext = crate_features("relnav-python")
     differ = {k: (alone[k], ext[k]) for k in alone if k in ext and alone[k] != ext[k]}
     assert any(name == "relnav-core" for name, _ in ext) and len(alone) > 50

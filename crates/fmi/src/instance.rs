@@ -1,140 +1,55 @@
-//! One FMU instance, generic over its [`Model`]: the values of the variable table, the
-//! call-order state machine, time, logging, and the checks every model shares (causality
-//! and state of a set, code lists, step times); the model itself only turns parameters and
-//! inputs into outputs ([`crate::model`]), like the Reference-FMUs keep `model.c` apart
-//! from `fmi2Functions.c`.
+//! One instance, generic over its [`Model`] and its [`Binding`]: all instance
+//! data in one struct (the value of every variable, the life-cycle state, time, logging
+//! switches, the FMU states handed out) and the checks every model shares (call order,
+//! causality and state of a set, code lists, step times, FMU states); the model only turns
+//! parameters and inputs into outputs ([`crate::model`]), as the Reference-FMUs keep
+//! `model.c` apart from `cosimulation.c` and `fmi2Functions.c`.
+//!
+//! Nothing here depends on an FMI version: a binding (`fmi2/`) converts the C
+//! arguments, passes the name of its function (messages name the call the master made)
+//! and the mask of the states that function is allowed in, and converts the [`Status`]
+//! back.
 
-use crate::description::LOG_CATEGORIES;
+use crate::binding::Binding;
+use crate::logging::{LOG_CALLS, LOG_CATEGORIES};
+use crate::machine::ModelState;
 use crate::model::Model;
-use crate::relnav::RelnavFmu;
-use crate::types::*;
-use crate::variables::{Causality, TypeClass, VarAccess, VarDef, VarType};
-use std::ffi::{c_int, CStr, CString};
+use crate::state::{decode, encode, Snapshot, StateRegistry};
+use crate::status::{error, Failure, Status};
+use crate::variables::{start_values, Causality, TypeClass, VarDef, VarType};
+use relnav_core::numerics::state::{refuse, StateError};
+use std::ffi::CString;
 
-/// States of the FMI 2.0 co-simulation state machine (bit flags for "allowed in" masks).
+/// What the get/set dispatch needs of one variable, derived from its [`VarDef`] (so the
+/// table stays the one source; [`access_of`]): its [`TypeClass`] and the states (bit mask
+/// of [`ModelState`]) in which a set may write it **directly**, with no other check and no
+/// other effect. That is an input after initialisation: parameters are checked by the
+/// model and a set before initialisation refreshes the initial outputs, which the full
+/// path does (the same rules and messages either way, only faster for the master's
+/// inputs).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[repr(u32)]
-pub enum ModelState {
-    /// After `fmi2Instantiate` or `fmi2Reset`.
-    Instantiated = 1,
-    /// Between enter and exit initialisation mode.
-    InitializationMode = 2,
-    /// Ready for `fmi2DoStep`.
-    StepComplete = 4,
-    /// After `fmi2Terminate`.
-    Terminated = 8,
-    /// After a call returned `fmi2Error`.
-    Error = 16,
+pub struct VarAccess {
+    /// Base type class.
+    pub class: TypeClass,
+    /// States in which a set is a plain store.
+    pub direct_set: u8,
 }
 
-/// Mask of every state.
-pub const ANY_STATE: u32 = 31;
-
-/// A failure inside an FMI call: status plus the message for the log.
-#[derive(Debug)]
-pub struct FmiFailure {
-    /// Status returned to the master.
-    pub status: fmi2Status,
-    /// Reason, logged under `logStatusError` (or `logStatusWarning`).
-    pub message: String,
-}
-
-/// Shorthand for an `fmi2Error` failure.
-pub fn error(message: String) -> FmiFailure {
-    FmiFailure {
-        status: fmi2Status::fmi2Error,
-        message,
+/// A variable's [`VarAccess`]: a set is direct for an input in a step, unless the input
+/// is a code (its list is checked).
+pub const fn access_of(def: &VarDef) -> VarAccess {
+    VarAccess {
+        class: TypeClass::of(&def.ty),
+        direct_set: match (def.causality, def.ty) {
+            (Causality::Input, VarType::Code(_)) => 0,
+            (Causality::Input, _) => ModelState::StepComplete as u8,
+            (Causality::Parameter | Causality::Output, _) => 0,
+        },
     }
 }
 
-/// The logger callback and its environment, copied at instantiation.
-#[derive(Clone, Copy)]
-pub struct Logger {
-    callback: fmi2CallbackLogger,
-    env: fmi2ComponentEnvironment,
-}
-
-impl Logger {
-    /// Wrap the master's callback (which may be absent).
-    pub fn new(callback: fmi2CallbackLogger, env: fmi2ComponentEnvironment) -> Self {
-        Self { callback, env }
-    }
-
-    /// Send one message. The logger's message is a `printf` format (FMI 2.0 sec. 2.1.5),
-    /// so the text itself is passed as the format with `%` escaped as `%%` and no
-    /// arguments: a master that formats shows the text, and one that prints the format
-    /// as it is still shows it (with `%%`). `#` is FMI's escape character (`#r12#` names a
-    /// variable) and is doubled. Messages are cut at [`MAX_LOG_CHARS`] characters (fmpy
-    /// formats into 2048 bytes), with ` ...` appended.
-    pub fn log(&self, instance: &CStr, status: fmi2Status, category: &str, msg: &str) {
-        let Some(cb) = self.callback else { return };
-        let Ok(cat) = CString::new(category) else {
-            return;
-        };
-        let Ok(text) = CString::new(escape_log_message(msg)) else {
-            return;
-        };
-        // SAFETY: the master gave us this callback for the lifetime of the instance; all
-        // strings are NUL-terminated and live across the call; the format contains no
-        // conversion (every `%` is doubled), so no variadic argument is read.
-        unsafe {
-            cb(
-                self.env,
-                instance.as_ptr(),
-                status as c_int,
-                cat.as_ptr(),
-                text.as_ptr(),
-            )
-        };
-    }
-}
-
-/// Longest message sent to the logger, in characters before escaping.
-pub const MAX_LOG_CHARS: usize = 1500;
-
-/// A log message as the logger's `printf` format: NULs dropped, cut at
-/// [`MAX_LOG_CHARS`] characters (` ...` appended), then `%` -> `%%` and `#` -> `##`.
-pub fn escape_log_message(msg: &str) -> String {
-    let mut out = String::with_capacity(msg.len() + 8);
-    for (i, c) in msg.chars().filter(|c| *c != '\0').enumerate() {
-        if i == MAX_LOG_CHARS {
-            out.push_str(" ...");
-            break;
-        }
-        match c {
-            '%' => out.push_str("%%"),
-            '#' => out.push_str("##"),
-            c => out.push(c),
-        }
-    }
-    out
-}
-
-/// relnav.fmu's instance.
-pub type Instance = FmuInstance<RelnavFmu>;
-
-/// All data of one instance of the FMU of model `M`.
-pub struct FmuInstance<M: Model> {
-    /// Instance name given by the master.
-    pub name: CString,
-    logger: Logger,
-    logging_on: bool,
-    categories: [bool; LOG_CATEGORIES.len()],
-    /// Current state of the state machine.
-    pub state: ModelState,
-    values: Vec<f64>,
-    /// [`VarDef::access`] of every variable, by value reference (built once from the
-    /// model's table): the get/set dispatch's one indexed load per value.
-    access: Box<[VarAccess]>,
-    model: M,
-    time: f64,
-    start_time: f64,
-    stop_time: Option<f64>,
-    /// The FMU states handed out by `fmi2GetFMUstate` / `fmi2DeSerializeFMUstate`.
-    pub states: crate::state::StateRegistry,
-}
-
-/// Where `fmi2Set*` may write a variable, per state (FMI 2.0 sec. 4.2.4, CS state table).
+/// Where a set may write a variable, per state (FMI 2.0 sec. 4.2.4, the co-simulation
+/// state table; FMI 3.0 has the same rule for fixed parameters and inputs).
 fn settable(def: &VarDef, state: ModelState) -> bool {
     match state {
         ModelState::Instantiated | ModelState::InitializationMode => {
@@ -154,27 +69,48 @@ fn show(def: &VarDef, value: f64) -> String {
     }
 }
 
-/// Every variable at its start value (outputs at 0 until the model writes them).
-pub(super) fn start_values(vars: &[VarDef]) -> Vec<f64> {
-    vars.iter().map(|v| v.start).collect()
+/// All data of one instance of model `M` under the binding `B`.
+pub struct FmuInstance<M: Model, B: Binding> {
+    /// Instance name given by the master.
+    pub name: CString,
+    binding: B,
+    logging_on: bool,
+    categories: [bool; LOG_CATEGORIES.len()],
+    /// Current state of the life cycle.
+    pub state: ModelState,
+    values: Vec<f64>,
+    /// [`access_of`] every variable, by value reference (built once from the model's
+    /// table): the get/set dispatch's one indexed load per value.
+    access: Box<[VarAccess]>,
+    model: M,
+    time: f64,
+    start_time: f64,
+    stop_time: Option<f64>,
+    /// The GUID the binding checked at instantiation: written into the FMU states and
+    /// required of the states restored.
+    guid: &'static str,
+    /// The FMU states handed out.
+    pub states: StateRegistry,
 }
 
-impl<M: Model> FmuInstance<M> {
-    /// A freshly instantiated FMU with every variable at its start value.
-    pub fn new(name: CString, logger: Logger, logging_on: bool) -> Self {
+impl<M: Model, B: Binding> FmuInstance<M, B> {
+    /// A freshly instantiated FMU with every variable at its start value; `guid` is the
+    /// binding's GUID of the model.
+    pub fn new(name: CString, binding: B, logging_on: bool, guid: &'static str) -> Self {
         let mut inst = Self {
             name,
-            logger,
+            binding,
             logging_on,
             categories: [true; LOG_CATEGORIES.len()],
             state: ModelState::Instantiated,
             values: Vec::new(),
-            access: M::info().variables.iter().map(VarDef::access).collect(),
+            access: M::info().variables.iter().map(access_of).collect(),
             model: M::new(),
             time: 0.0,
             start_time: 0.0,
             stop_time: None,
-            states: Default::default(),
+            guid,
+            states: StateRegistry::default(),
         };
         inst.set_start_values();
         inst
@@ -187,7 +123,7 @@ impl<M: Model> FmuInstance<M> {
 
     /// Log a message in `category` (errors are always sent; other categories only when
     /// logging is on and the category is enabled).
-    pub fn log(&self, status: fmi2Status, category: &str, msg: &str) {
+    pub fn log(&self, status: Status, category: &str, msg: &str) {
         let idx = LOG_CATEGORIES.iter().position(|(n, _)| *n == category);
         let enabled = match idx {
             Some(0) => true,
@@ -195,12 +131,12 @@ impl<M: Model> FmuInstance<M> {
             None => self.logging_on,
         };
         if enabled {
-            self.logger.log(&self.name, status, category, msg);
+            self.binding.log(&self.name, status, category, msg);
         }
     }
 
     /// Record a failed call's status in the `fmi_status` output (the worst so far).
-    pub fn note_status(&mut self, status: fmi2Status) {
+    pub fn note_status(&mut self, status: Status) {
         if let Some(v) = self.values.get_mut(M::info().fmi_status as usize) {
             *v = v.max(f64::from(status as i32));
         }
@@ -208,18 +144,23 @@ impl<M: Model> FmuInstance<M> {
 
     /// Whether `logCalls` messages would be sent (to avoid formatting them otherwise).
     pub fn logs_calls(&self) -> bool {
-        self.logging_on && self.categories[3]
+        self.logging_on && self.categories[LOG_CALLS]
     }
 
     /// Log a call under `logCalls`, formatting the message only when it is sent.
     pub fn log_call(&self, msg: impl FnOnce() -> String) {
         if self.logs_calls() {
-            self.log(fmi2Status::fmi2OK, "logCalls", &msg());
+            self.log(Status::Ok, "logCalls", &msg());
         }
     }
 
-    /// `fmi2SetDebugLogging`.
-    pub fn set_debug_logging(&mut self, on: bool, names: &[&str]) -> Result<(), FmiFailure> {
+    /// Switch logging on or off, for every category (`names` empty) or the named ones.
+    pub fn set_debug_logging(
+        &mut self,
+        func: &str,
+        on: bool,
+        names: &[&str],
+    ) -> Result<(), Failure> {
         if names.is_empty() {
             self.logging_on = on;
             self.categories = [on; LOG_CATEGORIES.len()];
@@ -229,9 +170,7 @@ impl<M: Model> FmuInstance<M> {
             let i = LOG_CATEGORIES
                 .iter()
                 .position(|(c, _)| c == n)
-                .ok_or_else(|| {
-                    error(format!("fmi2SetDebugLogging: unknown log category \"{n}\""))
-                })?;
+                .ok_or_else(|| error(format!("{func}: unknown log category \"{n}\"")))?;
             self.categories[i] = on;
         }
         if on {
@@ -240,8 +179,9 @@ impl<M: Model> FmuInstance<M> {
         Ok(())
     }
 
-    /// Check the call is allowed in the current state.
-    pub fn require(&self, func: &str, allowed: u32) -> Result<(), FmiFailure> {
+    /// Check the call `func` is allowed in the current state (`allowed`: a mask of
+    /// [`ModelState`] codes).
+    pub fn require(&self, func: &str, allowed: u32) -> Result<(), Failure> {
         if self.state as u32 & allowed != 0 {
             Ok(())
         } else {
@@ -252,17 +192,20 @@ impl<M: Model> FmuInstance<M> {
         }
     }
 
-    /// `fmi2SetupExperiment`.
-    pub fn setup_experiment(&mut self, start: f64, stop: Option<f64>) -> Result<(), FmiFailure> {
+    /// Set up the experiment: start time and optional stop time.
+    pub fn setup_experiment(
+        &mut self,
+        func: &str,
+        start: f64,
+        stop: Option<f64>,
+    ) -> Result<(), Failure> {
         if !start.is_finite() {
-            return Err(error(format!(
-                "fmi2SetupExperiment: startTime {start} is not finite"
-            )));
+            return Err(error(format!("{func}: startTime {start} is not finite")));
         }
         if let Some(s) = stop {
             if !(s >= start) {
                 return Err(error(format!(
-                    "fmi2SetupExperiment: stopTime {s} is before startTime {start}"
+                    "{func}: stopTime {s} is before startTime {start}"
                 )));
             }
         }
@@ -273,51 +216,54 @@ impl<M: Model> FmuInstance<M> {
         Ok(())
     }
 
-    /// `fmi2EnterInitializationMode`.
+    /// Enter initialisation mode.
     pub fn enter_initialization(&mut self) {
         self.state = ModelState::InitializationMode;
         M::initial_outputs(&mut self.values, self.time);
     }
 
-    /// `fmi2ExitInitializationMode`: the model checks its parameters and is built.
-    pub fn exit_initialization(&mut self) -> Result<(), FmiFailure> {
+    /// Exit initialisation mode: the model checks its parameters and is built.
+    pub fn exit_initialization(&mut self) -> Result<(), Failure> {
         let info = self
             .model
             .initialize(&mut self.values, self.time)
             .map_err(error)?;
         self.state = ModelState::StepComplete;
-        self.log(fmi2Status::fmi2OK, "logInfo", &info);
+        self.log(Status::Ok, "logInfo", &info);
         Ok(())
     }
 
-    /// `fmi2DoStep(tc, h)`: the inputs hold at `tc`; the outputs afterwards describe `tc + h`.
-    pub fn do_step(&mut self, tc: f64, h: f64) -> Result<(), FmiFailure> {
+    /// One communication step `func(tc, h)`: the inputs hold at `tc`; the outputs
+    /// afterwards describe `tc + h`.
+    pub fn do_step(&mut self, func: &str, tc: f64, h: f64) -> Result<(), Failure> {
         if !(h.is_finite() && h > 0.0) {
             return Err(error(format!(
-                "fmi2DoStep: communicationStepSize must be finite and > 0 (got {h})"
+                "{func}: communicationStepSize must be finite and > 0 (got {h})"
             )));
         }
         let tol = 1e-9 * self.time.abs().max(1.0);
         if !tc.is_finite() || (tc - self.time).abs() > tol {
             return Err(error(format!(
-                "fmi2DoStep: currentCommunicationPoint {tc} does not match the FMU's time {}",
+                "{func}: currentCommunicationPoint {tc} does not match the FMU's time {}",
                 self.time
             )));
         }
         if let Some(stop) = self.stop_time {
             if tc + h > stop + 1e-9 * stop.abs().max(1.0) {
                 return Err(error(format!(
-                    "fmi2DoStep: step to {} goes past stopTime {stop}",
+                    "{func}: step to {} goes past stopTime {stop}",
                     tc + h
                 )));
             }
         }
-        self.model.do_step(&mut self.values, tc, h).map_err(error)?;
+        self.model
+            .do_step(&mut self.values, tc, h)
+            .map_err(|e| error(format!("{func} at t = {tc}: {e}")))?;
         self.time = tc + h;
         Ok(())
     }
 
-    /// `fmi2Reset`: back to the just-instantiated state with start values.
+    /// Back to the just-instantiated state with start values.
     pub fn reset(&mut self) {
         self.model.reset();
         self.time = 0.0;
@@ -327,7 +273,7 @@ impl<M: Model> FmuInstance<M> {
         self.state = ModelState::Instantiated;
     }
 
-    /// `fmi2Terminate`.
+    /// Terminate.
     pub fn terminate(&mut self) {
         self.state = ModelState::Terminated;
     }
@@ -338,29 +284,24 @@ impl<M: Model> FmuInstance<M> {
     }
 
     /// `name (vr N)` of a value reference, for call logs (`vr N (unknown)` if it is none).
-    pub fn var_label(r: fmi2ValueReference) -> String {
+    pub fn var_label(r: u32) -> String {
         match M::info().lookup(r) {
             Some(d) => format!("{} (vr {r})", d.name),
             None => format!("vr {r} (unknown)"),
         }
     }
 
-    fn def(&self, r: fmi2ValueReference, func: &str) -> Result<&'static VarDef, FmiFailure> {
+    fn def(&self, r: u32, func: &str) -> Result<&'static VarDef, Failure> {
         M::info()
             .lookup(r)
             .ok_or_else(|| error(format!("{func}: unknown value reference {r}")))
     }
 
-    /// Read a variable of the expected base type: one indexed load of its
-    /// [`VarAccess`] and one of its value; the refusals (unknown value reference, other
-    /// type) are built by [`FmuInstance::get_refusal`].
+    /// Read the variable `r` of the base type `class` (the call `func` reads that
+    /// class): one indexed load of its [`VarAccess`] and one of its value; the refusals
+    /// (unknown value reference, other type) are built by [`FmuInstance::get_refusal`].
     #[inline(always)]
-    pub fn get(
-        &self,
-        r: fmi2ValueReference,
-        func: &str,
-        class: TypeClass,
-    ) -> Result<f64, FmiFailure> {
+    pub fn get(&self, r: u32, func: &str, class: TypeClass) -> Result<f64, Failure> {
         // `values` and `access` both have one entry per variable
         let values = &self.values[..self.access.len()];
         match self.access.get(r as usize) {
@@ -371,7 +312,7 @@ impl<M: Model> FmuInstance<M> {
 
     /// Why [`FmuInstance::get`] refused `r`.
     #[cold]
-    fn get_refusal(&self, r: fmi2ValueReference, func: &str) -> FmiFailure {
+    fn get_refusal(&self, r: u32, func: &str) -> Failure {
         match self.def(r, func) {
             Ok(d) => error(format!(
                 "{func}: variable {} (vr {r}) has another type",
@@ -381,17 +322,11 @@ impl<M: Model> FmuInstance<M> {
         }
     }
 
-    /// Write a variable of the expected base type, checking causality, state and domain.
-    /// A master's input after initialisation is a plain store (its [`VarAccess`] says
-    /// so); everything else takes [`FmuInstance::set_checked`].
+    /// Write the variable `r` of the base type `class`, checking causality, state and
+    /// domain. A master's input after initialisation is a plain store (its [`VarAccess`]
+    /// says so); everything else takes [`FmuInstance::set_checked`].
     #[inline(always)]
-    pub fn set(
-        &mut self,
-        r: fmi2ValueReference,
-        value: f64,
-        func: &str,
-        class: TypeClass,
-    ) -> Result<(), FmiFailure> {
+    pub fn set(&mut self, r: u32, value: f64, func: &str, class: TypeClass) -> Result<(), Failure> {
         let state = self.state as u32;
         let n = self.access.len();
         match (
@@ -412,11 +347,11 @@ impl<M: Model> FmuInstance<M> {
     #[inline(never)]
     fn set_checked(
         &mut self,
-        r: fmi2ValueReference,
+        r: u32,
         value: f64,
         func: &str,
         class: TypeClass,
-    ) -> Result<(), FmiFailure> {
+    ) -> Result<(), Failure> {
         let d = self.def(r, func)?;
         if TypeClass::of(&d.ty) != class {
             return Err(error(format!(
@@ -460,91 +395,139 @@ impl<M: Model> FmuInstance<M> {
     }
 }
 
-/// What the FMU state ([`crate::state`]) reads and restores.
-impl<M: Model> FmuInstance<M> {
-    /// Every variable's value, by value reference.
-    pub(super) fn values(&self) -> &[f64] {
-        &self.values
+/// FMU states (the bytes of [`crate::state`]).
+///
+/// **Restoring** brings back the life-cycle state with everything else: a state taken in
+/// initialisation mode restores its rules (parameters settable, steps refused), one taken
+/// while stepping continues bit for bit as the saved instance would, one taken after
+/// terminate accepts only what a terminated instance accepts. **Parameters** come with the
+/// state while they are free — in an instance whose model is not built yet (instantiated,
+/// initialisation mode, or an error before it was built); once initialisation has built
+/// the model they are fixed until reset, and a state taken with other parameter values is
+/// refused (the message names the first parameter that differs). A refused state leaves
+/// the instance's data unchanged (the binding then puts it in the error state, as after
+/// every error).
+impl<M: Model, B: Binding> FmuInstance<M, B> {
+    /// The instance's state as bytes.
+    pub fn save_state(&self) -> Result<Vec<u8>, Failure> {
+        let saved = self.model.save().map_err(error)?;
+        Ok(encode(
+            M::info(),
+            self.guid,
+            &Snapshot {
+                mode: self.state,
+                time: self.time,
+                start_time: self.start_time,
+                stop_time: self.stop_time,
+                values: &self.values,
+                model: saved.as_deref(),
+            },
+        ))
     }
 
-    /// `(time, start time, stop time)`.
-    pub(super) fn times(&self) -> (f64, f64, Option<f64>) {
-        (self.time, self.start_time, self.stop_time)
+    /// Check bytes before accepting them as a state of this FMU (everything that does not
+    /// depend on this instance's parameters); `func` is the call, for the message.
+    pub fn check_state(&self, bytes: &[u8], func: &str) -> Result<(), Failure> {
+        decode(M::info(), self.guid, bytes)
+            .map(|_| ())
+            .map_err(|e| refused(func, e))
     }
 
-    /// The model.
-    pub(super) fn model(&self) -> &M {
-        &self.model
+    /// Restore a state made by [`FmuInstance::save_state`]. Transactional: a refused
+    /// state leaves the instance's data unchanged.
+    pub fn restore_state(&mut self, bytes: &[u8], func: &str) -> Result<(), Failure> {
+        let p = decode(M::info(), self.guid, bytes).map_err(|e| refused(func, e))?;
+        if self.model.is_built() {
+            let mine = &self.values;
+            if let Some(d) = M::info().variables.iter().find(|d| {
+                d.causality == Causality::Parameter
+                    && mine[d.vr as usize].to_bits() != p.values[d.vr as usize].to_bits()
+            }) {
+                return Err(refused(
+                    func,
+                    refuse(format!(
+                        "it was taken with {} = {}, this instance runs with {} = {}; parameters \
+                         are fixed from {} until {}: restore it into an instance with the same \
+                         parameters, or after {}",
+                        d.name,
+                        p.values[d.vr as usize],
+                        d.name,
+                        mine[d.vr as usize],
+                        B::EXIT_INITIALIZATION,
+                        B::RESET,
+                        B::RESET
+                    )),
+                ));
+            }
+        }
+        // the model: restored into the existing one (same parameters), or into a new one
+        // built from the state's parameters; transactional
+        match p.model {
+            Some(blob) => self
+                .model
+                .restore(&p.values, blob)
+                .map_err(|e| error(format!("{func}: state refused: {e}")))?,
+            None => self.model.reset(),
+        }
+        // commit: nothing below can fail
+        self.state = p.mode;
+        self.values = p.values;
+        self.time = p.time;
+        self.start_time = p.start_time;
+        self.stop_time = p.stop_time;
+        Ok(())
     }
+}
 
-    /// The model, to restore its state.
-    pub(super) fn model_mut(&mut self) -> &mut M {
-        &mut self.model
-    }
-
-    /// Everything but the model, as a restored state has it.
-    pub(super) fn set_restored(
-        &mut self,
-        mode: ModelState,
-        values: Vec<f64>,
-        time: f64,
-        start_time: f64,
-        stop_time: Option<f64>,
-    ) {
-        self.state = mode;
-        self.values = values;
-        self.time = time;
-        self.start_time = start_time;
-        self.stop_time = stop_time;
-    }
+fn refused(func: &str, e: StateError) -> Failure {
+    error(format!("{func}: state refused: {e}"))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::variables::{EnumType, Variability};
+
+    static CODES: EnumType = EnumType {
+        name: "Codes",
+        items: &[("a", 1, "first"), ("c", 3, "third")],
+    };
 
     /// The access table's direct stores are exactly the sets the full path accepts with
-    /// no other check or effect, for every variable of every model and every state.
+    /// no other check or effect, for every causality, type and state.
     #[test]
     fn direct_sets_are_the_unchecked_ones() {
-        use crate::{guidance, plant, relnav};
-        let tables = [
-            relnav::INFO.variables,
-            plant::INFO.variables,
-            guidance::INFO.variables,
+        let types = [
+            VarType::Real("m"),
+            VarType::Integer,
+            VarType::Boolean,
+            VarType::Code(&CODES),
         ];
-        let states = [
-            ModelState::Instantiated,
-            ModelState::InitializationMode,
-            ModelState::StepComplete,
-            ModelState::Terminated,
-            ModelState::Error,
-        ];
-        for vars in tables {
-            for d in vars {
-                let a = d.access();
+        for causality in [Causality::Parameter, Causality::Input, Causality::Output] {
+            for ty in types {
+                let d = VarDef {
+                    vr: 0,
+                    name: "v",
+                    causality,
+                    variability: Variability::Discrete,
+                    ty,
+                    start: 1.0,
+                    description: "",
+                };
+                let a = access_of(&d);
                 assert_eq!(a.class, TypeClass::of(&d.ty));
-                for st in states {
+                for st in ModelState::ALL {
                     let direct = u32::from(a.direct_set) & st as u32 != 0;
-                    let unchecked = settable(d, st)
+                    let unchecked = settable(&d, st)
                         && d.causality != Causality::Parameter
                         && !matches!(d.ty, VarType::Code(_))
                         && !matches!(
                             st,
                             ModelState::Instantiated | ModelState::InitializationMode
                         );
-                    assert_eq!(direct, unchecked, "{} in {st:?}", d.name);
+                    assert_eq!(direct, unchecked, "{causality:?} {:?} in {st:?}", d.ty);
                 }
             }
         }
-    }
-
-    #[test]
-    fn log_messages_are_printf_formats() {
-        assert_eq!(escape_log_message("50% #r3# ok"), "50%% ##r3## ok");
-        assert_eq!(escape_log_message("a\0b"), "ab");
-        let long = "%".repeat(MAX_LOG_CHARS + 10);
-        let e = escape_log_message(&long);
-        assert_eq!(e, format!("{} ...", "%%".repeat(MAX_LOG_CHARS)));
     }
 }

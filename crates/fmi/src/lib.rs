@@ -1,34 +1,40 @@
-//! The FMI 2.0 Co-Simulation layer (`fmi2*` exports): a generic layer over a small
-//! per-model interface ([`model`], after the Modelica Reference-FMUs' `model.h`), and the
-//! three models built on it.
+//! relnav's FMI layer: a generic part that knows no FMI version, and the bindings of each
+//! version over it (FMI 2.0 Co-Simulation: [`fmi2`]), as the Modelica Reference-FMUs put
+//! `fmi2Functions.c` (and `fmi3Functions.c`) over one model interface. The models
+//! themselves live in their own crates (`relnav-models`: the system kit's plant and
+//! guidance law; `relnav-nav-model`: relnav.fmu's estimator) and each FMU's shared library
+//! (`fmu/*`) is one line: [`export_fmi2!`] of its model.
 //!
-//! * [`model`] — the per-model interface ([`model::Model`]) and static description
-//!   ([`model::ModelInfo`]);
-//! * [`variables`] — the types of a variable table, the `variables!` macro that writes one,
-//!   and relnav.fmu's table (name, value reference, causality, variability, unit, start,
-//!   description);
-//! * [`description`] — `modelDescription.xml` and the GUID, generated from a model's table;
-//! * [`instance`] — one instance: the state machine, values, time, logging;
-//! * [`entry`] — every FMI 2.0 common and co-simulation function, generic over the model;
-//! * [`functions`] — the unprefixed `fmi2*` exports ([`crate::export_fmi2`]; relnav's own
-//!   behind the default feature `fmi-exports`);
-//! * [`state`] — FMU state get/set/serialisation as explicit, versioned bytes;
-//! * [`relnav`] — relnav.fmu's model, calling only `relnav_*` of the C ABI;
-//! * [`plant`], [`guidance`] — the system kit's truth plant and guidance law
-//!   (`relnav_plant.fmu`, `relnav_guidance.fmu`), over [`relnav_core::plant`] and
-//!   [`relnav_core::guidance`].
+//! The generic part:
+//! * [`model`] — the model interface ([`model::Model`]) and static description
+//!   ([`model::ModelInfo`]: identifier, description, variable table, default experiment);
+//! * [`variables`] — the types of a variable table and the [`variables!`] macro that
+//!   writes one;
+//! * [`instance`] — one instance: all its data in one struct, the checks every model
+//!   shares, typed get/set by value reference, FMU-state save and restore;
+//! * [`machine`] — the life-cycle states the bindings map their state machines onto;
+//! * [`status`], [`logging`], [`binding`] — call status, log categories, what an instance
+//!   needs of its binding (the master's logger);
+//! * [`state`] — the FMU state as explicit, versioned bytes, and the registry of handed-out
+//!   state handles.
 //!
-//! Packaging: `fmu/build.sh` builds and packs all three FMUs and `relnav_system.ssp`;
-//! `cargo run --release --bin relnav-fmu` packs `target/fmu/relnav.fmu` alone.
+//! No module of the generic part uses [`fmi2`]; [`fmi2`] uses only the generic part.
 
-pub mod description;
-pub mod entry;
-pub mod functions;
-pub mod guidance;
+// the generic part is safe Rust; only the bindings touch C pointers
+#[deny(unsafe_code)]
+pub mod binding;
+pub mod fmi2;
+#[deny(unsafe_code)]
 pub mod instance;
+#[deny(unsafe_code)]
+pub mod logging;
+#[deny(unsafe_code)]
+pub mod machine;
+#[deny(unsafe_code)]
 pub mod model;
-pub mod plant;
-pub mod relnav;
+#[deny(unsafe_code)]
 pub mod state;
-pub mod types;
+#[deny(unsafe_code)]
+pub mod status;
+#[deny(unsafe_code)]
 pub mod variables;

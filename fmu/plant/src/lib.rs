@@ -1,8 +1,6 @@
-//! The shared library of `relnav_plant.fmu`: every FMI 2.0 co-simulation function,
-//! exported unprefixed, for [`relnav_fmi::plant::PlantFmu`] (the truth plant (true relative motion and the radio/lidar sensor); the model and its variable
-//! table live in relnav-fmi). Built by `fmu/build.sh` in its own cargo invocation, so that
-//! relnav-fmi is linked without its feature `fmi-exports` (relnav.fmu's own `fmi2*`
-//! symbols) and without `hinf`; `relnav-fmu --all` packs it as
-//! `binaries/linux64/relnav_plant.so`.
+//! The shared library of `relnav_plant.fmu`: every FMI 2.0 co-simulation function, exported
+//! unprefixed for [`relnav_models::plant::PlantFmu`] (the truth plant: true relative motion
+//! and the radio/lidar sensor; the model and its variable table live in relnav-models).
+//! `relnav-fmu --all` packs it as `binaries/linux64/relnav_plant.so`.
 
-relnav_fmi::export_fmi2!(relnav_fmi::plant::PlantFmu);
+relnav_fmi::export_fmi2!(relnav_models::plant::PlantFmu);

@@ -1,7 +1,9 @@
 //! The shared library of `relnav.fmu`: every FMI 2.0 co-simulation function, exported
-//! unprefixed by relnav-fmi's feature `fmi-exports` for [`relnav_fmi::relnav::RelnavFmu`],
-//! and the C ABI of the `relnav` crate beside them (`relnav_*`), as in `librelnav.so`.
-//! `relnav-fmu` packs it as `binaries/linux64/relnav.so`.
+//! unprefixed for [`relnav_nav_model::RelnavFmu`] (the model and its variable table live
+//! in relnav-nav-model), and the C ABI of the `relnav` crate beside them (`relnav_*`), as
+//! in `librelnav.so`. `relnav-fmu` packs it as `binaries/linux64/relnav.so`.
 
+relnav_fmi::export_fmi2!(relnav_nav_model::RelnavFmu);
+
+// the C ABI's exports come with the crate
 use relnav as _;
-use relnav_fmi as _;

@@ -5,25 +5,26 @@
 //! relnav_guidance) for the README and `docs/kit.md`.
 //!
 //! Each FMU goes to `OUT_DIR/<id>.fmu` (default `target/fmu/`) and, unpacked, to
-//! `OUT_DIR/<id>/`: `modelDescription.xml` (generated from the model's variable table) and
-//! `binaries/linux64/<id>.so` (the cdylib built next to this executable —
+//! `OUT_DIR/<id>/`: `modelDescription.xml` (FMI 2.0, generated from the model's variable
+//! table) and `binaries/linux64/<id>.so` (the cdylib built next to this executable —
 //! `librelnav_fmu.so` (fmu/relnav), `librelnav_plant.so`, `librelnav_guidance.so` — renamed).
 //! `relnav_system.ssp` holds the SSDs of `fmu/ssp/` (`SystemStructure.ssd`: paper 000's
 //! example; `LidarHeavyTail.ssd`: the heavy-tailed lidar variant) with the three FMUs under
 //! `resources/` (stored: an FMU is a zip already).
 
-use relnav_fmi::description::{model_description_of, variables_markdown_of};
+use relnav_fmi::fmi2::description::{model_description_of, variables_markdown_of};
 use relnav_fmi::model::ModelInfo;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-/// The three models, by identifier.
-fn models() -> [&'static ModelInfo; 3] {
+/// The three FMUs: each model and the file name of its cdylib (crate in fmu/; relnav.fmu's
+/// is `relnav_fmu`, since `librelnav.so` is the C-ABI library's name), relnav.fmu first.
+fn fmus() -> [(&'static ModelInfo, &'static str); 3] {
     [
-        &relnav_fmi::relnav::INFO,
-        &relnav_fmi::plant::INFO,
-        &relnav_fmi::guidance::INFO,
+        (&relnav_nav_model::INFO, "librelnav_fmu.so"),
+        (&relnav_models::plant::INFO, "librelnav_plant.so"),
+        (&relnav_models::guidance::INFO, "librelnav_guidance.so"),
     ]
 }
 
@@ -38,24 +39,15 @@ fn zerr(e: zip::result::ZipError) -> String {
     format!("zip: {e}")
 }
 
-/// The cdylib of the FMU `id`: its crate in fmu/ (relnav.fmu's is `relnav_fmu`, since
-/// `librelnav.so` is the C-ABI library's name).
-fn library_of(id: &str) -> String {
-    if id == "relnav" {
-        "librelnav_fmu.so".to_string()
-    } else {
-        format!("lib{id}.so")
-    }
-}
-
-/// Pack one FMU from its cdylib ([`library_of`]) in `profile_dir`.
+/// Pack one FMU from its cdylib `library` in `profile_dir`.
 fn pack_fmu(
     info: &'static ModelInfo,
+    library: &str,
     profile_dir: &Path,
     out_dir: &Path,
 ) -> Result<PathBuf, String> {
     let id = info.model_identifier;
-    let so = profile_dir.join(library_of(id));
+    let so = profile_dir.join(library);
     if !so.exists() {
         return Err(format!(
             "{} not found: build the libraries first (fmu/build.sh)",
@@ -97,7 +89,7 @@ fn pack_fmu(
 /// Pack `relnav_system.ssp`: the SSDs of `fmu/ssp/` (`SystemStructure.ssd`, the default
 /// variant, and the other variants beside it) and the FMUs they reference.
 fn pack_ssp(fmus: &[PathBuf], out_dir: &Path) -> Result<PathBuf, String> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fmu/ssp");
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../ssp");
     let mut ssds: Vec<PathBuf> = std::fs::read_dir(&dir)
         .map_err(|e| format!("read {}: {e}", dir.display()))?
         .filter_map(|e| e.ok().map(|e| e.path()))
@@ -156,10 +148,11 @@ fn run(all: bool, out: Option<PathBuf>) -> Result<Vec<PathBuf>, String> {
         .to_path_buf();
     let target_dir = profile_dir.parent().ok_or("no target directory")?;
     let out_dir = out.unwrap_or_else(|| target_dir.join("fmu"));
-    let chosen: &[&'static ModelInfo] = if all { &models() } else { &models()[..1] };
+    let all_fmus = fmus();
+    let chosen = if all { &all_fmus[..] } else { &all_fmus[..1] };
     let mut written = Vec::new();
-    for info in chosen {
-        written.push(pack_fmu(info, &profile_dir, &out_dir)?);
+    for (info, library) in chosen {
+        written.push(pack_fmu(info, library, &profile_dir, &out_dir)?);
     }
     if all {
         let ssp = pack_ssp(&written, &out_dir)?;
@@ -172,8 +165,8 @@ fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
     if args.first().map(String::as_str) == Some("--variables-markdown") {
         let id = args.get(1).map_or("relnav", String::as_str);
-        return match models().into_iter().find(|m| m.model_identifier == id) {
-            Some(info) => {
+        return match fmus().into_iter().find(|m| m.0.model_identifier == id) {
+            Some((info, _)) => {
                 print!("{}", variables_markdown_of(info));
                 ExitCode::SUCCESS
             }

@@ -2,13 +2,14 @@
 //! written from the standard's text.
 #![allow(non_camel_case_types, non_upper_case_globals, non_snake_case)]
 
+use crate::status::Status;
 use std::ffi::{c_char, c_int, c_uint, c_void};
 
 /// Opaque instance pointer handed to the master.
 pub type fmi2Component = *mut c_void;
 /// The master's environment pointer, passed back to its callbacks.
 pub type fmi2ComponentEnvironment = *mut c_void;
-/// Opaque FMU-state pointer (unsupported here).
+/// Opaque FMU-state pointer.
 pub type fmi2FMUstate = *mut c_void;
 /// Value reference.
 pub type fmi2ValueReference = c_uint;
@@ -20,7 +21,7 @@ pub type fmi2Integer = c_int;
 pub type fmi2Boolean = c_int;
 /// C string.
 pub type fmi2String = *const c_char;
-/// Byte (serialisation; unsupported here).
+/// Byte (serialisation).
 pub type fmi2Byte = c_char;
 
 /// `fmi2True`.
@@ -46,6 +47,18 @@ pub enum fmi2Status {
     fmi2Fatal = 4,
     /// Asynchronous step still running (never returned here).
     fmi2Pending = 5,
+}
+
+impl From<Status> for fmi2Status {
+    fn from(s: Status) -> Self {
+        match s {
+            Status::Ok => Self::fmi2OK,
+            Status::Warning => Self::fmi2Warning,
+            Status::Discard => Self::fmi2Discard,
+            Status::Error => Self::fmi2Error,
+            Status::Fatal => Self::fmi2Fatal,
+        }
+    }
 }
 
 /// `fmi2StatusKind` values.

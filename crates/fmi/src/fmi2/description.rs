@@ -1,5 +1,6 @@
-//! `modelDescription.xml`, generated from a model's variable table ([`ModelInfo`]; relnav's is
-//! [`crate::variables`]), and the GUID derived from it.
+//! FMI 2.0's `modelDescription.xml`, generated from a model's [`ModelInfo`] (its variable
+//! table), and the GUID derived from it; the variable table as Markdown for the
+//! documentation.
 //!
 //! The GUID is a name-based UUID (version 5, SHA-1) of the XML text itself, with
 //! placeholders where the GUID and `generationDateAndTime` go, as the FMI standard suggests
@@ -10,23 +11,10 @@
 //! XML; the date is left out of the GUID, so a commit that changes nothing else keeps it
 //! (a library built before the commit and an archive packed after it still match).
 
+use crate::logging::LOG_CATEGORIES;
 use crate::model::ModelInfo;
 use crate::variables::{Causality, VarDef, VarType, Variability, UNITS};
 use std::fmt::Write;
-
-/// relnav's model identifier (and binary name).
-pub const MODEL_IDENTIFIER: &str = "relnav";
-
-/// Logging categories, in the order declared in the XML.
-pub const LOG_CATEGORIES: [(&str, &str); 4] = [
-    (
-        "logStatusError",
-        "Errors: rejected calls, invalid parameters or inputs, failed steps",
-    ),
-    ("logStatusWarning", "Warnings"),
-    ("logInfo", "Initialisation and configuration summary"),
-    ("logCalls", "Every FMI call with its arguments"),
-];
 
 const GUID_PLACEHOLDER: &str = "@GUID@";
 const DATE_PLACEHOLDER: &str = "@DATE@";
@@ -35,14 +23,6 @@ const DATE_PLACEHOLDER: &str = "@DATE@";
 /// time, else the commit date of `HEAD` (`git log -1 --format=%ct`), else
 /// 1970-01-01T00:00:00Z (a source tree without git); computed by `build.rs`.
 pub const GENERATION_DATE: &str = env!("RELNAV_GENERATION_DATE");
-
-/// relnav's `description` attribute.
-pub const MODEL_DESCRIPTION: &str =
-    "Spacecraft relative navigation near a target on a circular orbit \
-(Clohessy-Wiltshire): estimate of the chaser's relative position and velocity, with 1-sigma \
-uncertainty, from its thrust and range/azimuth/elevation measurements, by a Kalman filter \
-(EKF, UKF, or the sliding-window adaptive AQUKF), a particle filter (SIR, regularised, \
-unscented, genetic or cloud-genetic) or the robust H-infinity filter designed by an LMI";
 
 /// A variable's description as published: for a code list, followed by
 /// `Codes: 1 ekf, 2 ukf, ...` (the item names stay documented in the XML itself).
@@ -228,6 +208,7 @@ fn finish(body: &str, date: &str) -> (String, String) {
 
 fn generated(info: &'static ModelInfo) -> &'static (String, String) {
     info.generated
+        .fmi2
         .get_or_init(|| finish(&body(info), GENERATION_DATE))
 }
 
@@ -239,21 +220,6 @@ pub fn guid_of(info: &'static ModelInfo) -> &'static str {
 /// A model's full `modelDescription.xml` text.
 pub fn model_description_of(info: &'static ModelInfo) -> &'static str {
     &generated(info).1
-}
-
-/// relnav's GUID, `{xxxxxxxx-...}`.
-pub fn guid() -> &'static str {
-    guid_of(&crate::relnav::INFO)
-}
-
-/// relnav's full `modelDescription.xml` text.
-pub fn model_description() -> &'static str {
-    model_description_of(&crate::relnav::INFO)
-}
-
-/// relnav's variable table as Markdown (for the README; a test keeps the README in sync).
-pub fn variables_markdown() -> String {
-    variables_markdown_of(&crate::relnav::INFO)
 }
 
 /// A model's variable table as Markdown (the README's and `docs/kit.md`'s tables; tests
@@ -319,35 +285,82 @@ pub fn variables_markdown_of(info: &ModelInfo) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::model::{DefaultExperiment, Generated};
+    use crate::variables::EnumType;
+
+    static CODES: EnumType = EnumType {
+        name: "Codes",
+        items: &[("a", 1, "first & only"), ("c", 3, "third")],
+    };
+
+    crate::variables! {
+        MODE = 0: "mode", Parameter, Fixed, VarType::Code(&CODES), 3.0, "A <code>";
+        GAIN = 1: "gain", Input, Discrete, VarType::Real("m/s"), 0.5, "An input";
+        ON = 2: "on", Input, Discrete, VarType::Boolean, 1.0, "A switch";
+        FMI_STATUS = 3: "fmi_status", Output, Discrete, VarType::Integer, 0.0, "Status";
+    }
+
+    static INFO: ModelInfo = ModelInfo {
+        model_identifier: "test_model",
+        description: "A model \"for\" tests",
+        variables: VARIABLES,
+        default_experiment: DefaultExperiment {
+            start: 0.0,
+            stop: 10.0,
+            step: 0.5,
+        },
+        fmi_status: vr::FMI_STATUS,
+        state_code: Some(vr::MODE),
+        state_name: "test",
+        generated: Generated::new(),
+    };
 
     #[test]
     fn xml_contains_every_variable_and_the_guid() {
-        use crate::variables::VARIABLES;
-        let xml = model_description();
-        assert!(xml.contains(&format!(r#"guid="{}""#, guid())));
+        let xml = model_description_of(&INFO);
+        let guid = guid_of(&INFO);
+        assert!(xml.contains(&format!(r#"guid="{guid}""#)));
         assert!(!xml.contains(GUID_PLACEHOLDER));
         for v in VARIABLES {
             assert!(xml.contains(&format!(r#"name="{}" valueReference="{}""#, v.name, v.vr)));
         }
         assert!(xml.contains("canRunAsynchronuously"));
-        assert_eq!(guid().len(), 38);
+        assert_eq!(guid.len(), 38);
         assert!(xml.contains(&format!(r#"generationDateAndTime="{GENERATION_DATE}""#)));
+        // escaped text, the used unit alone, codes as a bounded Integer
+        assert!(xml.contains(r#"description="A model &quot;for&quot; tests""#));
+        assert!(xml.contains(r#"A &lt;code&gt;. Codes: 1 a, 3 c"#));
+        assert!(xml.contains(r#"<Unit name="m/s"><BaseUnit m="1" s="-1"/></Unit>"#));
+        assert_eq!(xml.matches("<Unit ").count(), 1);
+        assert!(xml.contains(r#"<Integer min="1" max="3" start="3"/>"#));
+        assert!(xml.contains(r#"<Boolean start="true"/>"#));
+        assert!(xml.contains(r#"<DefaultExperiment startTime="0" stopTime="10" stepSize="0.5"/>"#));
+        assert!(xml.contains(r#"<Unknown index="4" dependencies=""/>"#));
+        assert!(xml.contains(&format!(r#"name="on" valueReference="{}""#, vr::ON)));
+        assert!(xml.contains(&format!(r#"<!-- index {} -->"#, vr::GAIN + 1)));
     }
 
     #[test]
     fn guid_depends_on_the_interface_not_on_the_generation_date() {
-        let b = body(&crate::relnav::INFO);
+        let b = body(&INFO);
         assert_eq!(b.matches(DATE_PLACEHOLDER).count(), 1);
         let (g1, x1) = finish(&b, "2026-01-01T00:00:00Z");
         let (g2, x2) = finish(&b, "2026-12-01T21:00:00Z");
         assert_eq!(g1, g2);
         assert_ne!(x1, x2);
-        assert_eq!(g1, guid());
+        assert_eq!(g1, guid_of(&INFO));
         // any change to the interface changes it
         let (g3, _) = finish(&b.replacen("relnav developers", "relnav developer", 1), "x");
         assert_ne!(g1, g3);
-        // the plant's and the guidance's differ from relnav's
-        assert_ne!(guid_of(&crate::plant::INFO), guid());
-        assert_ne!(guid_of(&crate::guidance::INFO), guid());
+    }
+
+    #[test]
+    fn markdown_lists_every_variable_and_code() {
+        let md = variables_markdown_of(&INFO);
+        assert!(md.contains(
+            "| `mode` | 0 | parameter | fixed | Integer |  | 3 (c) | A <code>. Codes: 1 a, 3 c |"
+        ));
+        assert!(md.contains("| `fmi_status` | 3 | output | discrete | Integer |  | — | Status |"));
+        assert!(md.contains("| `mode` | 1 | `a` | first & only |"));
     }
 }

@@ -1,14 +1,16 @@
 //! Every FMI 2.0 common and co-simulation function, generic over the [`Model`] (not
 //! exported: [`crate::export_fmi2`] exports them, unprefixed, for one model from a shared
-//! library). Generic plumbing only: pointer checks, the panic boundary, the
-//! allowed-states mask of each call, logging; the instance lives in [`crate::instance`],
-//! the model behind [`crate::model::Model`].
+//! library). The binding only: C arguments and pointer checks, the panic boundary, the
+//! allowed-states mask of each call, call logging, the status conversion; the instance and
+//! its checks live in [`crate::instance`], the model behind [`crate::model::Model`].
 #![allow(non_snake_case)]
 
-use crate::description::guid_of;
-use crate::instance::{error, FmiFailure, FmuInstance, Logger, ModelState, ANY_STATE};
+use super::description::guid_of;
+use super::types::*;
+use super::{Instance, Logger};
+use crate::machine::{ModelState, ANY_STATE};
 use crate::model::Model;
-use crate::types::*;
+use crate::status::{error, Failure, Status};
 use crate::variables::TypeClass;
 use std::ffi::{c_char, c_int, CStr};
 use std::panic::{catch_unwind, AssertUnwindSafe};
@@ -37,7 +39,7 @@ fn panic_text(p: &(dyn std::any::Any + Send)) -> String {
 /// `c` is null or a pointer returned by [`fmi2Instantiate`] and not yet freed.
 unsafe fn guarded<M: Model, F>(c: fmi2Component, func: &str, allowed: u32, f: F) -> fmi2Status
 where
-    F: FnOnce(&mut FmuInstance<M>) -> Result<(), FmiFailure>,
+    F: FnOnce(&mut Instance<M>) -> Result<(), Failure>,
 {
     // SAFETY: forwarded contract.
     unsafe { guarded_with::<M, _, _>(c, func, allowed, |_| Some(String::new()), f) }
@@ -57,17 +59,17 @@ unsafe fn guarded_with<M: Model, D, F>(
     f: F,
 ) -> fmi2Status
 where
-    D: FnOnce(&FmuInstance<M>) -> Option<String>,
-    F: FnOnce(&mut FmuInstance<M>) -> Result<(), FmiFailure>,
+    D: FnOnce(&Instance<M>) -> Option<String>,
+    F: FnOnce(&mut Instance<M>) -> Result<(), Failure>,
 {
     // SAFETY: by the caller's contract `c` is null or a live `Instance`.
-    let Some(inst) = (unsafe { (c as *mut FmuInstance<M>).as_mut() }) else {
+    let Some(inst) = (unsafe { (c as *mut Instance<M>).as_mut() }) else {
         return fmi2Status::fmi2Error;
     };
     let outcome = catch_unwind(AssertUnwindSafe(|| {
         if inst.logs_calls() {
             if let Some(args) = describe(inst) {
-                inst.log(fmi2Status::fmi2OK, "logCalls", &format!("{func}({args})"));
+                inst.log(Status::Ok, "logCalls", &format!("{func}({args})"));
             }
         }
         inst.require(func, allowed)?;
@@ -76,24 +78,24 @@ where
     match outcome {
         Ok(Ok(())) => fmi2Status::fmi2OK,
         Ok(Err(e)) => {
-            let category = if e.status >= fmi2Status::fmi2Error {
+            let category = if e.status >= Status::Error {
                 "logStatusError"
             } else {
                 "logStatusWarning"
             };
             inst.log(e.status, category, &e.message);
             inst.note_status(e.status);
-            if e.status >= fmi2Status::fmi2Error {
+            if e.status >= Status::Error {
                 inst.state = ErrorState;
             }
-            e.status
+            e.status.into()
         }
         Err(p) => {
             let msg = format!("{func}: internal panic: {}", panic_text(p.as_ref()));
             let _ = catch_unwind(AssertUnwindSafe(|| {
-                inst.log(fmi2Status::fmi2Fatal, "logStatusError", &msg)
+                inst.log(Status::Fatal, "logStatusError", &msg)
             }));
-            inst.note_status(fmi2Status::fmi2Fatal);
+            inst.note_status(Status::Fatal);
             inst.state = ErrorState;
             fmi2Status::fmi2Fatal
         }
@@ -119,7 +121,7 @@ unsafe fn unsupported<M: Model>(c: fmi2Component, func: &str, why: &str) -> fmi2
 ///
 /// # Safety
 /// `p` is null or points to `n` readable elements.
-unsafe fn slice<'a, T>(p: *const T, n: usize, what: &str) -> Result<&'a [T], FmiFailure> {
+unsafe fn slice<'a, T>(p: *const T, n: usize, what: &str) -> Result<&'a [T], Failure> {
     if n == 0 {
         return Ok(&[]);
     }
@@ -134,7 +136,7 @@ unsafe fn slice<'a, T>(p: *const T, n: usize, what: &str) -> Result<&'a [T], Fmi
 ///
 /// # Safety
 /// `p` is null or points to `n` writable elements.
-unsafe fn slice_mut<'a, T>(p: *mut T, n: usize, what: &str) -> Result<&'a mut [T], FmiFailure> {
+unsafe fn slice_mut<'a, T>(p: *mut T, n: usize, what: &str) -> Result<&'a mut [T], Failure> {
     if n == 0 {
         return Ok(&mut []);
     }
@@ -186,7 +188,7 @@ unsafe fn values_arg<M: Model, T: Copy>(
     let parts: Vec<String> = refs
         .iter()
         .zip(vals)
-        .map(|(r, v)| format!("{} = {}", FmuInstance::<M>::var_label(*r), show(*v)))
+        .map(|(r, v)| format!("{} = {}", Instance::<M>::var_label(*r), show(*v)))
         .collect();
     format!("nvr = {nvr}: {}", parts.join(", "))
 }
@@ -247,7 +249,8 @@ pub unsafe fn fmi2Instantiate<M: Model>(
             Some(unsafe { CStr::from_ptr(instanceName) }.to_owned())
         };
         let reject = |msg: &str| {
-            logger.log(
+            logger.send(
+                // every FMU here is relnav's
                 name.as_deref().unwrap_or(c"relnav"),
                 fmi2Status::fmi2Error,
                 "logStatusError",
@@ -278,7 +281,7 @@ pub unsafe fn fmi2Instantiate<M: Model>(
                 guid_of(M::info())
             ));
         }
-        let inst = FmuInstance::<M>::new(name, logger, loggingOn != fmi2False);
+        let inst = Instance::<M>::new(name, logger, loggingOn != fmi2False, guid_of(M::info()));
         inst.log_call(|| {
             format!(
                 "fmi2Instantiate(instanceName = \"{}\", fmuType = {fmuType}, fmuGUID = \"{given}\", fmuResourceLocation = {}, visible = {}, loggingOn = {})",
@@ -305,7 +308,7 @@ pub unsafe fn fmi2FreeInstance<M: Model>(c: fmi2Component) {
     let _ = catch_unwind(AssertUnwindSafe(|| {
         if !c.is_null() {
             // SAFETY: from Box::into_raw in fmi2Instantiate; freed exactly once.
-            let inst = unsafe { Box::from_raw(c as *mut FmuInstance<M>) };
+            let inst = unsafe { Box::from_raw(c as *mut Instance<M>) };
             inst.log_call(|| "fmi2FreeInstance()".to_string());
             drop(inst);
         }
@@ -324,7 +327,7 @@ pub unsafe fn fmi2SetDebugLogging<M: Model>(
 ) -> fmi2Status {
     // SAFETY: contracts forwarded; pointers checked in `slice`.
     unsafe {
-        let describe = |_: &FmuInstance<M>| {
+        let describe = |_: &Instance<M>| {
             let names = match slice(categories, nCategories, "categories") {
                 Ok(cats) => cats
                     .iter()
@@ -348,7 +351,7 @@ pub unsafe fn fmi2SetDebugLogging<M: Model>(
                 names.push(CStr::from_ptr(*p).to_string_lossy().into_owned());
             }
             let refs: Vec<&str> = names.iter().map(String::as_str).collect();
-            inst.set_debug_logging(loggingOn != fmi2False, &refs)
+            inst.set_debug_logging("fmi2SetDebugLogging", loggingOn != fmi2False, &refs)
         })
     }
 }
@@ -367,7 +370,7 @@ pub unsafe fn fmi2SetupExperiment<M: Model>(
 ) -> fmi2Status {
     // SAFETY: contract forwarded.
     unsafe {
-        let describe = |_: &FmuInstance<M>| {
+        let describe = |_: &Instance<M>| {
             Some(format!(
                 "toleranceDefined = {}, tolerance = {tolerance}, startTime = {startTime}, stopTimeDefined = {}, stopTime = {stopTime}",
                 bool_arg(toleranceDefined),
@@ -376,6 +379,7 @@ pub unsafe fn fmi2SetupExperiment<M: Model>(
         };
         guarded_with::<M, _, _>(c, "fmi2SetupExperiment", M_INSTANTIATED, describe, |inst| {
             inst.setup_experiment(
+                "fmi2SetupExperiment",
                 startTime,
                 (stopTimeDefined != fmi2False).then_some(stopTime),
             )
@@ -397,7 +401,7 @@ pub unsafe fn fmi2EnterInitializationMode<M: Model>(c: fmi2Component) -> fmi2Sta
     }
 }
 
-/// Exit initialisation mode: parameters are validated and the estimator is created.
+/// Exit initialisation mode: the model checks its parameters together and is built.
 ///
 /// # Safety
 /// `c` live or null.
@@ -408,7 +412,7 @@ pub unsafe fn fmi2ExitInitializationMode<M: Model>(c: fmi2Component) -> fmi2Stat
             c,
             "fmi2ExitInitializationMode",
             M_INIT,
-            FmuInstance::<M>::exit_initialization,
+            Instance::<M>::exit_initialization,
         )
     }
 }
@@ -427,7 +431,7 @@ pub unsafe fn fmi2Terminate<M: Model>(c: fmi2Component) -> fmi2Status {
     }
 }
 
-/// Back to the just-instantiated state (start values, no estimator). Allowed in every
+/// Back to the just-instantiated state (start values, nothing built). Allowed in every
 /// state, including after an error (FMI 2.0.5).
 ///
 /// # Safety
@@ -567,7 +571,7 @@ unsafe fn set_values<M: Model, T: Copy>(
     } = a;
     // SAFETY: contract forwarded; pointers checked.
     unsafe {
-        let describe = |_: &FmuInstance<M>| Some(values_arg::<M, T>(vr, nvr, value, show));
+        let describe = |_: &Instance<M>| Some(values_arg::<M, T>(vr, nvr, value, show));
         guarded_with::<M, _, _>(c, func, M_SET, describe, |inst| {
             let refs = slice(vr, nvr, "vr")?;
             let vals = slice(value, nvr, "value")?;
@@ -635,13 +639,11 @@ unsafe fn no_string_variable<M: Model>(
 ) -> fmi2Status {
     // SAFETY: contract forwarded.
     unsafe {
-        let describe = |_: &FmuInstance<M>| {
+        let describe = |_: &Instance<M>| {
             Some(match slice(vr, nvr, "vr") {
                 Ok(refs) => {
-                    let labels: Vec<String> = refs
-                        .iter()
-                        .map(|r| FmuInstance::<M>::var_label(*r))
-                        .collect();
+                    let labels: Vec<String> =
+                        refs.iter().map(|r| Instance::<M>::var_label(*r)).collect();
                     format!("nvr = {nvr}: {}", labels.join(", "))
                 }
                 Err(_) => format!("nvr = {nvr}, vr = NULL"),
@@ -731,6 +733,22 @@ pub unsafe fn fmi2SetString<M: Model>(
 
 // ---------------------------------------------------------------- FMU state
 
+/// The refusal of a state pointer this instance did not make (or has freed).
+fn unknown_state(func: &str) -> Failure {
+    error(format!(
+        "{func}: unknown FMU state (not made by this instance, or already freed; move a state \
+         between instances with fmi2SerializeFMUstate / fmi2DeSerializeFMUstate)"
+    ))
+}
+
+/// The state behind a pointer if this instance made it ([`unknown_state`] otherwise).
+fn known<'a>(
+    s: Option<&'a crate::state::FmuState>,
+    func: &str,
+) -> Result<&'a crate::state::FmuState, Failure> {
+    s.ok_or_else(|| unknown_state(func))
+}
+
 /// Copy the instance's complete state (`canGetAndSetFMUstate="true"`; the bytes of
 /// [`crate::state`]). `*FMUstate == NULL` allocates a new state; a state this instance
 /// made is overwritten in place. Allowed in every state (a state taken in the error state
@@ -763,7 +781,7 @@ pub unsafe fn fmi2SetFMUstate<M: Model>(c: fmi2Component, FMUstate: fmi2FMUstate
     // SAFETY: contract forwarded; the state pointer is only compared, never dereferenced.
     unsafe {
         guarded::<M, _>(c, F, ANY_STATE, |inst| {
-            let bytes = inst.states.get(FMUstate, F)?.bytes().to_vec();
+            let bytes = known(inst.states.get(FMUstate), F)?.bytes().to_vec();
             inst.restore_state(&bytes, F)
         })
     }
@@ -783,7 +801,9 @@ pub unsafe fn fmi2FreeFMUstate<M: Model>(
         guarded::<M, _>(c, F, ANY_STATE, |inst| {
             let s = slice_mut(FMUstate, 1, "FMUstate")?;
             if !s[0].is_null() {
-                inst.states.free(s[0], F)?;
+                if !inst.states.free(s[0]) {
+                    return Err(unknown_state(F));
+                }
                 s[0] = std::ptr::null_mut();
             }
             Ok(())
@@ -805,7 +825,7 @@ pub unsafe fn fmi2SerializedFMUstateSize<M: Model>(
     unsafe {
         guarded::<M, _>(c, F, ANY_STATE, |inst| {
             let out = slice_mut(size, 1, "size")?;
-            out[0] = inst.states.get(FMUstate, F)?.bytes().len();
+            out[0] = known(inst.states.get(FMUstate), F)?.bytes().len();
             Ok(())
         })
     }
@@ -826,7 +846,7 @@ pub unsafe fn fmi2SerializeFMUstate<M: Model>(
     // SAFETY: contract forwarded; pointers checked.
     unsafe {
         guarded::<M, _>(c, F, ANY_STATE, |inst| {
-            let b = inst.states.get(FMUstate, F)?.bytes();
+            let b = known(inst.states.get(FMUstate), F)?.bytes();
             if size < b.len() {
                 return Err(error(format!(
                     "{F}: the state needs {} bytes (fmi2SerializedFMUstateSize), the buffer holds {size}",
@@ -864,7 +884,7 @@ pub unsafe fn fmi2DeSerializeFMUstate<M: Model>(
                 return Err(error(format!("{F}: serializedState is null")));
             }
             let bytes = slice(serializedState.cast::<u8>(), size, "serializedState")?;
-            FmuInstance::<M>::check_state(bytes, F)?;
+            inst.check_state(bytes, F)?;
             out[0] = inst.states.put(out[0], bytes.to_vec());
             Ok(())
         })
@@ -941,8 +961,8 @@ pub unsafe fn fmi2GetRealOutputDerivatives<M: Model>(
 // ---------------------------------------------------------------- co-simulation
 
 /// One communication step from `currentCommunicationPoint` over
-/// `communicationStepSize`: apply the measurement taken at the step's start (if
-/// `measurement_valid`), predict with the thrust held, publish the estimate at the end.
+/// `communicationStepSize`: the inputs hold at the step's start, the outputs afterwards
+/// describe its end.
 ///
 /// # Safety
 /// `c` live or null.
@@ -954,14 +974,18 @@ pub unsafe fn fmi2DoStep<M: Model>(
 ) -> fmi2Status {
     // SAFETY: contract forwarded.
     unsafe {
-        let describe = |_: &FmuInstance<M>| {
+        let describe = |_: &Instance<M>| {
             Some(format!(
                 "currentCommunicationPoint = {currentCommunicationPoint}, communicationStepSize = {communicationStepSize}, noSetFMUStatePriorToCurrentPoint = {}",
                 bool_arg(noSetFMUStatePriorToCurrentPoint)
             ))
         };
         guarded_with::<M, _, _>(c, "fmi2DoStep", M_STEP, describe, |inst| {
-            inst.do_step(currentCommunicationPoint, communicationStepSize)
+            inst.do_step(
+                "fmi2DoStep",
+                currentCommunicationPoint,
+                communicationStepSize,
+            )
         })
     }
 }
