@@ -593,7 +593,7 @@ mod tests {
         assert_eq!([vr::Q_VEL_X, vr::Q_VEL_Y, vr::Q_VEL_Z].map(s), c.q_vel);
         assert_eq!(
             [vr::UKF_ALPHA, vr::UKF_BETA, vr::UKF_KAPPA].map(s),
-            [c.ukf.alpha, c.ukf.beta, c.ukf.kappa]
+            [c.ukf_alpha, c.ukf_beta, c.ukf_kappa]
         );
         assert_eq!(s(vr::SEED), c.seed as f64);
         assert_eq!(s(vr::PARTICLES), c.particles as f64);
