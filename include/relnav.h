@@ -31,18 +31,16 @@ typedef enum relnav_status {
   RELNAV_ERROR_INVALID_STATE = 8,
 } relnav_status;
 
-// Filter codes for `relnav_config.filter` (same as the FMU's `filter` parameter).
+// Filter codes (`relnav_config` holds them as plain integers, so that an unknown
+// value is reported, not undefined behaviour).
 typedef enum relnav_filter {
-  // Extended Kalman filter (Joseph-form update).
+  // Extended Kalman filter (Joseph form).
   RELNAV_FILTER_EKF = 1,
   // Unscented Kalman filter (scaled sigma points).
   RELNAV_FILTER_UKF = 2,
-  // Sliding-window adaptive UKF (paper 001): adaptive velocity process noise, `window`,
-  // `q_vv_floor`, `q_vv_ceiling`; `relnav_estimator_get_q_vv` reports it.
+  // Sliding-window adaptive UKF (paper 001: adaptive velocity process noise, see window and q_vv_*).
   RELNAV_FILTER_AQUKF = 3,
-  // SIR (bootstrap) particle filter (paper 000), with the posterior-invariant moves of
-  // `pf_move` (the literal SIR without them keeps impoverished velocities: metres off
-  // on paper 000's example after 100 s).
+  // SIR particle filter (paper 000), with the Gaussian-prior moves of pf_move (without them its velocities stay impoverished, metres off on paper 000).
   RELNAV_FILTER_PF = 4,
   // Regularised particle filter (kernel jitter after resampling).
   RELNAV_FILTER_RPF = 5,
@@ -50,70 +48,64 @@ typedef enum relnav_filter {
   RELNAV_FILTER_UPF = 6,
   // Genetic-algorithm particle filter (crossover and mutation after resampling).
   RELNAV_FILTER_GAPF = 7,
-  // Cloud-genetic particle filter (paper 003): UKF proposal, cloud-model genetic moves.
+  // Cloud-genetic particle filter (paper 003: UKF proposal, cloud-model genetic moves).
   RELNAV_FILTER_CGAPF = 8,
-  // Robust H-infinity filter (paper 002): observer form designed by an LMI (Clarabel)
-  // when the estimator is created, for the open-loop CW plant and `hinf_period`; its
-  // covariance and sigma are NaN (no Gaussian covariance exists).
+  // Robust H-infinity filter (paper 002; observer form designed by an LMI at initialisation for hinf_period; sigma_* are NaN).
   RELNAV_FILTER_HINF = 9,
-  // Interacting multiple-model filter (Blom & Bar-Shalom 1988): `imm_modes` EKFs on the
-  // CW model, mode `j` with the configured process noise plus a white acceleration of
-  // density `imm_accel_psd[j]`, Markov switching with per-second staying probabilities
-  // `imm_p_stay`; `relnav_estimator_get_mode_probabilities` reports the modes.
+  // Interacting multiple-model filter: imm_modes EKFs with the process noise plus imm_accel_psd_*, Markov switching (imm_p_stay_*); mode probabilities in imm_mu_*.
   RELNAV_FILTER_IMM = 10,
 } relnav_filter;
 
-// Frame codes for `relnav_config.frame` (see ARCHITECTURE.md, "Frames").
+// Frame codes (`relnav_config` holds them as plain integers, so that an unknown
+// value is reported, not undefined behaviour).
 typedef enum relnav_frame {
-  // Canonical Hill frame: x radial outward, y along-track, z orbit normal (paper 002).
+  // x radial outward, y along-track, z orbit normal (canonical; paper 002).
   RELNAV_FRAME_RADIAL_ALONG_NORMAL = 1,
-  // Paper 000: x along-track, y radial outward, z minus orbit normal.
+  // x along-track, y radial outward, z minus orbit normal (paper 000).
   RELNAV_FRAME_ALONG_RADIAL_ANTINORMAL = 2,
-  // Paper 003: x along-track, y minus orbit normal, z nadir.
+  // x along-track, y minus orbit normal, z nadir (paper 003).
   RELNAV_FRAME_ALONG_ANTINORMAL_NADIR = 3,
 } relnav_frame;
 
-// Discretisation codes for `relnav_config.discretization`.
+// Discretization codes (`relnav_config` holds them as plain integers, so that an unknown
+// value is reported, not undefined behaviour).
 typedef enum relnav_discretization {
-  // Exact CW transition, exact zero-order-hold input, Van Loan process noise.
+  // Exact CW transition, exact zero-order hold, Van Loan process noise.
   RELNAV_DISCRETIZATION_EXACT = 1,
-  // First-order Euler `I + T A` (only to reproduce paper 000 literally).
+  // First-order Euler I + T A (literal paper 000).
   RELNAV_DISCRETIZATION_EULER = 2,
 } relnav_discretization;
 
-// Resampling schemes for `relnav_config.resampler` (particle filters only).
+// Resampler codes (`relnav_config` holds them as plain integers, so that an unknown
+// value is reported, not undefined behaviour).
 typedef enum relnav_resampler {
-  // `N` independent draws from the weights (paper 000's SIR).
+  // N independent draws from the weights (paper 000's SIR).
   RELNAV_RESAMPLER_MULTINOMIAL = 1,
-  // One uniform, `N` evenly spaced points (Kitagawa 1996); the default.
+  // One uniform, N evenly spaced points (Kitagawa 1996).
   RELNAV_RESAMPLER_SYSTEMATIC = 2,
   // One uniform per stratum (Kitagawa 1996).
   RELNAV_RESAMPLER_STRATIFIED = 3,
-  // `floor(N w_i)` deterministic copies, the rest multinomial (Liu & Chen 1998).
+  // floor(N w) deterministic copies, the rest multinomial (Liu and Chen 1998).
   RELNAV_RESAMPLER_RESIDUAL = 4,
 } relnav_resampler;
 
-// Measurement-noise densities for `relnav_config.noise_model`, each scaled by
-// `sigma_range` / `sigma_angle`.
+// NoiseModel codes (`relnav_config` holds them as plain integers, so that an unknown
+// value is reported, not undefined behaviour).
 typedef enum relnav_noise_model {
-  // Gaussian `N(0, sigma^2)`.
+  // Gaussian N(0, sigma^2).
   RELNAV_NOISE_GAUSSIAN = 1,
-  // Contaminated Gaussian `(1 - zeta) N(0, sigma^2) + zeta N(0, (scale sigma)^2)`
-  // (`noise_zeta`, `noise_scale`; paper 003).
+  // Contaminated Gaussian (1 - zeta) N(0, sigma^2) + zeta N(0, (scale sigma)^2) (paper 003).
   RELNAV_NOISE_MIXTURE = 2,
-  // Student-t `sigma t_dof` (`noise_dof`).
+  // Student-t sigma t_dof.
   RELNAV_NOISE_STUDENT_T = 3,
 } relnav_noise_model;
 
-// Adaptation laws of the AQUKF for `relnav_config.aq_law` (same codes as the FMU's
-// `aq_law` parameter).
+// AdaptationLaw codes (`relnav_config` holds them as plain integers, so that an unknown
+// value is reported, not undefined behaviour).
 typedef enum relnav_adaptation {
-  // Paper 001 literally: the sliding-window estimate of `q_vv` at every update.
+  // Paper 001 literally: the sliding-window estimate of q_vv at every update.
   RELNAV_ADAPTATION_WINDOW = 1,
-  // The default: `q_vv` stays at `q_vel` while the windowed normalised innovation
-  // squared (`aq_gate_window` updates) is below its chi-square quantile
-  // `aq_gate_quantile`, and follows the sliding window (never below `q_vel`) while it
-  // is above.
+  // q_vv stays at q_vel while the windowed NIS is below its chi-square quantile; the sliding window adapts it (never below q_vel) while it is above.
   RELNAV_ADAPTATION_GATED = 2,
 } relnav_adaptation;
 
@@ -169,123 +161,202 @@ typedef struct relnav_estimator relnav_estimator;
 typedef struct relnav_hinf_filter relnav_hinf_filter;
 
 // Estimator configuration. Get the defaults (paper 000's example) from
-// [`relnav_config_default`], then change what you need. Enum fields are plain integers so
-// that an unknown value is reported, not undefined behaviour.
+// `relnav_config_default`, then change what you need. Codes and flags are plain
+// integers, so that an unknown value is reported, not undefined behaviour.
 typedef struct relnav_config {
-  // A `relnav_filter` code (1 EKF, 2 UKF, 3 AQUKF, 4-8 particle filters, 9 H-infinity,
-  // 10 IMM).
+  // Estimator (codes 1-10: 1-3 Kalman (EKF, UKF, AQUKF), 4-8 particle filters, 9 robust H-infinity, 10 IMM).
+  // A `relnav_filter` code: 1 ekf, 2 ukf, 3 aqukf, 4 pf, 5 rpf, 6 upf, 7 gapf, 8 cgapf, 9 hinf, 10 imm.
+  // Default: 1 (ekf).
   int32_t filter;
-  // A `relnav_frame` code: the frame of every vector and angle passed in and out.
+  // Hill-frame convention of every input and output vector and angle.
+  // A `relnav_frame` code: 1 radial_along_normal, 2 along_radial_antinormal, 3 along_antinormal_nadir.
+  // Default: 2 (along_radial_antinormal).
   int32_t frame;
-  // A `relnav_discretization` code.
+  // Discretisation of the CW model.
+  // A `relnav_discretization` code: 1 exact, 2 euler.
+  // Default: 1 (exact).
   int32_t discretization;
-  // Target mean motion [rad/s], > 0.
+  // Mean motion of the target's circular orbit (> 0).
+  // Unit: rad/s.
+  // Allowed: > 0.
+  // Default: 0.0008726646259971648.
   double mean_motion;
-  // Chaser mass [kg], > 0.
+  // Chaser mass: thrust / mass = acceleration (> 0).
+  // Unit: kg.
+  // Allowed: > 0.
+  // Default: 1000.
   double chaser_mass;
-  // Range noise scale [m], > 0: the 1 sigma of a Gaussian `noise_model`, the nominal
-  // sigma of the others.
+  // Range measurement noise, 1 sigma of the Gaussian (nominal sigma of the other noise models; > 0).
+  // Unit: m.
+  // Allowed: > 0.
+  // Default: 0.5.
   double sigma_range;
-  // Azimuth and elevation noise scale [rad], > 0 (as `sigma_range`).
+  // Azimuth and elevation measurement noise, 1 sigma of the Gaussian (nominal sigma of the other noise models; > 0).
+  // Unit: rad.
+  // Allowed: > 0.
+  // Default: 0.00017453292519943296.
   double sigma_angle;
-  // Initial estimate (x, y, z [m], vx, vy, vz [m/s]); `|x0_i| + 100 sigma` (sigma of
-  // its group, `sigma_pos0` or `sigma_vel0`) must not exceed 1e150.
+  // Initial estimate (x, y, z [m], vx, vy, vz [m/s]) in the I/O frame; |x0_i| + 100 sigma (of its group, sigma_pos0 or sigma_vel0) must not exceed 1e150.
+  // `[0]` x0 [m]
+  // `[1]` y0 [m]
+  // `[2]` z0 [m]
+  // `[3]` vx0 [m/s]
+  // `[4]` vy0 [m/s]
+  // `[5]` vz0 [m/s]
+  // Default: 405, 505, 205, 0.1, 0.1, 0.1.
   double x0[6];
-  // Initial position 1 sigma per axis [m], > 0.
+  // Initial position uncertainty per axis, 1 sigma (> 0).
+  // Unit: m.
+  // Allowed: > 0.
+  // Default: 50.
   double sigma_pos0;
-  // Initial velocity 1 sigma per axis [m/s], > 0.
+  // Initial velocity uncertainty per axis, 1 sigma (> 0).
+  // Unit: m/s.
+  // Allowed: > 0.
+  // Default: 1.
   double sigma_vel0;
-  // Continuous white-acceleration spectral density per axis [m^2/s^3], >= 0.
+  // Process noise: spectral density of a continuous white acceleration per axis (Van Loan discretisation; >= 0).
+  // Unit: m2/s3.
+  // Allowed: >= 0.
+  // Default: 0.
   double accel_psd;
-  // Position variance rate per axis [m^2/s], >= 0 (discrete Q = q_pos * h).
+  // Process noise: position variance rate per I/O axis (discrete Q = q_pos h; >= 0); paper 000's Q per 1 s step by default.
+  // `[0]` q_pos_x [m2/s]
+  // `[1]` q_pos_y [m2/s]
+  // `[2]` q_pos_z [m2/s]
+  // Allowed: >= 0.
+  // Default: 0.09, 0.000625, 0.0025.
   double q_pos[3];
-  // Velocity variance rate per axis [m^2/s^3], >= 0 (discrete Q = q_vel * h).
+  // Process noise: velocity variance rate per I/O axis (discrete Q = q_vel h; >= 0); for the AQUKF the initial adaptive density q_vv.
+  // `[0]` q_vel_x [m2/s3]
+  // `[1]` q_vel_y [m2/s3]
+  // `[2]` q_vel_z [m2/s3]
+  // Allowed: >= 0.
+  // Default: 1e-6, 1e-6, 1e-6.
   double q_vel[3];
-  // UKF sigma-point spread alpha (> 0); also the unscented proposal of UPF and CGA-PF.
+  // UKF sigma-point spread alpha (> 0); also the unscented proposal of upf and cgapf.
+  // Default: 1.
   double ukf_alpha;
   // UKF beta (2 for Gaussian priors).
+  // Default: 2.
   double ukf_beta;
   // UKF kappa.
+  // Default: 0.
   double ukf_kappa;
-  // Seed for filters that draw random numbers (the particle filters): identical seeds
-  // give bit-identical outputs, also after `relnav_estimator_reset`.
+  // Seed of the filters that draw random numbers (identical seeds give identical outputs).
+  // Default: 0.
   uint64_t seed;
-  // Number of particles of the particle filters (codes 4-8), 1..=2000000 (default 1500).
+  // Number of particles of the particle filters (codes 4-8; 1..2000000).
+  // Allowed: 1..=2000000.
+  // Default: 1500.
   int32_t particles;
-  // A `relnav_resampler` code (default 2, systematic).
+  // Resampling scheme of the particle filters.
+  // A `relnav_resampler` code: 1 multinomial, 2 systematic, 3 stratified, 4 residual.
+  // Default: 2 (systematic).
   int32_t resampler;
-  // Resample when the effective sample size drops below `resample_threshold * particles`;
-  // in (0, 1] (default 2/3, paper 000).
+  // The particle filters resample when the effective sample size drops below resample_threshold * particles (in (0, 1]; paper 000: 2/3).
+  // Allowed: in (0, 1].
+  // Default: 0.6666666666666666.
   double resample_threshold;
-  // A `relnav_noise_model` code (default 1, Gaussian). The particle filters weigh with
-  // this density; the Kalman filters assume the Gaussian of its variance (`sigma^2` times
-  // `1 - zeta + zeta scale^2` for the mixture, `dof / (dof - 2)` for the Student-t), so
-  // every filter sees the same noise statistics.
+  // Measurement-noise density scaled by sigma_range and sigma_angle: the particle filters weigh with it, the Kalman filters assume the Gaussian of its variance.
+  // A `relnav_noise_model` code: 1 gaussian, 2 mixture, 3 student_t.
+  // Default: 1 (gaussian).
   int32_t noise_model;
-  // Mixture: weight of the wide component, in [0, 1) (default 0.2).
+  // Mixture noise: weight of the wide component (in [0, 1)).
+  // Allowed: in [0, 1).
+  // Default: 0.2.
   double noise_zeta;
-  // Mixture: the wide component's sigma over the nominal one, >= 1 (default 10).
+  // Mixture noise: sigma of the wide component over the nominal sigma (>= 1).
+  // Allowed: >= 1.
+  // Default: 10.
   double noise_scale;
-  // Student-t: degrees of freedom, > 2 (default 4).
+  // Student-t noise: degrees of freedom (> 2).
+  // Allowed: > 2.
+  // Default: 4.
   double noise_dof;
-  // AQUKF (code 3): sliding-window width N, 1..=512 (default 10, paper 001).
+  // AQUKF (filter 3): sliding-window width N of the adaptive process noise (1..512; paper 001: 10). For the AQUKF, q_vel_* is the initial adaptive density.
+  // Allowed: 1..=512.
+  // Default: 10.
   int32_t window;
-  // AQUKF: lower bound of each adaptive velocity density `q_vv` [m^2/s^3], >= 0
-  // (default 0). For the AQUKF, `q_vel` is the initial `q_vv`.
+  // AQUKF: lower bound of each adaptive q_vv entry (>= 0).
+  // Unit: m2/s3.
+  // Allowed: >= 0.
+  // Default: 0.
   double q_vv_floor;
-  // AQUKF: upper bound of each `q_vv` [m^2/s^3], finite, > 0, >= `q_vv_floor` (default 1).
+  // AQUKF: upper bound of each adaptive q_vv entry (finite, > 0 and >= q_vv_floor).
+  // Unit: m2/s3.
+  // Default: 1.
   double q_vv_ceiling;
-  // H-infinity filter (code 9): the sampling period of its discrete design [s], > 0
-  // (default 1). A step of another length is refused with `RELNAV_ERROR_INVALID_ARGUMENT`.
+  // H-infinity filter (code 9): sampling period of its discrete design; fmi2DoStep with another step size is refused (set it to the communication step).
+  // Unit: s.
+  // Default: 1.
   double hinf_period;
-  // H-infinity filter: orbit-rate uncertainty bound `delta_bar`, >= 0 (default 0.05).
+  // H-infinity filter: bound of the orbit-rate uncertainty, w = w0 (1 + delta), |delta| <= hinf_delta_bar (paper 002: 0.05).
+  // Default: 0.05.
   double hinf_delta_bar;
-  // H-infinity filter: process-noise scaling on positions [m], >= 0 (paper 002: 0.05).
-  // Default 0 together with `hinf_b_vel = 0`: the design's process noise is derived
-  // from `accel_psd`, `q_pos`, `q_vel` (what the other filters use); both > 0: `B =
-  // diag(b_pos I3, b_vel I3)`.
+  // H-infinity filter: process-noise scaling on positions (paper 002 B: 0.05); 0 with hinf_b_vel = 0 (default): derived from accel_psd, q_pos_*, q_vel_* (the noise every other filter uses).
+  // Unit: m.
+  // Allowed: >= 0.
+  // Default: 0.
   double hinf_b_pos;
-  // H-infinity filter: process-noise scaling on velocities [m/s], >= 0 (paper 002:
-  // 0.001; default 0 = derived, see `hinf_b_pos`).
+  // H-infinity filter: process-noise scaling on velocities (paper 002 B: 0.001); 0 with hinf_b_pos = 0 (default): derived.
+  // Unit: m/s.
+  // Allowed: >= 0.
+  // Default: 0.
   double hinf_b_vel;
-  // H-infinity filter: indirect-position measurement-noise scaling [m], >= 0 (paper
-  // 002: 0.1). Default 0: derived from `sigma_range`, `sigma_angle` and the noise model
-  // at the initial estimate's position.
+  // H-infinity filter: scaling of the indirect position measurement noise (paper 002 D: 0.1); 0 (default): derived from sigma_range, sigma_angle and the noise model at the initial estimate's position.
+  // Unit: m.
+  // Allowed: >= 0.
+  // Default: 0.
   double hinf_d;
-  // H-infinity filter: the design, a `relnav_hinf_form` code: 3 mixed H2/H-infinity
-  // (default; least H2 norm under `gamma <= hinf_gamma_factor * gamma_opt`) or 1 the
-  // gamma-optimal observer.
+  // H-infinity filter: the LMI design (mixed H2/H-infinity by default; gamma_optimal is issue 5's filter).
+  // A `relnav_hinf_form` code: 1 gamma_optimal, 3 mixed.
+  // Default: 3 (mixed).
   int32_t hinf_design;
-  // H-infinity filter, mixed design: bound on the certified gamma as a multiple of the
-  // gamma-optimal design's, finite and > 1 (default 1.5).
+  // H-infinity filter, mixed design: bound on the certified gamma (hinf_gamma) as a multiple of the gamma-optimal design's (> 1).
+  // Allowed: > 1.
+  // Default: 1.5.
   double hinf_gamma_factor;
-  // H-infinity filter: 1 (default) to start with the Kalman gain of the design's noise
-  // model and hand over to the designed gain when that is no worse (track initiation),
-  // 0 to run the designed gain from the first step.
+  // H-infinity filter: start with the Kalman gain of the design's noise model and hand over to the designed gain once that is no worse (track initiation); false: the designed gain from the first step.
+  // 0 or 1.
+  // Default: 1.
   int32_t hinf_acquisition;
-  // AQUKF (code 3): a `relnav_adaptation` code (default 2, gated; 1 is paper 001's
-  // window at every update).
+  // AQUKF (filter 3): adaptation law of the velocity process noise (1 window: paper 001 at every update; 2 gated: only while the windowed NIS exceeds its chi-square bound).
+  // A `relnav_adaptation` code: 1 window, 2 gated.
+  // Default: 2 (gated).
   int32_t aq_law;
-  // AQUKF, gated law: updates in the windowed NIS, 1..=128 (default 10).
+  // AQUKF, gated law: number of measurement updates in the windowed NIS (1..128).
+  // Allowed: 1..=128.
+  // Default: 10.
   int32_t aq_gate_window;
-  // AQUKF, gated law: chi-square probability of the NIS gate, in (0, 1) (default 0.999).
+  // AQUKF, gated law: the gate opens when the windowed NIS exceeds its chi-square quantile at this probability (in (0, 1)).
+  // Default: 0.999.
   double aq_gate_quantile;
-  // IMM (code 10): number of modes, 2 or 3 (default 3).
+  // IMM (filter 10): number of modes (2 or 3).
+  // Allowed: 2 or 3.
+  // Default: 3.
   int32_t imm_modes;
-  // IMM: white-acceleration density added to the process noise in each mode
-  // [m^2/s^3], >= 0 (default 0, 1e-6, 1e-3; the third is unused with 2 modes).
+  // IMM: white-acceleration density added to the process noise in each mode (>= 0; the third is unused with 2 modes).
+  // `[0]` imm_accel_psd_1 [m2/s3]
+  // `[1]` imm_accel_psd_2 [m2/s3]
+  // `[2]` imm_accel_psd_3 [m2/s3]
+  // Allowed: >= 0.
+  // Default: 0, 1e-6, 0.001.
   double imm_accel_psd[3];
-  // IMM: probability of staying in each mode over one second, in (0, 1)
-  // (default 0.99999, 0.9, 0.9).
+  // IMM: probability of staying in each mode over one second (in (0, 1)).
+  // `[0]` imm_p_stay_1
+  // `[1]` imm_p_stay_2
+  // `[2]` imm_p_stay_3
+  // Allowed: in (0, 1).
+  // Default: 0.99999, 0.9, 0.9.
   double imm_p_stay[3];
-  // Particle filters (codes 4-8): 1 (default) moves the particles with
-  // posterior-invariant Metropolis–Hastings steps after every update (accurate as the
-  // EKF on Gaussian noise, also with small process noise); 0 runs the papers' literal
-  // filters (paper 000's SIR, plain RPF, van der Merwe's UPF). Other values are refused.
+  // Particle filters (codes 4-8): after every update, Metropolis-Hastings moves whose target is the likelihood times the Gaussian of the predictive moments (Gaussian-prior moves, not invariant for the exact posterior; as accurate as the EKF on Gaussian noise, also with small process noise); false: the papers' literal filters (paper 000's SIR, plain RPF, van der Merwe's UPF), which degenerate with small process noise.
+  // 0 or 1.
+  // Default: 1.
   int32_t pf_move;
-  // Particle filters: worker threads of the particle loops from 32768 particles on
-  // (0, the default: one per core; 1: the calling thread; at most 1024). The results
-  // do not depend on it.
+  // Particle filters: worker threads of the particle loops from 32768 particles on (0: one per core; 1: the calling thread; <= 1024); results do not depend on it.
+  // Allowed: 0..=1024.
+  // Default: 0.
   int32_t pf_threads;
 } relnav_config;
 

@@ -27,6 +27,8 @@
 #![allow(non_camel_case_types)]
 
 pub mod config;
+#[rustfmt::skip]
+mod config_fields;
 pub mod error;
 pub mod estimator;
 pub mod hinf;

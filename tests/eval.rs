@@ -4,6 +4,7 @@
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)] // test code
 
 use relnav_core::estimators::Estimator;
+use relnav_core::params::Value;
 use relnav_eval::builtin;
 use relnav_eval::metrics::summarize;
 use relnav_eval::runner::{run, Options};
@@ -62,7 +63,7 @@ fn pcrlb_equals_the_kalman_covariance_on_a_linear_gaussian_scenario() {
     // the KF's own covariance, from the same prepared model (deterministic for a linear KF)
     let prep = Prepared::new(&s).unwrap();
     let f = &prep.filters[0];
-    let mut kf = f.instantiate(0);
+    let mut kf = f.instantiate(0).unwrap();
     let frame = s.io_frame();
     let mut z_dummy = relnav_core::types::Vec3::new(1.0, 2.0, 3.0);
     assert_eq!(bound.len(), prep.steps + 1);
@@ -143,7 +144,8 @@ fn results_do_not_depend_on_the_thread_count() {
     s.filters
         .retain(|f| ["EKF", "UKF", "RPF", "CGA-PF"].contains(&f.label.as_str()));
     for f in &mut s.filters {
-        f.particles = f.particles.min(300);
+        let n = f.params.resolved().particles.min(300) as i64;
+        f.params.set("particles", &[Value::Int(n)]).unwrap();
     }
     s.simulation.duration = 120.0;
     let one = run(
@@ -186,7 +188,8 @@ fn chunks_computed_apart_reduce_to_the_runners_result() {
     s.filters
         .retain(|f| ["EKF", "UKF", "RPF"].contains(&f.label.as_str()));
     for f in &mut s.filters {
-        f.particles = f.particles.min(200);
+        let n = f.params.resolved().particles.min(200) as i64;
+        f.params.set("particles", &[Value::Int(n)]).unwrap();
     }
     s.simulation.duration = 60.0;
     let whole = run(

@@ -332,11 +332,9 @@ fn invalid_configurations_name_the_parameter() {
         (
             NavConfig {
                 filter: FilterKind::Ukf,
-                ukf: UkfParams {
-                    alpha: 1.0,
-                    beta: 2.0,
-                    kappa: -6.0,
-                },
+                ukf_alpha: 1.0,
+                ukf_beta: 2.0,
+                ukf_kappa: -6.0,
                 ..Default::default()
             },
             "ukf_kappa",
@@ -381,11 +379,7 @@ fn invalid_configurations_name_the_parameter() {
         e.message
     );
     let e = Navigator::new(&NavConfig {
-        ukf: UkfParams {
-            alpha: f64::NAN,
-            beta: 2.0,
-            kappa: 0.0,
-        },
+        ukf_alpha: f64::NAN,
         ..Default::default()
     })
     .unwrap_err();

@@ -131,7 +131,7 @@ class Estimator:
             imm_p_stay_1: IMM: probability of staying in mode 1 over one second (in (0, 1)).
             imm_p_stay_2: IMM: probability of staying in mode 2 over one second (in (0, 1)).
             imm_p_stay_3: IMM: probability of staying in mode 3 over one second (in (0, 1)).
-            pf_move: Particle filters (codes 4-8): move the particles after every update with Metropolis-Hastings steps that leave the posterior invariant (as accurate as the EKF on Gaussian noise, also with small process noise); false: the papers' literal filters (paper 000's SIR, plain RPF, van der Merwe's UPF), which degenerate with small process noise.
+            pf_move: Particle filters (codes 4-8): after every update, Metropolis-Hastings moves whose target is the likelihood times the Gaussian of the predictive moments (Gaussian-prior moves, not invariant for the exact posterior; as accurate as the EKF on Gaussian noise, also with small process noise); false: the papers' literal filters (paper 000's SIR, plain RPF, van der Merwe's UPF), which degenerate with small process noise.
             pf_threads: Particle filters: worker threads of the particle loops from 32768 particles on (0: one per core; 1: the calling thread; <= 1024); results do not depend on it.
         """
     # --- parameters: end ---

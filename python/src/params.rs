@@ -2,14 +2,15 @@
 //! (`relnav_nav_model::VARIABLES`): every variable of causality *parameter* is a keyword
 //! argument with the table's name, type, start value and description; the values become a
 //! validated configuration through the FMU's own mapping (`relnav_nav_model::config_of`,
-//! which converts through `NavConfig::try_from`). A parameter appended to the table is
-//! therefore accepted here with nothing to change.
+//! which stores each value through its declaration in `relnav_core::nav::PARAMS`). A
+//! parameter declared there with a value reference is therefore accepted here with nothing
+//! to change.
 
 use crate::errors::{invalid, nav_error};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 use relnav_core::nav::NavConfig;
-use relnav_fmi::variables::{Causality, EnumType, VarDef, VarType};
+use relnav_fmi::variables::{Causality, VarDef, VarType};
 use relnav_nav_model::{N_VARS, VARIABLES};
 
 /// The table's parameters, in table order.
@@ -22,7 +23,7 @@ pub fn parameters() -> impl Iterator<Item = &'static VarDef> {
 /// Every variable at its start value, indexed by value reference.
 pub fn start_values() -> [f64; N_VARS] {
     let mut values = [0.0; N_VARS];
-    for v in VARIABLES {
+    for v in VARIABLES.iter() {
         values[v.vr as usize] = v.start;
     }
     values
@@ -38,14 +39,6 @@ pub fn type_name(ty: &VarType) -> &'static str {
     }
 }
 
-fn enum_items(t: &EnumType) -> String {
-    t.items
-        .iter()
-        .map(|(n, c, _)| format!("{c} {n}"))
-        .collect::<Vec<_>>()
-        .join(", ")
-}
-
 /// The Python value of a parameter: a code list's item name, an `int` for Integer, a
 /// `bool` for Boolean, a `float` for Real.
 pub fn to_python<'py>(py: Python<'py>, def: &VarDef, v: f64) -> PyResult<Bound<'py, PyAny>> {
@@ -53,8 +46,8 @@ pub fn to_python<'py>(py: Python<'py>, def: &VarDef, v: f64) -> PyResult<Bound<'
         VarType::Real(_) => PyFloat::new(py, v).into_any(),
         VarType::Integer => (v as i64).into_pyobject(py)?.into_any(),
         VarType::Boolean => PyBool::new(py, v != 0.0).to_owned().into_any(),
-        VarType::Code(t) => match t.items.iter().find(|it| f64::from(it.1) == v) {
-            Some(it) => PyString::new(py, it.0).into_any(),
+        VarType::Code(t) => match t.item_at(v) {
+            Some(it) => PyString::new(py, it.name).into_any(),
             None => (v as i64).into_pyobject(py)?.into_any(),
         },
     })
@@ -123,36 +116,28 @@ fn value_of(py: Python<'_>, def: &VarDef, obj: &Bound<'_, PyAny>) -> PyResult<f6
         VarType::Code(t) => {
             if let Ok(s) = obj.cast::<PyString>() {
                 let s = s.to_str()?;
-                t.items
-                    .iter()
-                    .find(|it| it.0.eq_ignore_ascii_case(s))
-                    .map(|it| f64::from(it.1))
-                    .ok_or_else(|| {
-                        invalid(
-                            py,
-                            format!(
-                                "{name} = {s:?} is not a {} (allowed: {})",
-                                t.name,
-                                enum_items(t)
-                            ),
-                        )
-                    })
+                t.by_name(s).map(|it| f64::from(it.code)).ok_or_else(|| {
+                    invalid(
+                        py,
+                        format!(
+                            "{name} = {s:?} is not a {} (allowed: {})",
+                            t.name,
+                            t.codes()
+                        ),
+                    )
+                })
             } else if !is_bool && obj.is_instance_of::<PyInt>() {
                 let code: i64 = obj.extract()?;
-                t.items
-                    .iter()
-                    .find(|it| i64::from(it.1) == code)
-                    .map(|it| f64::from(it.1))
-                    .ok_or_else(|| {
-                        invalid(
-                            py,
-                            format!(
-                                "{name} = {code} is not a {} code (allowed: {})",
-                                t.name,
-                                enum_items(t)
-                            ),
-                        )
-                    })
+                t.item(code).map(|it| f64::from(it.code)).ok_or_else(|| {
+                    invalid(
+                        py,
+                        format!(
+                            "{name} = {code} is not a {} code (allowed: {})",
+                            t.name,
+                            t.codes()
+                        ),
+                    )
+                })
             } else {
                 Err(invalid(
                     py,
@@ -160,7 +145,7 @@ fn value_of(py: Python<'_>, def: &VarDef, obj: &Bound<'_, PyAny>) -> PyResult<f6
                         "{name} must be a {} name or code (got {}; allowed: {})",
                         t.name,
                         python_type(obj),
-                        enum_items(t)
+                        t.codes()
                     ),
                 ))
             }
@@ -248,7 +233,8 @@ pub fn parameters_table(py: Python<'_>) -> PyResult<Bound<'_, PyList>> {
         d.set_item("description", v.description)?;
         if let VarType::Code(t) = v.ty {
             let items = PyList::empty(py);
-            for (n, c, desc) in t.items {
+            for it in t.items {
+                let (n, c, desc) = (it.name, it.code, it.description);
                 items.append(PyTuple::new(
                     py,
                     [

@@ -134,7 +134,7 @@ DEFAULTS = {
     "imm_p_stay_1": 0.99999,
     "imm_p_stay_2": 0.9,
     "imm_p_stay_3": 0.9,
-    # particle filters: posterior-invariant moves on, one thread per core
+    # particle filters: Gaussian-prior moves on, one thread per core
     "pf_move": True,
     "pf_threads": 0,
 }

@@ -20,6 +20,7 @@ pub mod nav;
 pub mod noise;
 pub mod numerics;
 pub mod orbit;
+pub mod params;
 pub mod plant;
 pub mod sensors;
 pub mod types;

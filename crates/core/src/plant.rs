@@ -35,32 +35,15 @@ use crate::types::{Mat6, Mat63, State, Vec3};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-/// Which truth propagates the relative motion (codes of the plant's `truth_model`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-#[repr(i32)]
-pub enum TruthModel {
-    /// Exact CW (closed-form transition, exact zero-order hold).
-    #[default]
-    Cw = 1,
-    /// Two-body + J2 propagation of target and chaser (10th-order GBS substeps).
-    TwoBodyJ2 = 2,
-}
-
-impl TruthModel {
-    /// All codes, in order.
-    pub const ALL: [TruthModel; 2] = [TruthModel::Cw, TruthModel::TwoBodyJ2];
-
-    /// From the stable code (1 CW, 2 two-body + J2).
-    pub fn from_code(code: i32) -> Option<Self> {
-        Self::ALL.into_iter().find(|k| *k as i32 == code)
-    }
-
-    /// Short name (`cw`, `two_body_j2`).
-    pub fn name(self) -> &'static str {
-        match self {
-            TruthModel::Cw => "cw",
-            TruthModel::TwoBodyJ2 => "two_body_j2",
-        }
+crate::codes! {
+    /// Which truth propagates the relative motion (codes of the plant's `truth_model`).
+    #[derive(Default)]
+    pub enum TruthModel: TRUTH_MODEL_CODES = "TruthModel", "relnav_truth_model", "RELNAV_TRUTH_", false {
+        /// Exact CW (closed-form transition, exact zero-order hold).
+        #[default]
+        Cw = 1, "cw", "Exact Clohessy-Wiltshire (closed-form transition, exact zero-order hold of the thrust)";
+        /// Two-body + J2 propagation of target and chaser (10th-order GBS substeps).
+        TwoBodyJ2 = 2, "two_body_j2", "Target and chaser around the Earth, point mass + J2 (10th-order Gragg-Bulirsch-Stoer substeps); relative state in the target's Hill frame";
     }
 }
 

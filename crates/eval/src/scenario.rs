@@ -4,9 +4,11 @@
 //! expected there. See `scenarios/*.toml` for the papers' examples and
 //! `docs/scenarios.md` for the full key reference.
 
-use relnav_core::dynamics::Discretization;
+use relnav_core::estimators::pf::{Kernel, PfInit};
 use relnav_core::frames::Frame;
+use relnav_core::nav::{FilterKind, FilterOptions, HinfDesignKind, NavConfig, PARAMS};
 use relnav_core::noise::NoiseModel;
+use relnav_core::params::{Kind, Value};
 use relnav_core::types::{Mat6, State};
 use serde::{Deserialize, Serialize};
 
@@ -264,29 +266,24 @@ pub struct Simulation {
     pub convergence_threshold: [f64; 2],
 }
 
-/// One filter to run.
+/// One filter to run: the navigator's parameters a `[[filter]]` table sets (keys of
+/// relnav-core's parameter table, [`ScenarioParams`]: `kind`, `initial_state`,
+/// `sigma_pos0`, `particles`, `threshold`, ...), and what only the evaluation engine knows
+/// about a filter (its label, its per-step process noise, a model error, the particle
+/// filters' research settings, the H-infinity designs of paper 002's reproduction).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
 pub struct FilterSpec {
     /// Row label.
     pub label: String,
-    /// Filter kind (`ekf`, `ukf`; the others land with their issues).
-    pub kind: String,
-    /// Initial estimate (I/O frame).
-    pub initial_state: [f64; 6],
-    /// Initial 1-sigma per position axis [m].
-    pub sigma_pos0: f64,
-    /// Initial 1-sigma per velocity axis [m/s].
-    pub sigma_vel0: f64,
-    /// Continuous white-acceleration density assumed [m^2/s^3].
-    #[serde(default)]
-    pub accel_psd: f64,
-    /// Discrete process-noise variances per step assumed (x .. vz, I/O frame).
+    /// The navigator's parameters this filter sets; the others keep their defaults
+    /// (`relnav_core::nav::PARAMS`).
+    #[serde(flatten)]
+    pub params: ScenarioParams,
+    /// Discrete process-noise variances per step assumed (x .. vz, I/O frame), as papers
+    /// 000 and 003 state their `Q`. For the AQUKF the velocity part divided by the step is
+    /// the initial adaptive density.
     #[serde(default)]
     pub process_noise: [f64; 6],
-    /// `exact` (default) or `euler`.
-    #[serde(default)]
-    pub discretization: DiscretizationName,
     /// Relative error of the filter's orbit rate (a filter that does not know the model).
     #[serde(default)]
     pub orbit_rate_error: f64,
@@ -294,26 +291,8 @@ pub struct FilterSpec {
     /// (true) or ignores the thrust (false: it does not know the controller).
     #[serde(default = "yes")]
     pub knows_control: bool,
-    /// UKF `alpha`.
-    #[serde(default = "one")]
-    pub ukf_alpha: f64,
-    /// UKF `beta`.
-    #[serde(default = "two")]
-    pub ukf_beta: f64,
-    /// UKF `kappa`.
-    #[serde(default)]
-    pub ukf_kappa: f64,
-    /// Particle filters: number of particles.
-    #[serde(default = "default_particles")]
-    pub particles: usize,
-    /// Particle filters: `multinomial`, `systematic` (default), `stratified`, `residual`.
-    #[serde(default)]
-    pub resampler: ResamplerName,
-    /// Particle filters: resample when `N_eff < threshold N` (default 2/3, paper 000).
-    #[serde(default = "default_threshold")]
-    pub threshold: f64,
-    /// Particle filters: `first_measurement` or `prior` (paper 000 literally); default
-    /// `first_measurement` for pf/rpf/gapf, `prior` for the unscented upf/cgapf.
+    /// Particle filters: `first_measurement` or `prior` (paper 000 literally); default the
+    /// kind's own ([`relnav_core::estimators::pf::PfKind::default_init`]).
     #[serde(default)]
     pub init: Option<InitName>,
     /// Regularised PF: `gaussian` (default) or `epanechnikov`.
@@ -323,41 +302,6 @@ pub struct FilterSpec {
     /// literally) instead of restarting it from `Q` each step (default false).
     #[serde(default)]
     pub carry_covariance: bool,
-    /// Particle filters: the posterior-invariant moves after every update (default true;
-    /// false: the papers' literal filters). Key `move`.
-    #[serde(default = "yes", rename = "move")]
-    pub moves: bool,
-    /// AQUKF: sliding-window width (default 10, paper 001). Its initial adaptive density
-    /// is the velocity part of `process_noise` divided by `simulation.step`.
-    #[serde(default = "default_window")]
-    pub window: usize,
-    /// AQUKF: lower bound on each adaptive `q_vv` [m^2/s^3] (default 0).
-    #[serde(default)]
-    pub q_vv_floor: f64,
-    /// AQUKF: upper bound on each adaptive `q_vv` [m^2/s^3] (default 1).
-    #[serde(default = "one")]
-    pub q_vv_ceiling: f64,
-    /// AQUKF: adaptation law, `gated` (default: adapt only while the windowed NIS exceeds
-    /// its chi-square bound) or `window` (paper 001: at every update).
-    #[serde(default)]
-    pub adaptation: AdaptationName,
-    /// AQUKF, gated law: updates in the windowed NIS (default 10).
-    #[serde(default = "default_window")]
-    pub gate_window: usize,
-    /// AQUKF, gated law: chi-square probability of the gate (default 0.999).
-    #[serde(default = "default_gate_quantile")]
-    pub gate_quantile: f64,
-    /// IMM (`kind = "imm"`): number of modes, 2 or 3 (default 3).
-    #[serde(default = "default_imm_modes")]
-    pub imm_modes: usize,
-    /// IMM: white-acceleration density added to the filter's process noise in each mode
-    /// [m^2/s^3] (default 0, 1e-6, 1e-3).
-    #[serde(default = "default_imm_accel_psd")]
-    pub imm_accel_psd: [f64; 3],
-    /// IMM: probability of staying in each mode over one second (default 0.99999, 0.9,
-    /// 0.9).
-    #[serde(default = "default_imm_p_stay")]
-    pub imm_p_stay: [f64; 3],
     /// H-infinity (`kind = "hinf"`): `paper` (Theorem 1 / Corollary 1 on the closed loop
     /// `u = K x`, Euler as the paper; needs `thrust.kind = "feedback"`), `published` (the
     /// paper's printed `A_F, B_F, C_F`, T = 0.1 s), `observer` (open-loop observer form,
@@ -381,72 +325,214 @@ pub struct FilterSpec {
     #[serde(default)]
     pub hinf_gamma_factor: Option<f64>,
     /// H-infinity, `observer` and `mixed`: start with the Kalman gain of the design's noise
-    /// model and hand over to the designed gain ([`relnav_core::hinf::HinfAcquisition`]). Default
-    /// false here (issue 5's rows); filter code 9's default is true.
+    /// model and hand over to the designed gain ([`relnav_core::hinf::HinfAcquisition`]).
+    /// Default false here (the gamma-optimal rows of paper 002's reproduction); filter
+    /// code 9's default is true.
     #[serde(default)]
     pub hinf_acquisition: bool,
 }
 
-fn default_window() -> usize {
-    10
+/// The `[[filter]]` keys the evaluation engine reads itself (besides [`ScenarioParams`]'s).
+pub const FILTER_OWN_KEYS: [&str; 11] = [
+    "label",
+    "process_noise",
+    "orbit_rate_error",
+    "knows_control",
+    "init",
+    "kernel",
+    "carry_covariance",
+    "hinf_design",
+    "hinf_delta_bar",
+    "hinf_scalings",
+    "hinf_gamma_factor",
+];
+
+/// The keys of relnav-core's parameter table a `[[filter]]` table must set: which filter,
+/// and its initial estimate and uncertainty.
+pub const FILTER_REQUIRED_KEYS: [&str; 4] = ["kind", "initial_state", "sigma_pos0", "sigma_vel0"];
+
+/// The navigator's parameters a `[[filter]]` table sets, by their scenario keys
+/// ([`relnav_core::params::Fronts::scenario`]): a code by its name (`kind = "ukf"`,
+/// `resampler = "multinomial"`), an array parameter as an array, a flag as a boolean. A key
+/// that is neither one of these nor one of the engine's own ([`FILTER_OWN_KEYS`]) is an
+/// error naming it and the keys expected.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct ScenarioParams {
+    /// (index in `PARAMS`, the elements' values), in the order the file gave them.
+    set: Vec<(usize, Vec<Value>)>,
 }
 
-fn default_gate_quantile() -> f64 {
-    relnav_core::estimators::AqParams::default().gate_quantile
-}
+impl ScenarioParams {
+    /// Every key this struct takes, in table order.
+    pub fn keys() -> impl Iterator<Item = &'static str> {
+        PARAMS.iter().filter_map(|p| p.fronts.scenario)
+    }
 
-fn default_imm_modes() -> usize {
-    relnav_core::estimators::ImmParams::default().modes
-}
+    /// The values set for the parameter named `name` (its field name), if any.
+    pub fn get(&self, name: &str) -> Option<&[Value]> {
+        self.set
+            .iter()
+            .find(|(k, _)| PARAMS.get(*k).is_some_and(|p| p.name == name))
+            .map(|(_, v)| v.as_slice())
+    }
 
-fn default_imm_accel_psd() -> [f64; 3] {
-    relnav_core::estimators::ImmParams::default().accel_psd
-}
+    /// Whether the file set the scenario key `key`.
+    pub fn has(&self, key: &str) -> bool {
+        self.set
+            .iter()
+            .any(|(k, _)| PARAMS.get(*k).and_then(|p| p.fronts.scenario) == Some(key))
+    }
 
-fn default_imm_p_stay() -> [f64; 3] {
-    relnav_core::estimators::ImmParams::default().p_stay
-}
-
-/// AQUKF adaptation-law names in scenario files.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
-#[serde(rename_all = "snake_case")]
-pub enum AdaptationName {
-    /// Paper 001 literally.
-    Window,
-    /// Adapt only while the windowed NIS exceeds its chi-square bound.
-    #[default]
-    Gated,
-}
-
-impl From<AdaptationName> for relnav_core::estimators::AdaptationLaw {
-    fn from(a: AdaptationName) -> Self {
-        match a {
-            AdaptationName::Window => relnav_core::estimators::AdaptationLaw::Window,
-            AdaptationName::Gated => relnav_core::estimators::AdaptationLaw::Gated,
+    /// The defaults with these values applied (values a configuration cannot hold are
+    /// left at their defaults; [`Scenario::validate`] names them).
+    pub fn resolved(&self) -> NavConfig {
+        let mut c = NavConfig::default();
+        for (k, vals) in &self.set {
+            let Some(p) = PARAMS.get(*k) else { continue };
+            for (i, v) in vals.iter().enumerate() {
+                let _ = c.assign(p, i, *v);
+            }
         }
+        c
+    }
+
+    /// Set the parameter named `name` (its field name) to `values` (one per element),
+    /// replacing what the file gave.
+    pub fn set(&mut self, name: &str, values: &[Value]) -> Result<(), String> {
+        let (k, p) = PARAMS
+            .iter()
+            .enumerate()
+            .find(|(_, p)| p.name == name)
+            .ok_or_else(|| format!("no parameter named {name}"))?;
+        if values.len() != p.elements.len() {
+            return Err(format!("{name} has {} elements", p.elements.len()));
+        }
+        self.set.retain(|(j, _)| *j != k);
+        self.set.push((k, values.to_vec()));
+        Ok(())
+    }
+
+    /// Apply the values to `c`; the message names the key.
+    pub fn apply(&self, c: &mut NavConfig) -> Result<(), String> {
+        for (k, vals) in &self.set {
+            let Some(p) = PARAMS.get(*k) else { continue };
+            for (i, v) in vals.iter().enumerate() {
+                c.assign(p, i, *v).map_err(|e| e.message)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// The filter code (`kind`; the default filter when absent).
+    pub fn kind(&self) -> FilterKind {
+        self.resolved().filter
+    }
+
+    fn parse(key: &str, v: &toml::Value) -> Result<(usize, Vec<Value>), String> {
+        let (k, p) = PARAMS
+            .iter()
+            .enumerate()
+            .find(|(_, p)| p.fronts.scenario == Some(key))
+            .ok_or_else(|| {
+                let expected: Vec<String> = FILTER_OWN_KEYS
+                    .iter()
+                    .copied()
+                    .chain(Self::keys())
+                    .map(|k| format!("`{k}`"))
+                    .collect();
+                format!(
+                    "unknown field `{key}`, expected one of {}",
+                    expected.join(", ")
+                )
+            })?;
+        let scalar = |x: &toml::Value| -> Result<Value, String> {
+            match (p.kind, x) {
+                (Kind::Real, toml::Value::Float(f)) => Ok(Value::Real(*f)),
+                (Kind::Real, toml::Value::Integer(i)) => Ok(Value::Real(*i as f64)),
+                (Kind::Count | Kind::Seed, toml::Value::Integer(i)) => Ok(Value::Int(*i)),
+                (Kind::Bool, toml::Value::Boolean(b)) => Ok(Value::Int(i64::from(*b))),
+                (Kind::Code(list), toml::Value::String(name)) => list
+                    .by_name(name)
+                    .map(|it| Value::Int(i64::from(it.code)))
+                    .ok_or_else(|| {
+                        format!(
+                            "{key} = \"{name}\" is not available (implemented: {})",
+                            list.names()
+                        )
+                    }),
+                (kind, other) => Err(format!(
+                    "{key} must be {} (got {other})",
+                    match kind {
+                        Kind::Real => "a number",
+                        Kind::Count | Kind::Seed => "an integer",
+                        Kind::Bool => "true or false",
+                        Kind::Code(_) => "a name",
+                    }
+                )),
+            }
+        };
+        let values = if p.elements.len() == 1 {
+            vec![scalar(v)?]
+        } else {
+            match v {
+                toml::Value::Array(a) if a.len() == p.elements.len() => {
+                    a.iter().map(scalar).collect::<Result<Vec<_>, _>>()?
+                }
+                other => {
+                    return Err(format!(
+                        "{key} must be an array of {} (got {other})",
+                        p.elements.len()
+                    ))
+                }
+            }
+        };
+        Ok((k, values))
     }
 }
 
-fn default_particles() -> usize {
-    1500
-}
-fn default_threshold() -> f64 {
-    2.0 / 3.0
+impl<'de> Deserialize<'de> for ScenarioParams {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let table = toml::Table::deserialize(d)?;
+        let mut set = Vec::new();
+        for (key, v) in &table {
+            set.push(Self::parse(key, v).map_err(serde::de::Error::custom)?);
+        }
+        Ok(Self { set })
+    }
 }
 
-/// Resampler names in scenario files.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
-#[serde(rename_all = "snake_case")]
-pub enum ResamplerName {
-    /// Multinomial (paper 000).
-    Multinomial,
-    /// Systematic.
-    #[default]
-    Systematic,
-    /// Stratified.
-    Stratified,
-    /// Residual.
-    Residual,
+impl Serialize for ScenarioParams {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        let mut m = s.serialize_map(Some(self.set.len()))?;
+        for (k, vals) in &self.set {
+            let Some(p) = PARAMS.get(*k) else { continue };
+            let Some(key) = p.fronts.scenario else {
+                continue;
+            };
+            let one = |v: &Value| -> toml::Value {
+                match (p.kind, v) {
+                    (Kind::Code(list), Value::Int(c)) => {
+                        list.item(*c).map_or(toml::Value::Integer(*c), |it| {
+                            toml::Value::String(it.name.to_string())
+                        })
+                    }
+                    (Kind::Bool, Value::Int(b)) => toml::Value::Boolean(*b != 0),
+                    (_, Value::Int(i)) => toml::Value::Integer(*i),
+                    (_, Value::Real(x)) => toml::Value::Float(*x),
+                }
+            };
+            if p.elements.len() == 1 {
+                if let Some(v) = vals.first() {
+                    m.serialize_entry(key, &one(v))?;
+                }
+            } else {
+                let a: Vec<toml::Value> = vals.iter().map(one).collect();
+                m.serialize_entry(key, &a)?;
+            }
+        }
+        m.end()
+    }
 }
 
 /// Particle initialisation names.
@@ -470,87 +556,59 @@ pub enum KernelName {
 }
 
 impl FilterSpec {
-    /// AQUKF settings: `window`, `q_vv_floor`, `q_vv_ceiling`, and the initial `q_vv`
-    /// (canonical) = velocity variances of `process_noise` (I/O frame) per `step`.
-    pub fn aq_params(&self, step: f64, frame: Frame) -> relnav_core::estimators::AqParams {
-        let mut d = [0.0; 6];
-        for (di, p) in d.iter_mut().zip(self.process_noise).skip(3) {
-            *di = p / step;
-        }
-        let c = frame.cov_to_canonical(&Mat6::from_diagonal(&State::from_row_slice(&d)));
-        relnav_core::estimators::AqParams {
-            window: self.window,
-            q_vv0: relnav_core::types::Vec3::new(c[(3, 3)], c[(4, 4)], c[(5, 5)]),
-            floor: self.q_vv_floor,
-            ceiling: self.q_vv_ceiling,
-            law: self.adaptation.into(),
-            gate_window: self.gate_window,
-            gate_quantile: self.gate_quantile,
-        }
+    /// The filter code of `kind`.
+    pub fn kind(&self) -> FilterKind {
+        self.params.kind()
     }
 
-    /// IMM settings: `imm_modes`, `imm_accel_psd`, `imm_p_stay`.
-    pub fn imm_params(&self) -> relnav_core::estimators::ImmParams {
-        relnav_core::estimators::ImmParams {
-            modes: self.imm_modes,
-            accel_psd: self.imm_accel_psd,
-            p_stay: self.imm_p_stay,
+    /// The navigator configuration of this filter in `scenario`: the scenario's frame, the
+    /// filter's orbit rate `mean_motion` (with its `orbit_rate_error`), the per-step
+    /// process noise as rates (`process_noise / step`; for the AQUKF the velocity part is
+    /// its initial adaptive density), the H-infinity settings of this table, then every
+    /// parameter the table sets. Its sensor settings are the navigator's defaults: the
+    /// engine gives each filter its measurement model itself.
+    pub fn nav_config(&self, scenario: &Scenario, mean_motion: f64) -> Result<NavConfig, String> {
+        let step = scenario.simulation.step;
+        let mut c = NavConfig {
+            frame: scenario.io_frame(),
+            mean_motion,
+            chaser_mass: scenario.truth.chaser_mass,
+            hinf_period: step,
+            hinf_acquisition: self.hinf_acquisition,
+            ..NavConfig::default()
+        };
+        for i in 0..3 {
+            c.q_pos[i] = self.process_noise[i] / step;
+            c.q_vel[i] = self.process_noise[i + 3] / step;
         }
+        if let Some(d) = self.hinf_delta_bar {
+            c.hinf_delta_bar = d;
+        }
+        if let Some(g) = self.hinf_gamma_factor {
+            c.hinf_gamma_factor = g;
+        }
+        if self.hinf_design.as_deref() == Some("observer") {
+            c.hinf_design = HinfDesignKind::GammaOptimal;
+        }
+        let sc = self.hinf_scalings.unwrap_or([0.05, 0.001, 0.1]);
+        (c.hinf_b_pos, c.hinf_b_vel, c.hinf_d) = (sc[0], sc[1], sc[2]);
+        self.params.apply(&mut c)?;
+        Ok(c)
     }
 
-    /// Particle-filter settings of this spec (for the particle kinds), seeded with `seed`.
-    pub fn pf_params(&self, seed: u64) -> relnav_core::estimators::pf::PfParams {
-        use relnav_core::estimators::pf::{resample::Resampler, Kernel, PfInit, PfKind, PfParams};
-        let kind = PfKind::from_name(&self.kind).unwrap_or_default();
-        PfParams {
-            particles: self.particles,
-            resampler: match self.resampler {
-                ResamplerName::Multinomial => Resampler::Multinomial,
-                ResamplerName::Systematic => Resampler::Systematic,
-                ResamplerName::Stratified => Resampler::Stratified,
-                ResamplerName::Residual => Resampler::Residual,
-            },
-            threshold: self.threshold,
-            kernel: match self.kernel {
+    /// The settings of this filter that its navigator configuration does not hold.
+    pub fn filter_options(&self) -> FilterOptions {
+        FilterOptions {
+            pf_init: self.init.map(|i| match i {
+                InitName::FirstMeasurement => PfInit::FirstMeasurement,
+                InitName::Prior => PfInit::Prior,
+            }),
+            pf_kernel: match self.kernel {
                 Some(KernelName::Epanechnikov) => Kernel::Epanechnikov,
                 _ => Kernel::Gaussian,
             },
-            init: match self.init {
-                Some(InitName::FirstMeasurement) => PfInit::FirstMeasurement,
-                Some(InitName::Prior) => PfInit::Prior,
-                None => kind.default_init(),
-            },
-            seed,
-            carry_covariance: self.carry_covariance,
-            moves: self.moves,
-            ..PfParams::new(kind)
-        }
-    }
-}
-
-fn one() -> f64 {
-    1.0
-}
-fn two() -> f64 {
-    2.0
-}
-
-/// Discretisation names in scenario files.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
-#[serde(rename_all = "snake_case")]
-pub enum DiscretizationName {
-    /// Exact.
-    #[default]
-    Exact,
-    /// Euler.
-    Euler,
-}
-
-impl From<DiscretizationName> for Discretization {
-    fn from(d: DiscretizationName) -> Discretization {
-        match d {
-            DiscretizationName::Exact => Discretization::Exact,
-            DiscretizationName::Euler => Discretization::Euler,
+            pf_carry_covariance: self.carry_covariance,
+            hinf: None,
         }
     }
 }
@@ -642,31 +700,22 @@ impl Scenario {
             return Err("at least one [[filter]] is required".into());
         }
         for f in &self.filters {
-            let is_pf = relnav_core::estimators::pf::PfKind::from_name(&f.kind).is_some();
-            if !(is_pf || matches!(f.kind.as_str(), "ekf" | "ukf" | "aqukf" | "hinf" | "imm")) {
+            let missing: Vec<&str> = FILTER_REQUIRED_KEYS
+                .iter()
+                .copied()
+                .filter(|k| !f.params.has(k))
+                .collect();
+            if !missing.is_empty() {
                 return Err(format!(
-                    "filter \"{}\": kind \"{}\" is not available (implemented: ekf, ukf, \
-                     aqukf, pf, rpf, upf, gapf, cgapf, hinf, imm)",
-                    f.label, f.kind
+                    "filter \"{}\": missing key(s) {}",
+                    f.label,
+                    missing.join(", ")
                 ));
             }
-            if f.kind == "aqukf" {
-                f.aq_params(self.simulation.step, self.io_frame())
-                    .validate()
-                    .map_err(|e| format!("filter \"{}\": {e}", f.label))?;
-            }
-            if f.kind == "imm" {
-                f.imm_params()
-                    .validate()
-                    .map_err(|e| format!("filter \"{}\": {e}", f.label))?;
-            }
-            if is_pf {
-                f.pf_params(0)
-                    .validate()
-                    .map_err(|e| format!("filter \"{}\": {e}", f.label))?;
-            }
-            pos(&format!("filter \"{}\".sigma_pos0", f.label), f.sigma_pos0)?;
-            pos(&format!("filter \"{}\".sigma_vel0", f.label), f.sigma_vel0)?;
+            let n = self.orbit.mean_motion()? * (1.0 + f.orbit_rate_error);
+            f.nav_config(self, n)
+                .and_then(|c| c.validate().map_err(|e| e.message))
+                .map_err(|e| format!("filter \"{}\": {e}", f.label))?;
         }
         Ok(())
     }

@@ -17,9 +17,8 @@ use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::StandardNormal;
 use relnav_core::dynamics::{CwModel, DiscreteModel, Discretization};
-use relnav_core::estimators::pf::ParticleFilter;
-use relnav_core::estimators::{AqParams, Aqukf, Ekf, Estimator, Imm, Ukf, UkfParams};
-use relnav_core::nav::AnyFilter;
+use relnav_core::estimators::Estimator;
+use relnav_core::nav::{build_filter_with, AnyFilter, FilterKind, FilterOptions, NavConfig};
 use relnav_core::noise::NoiseModel;
 use relnav_core::sensors::{AngleTrig, CartesianSensor, Geometry, MeasurementModel, RadioSensor};
 use relnav_core::types::{Mat3, Mat6, State, Vec3};
@@ -123,7 +122,7 @@ impl MeasurementModel for AnySensor {
 pub struct PreparedFilter {
     /// Label.
     pub label: String,
-    /// Kind name.
+    /// Kind name (the filter code's).
     pub kind: String,
     /// Initial estimate (canonical).
     pub x0: State,
@@ -135,47 +134,25 @@ pub struct PreparedFilter {
     pub told_thrust: bool,
     /// Its measurement model (variance-matched Gaussian).
     pub sensor: AnySensor,
-    ukf: UkfParams,
-    aq: AqParams,
-    mean_motion: f64,
-    spec: crate::scenario::FilterSpec,
-    /// H-infinity: the designed (or published) runtime filter, built once per scenario.
-    pub hinf: Option<relnav_core::hinf::HinfEstimator>,
+    /// Its configuration (the filter factory's input; the seed is each run's).
+    pub config: NavConfig,
+    /// What the configuration does not hold: the particle filters' research settings and,
+    /// for `kind = "hinf"`, the filter designed once per scenario.
+    pub options: FilterOptions,
     /// H-infinity observer under feedback thrust: the applied thrust `K x` is known and fed
     /// forward (the FMU's case); the Kalman filters instead model the closed loop.
     pub feedforward_feedback: bool,
 }
 
 impl PreparedFilter {
-    /// A fresh estimator at the initial estimate; `seed` seeds a particle filter.
-    pub fn instantiate(&self, seed: u64) -> AnyFilter {
-        if let Some(h) = &self.hinf {
-            let mut h = *h;
-            h.set_estimate(self.x0, self.p0);
-            return AnyFilter::Hinf(h);
-        }
-        match self.kind.as_str() {
-            "ukf" => AnyFilter::Ukf(Ukf::new(self.x0, self.p0, self.ukf)),
-            "aqukf" => AnyFilter::Aqukf(Aqukf::new(
-                self.x0,
-                self.p0,
-                self.ukf,
-                self.aq,
-                self.mean_motion,
-            )),
-            "imm" => AnyFilter::Imm(Imm::new(
-                self.x0,
-                self.p0,
-                self.spec.imm_params(),
-                self.mean_motion,
-            )),
-            "pf" | "rpf" | "upf" | "gapf" | "cgapf" => AnyFilter::Pf(ParticleFilter::new(
-                self.x0,
-                self.p0,
-                self.spec.pf_params(seed),
-            )),
-            _ => AnyFilter::Ekf(Ekf::new(self.x0, self.p0)),
-        }
+    /// A fresh estimator at the initial estimate, from the one filter factory
+    /// ([`relnav_core::nav::build_filter_with`]); `seed` seeds a particle filter.
+    pub fn instantiate(&self, seed: u64) -> Result<AnyFilter, String> {
+        let cfg = NavConfig {
+            seed,
+            ..self.config
+        };
+        build_filter_with(&cfg, &self.options).map_err(|e| e.message)
     }
 }
 
@@ -411,24 +388,27 @@ impl Prepared {
         let mut filters = Vec::new();
         for f in &s.filters {
             let nf = n0 * (1.0 + f.orbit_rate_error);
+            let config = f
+                .nav_config(s, nf)
+                .map_err(|e| format!("filter \"{}\": {e}", f.label))?;
             let mut model = CwModel::new(nf).discretize(
                 dt,
-                &(Mat3::identity() * f.accel_psd),
-                f.discretization.into(),
+                &(Mat3::identity() * config.accel_psd),
+                config.discretization,
             );
             // the AQUKF adapts the velocity part (its initial q_vv comes from it)
             let mut pn = f.process_noise;
-            if f.kind == "aqukf" {
+            if config.filter == FilterKind::Aqukf {
                 pn[3..].fill(0.0);
             }
             model.q += frame.cov_to_canonical(&Mat6::from_diagonal(&State::from_row_slice(&pn)));
             if let (Some(k), true) = (&feedback, f.knows_control) {
                 model.phi += model.gamma * k;
             }
-            let (p, v) = (f.sigma_pos0.powi(2), f.sigma_vel0.powi(2));
-            let x0 = frame.state_to_canonical(&State::from_row_slice(&f.initial_state));
-            let p0 = Mat6::from_diagonal(&State::from_row_slice(&[p, p, p, v, v, v]));
-            let (hinf, feedforward_feedback) = if f.kind == "hinf" {
+            let x0 = config.initial_state();
+            let p0 = config.initial_covariance();
+            let mut options = f.filter_options();
+            let feedforward_feedback = if config.filter == FilterKind::Hinf {
                 let (h, ff) = prepare_hinf(
                     f,
                     n0,
@@ -440,27 +420,21 @@ impl Prepared {
                     &filter_sensor,
                 )
                 .map_err(|e| format!("filter \"{}\": {e}", f.label))?;
-                (Some(h), ff)
+                options.hinf = Some(h);
+                ff
             } else {
-                (None, false)
+                false
             };
             filters.push(PreparedFilter {
                 label: f.label.clone(),
-                kind: f.kind.clone(),
-                x0: frame.state_to_canonical(&State::from_row_slice(&f.initial_state)),
-                p0: Mat6::from_diagonal(&State::from_row_slice(&[p, p, p, v, v, v])),
+                kind: config.filter.name().to_string(),
+                x0,
+                p0,
                 model,
                 told_thrust,
                 sensor: filter_sensor,
-                ukf: UkfParams {
-                    alpha: f.ukf_alpha,
-                    beta: f.ukf_beta,
-                    kappa: f.ukf_kappa,
-                },
-                aq: f.aq_params(dt, frame),
-                mean_motion: nf,
-                spec: f.clone(),
-                hinf,
+                config,
+                options,
                 feedforward_feedback,
             });
         }
@@ -610,7 +584,7 @@ pub fn run_filter(
 ) -> Result<(), String> {
     let frame = prep.scenario.io_frame();
     let t6 = frame.rotation6();
-    let mut est = f.instantiate(seed);
+    let mut est = f.instantiate(seed)?;
     out.clear();
     for k in 0..=prep.steps {
         let mut nis = f64::NAN;

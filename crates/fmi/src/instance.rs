@@ -366,7 +366,7 @@ impl<M: Model, B: Binding> FmuInstance<M, B> {
             )));
         }
         if let VarType::Code(t) = d.ty {
-            if t.item(value).is_none() {
+            if t.item_at(value).is_none() {
                 return Err(error(format!(
                     "{func}: {} = {value} is not a {} code (allowed: {})",
                     d.name,
@@ -486,11 +486,25 @@ fn refused(func: &str, e: StateError) -> Failure {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::variables::{EnumType, Variability};
+    use crate::variables::{CodeItem, CodeList, Variability};
 
-    static CODES: EnumType = EnumType {
+    static CODES: CodeList = CodeList {
         name: "Codes",
-        items: &[("a", 1, "first"), ("c", 3, "third")],
+        c_type: "codes",
+        c_prefix: "CODES_",
+        c_enum: false,
+        items: &[
+            CodeItem {
+                name: "a",
+                code: 1,
+                description: "first",
+            },
+            CodeItem {
+                name: "c",
+                code: 3,
+                description: "third",
+            },
+        ],
     };
 
     /// The access table's direct stores are exactly the sets the full path accepts with

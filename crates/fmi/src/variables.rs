@@ -26,43 +26,15 @@ pub enum Variability {
     Continuous,
 }
 
-/// A list of named integer codes (the C ABI's enums: filter, frame, ...).
+/// A list of named integer codes (the C ABI's enums: filter, frame, ...): relnav-core's
+/// declaration of the list, used as it is.
 ///
 /// Declared in `modelDescription.xml` as an FMI **Integer** with `min`/`max` and the
 /// codes with their names in the description, not as an FMI Enumeration: libcosim
 /// ignores Enumeration variables and Ecos drops them (`../shared/docs/fmi-masters.md`),
 /// so an Enumeration could be set from fmpy only. A code outside the list is refused when
 /// it is set.
-#[derive(Debug)]
-pub struct EnumType {
-    /// Name of the list (the README's code table and error messages).
-    pub name: &'static str,
-    /// Items: (name, code, description).
-    pub items: &'static [(&'static str, i32, &'static str)],
-}
-
-impl EnumType {
-    /// Smallest and largest code (the Integer's `min` and `max`).
-    pub fn range(&self) -> (i32, i32) {
-        let codes = self.items.iter().map(|it| it.1);
-        (codes.clone().min().unwrap_or(0), codes.max().unwrap_or(0))
-    }
-
-    /// The item whose code equals `value`, if any.
-    pub fn item(&self, value: f64) -> Option<&'static (&'static str, i32, &'static str)> {
-        self.items.iter().find(|it| f64::from(it.1) == value)
-    }
-
-    /// `1 ekf, 2 ukf, ...`: the codes with their names.
-    pub fn codes(&self) -> String {
-        let parts: Vec<String> = self
-            .items
-            .iter()
-            .map(|(n, v, _)| format!("{v} {n}"))
-            .collect();
-        parts.join(", ")
-    }
-}
+pub use relnav_core::params::{CodeItem, CodeList};
 
 /// FMI base type of a variable.
 #[derive(Debug, Clone, Copy)]
@@ -74,11 +46,11 @@ pub enum VarType {
     /// Boolean.
     Boolean,
     /// Integer restricted to the codes of a list (FMI Integer with `min`/`max`).
-    Code(&'static EnumType),
+    Code(&'static CodeList),
 }
 
 /// One FMU variable.
-#[derive(Debug)]
+#[derive(Debug, Clone, Copy)]
 pub struct VarDef {
     /// Value reference (= index in the model's table).
     pub vr: u32,
@@ -188,11 +160,11 @@ pub fn check_table(vars: &[VarDef]) -> Result<(), String> {
             }
         }
         if let VarType::Code(t) = v.ty {
-            if t.item(v.start).is_none() {
+            if t.item_at(v.start).is_none() {
                 return Err(format!("{}: start value {} is not a code", v.name, v.start));
             }
             // min/max in the model description bound the codes; a gap is refused at set
-            if !t.items.windows(2).all(|w| w[0].1 < w[1].1) {
+            if !t.items.windows(2).all(|w| w[0].code < w[1].code) {
                 return Err(format!("{}: the codes are not ascending", t.name));
             }
         }
@@ -214,9 +186,23 @@ pub fn check_table(vars: &[VarDef]) -> Result<(), String> {
 mod tests {
     use super::*;
 
-    static CODES: EnumType = EnumType {
+    static CODES: CodeList = CodeList {
         name: "Codes",
-        items: &[("a", 1, "first"), ("c", 3, "third")],
+        c_type: "codes",
+        c_prefix: "CODES_",
+        c_enum: false,
+        items: &[
+            CodeItem {
+                name: "a",
+                code: 1,
+                description: "first",
+            },
+            CodeItem {
+                name: "c",
+                code: 3,
+                description: "third",
+            },
+        ],
     };
 
     crate::variables! {
@@ -232,7 +218,7 @@ mod tests {
         assert_eq!(start_values(VARIABLES), [3.0, 0.5, 0.0]);
         assert_eq!(CODES.range(), (1, 3));
         assert_eq!(CODES.codes(), "1 a, 3 c");
-        assert!(CODES.item(2.0).is_none());
+        assert!(CODES.item_at(2.0).is_none());
         assert_eq!(TypeClass::of(&VARIABLES[0].ty), TypeClass::Integer);
     }
 

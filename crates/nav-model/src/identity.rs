@@ -1,14 +1,16 @@
 //! relnav.fmu's identity: model identifier, description, default experiment, and the one
-//! table of its variables with relnav's own code lists. The table generates
-//! `modelDescription.xml` and drives the get/set dispatch (value reference = index in
-//! [`VARIABLES`], checked by a test); start values come from here and nowhere else (they
-//! are [`relnav_core::nav::NavConfig::default`], tested). The Python package takes its
-//! keyword arguments from the same table.
+//! table of its variables. The parameters' rows are relnav-core's parameter declarations
+//! ([`relnav_core::nav::PARAMS`]: name, value reference, unit, default, description, code
+//! list), the inputs' and outputs' rows are declared here; together they generate
+//! `modelDescription.xml` and drive the get/set dispatch (value reference = index in
+//! [`VARIABLES`], checked by a test). The Python package takes its keyword arguments from
+//! the same table.
 
+use relnav_core::nav::{NavConfig, PARAMS};
+use relnav_core::params::{element_by_id, Kind, Param};
 use relnav_fmi::model::{DefaultExperiment, Generated, ModelInfo};
-use relnav_fmi::variables::{EnumType, VarType};
-use relnav_models::codes::{FRAME_TYPE, NOISE_MODEL_TYPE};
-use std::f64::consts::PI;
+use relnav_fmi::variables::{Causality, VarDef, VarType, Variability};
+use std::sync::LazyLock;
 
 /// relnav.fmu's model identifier (and binary name).
 pub const MODEL_IDENTIFIER: &str = "relnav";
@@ -22,10 +24,10 @@ uncertainty, from its thrust and range/azimuth/elevation measurements, by a Kalm
 unscented, genetic or cloud-genetic) or the robust H-infinity filter designed by an LMI";
 
 /// relnav.fmu's static description.
-pub static INFO: ModelInfo = ModelInfo {
+pub static INFO: LazyLock<ModelInfo> = LazyLock::new(|| ModelInfo {
     model_identifier: MODEL_IDENTIFIER,
     description: MODEL_DESCRIPTION,
-    variables: VARIABLES,
+    variables: VARIABLES.as_slice(),
     default_experiment: DefaultExperiment {
         start: 0.0,
         stop: 600.0,
@@ -35,306 +37,195 @@ pub static INFO: ModelInfo = ModelInfo {
     state_code: Some(vr::FILTER),
     state_name: "estimator",
     generated: Generated::new(),
-};
+});
 
-/// `filter` parameter values (same codes as the C ABI's `relnav_filter`).
-pub static FILTER_TYPE: EnumType = EnumType {
-    name: "Filter",
-    items: &[
-        ("ekf", 1, "Extended Kalman filter (Joseph form)"),
-        ("ukf", 2, "Unscented Kalman filter (scaled sigma points)"),
-        (
-            "aqukf",
-            3,
-            "Sliding-window adaptive UKF (paper 001: adaptive velocity process noise, see window and q_vv_*)",
-        ),
-        (
-            "pf",
-            4,
-            "SIR particle filter (paper 000), with the posterior-invariant moves of pf_move (without them its velocities stay impoverished, metres off on paper 000)",
-        ),
-        (
-            "rpf",
-            5,
-            "Regularised particle filter (kernel jitter after resampling)",
-        ),
-        (
-            "upf",
-            6,
-            "Unscented particle filter (per-particle UKF proposal)",
-        ),
-        (
-            "gapf",
-            7,
-            "Genetic-algorithm particle filter (crossover and mutation after resampling)",
-        ),
-        (
-            "cgapf",
-            8,
-            "Cloud-genetic particle filter (paper 003: UKF proposal, cloud-model genetic moves)",
-        ),
-        (
-            "hinf",
-            9,
-            "Robust H-infinity filter (paper 002; observer form designed by an LMI at initialisation for hinf_period; sigma_* are NaN)",
-        ),
-        (
-            "imm",
-            10,
-            "Interacting multiple-model filter: imm_modes EKFs with the process noise plus imm_accel_psd_*, Markov switching (imm_p_stay_*); mode probabilities in imm_mu_*",
-        ),
-    ],
-};
+/// The inputs and outputs (the parameters come from relnav-core's declarations).
+mod io {
+    use relnav_fmi::variables::VarType::{Boolean, Integer, Real};
 
-/// `discretization` parameter values.
-pub static DISCRETIZATION_TYPE: EnumType = EnumType {
-    name: "Discretization",
-    items: &[
-        (
-            "exact",
-            1,
-            "Exact CW transition, exact zero-order hold, Van Loan process noise",
-        ),
-        ("euler", 2, "First-order Euler I + T A (literal paper 000)"),
-    ],
-};
-
-/// `resampler` parameter values (same codes as the C ABI's `relnav_resampler`).
-pub static RESAMPLER_TYPE: EnumType = EnumType {
-    name: "Resampler",
-    items: &[
-        (
-            "multinomial",
-            1,
-            "N independent draws from the weights (paper 000's SIR)",
-        ),
-        (
-            "systematic",
-            2,
-            "One uniform, N evenly spaced points (Kitagawa 1996)",
-        ),
-        ("stratified", 3, "One uniform per stratum (Kitagawa 1996)"),
-        (
-            "residual",
-            4,
-            "floor(N w) deterministic copies, the rest multinomial (Liu and Chen 1998)",
-        ),
-    ],
-};
-
-/// `hinf_design` parameter values (the C ABI's `relnav_hinf_form` codes available to
-/// filter 9).
-pub static HINF_DESIGN_TYPE: EnumType = EnumType {
-    name: "HinfDesign",
-    items: &[
-        (
-            "gamma_optimal",
-            1,
-            "Observer with the least certified gamma (issue 5's design)",
-        ),
-        (
-            "mixed",
-            3,
-            "Mixed H2/H-infinity observer: least H2 norm (steady-state error) with gamma <= hinf_gamma_factor times the optimum",
-        ),
-    ],
-};
-
-/// `aq_law` parameter values (same codes as the C ABI's `relnav_adaptation`).
-pub static AQ_LAW_TYPE: EnumType = EnumType {
-    name: "AdaptationLaw",
-    items: &[
-        (
-            "window",
-            1,
-            "Paper 001 literally: the sliding-window estimate of q_vv at every update",
-        ),
-        (
-            "gated",
-            2,
-            "q_vv stays at q_vel while the windowed NIS is below its chi-square quantile; the sliding window adapts it (never below q_vel) while it is above",
-        ),
-    ],
-};
-
-use VarType::{Boolean, Code, Integer, Real};
-
-relnav_fmi::variables! {
-    FILTER = 0: "filter", Parameter, Fixed, Code(&FILTER_TYPE), 1.0,
-        "Estimator (codes 1-10: 1-3 Kalman (EKF, UKF, AQUKF), 4-8 particle filters, 9 robust H-infinity, 10 IMM)";
-    FRAME = 1: "frame", Parameter, Fixed, Code(&FRAME_TYPE), 2.0,
-        "Hill-frame convention of every input and output vector and angle";
-    DISCRETIZATION = 2: "discretization", Parameter, Fixed, Code(&DISCRETIZATION_TYPE), 1.0,
-        "Discretisation of the CW model";
-    MEAN_MOTION = 3: "mean_motion", Parameter, Fixed, Real("rad/s"), 2.0 * PI / 7200.0,
-        "Mean motion of the target's circular orbit (> 0)";
-    CHASER_MASS = 4: "chaser_mass", Parameter, Fixed, Real("kg"), 1000.0,
-        "Chaser mass: thrust / mass = acceleration (> 0)";
-    SIGMA_RANGE = 5: "sigma_range", Parameter, Fixed, Real("m"), 0.5,
-        "Range measurement noise, 1 sigma of the Gaussian (nominal sigma of the other noise models; > 0)";
-    SIGMA_ANGLE = 6: "sigma_angle", Parameter, Fixed, Real("rad"), 0.01 * PI / 180.0,
-        "Azimuth and elevation measurement noise, 1 sigma of the Gaussian (nominal sigma of the other noise models; > 0)";
-    X0 = 7: "x0", Parameter, Fixed, Real("m"), 405.0, "Initial estimate of x";
-    Y0 = 8: "y0", Parameter, Fixed, Real("m"), 505.0, "Initial estimate of y";
-    Z0 = 9: "z0", Parameter, Fixed, Real("m"), 205.0, "Initial estimate of z";
-    VX0 = 10: "vx0", Parameter, Fixed, Real("m/s"), 0.1, "Initial estimate of vx";
-    VY0 = 11: "vy0", Parameter, Fixed, Real("m/s"), 0.1, "Initial estimate of vy";
-    VZ0 = 12: "vz0", Parameter, Fixed, Real("m/s"), 0.1, "Initial estimate of vz";
-    SIGMA_POS0 = 13: "sigma_pos0", Parameter, Fixed, Real("m"), 50.0,
-        "Initial position uncertainty per axis, 1 sigma (> 0)";
-    SIGMA_VEL0 = 14: "sigma_vel0", Parameter, Fixed, Real("m/s"), 1.0,
-        "Initial velocity uncertainty per axis, 1 sigma (> 0)";
-    ACCEL_PSD = 15: "accel_psd", Parameter, Fixed, Real("m2/s3"), 0.0,
-        "Process noise: spectral density of a continuous white acceleration per axis (Van Loan discretisation; >= 0)";
-    Q_POS_X = 16: "q_pos_x", Parameter, Fixed, Real("m2/s"), 0.09,
-        "Process noise: x position variance added per second (discrete Q = q h; >= 0)";
-    Q_POS_Y = 17: "q_pos_y", Parameter, Fixed, Real("m2/s"), 0.000625,
-        "Process noise: y position variance added per second (>= 0)";
-    Q_POS_Z = 18: "q_pos_z", Parameter, Fixed, Real("m2/s"), 0.0025,
-        "Process noise: z position variance added per second (>= 0)";
-    Q_VEL_X = 19: "q_vel_x", Parameter, Fixed, Real("m2/s3"), 1e-6,
-        "Process noise: vx variance added per second (>= 0)";
-    Q_VEL_Y = 20: "q_vel_y", Parameter, Fixed, Real("m2/s3"), 1e-6,
-        "Process noise: vy variance added per second (>= 0)";
-    Q_VEL_Z = 21: "q_vel_z", Parameter, Fixed, Real("m2/s3"), 1e-6,
-        "Process noise: vz variance added per second (>= 0)";
-    UKF_ALPHA = 22: "ukf_alpha", Parameter, Fixed, Real(""), 1.0,
-        "UKF sigma-point spread alpha (> 0); also the unscented proposal of upf and cgapf";
-    UKF_BETA = 23: "ukf_beta", Parameter, Fixed, Real(""), 2.0, "UKF beta (2 for Gaussian priors)";
-    UKF_KAPPA = 24: "ukf_kappa", Parameter, Fixed, Real(""), 0.0, "UKF kappa";
-    SEED = 25: "seed", Parameter, Fixed, Integer, 0.0,
-        "Seed of the filters that draw random numbers (identical seeds give identical outputs)";
-    THRUST_X = 26: "thrust_x", Input, Discrete, Real("N"), 0.0, "Thrust on the chaser along x, held over the step";
-    THRUST_Y = 27: "thrust_y", Input, Discrete, Real("N"), 0.0, "Thrust on the chaser along y, held over the step";
-    THRUST_Z = 28: "thrust_z", Input, Discrete, Real("N"), 0.0, "Thrust on the chaser along z, held over the step";
-    RANGE = 29: "range", Input, Discrete, Real("m"), 0.0, "Measured range, taken at the step's start time";
-    AZIMUTH = 30: "azimuth", Input, Discrete, Real("rad"), 0.0,
+    relnav_fmi::variables! {
+        THRUST_X = 26: "thrust_x", Input, Discrete, Real("N"), 0.0, "Thrust on the chaser along x, held over the step";
+        THRUST_Y = 27: "thrust_y", Input, Discrete, Real("N"), 0.0, "Thrust on the chaser along y, held over the step";
+        THRUST_Z = 28: "thrust_z", Input, Discrete, Real("N"), 0.0, "Thrust on the chaser along z, held over the step";
+        RANGE = 29: "range", Input, Discrete, Real("m"), 0.0, "Measured range, taken at the step's start time";
+        AZIMUTH = 30: "azimuth", Input, Discrete, Real("rad"), 0.0,
         "Measured azimuth atan2(y, x) in [0, 2 pi), taken at the step's start time";
-    ELEVATION = 31: "elevation", Input, Discrete, Real("rad"), 0.0,
+        ELEVATION = 31: "elevation", Input, Discrete, Real("rad"), 0.0,
         "Measured elevation asin(z / range), taken at the step's start time";
-    MEASUREMENT_VALID = 32: "measurement_valid", Input, Discrete, Boolean, 0.0,
+        MEASUREMENT_VALID = 32: "measurement_valid", Input, Discrete, Boolean, 0.0,
         "True when range/azimuth/elevation hold a fresh measurement taken at the step's start time";
-    X = 33: "x", Output, Continuous, Real("m"), 0.0, "Estimated relative position x";
-    Y = 34: "y", Output, Continuous, Real("m"), 0.0, "Estimated relative position y";
-    Z = 35: "z", Output, Continuous, Real("m"), 0.0, "Estimated relative position z";
-    VX = 36: "vx", Output, Continuous, Real("m/s"), 0.0, "Estimated relative velocity vx";
-    VY = 37: "vy", Output, Continuous, Real("m/s"), 0.0, "Estimated relative velocity vy";
-    VZ = 38: "vz", Output, Continuous, Real("m/s"), 0.0, "Estimated relative velocity vz";
-    SIGMA_X = 39: "sigma_x", Output, Continuous, Real("m"), 0.0, "1-sigma uncertainty of x (from the covariance)";
-    SIGMA_Y = 40: "sigma_y", Output, Continuous, Real("m"), 0.0, "1-sigma uncertainty of y";
-    SIGMA_Z = 41: "sigma_z", Output, Continuous, Real("m"), 0.0, "1-sigma uncertainty of z";
-    SIGMA_VX = 42: "sigma_vx", Output, Continuous, Real("m/s"), 0.0, "1-sigma uncertainty of vx";
-    SIGMA_VY = 43: "sigma_vy", Output, Continuous, Real("m/s"), 0.0, "1-sigma uncertainty of vy";
-    SIGMA_VZ = 44: "sigma_vz", Output, Continuous, Real("m/s"), 0.0, "1-sigma uncertainty of vz";
-    PARTICLES = 45: "particles", Parameter, Fixed, Integer, 1500.0,
-        "Number of particles of the particle filters (codes 4-8; 1..2000000)";
-    RESAMPLER = 46: "resampler", Parameter, Fixed, Code(&RESAMPLER_TYPE), 2.0,
-        "Resampling scheme of the particle filters";
-    RESAMPLE_THRESHOLD = 47: "resample_threshold", Parameter, Fixed, Real(""), 2.0 / 3.0,
-        "The particle filters resample when the effective sample size drops below resample_threshold * particles (in (0, 1]; paper 000: 2/3)";
-    NOISE_MODEL = 48: "noise_model", Parameter, Fixed, Code(&NOISE_MODEL_TYPE), 1.0,
-        "Measurement-noise density scaled by sigma_range and sigma_angle: the particle filters weigh with it, the Kalman filters assume the Gaussian of its variance";
-    NOISE_ZETA = 49: "noise_zeta", Parameter, Fixed, Real(""), 0.2,
-        "Mixture noise: weight of the wide component (in [0, 1))";
-    NOISE_SCALE = 50: "noise_scale", Parameter, Fixed, Real(""), 10.0,
-        "Mixture noise: sigma of the wide component over the nominal sigma (>= 1)";
-    NOISE_DOF = 51: "noise_dof", Parameter, Fixed, Real(""), 4.0,
-        "Student-t noise: degrees of freedom (> 2)";
-    ESS = 52: "ess", Output, Continuous, Real(""), 0.0,
+        X = 33: "x", Output, Continuous, Real("m"), 0.0, "Estimated relative position x";
+        Y = 34: "y", Output, Continuous, Real("m"), 0.0, "Estimated relative position y";
+        Z = 35: "z", Output, Continuous, Real("m"), 0.0, "Estimated relative position z";
+        VX = 36: "vx", Output, Continuous, Real("m/s"), 0.0, "Estimated relative velocity vx";
+        VY = 37: "vy", Output, Continuous, Real("m/s"), 0.0, "Estimated relative velocity vy";
+        VZ = 38: "vz", Output, Continuous, Real("m/s"), 0.0, "Estimated relative velocity vz";
+        SIGMA_X = 39: "sigma_x", Output, Continuous, Real("m"), 0.0, "1-sigma uncertainty of x (from the covariance)";
+        SIGMA_Y = 40: "sigma_y", Output, Continuous, Real("m"), 0.0, "1-sigma uncertainty of y";
+        SIGMA_Z = 41: "sigma_z", Output, Continuous, Real("m"), 0.0, "1-sigma uncertainty of z";
+        SIGMA_VX = 42: "sigma_vx", Output, Continuous, Real("m/s"), 0.0, "1-sigma uncertainty of vx";
+        SIGMA_VY = 43: "sigma_vy", Output, Continuous, Real("m/s"), 0.0, "1-sigma uncertainty of vy";
+        SIGMA_VZ = 44: "sigma_vz", Output, Continuous, Real("m/s"), 0.0, "1-sigma uncertainty of vz";
+        ESS = 52: "ess", Output, Continuous, Real(""), 0.0,
         "Effective sample size 1 / sum w^2 of a particle filter after the last measurement update, before resampling (in [1, particles]); NaN for the Kalman filters";
-    WINDOW = 53: "window", Parameter, Fixed, Integer, 10.0,
-        "AQUKF (filter 3): sliding-window width N of the adaptive process noise (1..512; paper 001: 10). For the AQUKF, q_vel_* is the initial adaptive density";
-    Q_VV_X = 54: "q_vv_x", Output, Continuous, Real("m2/s3"), 0.0,
+        Q_VV_X = 54: "q_vv_x", Output, Continuous, Real("m2/s3"), 0.0,
         "AQUKF: current adaptive velocity process-noise density along x (I/O frame; q_vv = diag(Q_vv) / T of paper 001); NaN for the other filters";
-    Q_VV_Y = 55: "q_vv_y", Output, Continuous, Real("m2/s3"), 0.0,
+        Q_VV_Y = 55: "q_vv_y", Output, Continuous, Real("m2/s3"), 0.0,
         "AQUKF: current adaptive velocity process-noise density along y; NaN for the other filters";
-    Q_VV_Z = 56: "q_vv_z", Output, Continuous, Real("m2/s3"), 0.0,
+        Q_VV_Z = 56: "q_vv_z", Output, Continuous, Real("m2/s3"), 0.0,
         "AQUKF: current adaptive velocity process-noise density along z; NaN for the other filters";
-    HINF_PERIOD = 57: "hinf_period", Parameter, Fixed, Real("s"), 1.0,
-        "H-infinity filter (code 9): sampling period of its discrete design; fmi2DoStep with another step size is refused (set it to the communication step)";
-    HINF_DELTA_BAR = 58: "hinf_delta_bar", Parameter, Fixed, Real(""), 0.05,
-        "H-infinity filter: bound of the orbit-rate uncertainty, w = w0 (1 + delta), |delta| <= hinf_delta_bar (paper 002: 0.05)";
-    HINF_B_POS = 59: "hinf_b_pos", Parameter, Fixed, Real("m"), 0.0,
-        "H-infinity filter: process-noise scaling on positions (paper 002 B: 0.05); 0 with hinf_b_vel = 0 (default): derived from accel_psd, q_pos_*, q_vel_* (the noise every other filter uses)";
-    HINF_B_VEL = 60: "hinf_b_vel", Parameter, Fixed, Real("m/s"), 0.0,
-        "H-infinity filter: process-noise scaling on velocities (paper 002 B: 0.001); 0 with hinf_b_pos = 0 (default): derived";
-    HINF_D = 61: "hinf_d", Parameter, Fixed, Real("m"), 0.0,
-        "H-infinity filter: scaling of the indirect position measurement noise (paper 002 D: 0.1); 0 (default): derived from sigma_range, sigma_angle and the noise model at the initial estimate's position";
-    HINF_GAMMA = 62: "hinf_gamma", Output, Continuous, Real(""), 0.0,
+        HINF_GAMMA = 62: "hinf_gamma", Output, Continuous, Real(""), 0.0,
         "H-infinity filter: the design's certified bound gamma on the worst-case gain from the scaled noises to the estimation error; NaN for the other filters";
-    FMI_STATUS = 63: "fmi_status", Output, Discrete, Integer, 0.0,
+        FMI_STATUS = 63: "fmi_status", Output, Discrete, Integer, 0.0,
         "Worst fmi2Status this instance has returned since fmi2Instantiate or fmi2Reset: 0 fmi2OK, 3 fmi2Error, 4 fmi2Fatal (the reason is logged under logStatusError). For masters that ignore fmi2Error (Ecos): 3 means a call was refused, and the other outputs no longer advance";
-    HINF_DESIGN = 64: "hinf_design", Parameter, Fixed, Code(&HINF_DESIGN_TYPE), 3.0,
-        "H-infinity filter: the LMI design (mixed H2/H-infinity by default; gamma_optimal is issue 5's filter)";
-    HINF_GAMMA_FACTOR = 65: "hinf_gamma_factor", Parameter, Fixed, Real(""), 1.5,
-        "H-infinity filter, mixed design: bound on the certified gamma (hinf_gamma) as a multiple of the gamma-optimal design's (> 1)";
-    HINF_ACQUISITION = 66: "hinf_acquisition", Parameter, Fixed, Boolean, 1.0,
-        "H-infinity filter: start with the Kalman gain of the design's noise model and hand over to the designed gain once that is no worse (track initiation); false: the designed gain from the first step";
-    HINF_H2_NORM = 67: "hinf_h2_norm", Output, Continuous, Real(""), 0.0,
+        HINF_H2_NORM = 67: "hinf_h2_norm", Output, Continuous, Real(""), 0.0,
         "H-infinity filter: H2 norm of the design (from the unit white noises of its noise model to the error; with the derived noise model, the steady-state RMS error in m, velocity in m/s included); NaN for the other filters";
-    HINF_CERTIFIED = 68: "hinf_certified", Output, Discrete, Boolean, 0.0,
+        HINF_CERTIFIED = 68: "hinf_certified", Output, Discrete, Boolean, 0.0,
         "H-infinity filter: true while the designed, certified gain runs (after the hand-over of hinf_acquisition, or always without it); false while acquiring and for the other filters";
-    AQ_LAW = 69: "aq_law", Parameter, Fixed, Code(&AQ_LAW_TYPE), 2.0,
-        "AQUKF (filter 3): adaptation law of the velocity process noise (1 window: paper 001 at every update; 2 gated: only while the windowed NIS exceeds its chi-square bound)";
-    AQ_GATE_WINDOW = 70: "aq_gate_window", Parameter, Fixed, Integer, 10.0,
-        "AQUKF, gated law: number of measurement updates in the windowed NIS (1..128)";
-    AQ_GATE_QUANTILE = 71: "aq_gate_quantile", Parameter, Fixed, Real(""), 0.999,
-        "AQUKF, gated law: the gate opens when the windowed NIS exceeds its chi-square quantile at this probability (in (0, 1))";
-    IMM_MODES = 72: "imm_modes", Parameter, Fixed, Integer, 3.0,
-        "IMM (filter 10): number of modes (2 or 3)";
-    IMM_ACCEL_PSD_1 = 73: "imm_accel_psd_1", Parameter, Fixed, Real("m2/s3"), 0.0,
-        "IMM: white-acceleration density added to the process noise in mode 1 (the quiet mode; >= 0)";
-    IMM_ACCEL_PSD_2 = 74: "imm_accel_psd_2", Parameter, Fixed, Real("m2/s3"), 1e-6,
-        "IMM: white-acceleration density added to the process noise in mode 2 (>= 0)";
-    IMM_ACCEL_PSD_3 = 75: "imm_accel_psd_3", Parameter, Fixed, Real("m2/s3"), 1e-3,
-        "IMM: white-acceleration density added to the process noise in mode 3 (>= 0; unused with 2 modes)";
-    IMM_P_STAY_1 = 76: "imm_p_stay_1", Parameter, Fixed, Real(""), 0.99999,
-        "IMM: probability of staying in mode 1 over one second (in (0, 1))";
-    IMM_P_STAY_2 = 77: "imm_p_stay_2", Parameter, Fixed, Real(""), 0.9,
-        "IMM: probability of staying in mode 2 over one second (in (0, 1))";
-    IMM_P_STAY_3 = 78: "imm_p_stay_3", Parameter, Fixed, Real(""), 0.9,
-        "IMM: probability of staying in mode 3 over one second (in (0, 1))";
-    IMM_MU_1 = 79: "imm_mu_1", Output, Continuous, Real(""), 0.0,
+        IMM_MU_1 = 79: "imm_mu_1", Output, Continuous, Real(""), 0.0,
         "IMM: probability of mode 1 after the last step; NaN for the other filters";
-    IMM_MU_2 = 80: "imm_mu_2", Output, Continuous, Real(""), 0.0,
+        IMM_MU_2 = 80: "imm_mu_2", Output, Continuous, Real(""), 0.0,
         "IMM: probability of mode 2 after the last step; NaN for the other filters";
-    IMM_MU_3 = 81: "imm_mu_3", Output, Continuous, Real(""), 0.0,
+        IMM_MU_3 = 81: "imm_mu_3", Output, Continuous, Real(""), 0.0,
         "IMM: probability of mode 3 after the last step; NaN with 2 modes and for the other filters";
-    PF_MOVE = 82: "pf_move", Parameter, Fixed, Boolean, 1.0,
-        "Particle filters (codes 4-8): move the particles after every update with Metropolis-Hastings steps that leave the posterior invariant (as accurate as the EKF on Gaussian noise, also with small process noise); false: the papers' literal filters (paper 000's SIR, plain RPF, van der Merwe's UPF), which degenerate with small process noise";
-    PF_THREADS = 83: "pf_threads", Parameter, Fixed, Integer, 0.0,
-        "Particle filters: worker threads of the particle loops from 32768 particles on (0: one per core; 1: the calling thread; <= 1024); results do not depend on it";
+    }
+}
+
+/// Value references by name: the inputs' and outputs' from their rows, the parameters'
+/// from relnav-core's declarations (a name that is not declared fails to compile).
+pub mod vr {
+    pub use super::io::vr::*;
+    use relnav_core::nav::PARAMS;
+    use relnav_core::params::id_of;
+
+    macro_rules! param_vrs {
+        ($( $id:ident = $name:literal ),* $(,)?) => {
+            $(
+                #[doc = concat!("`", $name, "` (a parameter).")]
+                pub const $id: u32 = match id_of(PARAMS, $name) {
+                    Some(id) => id,
+                    None => u32::MAX,
+                };
+                const _: () = assert!($id != u32::MAX, concat!($name, " has no value reference"));
+            )*
+        };
+    }
+
+    param_vrs! {
+        FILTER = "filter",
+        FRAME = "frame",
+        DISCRETIZATION = "discretization",
+        MEAN_MOTION = "mean_motion",
+        CHASER_MASS = "chaser_mass",
+        SIGMA_RANGE = "sigma_range",
+        SIGMA_ANGLE = "sigma_angle",
+        X0 = "x0",
+        Y0 = "y0",
+        Z0 = "z0",
+        VX0 = "vx0",
+        VY0 = "vy0",
+        VZ0 = "vz0",
+        SIGMA_POS0 = "sigma_pos0",
+        SIGMA_VEL0 = "sigma_vel0",
+        ACCEL_PSD = "accel_psd",
+        Q_POS_X = "q_pos_x",
+        Q_POS_Y = "q_pos_y",
+        Q_POS_Z = "q_pos_z",
+        Q_VEL_X = "q_vel_x",
+        Q_VEL_Y = "q_vel_y",
+        Q_VEL_Z = "q_vel_z",
+        UKF_ALPHA = "ukf_alpha",
+        UKF_BETA = "ukf_beta",
+        UKF_KAPPA = "ukf_kappa",
+        SEED = "seed",
+        PARTICLES = "particles",
+        RESAMPLER = "resampler",
+        RESAMPLE_THRESHOLD = "resample_threshold",
+        NOISE_MODEL = "noise_model",
+        NOISE_ZETA = "noise_zeta",
+        NOISE_SCALE = "noise_scale",
+        NOISE_DOF = "noise_dof",
+        WINDOW = "window",
+        HINF_PERIOD = "hinf_period",
+        HINF_DELTA_BAR = "hinf_delta_bar",
+        HINF_B_POS = "hinf_b_pos",
+        HINF_B_VEL = "hinf_b_vel",
+        HINF_D = "hinf_d",
+        HINF_DESIGN = "hinf_design",
+        HINF_GAMMA_FACTOR = "hinf_gamma_factor",
+        HINF_ACQUISITION = "hinf_acquisition",
+        AQ_LAW = "aq_law",
+        AQ_GATE_WINDOW = "aq_gate_window",
+        AQ_GATE_QUANTILE = "aq_gate_quantile",
+        IMM_MODES = "imm_modes",
+        IMM_ACCEL_PSD_1 = "imm_accel_psd_1",
+        IMM_ACCEL_PSD_2 = "imm_accel_psd_2",
+        IMM_ACCEL_PSD_3 = "imm_accel_psd_3",
+        IMM_P_STAY_1 = "imm_p_stay_1",
+        IMM_P_STAY_2 = "imm_p_stay_2",
+        IMM_P_STAY_3 = "imm_p_stay_3",
+        PF_MOVE = "pf_move",
+        PF_THREADS = "pf_threads",
+    }
 }
 
 /// Number of variables.
 pub const N_VARS: usize = 84;
 
+/// Every variable of relnav.fmu; the value reference is the index.
+pub static VARIABLES: LazyLock<Vec<VarDef>> = LazyLock::new(|| {
+    (0..N_VARS as u32)
+        // a value reference that is neither would leave a hole (the table's test fails)
+        .filter_map(|id| match element_by_id(PARAMS, id) {
+            Some((p, i)) => Some(parameter_row(p, i, id)),
+            None => io::VARIABLES.iter().find(|v| v.vr == id).copied(),
+        })
+        .collect()
+});
+
+/// The FMU variable of element `i` of a declared parameter.
+fn parameter_row(p: &'static Param<NavConfig>, i: usize, id: u32) -> VarDef {
+    let e = &p.elements[i];
+    VarDef {
+        vr: id,
+        name: e.name,
+        causality: Causality::Parameter,
+        variability: Variability::Fixed,
+        ty: match p.kind {
+            Kind::Real => VarType::Real(e.unit),
+            Kind::Count | Kind::Seed => VarType::Integer,
+            Kind::Bool => VarType::Boolean,
+            Kind::Code(list) => VarType::Code(list),
+        },
+        start: e.default.as_f64(),
+        description: p.element_description(e),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
-    use relnav_core::nav::NavConfig;
-    use relnav_fmi::variables::{check_table, UNITS};
+    use relnav_fmi::variables::check_table;
 
+    /// The table is dense and checked; the inputs and outputs take no parameter's value
+    /// reference; every declared parameter with a value reference is in it.
     #[test]
-    fn table_is_dense_and_unique() {
-        assert_eq!(check_table(VARIABLES), Ok(()));
+    fn table_is_dense_and_holds_every_declared_parameter() {
+        assert_eq!(check_table(&VARIABLES), Ok(()));
         assert_eq!(VARIABLES.len(), N_VARS);
-        for (i, v) in VARIABLES.iter().enumerate() {
-            assert_eq!(v.vr as usize, i, "{}", v.name);
-            assert!(VARIABLES.iter().filter(|w| w.name == v.name).count() == 1);
-            if let VarType::Real(u) = v.ty {
-                assert!(
-                    u.is_empty() || UNITS.iter().any(|(n, _)| *n == u),
-                    "unit {u}"
-                );
-            }
-            if let VarType::Code(t) = v.ty {
-                assert!(t.item(v.start).is_some(), "{}", v.name);
-                // ascending, distinct codes: min/max in the XML bound them; a gap
-                // (hinf_design has no code 2, the paper form) is refused at fmi2Set*
-                assert!(t.items.windows(2).all(|w| w[0].1 < w[1].1), "{}", t.name);
+        for v in io::VARIABLES {
+            assert!(element_by_id(PARAMS, v.vr).is_none(), "{}", v.name);
+        }
+        for p in PARAMS {
+            for e in p.elements {
+                if let Some(id) = e.id {
+                    let v = &VARIABLES[id as usize];
+                    assert_eq!((v.name, v.causality), (e.name, Causality::Parameter));
+                }
             }
         }
+        assert_eq!(vr::FILTER, 0);
+        assert_eq!(vr::PF_THREADS, 83);
     }
 
     /// relnav.fmu's FMI 2.0 description declares every variable at its value reference and
@@ -344,111 +235,12 @@ mod tests {
         use relnav_fmi::fmi2::description::{guid_of, model_description_of, GENERATION_DATE};
         let (xml, guid) = (model_description_of(&INFO), guid_of(&INFO));
         assert!(xml.contains(&format!(r#"guid="{guid}""#)));
-        for v in VARIABLES {
+        for v in VARIABLES.iter() {
             assert!(xml.contains(&format!(r#"name="{}" valueReference="{}""#, v.name, v.vr)));
         }
         assert!(xml.contains(r#"modelIdentifier="relnav""#));
         assert!(xml.contains("canRunAsynchronuously"));
         assert_eq!(guid.len(), 38);
         assert!(xml.contains(&format!(r#"generationDateAndTime="{GENERATION_DATE}""#)));
-    }
-
-    /// The FMU's start values are the library's defaults (paper 000's example).
-    #[test]
-    fn start_values_match_library_defaults() {
-        let c = NavConfig::default();
-        let s = |vr: u32| VARIABLES[vr as usize].start;
-        assert_eq!(s(vr::FILTER), c.filter as i32 as f64);
-        assert_eq!(s(vr::FRAME), c.frame.code() as f64);
-        assert_eq!(s(vr::DISCRETIZATION), c.discretization as i32 as f64);
-        assert_eq!(s(vr::MEAN_MOTION), c.mean_motion);
-        assert_eq!(s(vr::CHASER_MASS), c.chaser_mass);
-        assert_eq!(s(vr::SIGMA_RANGE), c.sigma_range);
-        assert_eq!(s(vr::SIGMA_ANGLE), c.sigma_angle);
-        let x0 = [vr::X0, vr::Y0, vr::Z0, vr::VX0, vr::VY0, vr::VZ0].map(s);
-        assert_eq!(x0, c.x0);
-        assert_eq!(s(vr::SIGMA_POS0), c.sigma_pos0);
-        assert_eq!(s(vr::SIGMA_VEL0), c.sigma_vel0);
-        assert_eq!(s(vr::ACCEL_PSD), c.accel_psd);
-        assert_eq!([vr::Q_POS_X, vr::Q_POS_Y, vr::Q_POS_Z].map(s), c.q_pos);
-        assert_eq!([vr::Q_VEL_X, vr::Q_VEL_Y, vr::Q_VEL_Z].map(s), c.q_vel);
-        assert_eq!(
-            [vr::UKF_ALPHA, vr::UKF_BETA, vr::UKF_KAPPA].map(s),
-            [c.ukf.alpha, c.ukf.beta, c.ukf.kappa]
-        );
-        assert_eq!(s(vr::SEED), c.seed as f64);
-        assert_eq!(s(vr::PARTICLES), c.particles as f64);
-        assert_eq!(s(vr::RESAMPLER), c.resampler as i32 as f64);
-        assert_eq!(s(vr::RESAMPLE_THRESHOLD), c.resample_threshold);
-        assert_eq!(s(vr::NOISE_MODEL), c.noise_model as i32 as f64);
-        assert_eq!(s(vr::NOISE_ZETA), c.noise_zeta);
-        assert_eq!(s(vr::NOISE_SCALE), c.noise_scale);
-        assert_eq!(s(vr::NOISE_DOF), c.noise_dof);
-        assert_eq!(s(vr::WINDOW), c.window as f64);
-        assert_eq!(s(vr::HINF_PERIOD), c.hinf_period);
-        assert_eq!(s(vr::HINF_DELTA_BAR), c.hinf_delta_bar);
-        assert_eq!(s(vr::HINF_B_POS), c.hinf_b_pos);
-        assert_eq!(s(vr::HINF_B_VEL), c.hinf_b_vel);
-        assert_eq!(s(vr::HINF_D), c.hinf_d);
-        assert_eq!(s(vr::HINF_DESIGN), c.hinf_design as i32 as f64);
-        assert_eq!(s(vr::HINF_GAMMA_FACTOR), c.hinf_gamma_factor);
-        assert_eq!(
-            s(vr::HINF_ACQUISITION),
-            f64::from(u8::from(c.hinf_acquisition))
-        );
-        assert_eq!(s(vr::AQ_LAW), c.aq_law as i32 as f64);
-        assert_eq!(s(vr::AQ_GATE_WINDOW), c.aq_gate_window as f64);
-        assert_eq!(s(vr::AQ_GATE_QUANTILE), c.aq_gate_quantile);
-        assert_eq!(s(vr::IMM_MODES), c.imm_modes as f64);
-        assert_eq!(
-            [
-                vr::IMM_ACCEL_PSD_1,
-                vr::IMM_ACCEL_PSD_2,
-                vr::IMM_ACCEL_PSD_3
-            ]
-            .map(s),
-            c.imm_accel_psd
-        );
-        assert_eq!(
-            [vr::IMM_P_STAY_1, vr::IMM_P_STAY_2, vr::IMM_P_STAY_3].map(s),
-            c.imm_p_stay
-        );
-        assert_eq!(s(vr::PF_MOVE), f64::from(u8::from(c.pf_move)));
-        assert_eq!(s(vr::PF_THREADS), c.pf_threads as f64);
-    }
-
-    /// The code lists carry the library's codes and names.
-    #[test]
-    fn code_lists_match_library_codes() {
-        use relnav_core::estimators::pf::resample::Resampler;
-        use relnav_core::nav::{FilterKind, NoiseKind};
-        let names = |t: &EnumType| -> Vec<(i32, &str)> {
-            t.items.iter().map(|(n, v, _)| (*v, *n)).collect()
-        };
-        let filters: Vec<(i32, &str)> = FilterKind::ALL
-            .iter()
-            .map(|k| (*k as i32, k.name()))
-            .collect();
-        assert_eq!(names(&FILTER_TYPE), filters);
-        let resamplers: Vec<(i32, &str)> = Resampler::ALL
-            .iter()
-            .map(|k| (*k as i32, k.name()))
-            .collect();
-        assert_eq!(names(&RESAMPLER_TYPE), resamplers);
-        let noises: Vec<(i32, &str)> = NoiseKind::ALL
-            .iter()
-            .map(|k| (*k as i32, k.name()))
-            .collect();
-        assert_eq!(names(&NOISE_MODEL_TYPE), noises);
-        let designs: Vec<(i32, &str)> = relnav_core::nav::HinfDesignKind::ALL
-            .iter()
-            .map(|k| (*k as i32, k.name()))
-            .collect();
-        assert_eq!(names(&HINF_DESIGN_TYPE), designs);
-        let laws: Vec<(i32, &str)> = relnav_core::estimators::AdaptationLaw::ALL
-            .iter()
-            .map(|k| (*k as i32, k.name()))
-            .collect();
-        assert_eq!(names(&AQ_LAW_TYPE), laws);
     }
 }

@@ -9,10 +9,9 @@
 //!   [`relnav_core::nav::NavConfig`] (also the Python package's mapping);
 //! * [`model`] — [`RelnavFmu`], the [`relnav_fmi::model::Model`].
 //!
-//! The parameters go through the C ABI crate's conversion of its `relnav_config` (plain
-//! data, safe Rust), so a bad parameter gets the message C users get; that is the one
-//! reason this crate depends on `relnav`, and why it is not part of `relnav-models`,
-//! which the kit's FMU binaries link without the C ABI.
+//! The parameters' rows and their mapping come from relnav-core's parameter declarations
+//! (`relnav_core::nav::PARAMS`), as the C ABI's struct and the scenario keys do; this crate
+//! does not link the C ABI.
 #![forbid(unsafe_code)]
 
 pub mod identity;

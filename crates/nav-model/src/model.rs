@@ -207,7 +207,7 @@ impl Model for RelnavFmu {
     /// nothing valid is refused early. Combinations are checked when initialisation ends.
     fn check_alone(def: &VarDef, value: f64) -> Result<(), String> {
         let mut values = [0.0; N_VARS];
-        for v in VARIABLES {
+        for v in VARIABLES.iter() {
             values[v.vr as usize] = v.start;
         }
         values[def.vr as usize] = value;
@@ -444,7 +444,7 @@ mod tests {
             (vr::FRAME, 1.0),
         ]);
         for case in cases {
-            let mut values = start_values(VARIABLES);
+            let mut values = start_values(&VARIABLES);
             for (r, v) in &case {
                 values[*r as usize] = *v;
             }
@@ -518,7 +518,7 @@ mod tests {
                 ", designed by SDP (Clarabel) from the gamma-optimal observer by Riccati bisection (",
             ),
         ] {
-            let mut values = start_values(VARIABLES);
+            let mut values = start_values(&VARIABLES);
             values[vr::FILTER as usize] = 9.0;
             values[vr::HINF_DESIGN as usize] = design;
             let mut m = RelnavFmu::new();

@@ -241,7 +241,7 @@ pub fn variables_markdown_of(info: &ModelInfo) -> String {
                 if v.start != 0.0 { "true" } else { "false" }.to_string(),
             ),
             VarType::Code(t) => {
-                let item = t.item(v.start).map(|it| it.0).unwrap_or("");
+                let item = t.item_at(v.start).map(|it| it.name).unwrap_or("");
                 (
                     "Integer",
                     String::new(),
@@ -274,7 +274,8 @@ pub fn variables_markdown_of(info: &ModelInfo) -> String {
     let _ = writeln!(x, "|---|---:|---|---|");
     for v in info.variables {
         if let VarType::Code(t) = v.ty {
-            for (n, code, d) in t.items {
+            for it in t.items {
+                let (n, code, d) = (it.name, it.code, it.description);
                 let _ = writeln!(x, "| `{}` | {code} | `{n}` | {d} |", v.name);
             }
         }
@@ -286,11 +287,25 @@ pub fn variables_markdown_of(info: &ModelInfo) -> String {
 mod tests {
     use super::*;
     use crate::model::{DefaultExperiment, Generated};
-    use crate::variables::EnumType;
+    use crate::variables::{CodeItem, CodeList};
 
-    static CODES: EnumType = EnumType {
+    static CODES: CodeList = CodeList {
         name: "Codes",
-        items: &[("a", 1, "first & only"), ("c", 3, "third")],
+        c_type: "codes",
+        c_prefix: "CODES_",
+        c_enum: false,
+        items: &[
+            CodeItem {
+                name: "a",
+                code: 1,
+                description: "first & only",
+            },
+            CodeItem {
+                name: "c",
+                code: 3,
+                description: "third",
+            },
+        ],
     };
 
     crate::variables! {

@@ -3,25 +3,11 @@
 
 use crate::codes::{FRAME_TYPE, NOISE_MODEL_TYPE};
 use relnav_fmi::model::{DefaultExperiment, Generated, ModelInfo};
-use relnav_fmi::variables::{EnumType, VarType};
+use relnav_fmi::variables::VarType;
 use std::f64::consts::PI;
 
 /// `truth_model` parameter values (the codes of [`relnav_core::plant::TruthModel`]).
-pub static TRUTH_MODEL_TYPE: EnumType = EnumType {
-    name: "TruthModel",
-    items: &[
-        (
-            "cw",
-            1,
-            "Exact Clohessy-Wiltshire (closed-form transition, exact zero-order hold of the thrust)",
-        ),
-        (
-            "two_body_j2",
-            2,
-            "Target and chaser around the Earth, point mass + J2 (10th-order Gragg-Bulirsch-Stoer substeps); relative state in the target's Hill frame",
-        ),
-    ],
-};
+pub use relnav_core::plant::TRUTH_MODEL_CODES as TRUTH_MODEL_TYPE;
 
 use VarType::{Boolean, Code, Integer, Real};
 

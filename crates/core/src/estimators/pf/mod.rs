@@ -38,8 +38,9 @@
 //! transition hardly separates the copies, the set degenerates onto a few points and the
 //! filter diverges. With paper 000's large `Q` the same filters drift in velocity, where
 //! `Q` is small. Every kind therefore ends each measurement update with a Metropolis–
-//! Hastings move that leaves the filtering posterior invariant (resample-move, Gilks &
-//! Berzuini 2001). `moves = false` gives the literal filters of the papers: paper 000's
+//! Hastings move toward the Gaussian-prior posterior, the likelihood times the Gaussian of
+//! the predictive moments ([`moves`]; a resample-move after Gilks & Berzuini 2001, whose
+//! target here is that approximation, not the exact filtering posterior). `moves = false` gives the literal filters of the papers: paper 000's
 //! SIR, the plain post-regularised RPF, van der Merwe's UPF.
 //!
 //! **Regularised PF** (Musso, Oudjane & Le Gland 2001): after each resampling every

@@ -1,5 +1,6 @@
-//! Moves: posterior-invariant Metropolis–Hastings steps after the measurement update, and
-//! the RPF's kernel jitter.
+//! Moves: Gaussian-prior Metropolis–Hastings steps after the measurement update (their
+//! target is defined below; it is not the exact filtering posterior), and the RPF's kernel
+//! jitter.
 //!
 //! **Why the particle filters need them.** A particle set represents the filtering
 //! posterior only as long as it stays diverse. Resampling duplicates the particles with
@@ -15,7 +16,7 @@
 //! of the mean, `P / N` per step at best, accumulates over the velocity's long memory
 //! (measured and computed for paper 000: 0.005 m/s from `N = 1500` independent draws
 //! alone, where the EKF's error is 0.003 m/s). Both are cured by moving the particles with
-//! a kernel that leaves the posterior invariant and by estimating the posterior's moments
+//! a Markov kernel toward a posterior target (below) and by estimating the posterior's moments
 //! with a variance-reduced estimator — not by widening the set.
 //!
 //! **The target.** The exact filtering posterior at step `k`,

@@ -109,7 +109,7 @@ pub struct PfParams {
     pub genetic: GeneticParams,
     /// Cloud-genetic operators (CGA-PF).
     pub cloud: CloudParams,
-    /// Move the particles with posterior-invariant Metropolis–Hastings steps (the
+    /// Move the particles with Gaussian-prior Metropolis–Hastings steps (the
     /// rejuvenation of [`super::moves`] after every update, the MH-accepted RPF jitter, the
     /// shrinkage-kernel unscented proposal); default true. False: the papers' literal
     /// filters (paper 000's SIR, the plain RPF, van der Merwe's UPF), which degenerate

@@ -1,0 +1,1066 @@
+//! The navigator's configuration, declared once as a parameter table ([`PARAMS`], written by
+//! [`crate::config!`]; see [`crate::params`]): every front end takes its parameters from
+//! this table — the C ABI's `relnav_config`, relnav.fmu's parameter variables, the Python
+//! keyword arguments and the scenario files' `[[filter]]` keys.
+//!
+//! **Process noise** of a step of length `h` (canonical frame):
+//! `Q = Qd_VanLoan(accel_psd I3, h) + T6^T diag(q_pos h, q_vel h) T6`, where `accel_psd`
+//! [m^2/s^3] is a continuous white-acceleration spectral density (physical; exact
+//! discretisation) and `q_pos` [m^2/s], `q_vel` [m^2/s^3] are per-axis variance rates in
+//! the I/O frame that reproduce a paper's diagonal discrete `Q` (paper 000: its `Q` per 1 s
+//! step, so `q_pos = (0.3^2, 0.025^2, 0.05^2)`, `q_vel = 0.001^2` each).
+//! For the **AQUKF** (code 3) the velocity part is adaptive: `q_vel` is the initial
+//! adaptive density `q_vv`, and each step adds `Qd_VanLoan(diag(q_vv_k), h)` (canonical)
+//! instead of `q_vel h`; `window`, `q_vv_floor`, `q_vv_ceiling` set the adaptation
+//! ([`crate::estimators::aqukf`]). `aq_law` chooses how: paper 001's window at every
+//! update, or (the default) only while the windowed NIS exceeds its chi-square bound
+//! (`aq_gate_window`, `aq_gate_quantile`).
+//! The **IMM** (code 10) runs 2 or 3 EKFs on the CW model whose process noise is this `Q`
+//! plus `Qd_VanLoan(imm_accel_psd[j] I3, h)` (mode `j`), switching as a Markov chain with
+//! per-second staying probabilities `imm_p_stay` ([`crate::estimators::imm`]).
+//!
+//! **Measurement noise.** `sigma_range` and `sigma_angle` are the scales of the noise
+//! density [`NavConfig::noise_model`] (Gaussian by default; a contaminated Gaussian or a
+//! Student-t for heavy tails, see [`crate::noise`]). The particle filters (codes 4-8) weigh
+//! with that density itself; the Kalman filters assume the Gaussian of the same variance,
+//! i.e. `sigma^2 * variance_factor` (`1 - zeta + zeta scale^2` for the mixture,
+//! `dof / (dof - 2)` for the Student-t), so every filter sees the same noise statistics.
+
+use super::error::{NavError, NavErrorKind};
+use crate::dynamics::{CwModel, Discretization};
+use crate::estimators::pf::resample::Resampler;
+use crate::estimators::pf::{PfKind, PfParams, MAX_PARTICLES, MAX_THREADS};
+use crate::estimators::{
+    AdaptationLaw, AqParams, ImmParams, UkfParams, MAX_GATE_WINDOW, MAX_MODES, MAX_WINDOW,
+};
+use crate::frames::Frame;
+use crate::noise::NoiseModel;
+use crate::numerics::num;
+use crate::numerics::state::{crc32, Writer};
+use crate::params::{closed, open, CodeItem, CodeList, Field, Kind, Param, Rule, Value};
+use crate::sensors::RadioSensor;
+use crate::types::{Mat3, Mat6, State, Vec3};
+
+/// Accepted mean motions [rad/s]: from a 200-year orbit to a 1-minute one. Outside, the
+/// CW model has no physical meaning and `1 / n^2` terms of the discretisation overflow.
+pub const MEAN_MOTION_RANGE: (f64, f64) = (1e-9, 0.1);
+
+/// Bound on `|x0_i| + 100 sigma_i` of the initial estimate [m, m/s]: a numerical limit,
+/// not a physical one. Covariances are squares of state differences, and a particle
+/// filter's weighted mean is only as exact as the ulp of the state (`1e-16 |x|`): beyond
+/// ~1e154 those squares overflow. 1e150 keeps the initial distribution and the first
+/// steps' arithmetic inside double precision.
+pub const MAX_INITIAL_MAGNITUDE: f64 = 1e150;
+
+crate::codes! {
+    /// Filter codes (`filter` parameter), the same in every front end.
+    pub enum FilterKind: FILTER_CODES = "Filter", "relnav_filter", "RELNAV_FILTER_", true {
+        /// Extended Kalman filter.
+        Ekf = 1, "ekf", "Extended Kalman filter (Joseph form)";
+        /// Unscented Kalman filter.
+        Ukf = 2, "ukf", "Unscented Kalman filter (scaled sigma points)";
+        /// Sliding-window adaptive UKF (paper 001, [`crate::estimators::aqukf`]).
+        Aqukf = 3, "aqukf", "Sliding-window adaptive UKF (paper 001: adaptive velocity process noise, see window and q_vv_*)";
+        /// SIR (bootstrap) particle filter (paper 000).
+        Pf = 4, "pf", "SIR particle filter (paper 000), with the Gaussian-prior moves of pf_move (without them its velocities stay impoverished, metres off on paper 000)";
+        /// Regularised particle filter (kernel jitter after resampling).
+        Rpf = 5, "rpf", "Regularised particle filter (kernel jitter after resampling)";
+        /// Unscented particle filter (per-particle UKF proposal).
+        Upf = 6, "upf", "Unscented particle filter (per-particle UKF proposal)";
+        /// Genetic-algorithm particle filter (crossover and mutation after resampling).
+        Gapf = 7, "gapf", "Genetic-algorithm particle filter (crossover and mutation after resampling)";
+        /// Cloud-genetic particle filter (paper 003).
+        Cgapf = 8, "cgapf", "Cloud-genetic particle filter (paper 003: UKF proposal, cloud-model genetic moves)";
+        /// Robust H-infinity filter (paper 002), observer form designed at construction for
+        /// the open-loop CW plant (needs the `hinf` cargo feature; see [`crate::hinf`]).
+        Hinf = 9, "hinf", "Robust H-infinity filter (paper 002; observer form designed by an LMI at initialisation for hinf_period; sigma_* are NaN)";
+        /// Interacting multiple-model filter over CW models with a quiet and one or two
+        /// manoeuvring process noises ([`crate::estimators::imm`]).
+        Imm = 10, "imm", "Interacting multiple-model filter: imm_modes EKFs with the process noise plus imm_accel_psd_*, Markov switching (imm_p_stay_*); mode probabilities in imm_mu_*";
+    }
+}
+
+impl FilterKind {
+    /// Whether this build implements the filter.
+    pub fn is_implemented(self) -> bool {
+        match self {
+            FilterKind::Hinf => cfg!(feature = "hinf"),
+            _ => true,
+        }
+    }
+
+    /// The particle-filter variant of codes 4-8 (`None` for the other filters).
+    pub fn pf_kind(self) -> Option<PfKind> {
+        match self {
+            FilterKind::Pf => Some(PfKind::Sir),
+            FilterKind::Rpf => Some(PfKind::Rpf),
+            FilterKind::Upf => Some(PfKind::Upf),
+            FilterKind::Gapf => Some(PfKind::Gapf),
+            FilterKind::Cgapf => Some(PfKind::Cgapf),
+            _ => None,
+        }
+    }
+}
+
+crate::codes! {
+    /// Measurement-noise density codes (`noise_model` parameter). The parameters live
+    /// beside it in [`NavConfig`].
+    pub enum NoiseKind: NOISE_MODEL_CODES = "NoiseModel", "relnav_noise_model", "RELNAV_NOISE_", true {
+        /// `N(0, sigma^2)`.
+        Gaussian = 1, "gaussian", "Gaussian N(0, sigma^2)";
+        /// Contaminated Gaussian `(1 - zeta) N(0, sigma^2) + zeta N(0, (scale sigma)^2)`
+        /// (paper 003's heavy-tailed lidar noise).
+        Mixture = 2, "mixture", "Contaminated Gaussian (1 - zeta) N(0, sigma^2) + zeta N(0, (scale sigma)^2) (paper 003)";
+        /// `sigma t_dof`, Student-t with `dof` degrees of freedom.
+        StudentT = 3, "student_t", "Student-t sigma t_dof";
+    }
+}
+
+crate::codes! {
+    /// H-infinity design codes (`hinf_design` parameter): the C ABI's `relnav_hinf_form`
+    /// codes available to the navigator (code 2, the paper form, needs the closed loop
+    /// `u = K x` and is for `relnav_hinf_design` only).
+    pub enum HinfDesignKind: HINF_DESIGN_CODES = "HinfDesign", "relnav_hinf_form", "RELNAV_HINF_", false {
+        /// The gamma-optimal observer ([`crate::hinf::design::design_observer`]).
+        GammaOptimal = 1, "gamma_optimal", "Observer with the least certified gamma";
+        /// The mixed H2/H-infinity observer: least H2 norm with `gamma <= hinf_gamma_factor *
+        /// gamma_opt` ([`crate::hinf::design::design_mixed`]).
+        Mixed = 3, "mixed", "Mixed H2/H-infinity observer: least H2 norm (steady-state error) with gamma <= hinf_gamma_factor times the optimum";
+    }
+}
+
+/// The codes of [`Frame`] (`frame` parameter).
+pub const FRAME_CODES: CodeList = CodeList {
+    name: "Frame",
+    c_type: "relnav_frame",
+    c_prefix: "RELNAV_FRAME_",
+    c_enum: true,
+    items: &[
+        CodeItem {
+            name: "radial_along_normal",
+            code: 1,
+            description: "x radial outward, y along-track, z orbit normal (canonical; paper 002)",
+        },
+        CodeItem {
+            name: "along_radial_antinormal",
+            code: 2,
+            description: "x along-track, y radial outward, z minus orbit normal (paper 000)",
+        },
+        CodeItem {
+            name: "along_antinormal_nadir",
+            code: 3,
+            description: "x along-track, y minus orbit normal, z nadir (paper 003)",
+        },
+    ],
+};
+
+/// The codes of [`Discretization`] (`discretization` parameter).
+pub const DISCRETIZATION_CODES: CodeList = CodeList {
+    name: "Discretization",
+    c_type: "relnav_discretization",
+    c_prefix: "RELNAV_DISCRETIZATION_",
+    c_enum: true,
+    items: &[
+        CodeItem {
+            name: "exact",
+            code: 1,
+            description: "Exact CW transition, exact zero-order hold, Van Loan process noise",
+        },
+        CodeItem {
+            name: "euler",
+            code: 2,
+            description: "First-order Euler I + T A (literal paper 000)",
+        },
+    ],
+};
+
+/// The codes of [`Resampler`] (`resampler` parameter).
+pub const RESAMPLER_CODES: CodeList = CodeList {
+    name: "Resampler",
+    c_type: "relnav_resampler",
+    c_prefix: "RELNAV_RESAMPLER_",
+    c_enum: true,
+    items: &[
+        CodeItem {
+            name: "multinomial",
+            code: 1,
+            description: "N independent draws from the weights (paper 000's SIR)",
+        },
+        CodeItem {
+            name: "systematic",
+            code: 2,
+            description: "One uniform, N evenly spaced points (Kitagawa 1996)",
+        },
+        CodeItem {
+            name: "stratified",
+            code: 3,
+            description: "One uniform per stratum (Kitagawa 1996)",
+        },
+        CodeItem {
+            name: "residual",
+            code: 4,
+            description:
+                "floor(N w) deterministic copies, the rest multinomial (Liu and Chen 1998)",
+        },
+    ],
+};
+
+/// The codes of [`AdaptationLaw`] (`aq_law` parameter).
+pub const AQ_LAW_CODES: CodeList = CodeList {
+    name: "AdaptationLaw",
+    c_type: "relnav_adaptation",
+    c_prefix: "RELNAV_ADAPTATION_",
+    c_enum: true,
+    items: &[
+        CodeItem {
+            name: "window",
+            code: 1,
+            description: "Paper 001 literally: the sliding-window estimate of q_vv at every update",
+        },
+        CodeItem {
+            name: "gated",
+            code: 2,
+            description: "q_vv stays at q_vel while the windowed NIS is below its chi-square quantile; the sliding window adapts it (never below q_vel) while it is above",
+        },
+    ],
+};
+
+/// Every code list of the configuration, in declaration order.
+pub const CODE_LISTS: [&CodeList; 7] = [
+    &FILTER_CODES,
+    &FRAME_CODES,
+    &DISCRETIZATION_CODES,
+    &RESAMPLER_CODES,
+    &NOISE_MODEL_CODES,
+    &HINF_DESIGN_CODES,
+    &AQ_LAW_CODES,
+];
+
+/// [`Field`] for an enum declared elsewhere with a code list here.
+macro_rules! code_field {
+    ($ty:ty, $list:ident, $zero:expr, $code:expr, $from:expr) => {
+        impl Field for $ty {
+            const KIND: Kind = Kind::Code(&$list);
+            const ZERO: Self = $zero;
+            fn get(&self, _: usize) -> Value {
+                Value::Int(i64::from($code(*self)))
+            }
+            fn set(&mut self, _: usize, v: Value, name: &str) -> Result<(), String> {
+                let code = v.as_int().and_then(|c| i32::try_from(c).ok());
+                *self = code.and_then($from).ok_or_else(|| {
+                    format!("unknown {name} code {v} (allowed: {})", $list.codes())
+                })?;
+                Ok(())
+            }
+        }
+    };
+}
+
+code_field!(
+    Frame,
+    FRAME_CODES,
+    Frame::RadialAlongNormal,
+    Frame::code,
+    Frame::from_code
+);
+code_field!(
+    Discretization,
+    DISCRETIZATION_CODES,
+    Discretization::Exact,
+    |d: Discretization| d as i32,
+    Discretization::from_code
+);
+code_field!(
+    Resampler,
+    RESAMPLER_CODES,
+    Resampler::Systematic,
+    |r: Resampler| r as i32,
+    Resampler::from_code
+);
+code_field!(
+    AdaptationLaw,
+    AQ_LAW_CODES,
+    AdaptationLaw::Gated,
+    |a: AdaptationLaw| a as i32,
+    AdaptationLaw::from_code
+);
+
+/// No scenario key (the parameter comes from elsewhere in a scenario file, or not at all).
+const NO_KEY: Option<&str> = None;
+
+crate::config! {
+    /// Everything that defines a navigator. [`Default`] is paper 000's numerical example
+    /// (digest, paper 000 "Example", with its covariance-name erratum applied). Field order
+    /// is the C struct's and the saved state's; new parameters are appended.
+    pub struct NavConfig, PARAMS;
+    filter: FilterKind {
+        elements: [("filter", 0, "", 1, "")],
+        rule: Rule::Any, c: true, scenario: Some("kind"), slot: Some(0),
+        description: "Estimator (codes 1-10: 1-3 Kalman (EKF, UKF, AQUKF), 4-8 particle filters, 9 robust H-infinity, 10 IMM)",
+    },
+    frame: Frame {
+        elements: [("frame", 1, "", 2, "")],
+        rule: Rule::Any, c: true, scenario: NO_KEY, slot: Some(1),
+        description: "Hill-frame convention of every input and output vector and angle",
+    },
+    discretization: Discretization {
+        elements: [("discretization", 2, "", 1, "")],
+        rule: Rule::Any, c: true, scenario: Some("discretization"), slot: Some(12),
+        description: "Discretisation of the CW model",
+    },
+    mean_motion: f64 {
+        elements: [("mean_motion", 3, "rad/s", 2.0 * std::f64::consts::PI / 7200.0, "")],
+        rule: Rule::Positive, c: true, scenario: NO_KEY, slot: Some(2),
+        description: "Mean motion of the target's circular orbit (> 0)",
+    },
+    chaser_mass: f64 {
+        elements: [("chaser_mass", 4, "kg", 1000.0, "")],
+        rule: Rule::Positive, c: true, scenario: NO_KEY, slot: Some(3),
+        description: "Chaser mass: thrust / mass = acceleration (> 0)",
+    },
+    sigma_range: f64 {
+        elements: [("sigma_range", 5, "m", 0.5, "")],
+        rule: Rule::Positive, c: true, scenario: NO_KEY, slot: Some(4),
+        description: "Range measurement noise, 1 sigma of the Gaussian (nominal sigma of the other noise models; > 0)",
+    },
+    sigma_angle: f64 {
+        elements: [("sigma_angle", 6, "rad", 0.01 * std::f64::consts::PI / 180.0, "")],
+        rule: Rule::Positive, c: true, scenario: NO_KEY, slot: Some(5),
+        description: "Azimuth and elevation measurement noise, 1 sigma of the Gaussian (nominal sigma of the other noise models; > 0)",
+    },
+    x0: [f64; 6] {
+        elements: [
+            ("x0", 7, "m", 405.0, "Initial estimate of x"),
+            ("y0", 8, "m", 505.0, "Initial estimate of y"),
+            ("z0", 9, "m", 205.0, "Initial estimate of z"),
+            ("vx0", 10, "m/s", 0.1, "Initial estimate of vx"),
+            ("vy0", 11, "m/s", 0.1, "Initial estimate of vy"),
+            ("vz0", 12, "m/s", 0.1, "Initial estimate of vz"),
+        ],
+        rule: Rule::Finite, c: true, scenario: Some("initial_state"), slot: Some(6),
+        description: "Initial estimate (x, y, z [m], vx, vy, vz [m/s]) in the I/O frame; |x0_i| + 100 sigma (of its group, sigma_pos0 or sigma_vel0) must not exceed 1e150",
+    },
+    sigma_pos0: f64 {
+        elements: [("sigma_pos0", 13, "m", 50.0, "")],
+        rule: Rule::Positive, c: true, scenario: Some("sigma_pos0"), slot: Some(7),
+        description: "Initial position uncertainty per axis, 1 sigma (> 0)",
+    },
+    sigma_vel0: f64 {
+        elements: [("sigma_vel0", 14, "m/s", 1.0, "")],
+        rule: Rule::Positive, c: true, scenario: Some("sigma_vel0"), slot: Some(8),
+        description: "Initial velocity uncertainty per axis, 1 sigma (> 0)",
+    },
+    accel_psd: f64 {
+        elements: [("accel_psd", 15, "m2/s3", 0.0, "")],
+        rule: Rule::NonNegative, c: true, scenario: Some("accel_psd"), slot: Some(9),
+        description: "Process noise: spectral density of a continuous white acceleration per axis (Van Loan discretisation; >= 0)",
+    },
+    q_pos: [f64; 3] {
+        elements: [
+            ("q_pos_x", 16, "m2/s", 0.09, "Process noise: x position variance added per second (discrete Q = q h; >= 0)"),
+            ("q_pos_y", 17, "m2/s", 0.000625, "Process noise: y position variance added per second (>= 0)"),
+            ("q_pos_z", 18, "m2/s", 0.0025, "Process noise: z position variance added per second (>= 0)"),
+        ],
+        rule: Rule::NonNegative, c: true, scenario: NO_KEY, slot: Some(10),
+        description: "Process noise: position variance rate per I/O axis (discrete Q = q_pos h; >= 0); paper 000's Q per 1 s step by default",
+    },
+    q_vel: [f64; 3] {
+        elements: [
+            ("q_vel_x", 19, "m2/s3", 1e-6, "Process noise: vx variance added per second (>= 0)"),
+            ("q_vel_y", 20, "m2/s3", 1e-6, "Process noise: vy variance added per second (>= 0)"),
+            ("q_vel_z", 21, "m2/s3", 1e-6, "Process noise: vz variance added per second (>= 0)"),
+        ],
+        rule: Rule::NonNegative, c: true, scenario: NO_KEY, slot: Some(11),
+        description: "Process noise: velocity variance rate per I/O axis (discrete Q = q_vel h; >= 0); for the AQUKF the initial adaptive density q_vv",
+    },
+    ukf_alpha: f64 {
+        elements: [("ukf_alpha", 22, "", 1.0, "")],
+        rule: Rule::Any, c: true, scenario: Some("ukf_alpha"), slot: Some(13),
+        description: "UKF sigma-point spread alpha (> 0); also the unscented proposal of upf and cgapf",
+    },
+    ukf_beta: f64 {
+        elements: [("ukf_beta", 23, "", 2.0, "")],
+        rule: Rule::Any, c: true, scenario: Some("ukf_beta"), slot: Some(14),
+        description: "UKF beta (2 for Gaussian priors)",
+    },
+    ukf_kappa: f64 {
+        elements: [("ukf_kappa", 24, "", 0.0, "")],
+        rule: Rule::Any, c: true, scenario: Some("ukf_kappa"), slot: Some(15),
+        description: "UKF kappa",
+    },
+    seed: u64 {
+        elements: [("seed", 25, "", 0, "")],
+        rule: Rule::Any, c: true, scenario: NO_KEY, slot: Some(16),
+        description: "Seed of the filters that draw random numbers (identical seeds give identical outputs)",
+    },
+    particles: usize {
+        elements: [("particles", 45, "", 1500, "")],
+        rule: Rule::Count { lo: 1, hi: MAX_PARTICLES as i64 }, c: true, scenario: Some("particles"), slot: Some(17),
+        description: "Number of particles of the particle filters (codes 4-8; 1..2000000)",
+    },
+    resampler: Resampler {
+        elements: [("resampler", 46, "", 2, "")],
+        rule: Rule::Any, c: true, scenario: Some("resampler"), slot: Some(18),
+        description: "Resampling scheme of the particle filters",
+    },
+    resample_threshold: f64 {
+        elements: [("resample_threshold", 47, "", 2.0 / 3.0, "")],
+        rule: Rule::Interval {
+            lo: open(0.0),
+            hi: closed(1.0),
+            why: ": the particles are resampled when N_eff < resample_threshold * particles",
+        },
+        c: true, scenario: Some("threshold"), slot: Some(19),
+        description: "The particle filters resample when the effective sample size drops below resample_threshold * particles (in (0, 1]; paper 000: 2/3)",
+    },
+    noise_model: NoiseKind {
+        elements: [("noise_model", 48, "", 1, "")],
+        rule: Rule::Any, c: true, scenario: NO_KEY, slot: Some(20),
+        description: "Measurement-noise density scaled by sigma_range and sigma_angle: the particle filters weigh with it, the Kalman filters assume the Gaussian of its variance",
+    },
+    noise_zeta: f64 {
+        elements: [("noise_zeta", 49, "", 0.2, "")],
+        rule: Rule::Interval { lo: closed(0.0), hi: open(1.0), why: ": the weight of the mixture's wide component" },
+        c: true, scenario: NO_KEY, slot: Some(21),
+        description: "Mixture noise: weight of the wide component (in [0, 1))",
+    },
+    noise_scale: f64 {
+        elements: [("noise_scale", 50, "", 10.0, "")],
+        rule: Rule::Interval {
+            lo: closed(1.0),
+            hi: open(f64::INFINITY),
+            why: ": the mixture's wide component over the nominal sigma",
+        },
+        c: true, scenario: NO_KEY, slot: Some(22),
+        description: "Mixture noise: sigma of the wide component over the nominal sigma (>= 1)",
+    },
+    noise_dof: f64 {
+        elements: [("noise_dof", 51, "", 4.0, "")],
+        rule: Rule::Interval { lo: open(2.0), hi: open(f64::INFINITY), why: ": the Student-t needs a finite variance" },
+        c: true, scenario: NO_KEY, slot: Some(23),
+        description: "Student-t noise: degrees of freedom (> 2)",
+    },
+    window: usize {
+        elements: [("window", 53, "", 10, "")],
+        rule: Rule::Count { lo: 1, hi: MAX_WINDOW as i64 }, c: true, scenario: Some("window"), slot: Some(24),
+        description: "AQUKF (filter 3): sliding-window width N of the adaptive process noise (1..512; paper 001: 10). For the AQUKF, q_vel_* is the initial adaptive density",
+    },
+    q_vv_floor: f64 {
+        elements: [("q_vv_floor", -, "m2/s3", 0.0, "")],
+        rule: Rule::NonNegative, c: true, scenario: Some("q_vv_floor"), slot: Some(25),
+        description: "AQUKF: lower bound of each adaptive q_vv entry (>= 0)",
+    },
+    q_vv_ceiling: f64 {
+        elements: [("q_vv_ceiling", -, "m2/s3", 1.0, "")],
+        rule: Rule::Any, c: true, scenario: Some("q_vv_ceiling"), slot: Some(26),
+        description: "AQUKF: upper bound of each adaptive q_vv entry (finite, > 0 and >= q_vv_floor)",
+    },
+    hinf_period: f64 {
+        elements: [("hinf_period", 57, "s", 1.0, "")],
+        rule: Rule::Any, c: true, scenario: NO_KEY, slot: Some(27),
+        description: "H-infinity filter (code 9): sampling period of its discrete design; fmi2DoStep with another step size is refused (set it to the communication step)",
+    },
+    hinf_delta_bar: f64 {
+        elements: [("hinf_delta_bar", 58, "", 0.05, "")],
+        rule: Rule::Any, c: true, scenario: NO_KEY, slot: Some(28),
+        description: "H-infinity filter: bound of the orbit-rate uncertainty, w = w0 (1 + delta), |delta| <= hinf_delta_bar (paper 002: 0.05)",
+    },
+    hinf_b_pos: f64 {
+        elements: [("hinf_b_pos", 59, "m", 0.0, "")],
+        rule: Rule::NonNegative, c: true, scenario: NO_KEY, slot: Some(29),
+        description: "H-infinity filter: process-noise scaling on positions (paper 002 B: 0.05); 0 with hinf_b_vel = 0 (default): derived from accel_psd, q_pos_*, q_vel_* (the noise every other filter uses)",
+    },
+    hinf_b_vel: f64 {
+        elements: [("hinf_b_vel", 60, "m/s", 0.0, "")],
+        rule: Rule::NonNegative, c: true, scenario: NO_KEY, slot: Some(30),
+        description: "H-infinity filter: process-noise scaling on velocities (paper 002 B: 0.001); 0 with hinf_b_pos = 0 (default): derived",
+    },
+    hinf_d: f64 {
+        elements: [("hinf_d", 61, "m", 0.0, "")],
+        rule: Rule::NonNegative, c: true, scenario: NO_KEY, slot: Some(31),
+        description: "H-infinity filter: scaling of the indirect position measurement noise (paper 002 D: 0.1); 0 (default): derived from sigma_range, sigma_angle and the noise model at the initial estimate's position",
+    },
+    hinf_design: HinfDesignKind {
+        elements: [("hinf_design", 64, "", 3, "")],
+        rule: Rule::Any, c: true, scenario: NO_KEY, slot: Some(32),
+        description: "H-infinity filter: the LMI design (mixed H2/H-infinity by default; gamma_optimal is issue 5's filter)",
+    },
+    hinf_gamma_factor: f64 {
+        elements: [("hinf_gamma_factor", 65, "", 1.5, "")],
+        rule: Rule::Interval {
+            lo: open(1.0),
+            hi: open(f64::INFINITY),
+            why: ": the mixed design's bound on gamma as a multiple of the gamma-optimal design's",
+        },
+        c: true, scenario: NO_KEY, slot: Some(33),
+        description: "H-infinity filter, mixed design: bound on the certified gamma (hinf_gamma) as a multiple of the gamma-optimal design's (> 1)",
+    },
+    hinf_acquisition: bool {
+        elements: [("hinf_acquisition", 66, "", 1, "")],
+        rule: Rule::Any, c: true, scenario: NO_KEY, slot: Some(34),
+        description: "H-infinity filter: start with the Kalman gain of the design's noise model and hand over to the designed gain once that is no worse (track initiation); false: the designed gain from the first step",
+    },
+    aq_law: AdaptationLaw {
+        elements: [("aq_law", 69, "", 2, "")],
+        rule: Rule::Any, c: true, scenario: Some("adaptation"), slot: Some(35),
+        description: "AQUKF (filter 3): adaptation law of the velocity process noise (1 window: paper 001 at every update; 2 gated: only while the windowed NIS exceeds its chi-square bound)",
+    },
+    aq_gate_window: usize {
+        elements: [("aq_gate_window", 70, "", 10, "")],
+        rule: Rule::Count { lo: 1, hi: MAX_GATE_WINDOW as i64 }, c: true, scenario: Some("gate_window"), slot: Some(36),
+        description: "AQUKF, gated law: number of measurement updates in the windowed NIS (1..128)",
+    },
+    aq_gate_quantile: f64 {
+        elements: [("aq_gate_quantile", 71, "", 0.999, "")],
+        rule: Rule::Any, c: true, scenario: Some("gate_quantile"), slot: Some(37),
+        description: "AQUKF, gated law: the gate opens when the windowed NIS exceeds its chi-square quantile at this probability (in (0, 1))",
+    },
+    imm_modes: usize {
+        elements: [("imm_modes", 72, "", 3, "")],
+        rule: Rule::Count { lo: 2, hi: MAX_MODES as i64 }, c: true, scenario: Some("imm_modes"), slot: Some(38),
+        description: "IMM (filter 10): number of modes (2 or 3)",
+    },
+    imm_accel_psd: [f64; MAX_MODES] {
+        elements: [
+            ("imm_accel_psd_1", 73, "m2/s3", 0.0, "IMM: white-acceleration density added to the process noise in mode 1 (the quiet mode; >= 0)"),
+            ("imm_accel_psd_2", 74, "m2/s3", 1e-6, "IMM: white-acceleration density added to the process noise in mode 2 (>= 0)"),
+            ("imm_accel_psd_3", 75, "m2/s3", 1e-3, "IMM: white-acceleration density added to the process noise in mode 3 (>= 0; unused with 2 modes)"),
+        ],
+        rule: Rule::NonNegative, c: true, scenario: Some("imm_accel_psd"), slot: Some(39),
+        description: "IMM: white-acceleration density added to the process noise in each mode (>= 0; the third is unused with 2 modes)",
+    },
+    imm_p_stay: [f64; MAX_MODES] {
+        elements: [
+            ("imm_p_stay_1", 76, "", 0.99999, "IMM: probability of staying in mode 1 over one second (in (0, 1))"),
+            ("imm_p_stay_2", 77, "", 0.9, "IMM: probability of staying in mode 2 over one second (in (0, 1))"),
+            ("imm_p_stay_3", 78, "", 0.9, "IMM: probability of staying in mode 3 over one second (in (0, 1))"),
+        ],
+        rule: Rule::Interval {
+            lo: open(0.0),
+            hi: open(1.0),
+            why: ": the probability of staying in the mode over one second",
+        },
+        c: true, scenario: Some("imm_p_stay"), slot: Some(40),
+        description: "IMM: probability of staying in each mode over one second (in (0, 1))",
+    },
+    pf_move: bool {
+        elements: [("pf_move", 82, "", 1, "")],
+        rule: Rule::Any, c: true, scenario: Some("move"), slot: Some(41),
+        description: "Particle filters (codes 4-8): after every update, Metropolis-Hastings moves whose target is the likelihood times the Gaussian of the predictive moments (Gaussian-prior moves, not invariant for the exact posterior; as accurate as the EKF on Gaussian noise, also with small process noise); false: the papers' literal filters (paper 000's SIR, plain RPF, van der Merwe's UPF), which degenerate with small process noise",
+    },
+    pf_threads: usize {
+        elements: [("pf_threads", 83, "", 0, "")],
+        rule: Rule::Count { lo: 0, hi: MAX_THREADS as i64 }, c: true, scenario: NO_KEY, slot: None,
+        description: "Particle filters: worker threads of the particle loops from 32768 particles on (0: one per core; 1: the calling thread; <= 1024); results do not depend on it",
+    },
+}
+
+/// One setting of a [`NavConfig`] as a saved state records it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Setting {
+    /// A code, count, flag or seed (the seed's `u64` bits as `i64`).
+    Int(i64),
+    /// A real number.
+    Real(f64),
+}
+
+impl Setting {
+    /// The 8 bytes a state stores: the two's complement of an `Int`, the IEEE-754 bits of
+    /// a `Real` (so `-0.0` and `0.0` differ: a restore must continue bit for bit).
+    pub fn bits(self) -> u64 {
+        match self {
+            Setting::Int(v) => v as u64,
+            Setting::Real(v) => v.to_bits(),
+        }
+    }
+
+    /// The same kind of setting with the stored bits `b`.
+    pub(super) fn with_bits(self, b: u64) -> Self {
+        match self {
+            Setting::Int(_) => Setting::Int(b as i64),
+            Setting::Real(_) => Setting::Real(f64::from_bits(b)),
+        }
+    }
+}
+
+impl From<Value> for Setting {
+    fn from(v: Value) -> Self {
+        match v {
+            Value::Int(i) => Setting::Int(i),
+            Value::Real(x) => Setting::Real(x),
+        }
+    }
+}
+
+impl std::fmt::Display for Setting {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Setting::Int(v) => write!(f, "{v}"),
+            Setting::Real(v) => f.write_str(&num(*v)),
+        }
+    }
+}
+
+/// [`Rule::Positive`] of one number, as a [`NavError`].
+pub(crate) fn positive(name: &str, v: f64) -> Result<(), NavError> {
+    Rule::Positive
+        .check(name, Value::Real(v))
+        .map_err(NavError::invalid)
+}
+
+impl NavConfig {
+    /// The parameter table ([`PARAMS`]).
+    pub fn params() -> &'static [Param<NavConfig>] {
+        PARAMS
+    }
+
+    /// Store element `i` of parameter `p` as a front end hands it over
+    /// ([`Param::assign`]); the message names the parameter.
+    pub fn assign(&mut self, p: &Param<NavConfig>, i: usize, v: Value) -> Result<(), NavError> {
+        p.assign(self, i, v).map_err(NavError::invalid)
+    }
+
+    /// Check every field; the error names the first offending one: the parameters' own
+    /// rules ([`PARAMS`], in declaration order), then the rules between them.
+    pub fn validate(&self) -> Result<(), NavError> {
+        if !self.filter.is_implemented() {
+            let available: Vec<String> = FilterKind::ALL
+                .iter()
+                .filter(|k| k.is_implemented())
+                .map(|k| format!("{} {}", *k as i32, k.name()))
+                .collect();
+            return Err(NavError {
+                kind: NavErrorKind::NotImplemented,
+                message: format!(
+                    "filter {} ({}) is not implemented in relnav {}; available: {}",
+                    self.filter as i32,
+                    self.filter.name(),
+                    crate::VERSION,
+                    available.join(", ")
+                ),
+            });
+        }
+        for p in PARAMS {
+            p.check(self).map_err(NavError::invalid)?;
+        }
+        if !(MEAN_MOTION_RANGE.0..=MEAN_MOTION_RANGE.1).contains(&self.mean_motion) {
+            return Err(NavError::invalid(format!(
+                "mean_motion must lie in [{:e}, {}] rad/s (got {}): a circular orbit's rate \
+                 (low Earth orbit ~1.1e-3, geostationary ~7.3e-5)",
+                MEAN_MOTION_RANGE.0,
+                MEAN_MOTION_RANGE.1,
+                num(self.mean_motion)
+            )));
+        }
+        for (name, v) in [
+            ("sigma_pos0", self.sigma_pos0),
+            ("sigma_vel0", self.sigma_vel0),
+            ("sigma_range", self.sigma_range),
+            ("sigma_angle", self.sigma_angle),
+        ] {
+            if !(v * v).is_finite() || v * v == 0.0 {
+                return Err(NavError::invalid(format!(
+                    "{name} = {} has no finite, non-zero variance",
+                    num(v)
+                )));
+            }
+        }
+        for (i, n) in ["x0", "y0", "z0", "vx0", "vy0", "vz0"].iter().enumerate() {
+            // headroom in double precision for the initial distribution (a particle
+            // filter draws x0 + sigma eps) and the first steps' arithmetic
+            let sigma = if i < 3 {
+                self.sigma_pos0
+            } else {
+                self.sigma_vel0
+            };
+            if !(self.x0[i].abs() + 100.0 * sigma <= MAX_INITIAL_MAGNITUDE) {
+                return Err(NavError::invalid(format!(
+                    "|{n}| + 100 sigma must not exceed {MAX_INITIAL_MAGNITUDE:e} (got {n} = {}, \
+                     sigma {}): the initial estimate would overflow double precision",
+                    num(self.x0[i]),
+                    num(sigma)
+                )));
+            }
+        }
+        // checked whatever the filter, so a bad value never hides until the filter changes
+        self.ukf().validate().map_err(NavError::invalid)?;
+        for (name, v) in [
+            ("sigma_range", self.sigma_range),
+            ("sigma_angle", self.sigma_angle),
+        ] {
+            let var = v * v * self.noise().variance_factor();
+            if !var.is_finite() {
+                return Err(NavError::invalid(format!(
+                    "{name} = {} with noise model {} has no finite variance",
+                    num(v),
+                    self.noise_model.name()
+                )));
+            }
+        }
+        if self.filter.pf_kind().is_some_and(PfKind::unscented)
+            && !self.pf_move
+            && !(self.accel_psd > 0.0 || self.q_pos.iter().chain(&self.q_vel).all(|q| *q > 0.0))
+        {
+            return Err(NavError::invalid(format!(
+                "filter {} with pf_move = false needs a positive-definite process noise \
+                 (accel_psd > 0, or every q_pos_* and q_vel_* > 0): its literal proposal is \
+                 built on the transition density",
+                self.filter.name()
+            )));
+        }
+        if let Some(p) = self.pf_params() {
+            p.validate().map_err(NavError::invalid)?;
+        }
+        self.aq_params().validate().map_err(NavError::invalid)?;
+        self.validate_hinf()?;
+        self.imm_params().validate().map_err(NavError::invalid)?;
+        Ok(())
+    }
+
+    /// Every saved setting by name, in slot order: a saved state's configuration section
+    /// (`docs/state-format.md`). A parameter without a slot (`pf_threads`: the results do
+    /// not depend on it) is left out.
+    pub fn settings(&self) -> Vec<(String, Setting)> {
+        let mut saved: Vec<(u16, &Param<NavConfig>)> = PARAMS
+            .iter()
+            .filter_map(|p| p.slot.map(|s| (s, p)))
+            .collect();
+        saved.sort_by_key(|(s, _)| *s);
+        saved
+            .into_iter()
+            .flat_map(|(_, p)| {
+                (0..p.elements.len()).map(move |i| (p.setting_name(i), (p.get)(self, i).into()))
+            })
+            .collect()
+    }
+
+    /// The configuration section of a saved state: the number of settings (u32) and each
+    /// setting's 8 bytes ([`Setting::bits`]), in [`NavConfig::settings`] order.
+    pub(super) fn write_settings(&self, w: &mut Writer<'_>) {
+        let s = self.settings();
+        w.u32(s.len() as u32);
+        for (_, v) in s {
+            w.u64(v.bits());
+        }
+    }
+
+    /// The configuration fingerprint of a saved state's header: the CRC-32 of the
+    /// configuration section ([`NavConfig::settings`]).
+    pub fn fingerprint(&self) -> u32 {
+        let mut b = Vec::new();
+        self.write_settings(&mut Writer::new(&mut b));
+        crc32(&b)
+    }
+
+    /// The UKF's sigma-point parameters (`ukf_alpha`, `ukf_beta`, `ukf_kappa`; also the
+    /// unscented proposal of the UPF and the CGA-PF).
+    pub fn ukf(&self) -> UkfParams {
+        UkfParams {
+            alpha: self.ukf_alpha,
+            beta: self.ukf_beta,
+            kappa: self.ukf_kappa,
+        }
+    }
+
+    /// The H-infinity parameters: the pairing of the process-noise scalings and the
+    /// shared checks of the design inputs whatever the filter; the derived noise model
+    /// (which needs a usable initial position) only for filter 9.
+    fn validate_hinf(&self) -> Result<(), NavError> {
+        if (self.hinf_b_pos == 0.0) != (self.hinf_b_vel == 0.0) {
+            return Err(NavError::invalid(format!(
+                "hinf_b_pos and hinf_b_vel are set together (both > 0) or derived together \
+                 (both 0) (got {} and {})",
+                num(self.hinf_b_pos),
+                num(self.hinf_b_vel)
+            )));
+        }
+        let hinf = |e: crate::hinf::HinfError| NavError::invalid(format!("hinf_*: {}", e.message));
+        let mut spec = self.hinf_spec_scalars();
+        // scalars 0 mean "derived": the placeholders only let the shared checks run
+        spec.b_pos = if spec.b_pos > 0.0 { spec.b_pos } else { 1.0 };
+        spec.b_vel = if spec.b_vel > 0.0 { spec.b_vel } else { 1.0 };
+        spec.d = if spec.d > 0.0 { spec.d } else { 1.0 };
+        spec.validate().map_err(hinf)?;
+        if self.filter == FilterKind::Hinf {
+            self.hinf_spec()?.validate().map_err(hinf)?;
+        }
+        Ok(())
+    }
+
+    fn hinf_spec_scalars(&self) -> crate::hinf::HinfSpec {
+        crate::hinf::HinfSpec {
+            w0: self.mean_motion,
+            delta_bar: self.hinf_delta_bar,
+            period: self.hinf_period,
+            b_pos: self.hinf_b_pos,
+            b_vel: self.hinf_b_vel,
+            d: self.hinf_d,
+            b_matrix: None,
+            d_matrix: None,
+        }
+    }
+
+    /// The H-infinity design inputs of this configuration (`w0` = `mean_motion`, canonical
+    /// frame). Set scalings are used as given; zero ones are derived from the noise every
+    /// other filter uses:
+    ///
+    /// * `B = Qd^(1/2)` ([`crate::hinf::noise_inputs`]) with `Qd` the process-noise
+    ///   covariance of one step `T = hinf_period`, exactly as the navigator builds it:
+    ///   `Qd_VanLoan(accel_psd I3, T) + T6^T diag(q_pos T, q_vel T) T6` (the `q_*` are per
+    ///   I/O axis, rotated to the canonical frame);
+    /// * `D = R^(1/2)` with `R` the covariance of the indirect Cartesian position
+    ///   ([`RadioSensor::position_covariance`]) at the initial estimate's position, of the
+    ///   radio noise the Kalman filters assume (`sigma^2` times the noise model's variance
+    ///   factor): `sigma_range` along the line of sight, `range * sigma_angle` across it.
+    ///
+    /// Errors: a zero initial range when `D` is derived; a derived `B` of zero (no process
+    /// noise at all) for the mixed design, whose H2 criterion needs one.
+    pub fn hinf_spec(&self) -> Result<crate::hinf::HinfSpec, NavError> {
+        let mut spec = self.hinf_spec_scalars();
+        let t = self.hinf_period;
+        if self.hinf_b_pos == 0.0 && self.hinf_b_vel == 0.0 {
+            positive("hinf_period", t)?;
+            let qc = Mat3::identity() * self.accel_psd;
+            let mut qd = CwModel::new(self.mean_motion).van_loan_q(&qc, t);
+            let qio = State::from_row_slice(&[
+                self.q_pos[0],
+                self.q_pos[1],
+                self.q_pos[2],
+                self.q_vel[0],
+                self.q_vel[1],
+                self.q_vel[2],
+            ]) * t;
+            qd += self.frame.cov_to_canonical(&Mat6::from_diagonal(&qio));
+            if self.hinf_design == HinfDesignKind::Mixed && qd.abs().max() == 0.0 {
+                return Err(NavError::invalid(
+                    "hinf: the mixed design's process noise is derived from accel_psd, q_pos_* \
+                     and q_vel_*, which are all 0: set one of them (or hinf_b_pos and \
+                     hinf_b_vel)"
+                        .to_string(),
+                ));
+            }
+            spec.b_matrix = Some(crate::hinf::psd_sqrt(&qd));
+        }
+        if self.hinf_d == 0.0 {
+            let inflate = self.noise().variance_factor().sqrt();
+            let sensor = RadioSensor::new(
+                self.frame,
+                self.sigma_range * inflate,
+                self.sigma_angle * inflate,
+            );
+            let r0 = self.initial_state().fixed_rows::<3>(0).into_owned();
+            let r = sensor.position_covariance(&r0).ok_or_else(|| {
+                NavError::invalid(
+                    "hinf: the measurement noise is derived at the initial estimate's \
+                     position, which is at zero range: set x0, y0, z0 (or hinf_d)"
+                        .to_string(),
+                )
+            })?;
+            spec.d_matrix = Some(crate::hinf::psd_sqrt(&r));
+        }
+        Ok(spec)
+    }
+
+    /// The measurement-noise density (scales `sigma_range`, `sigma_angle`).
+    pub fn noise(&self) -> NoiseModel {
+        match self.noise_model {
+            NoiseKind::Gaussian => NoiseModel::Gaussian,
+            NoiseKind::Mixture => NoiseModel::Mixture {
+                zeta: self.noise_zeta,
+                scale: self.noise_scale,
+            },
+            NoiseKind::StudentT => NoiseModel::StudentT {
+                dof: self.noise_dof,
+            },
+        }
+    }
+
+    /// The particle-filter settings for filter codes 4-8 (`None` for the other filters):
+    /// `PfParams::new(kind)` with `particles`, `resampler`, `resample_threshold`, `seed`,
+    /// the UKF parameters (the unscented proposal of `upf` and `cgapf`), `pf_move` and
+    /// `pf_threads` of this configuration.
+    pub fn pf_params(&self) -> Option<PfParams> {
+        let kind = self.filter.pf_kind()?;
+        Some(PfParams {
+            moves: self.pf_move,
+            threads: self.pf_threads,
+            particles: self.particles,
+            resampler: self.resampler,
+            threshold: self.resample_threshold,
+            seed: self.seed,
+            ukf: self.ukf(),
+            ..PfParams::new(kind)
+        })
+    }
+
+    /// The AQUKF's adaptive settings: `window`, `q_vv_floor`, `q_vv_ceiling`, the gated
+    /// law's settings, and the initial `q_vv` = `q_vel` rotated to the canonical frame (for
+    /// the AQUKF, `q_vel_*` is the initial adaptive density rather than a fixed part of
+    /// `Q`; see [`super::Navigator`]).
+    pub fn aq_params(&self) -> AqParams {
+        let qv = self
+            .frame
+            .cov_to_canonical(&Mat6::from_diagonal(&State::from_row_slice(&[
+                0.0,
+                0.0,
+                0.0,
+                self.q_vel[0],
+                self.q_vel[1],
+                self.q_vel[2],
+            ])));
+        AqParams {
+            window: self.window,
+            q_vv0: Vec3::new(qv[(3, 3)], qv[(4, 4)], qv[(5, 5)]),
+            floor: self.q_vv_floor,
+            ceiling: self.q_vv_ceiling,
+            law: self.aq_law,
+            gate_window: self.aq_gate_window,
+            gate_quantile: self.aq_gate_quantile,
+        }
+    }
+
+    /// The IMM's settings: `imm_modes`, `imm_accel_psd`, `imm_p_stay` (the densities are
+    /// isotropic, so frame-independent).
+    pub fn imm_params(&self) -> ImmParams {
+        ImmParams {
+            modes: self.imm_modes,
+            accel_psd: self.imm_accel_psd,
+            p_stay: self.imm_p_stay,
+        }
+    }
+
+    /// Initial estimate in the canonical frame.
+    pub fn initial_state(&self) -> State {
+        self.frame
+            .state_to_canonical(&State::from_row_slice(&self.x0))
+    }
+
+    /// Initial covariance `diag(sigma_pos0^2 I3, sigma_vel0^2 I3)` (frame-independent).
+    pub fn initial_covariance(&self) -> Mat6 {
+        let (p, v) = (self.sigma_pos0.powi(2), self.sigma_vel0.powi(2));
+        Mat6::from_diagonal(&State::from_row_slice(&[p, p, p, v, v, v]))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::params::Element;
+
+    /// Every declared default is one its type holds (a setter that failed would leave the
+    /// placeholder) and passes validation.
+    #[test]
+    fn defaults_are_the_declared_ones_and_valid() {
+        let c = NavConfig::default();
+        for p in PARAMS {
+            for (i, e) in p.elements.iter().enumerate() {
+                assert_eq!((p.get)(&c, i), e.default, "{}", e.name);
+            }
+        }
+        assert_eq!(c.validate(), Ok(()));
+    }
+
+    /// Names, value references and slots are unique; slots are contiguous from 0 and every
+    /// element's kind of default matches its parameter's.
+    #[test]
+    fn table_is_consistent() {
+        let elements: Vec<&Element> = PARAMS.iter().flat_map(|p| p.elements.iter()).collect();
+        for (k, e) in elements.iter().enumerate() {
+            assert!(
+                elements[k + 1..].iter().all(|f| f.name != e.name),
+                "name {}",
+                e.name
+            );
+            if let Some(id) = e.id {
+                assert!(
+                    elements[k + 1..].iter().all(|f| f.id != Some(id)),
+                    "id {id}"
+                );
+            }
+        }
+        let mut slots: Vec<u16> = PARAMS.iter().filter_map(|p| p.slot).collect();
+        slots.sort_unstable();
+        assert!(slots.iter().enumerate().all(|(i, s)| usize::from(*s) == i));
+        for p in PARAMS {
+            for e in p.elements {
+                assert_eq!(
+                    matches!(e.default, Value::Real(_)),
+                    p.kind == Kind::Real,
+                    "{}",
+                    e.name
+                );
+            }
+        }
+    }
+
+    /// The enums declared elsewhere agree with their code lists here, item by item.
+    #[test]
+    fn code_lists_match_their_enums() {
+        let check = |list: &CodeList, items: Vec<(i32, &str)>| {
+            let declared: Vec<(i32, &str)> = list.items.iter().map(|i| (i.code, i.name)).collect();
+            assert_eq!(declared, items, "{}", list.name);
+        };
+        check(
+            &FRAME_CODES,
+            Frame::ALL.iter().map(|f| (f.code(), f.name())).collect(),
+        );
+        check(
+            &RESAMPLER_CODES,
+            Resampler::ALL
+                .iter()
+                .map(|r| (*r as i32, r.name()))
+                .collect(),
+        );
+        check(
+            &AQ_LAW_CODES,
+            AdaptationLaw::ALL
+                .iter()
+                .map(|a| (*a as i32, a.name()))
+                .collect(),
+        );
+        check(
+            &DISCRETIZATION_CODES,
+            (1..=2)
+                .filter_map(Discretization::from_code)
+                .map(|d| {
+                    (
+                        d as i32,
+                        if d == Discretization::Exact {
+                            "exact"
+                        } else {
+                            "euler"
+                        },
+                    )
+                })
+                .collect(),
+        );
+        assert!(Discretization::from_code(3).is_none());
+    }
+
+    /// The saved state's settings keep their historical order and names
+    /// (`docs/state-format.md`): the first ones, and the total.
+    #[test]
+    fn settings_order_is_the_state_format() {
+        let names: Vec<String> = NavConfig::default()
+            .settings()
+            .into_iter()
+            .map(|(n, _)| n)
+            .collect();
+        assert_eq!(names.len(), 55);
+        assert_eq!(
+            &names[..8],
+            [
+                "filter",
+                "frame",
+                "mean_motion",
+                "chaser_mass",
+                "sigma_range",
+                "sigma_angle",
+                "x0[0]",
+                "x0[1]"
+            ]
+        );
+        assert_eq!(names[21], "discretization");
+        assert_eq!(names[54], "pf_move");
+    }
+}

@@ -1,0 +1,510 @@
+//! The navigator: one estimator plus everything around it that a user sets — I/O frame,
+//! chaser mass, process-noise model, discretisation, initial estimate — behind an API in
+//! the user's frame and SI units. The C ABI (the `relnav` crate), the FMU and the Python
+//! package are thin shells around it.
+//!
+//! **Step semantics** (also those of the C ABI and the FMU): [`Navigator::step`]`(thrust,
+//! measurement, h)` at time `t` first applies the measurement taken at `t` (if any), then
+//! predicts over `[t, t + h)` with the thrust held constant; afterwards the estimate is the
+//! prior at `t + h`.
+//!
+//! * [`config`]: [`NavConfig`], declared once as a parameter table from which every front
+//!   end takes its parameters; the process and measurement noise models in its docs;
+//! * [`factory`]: [`AnyFilter`] and [`build_filter`], the one place a filter code becomes
+//!   an estimator;
+//! * `persist`: the navigator's saved state;
+//! * [`error`]: the navigator's errors, [`NavError`].
+//!
+//! [`Navigator::q_vv`] reports the AQUKF's adaptive density, [`Navigator::mode_probabilities`]
+//! the IMM's mode probabilities.
+
+pub mod config;
+pub mod error;
+pub mod factory;
+mod persist;
+
+pub use config::{
+    FilterKind, HinfDesignKind, NavConfig, NoiseKind, Setting, MAX_INITIAL_MAGNITUDE,
+    MEAN_MOTION_RANGE, PARAMS,
+};
+pub use error::{NavError, NavErrorKind};
+pub use factory::{build_filter, build_filter_with, AnyFilter, FilterOptions};
+pub use persist::STATE_FORMAT_VERSION;
+
+use crate::dynamics::{CwModel, DiscreteModel};
+use crate::estimators::pf::ParticleFilter;
+use crate::estimators::{Estimator, UpdateInfo, MAX_MODES};
+use crate::noise::NoiseModel;
+use crate::numerics::num;
+use crate::sensors::RadioSensor;
+use crate::types::{Mat3, Mat6, State, Vec3};
+use config::positive;
+use factory::Snapshot;
+
+/// Longest accepted step, in orbital periods `2 pi / n` of the target: a prediction over
+/// more than 1000 orbits (for a 90-minute orbit, two months; geostationary, three years) is
+/// far outside the linearised CW model and is almost certainly a units or time-base error
+/// (a step of 1e45 s was seen from a co-simulation master). [`Navigator::predict`] and
+/// [`Navigator::step`] refuse it with a message naming the limit; below it every step
+/// returns a value or an error in bounded time (the discretisation is closed-form).
+pub const MAX_STEP_PERIODS: f64 = 1000.0;
+
+/// The thrust `thrust` [N, I/O frame] as the canonical acceleration `F / m` [m/s^2].
+#[inline]
+fn canonical_accel(cfg: &NavConfig, thrust: &[f64; 3]) -> Vec3 {
+    cfg.frame.vec_to_canonical(&Vec3::from_row_slice(thrust)) / cfg.chaser_mass
+}
+
+#[inline]
+fn finite3(name: &str, v: &[f64; 3]) -> Result<(), NavError> {
+    if crate::numerics::all_finite(v) {
+        Ok(())
+    } else {
+        Err(NavError::invalid(format!(
+            "{name} must be finite (got {v:?})"
+        )))
+    }
+}
+
+/// A configured estimator working in the user's frame and units.
+///
+/// **Failures.** Inputs are checked before anything changes. A Kalman filter that fails
+/// numerically inside a step (zero range, loss of positive definiteness) is restored to
+/// its state before the step. A particle filter's update and prediction are each
+/// transactional (new particles go to spare buffers and are swapped in on success; see
+/// [`ParticleFilter::update_with`]): a failed `update` or `predict` changes nothing, and
+/// so does a `step` whose update fails (every likelihood zero, a measurement that cannot
+/// be inverted at the first update). Copying the particle set to undo a *successful*
+/// update would cost as much as the step itself, so in the one remaining case — the
+/// update succeeded and the prediction after it failed (a non-finite particle mean, i.e.
+/// overflow) — the particle filter is marked failed and every later `update`, `predict`
+/// or `step` is refused with [`NavErrorKind::Numerical`] until [`Navigator::reset`].
+#[derive(Debug, Clone)]
+pub struct Navigator {
+    cfg: NavConfig,
+    model: CwModel,
+    /// the sensor with the noise model's scales (particle filters' likelihood)
+    sensor: RadioSensor,
+    /// the sensor with the noise model's variance (Kalman filters)
+    kalman_sensor: RadioSensor,
+    noise: NoiseModel,
+    scales: [f64; 3],
+    filter: AnyFilter,
+    step_cache: DiscreteModel,
+    last_update: Option<UpdateInfo>,
+    /// a particle filter's prediction failed after its update in one step: refuse to go
+    /// on until reset
+    failed: bool,
+}
+
+impl Navigator {
+    /// Build a navigator; fails with a message naming the bad parameter.
+    pub fn new(cfg: &NavConfig) -> Result<Self, NavError> {
+        cfg.validate()?;
+        let filter = build_filter(cfg)?;
+        let model = CwModel::new(cfg.mean_motion);
+        let noise = cfg.noise();
+        let inflate = noise.variance_factor().sqrt();
+        let mut nav = Self {
+            cfg: *cfg,
+            model,
+            sensor: RadioSensor::new(cfg.frame, cfg.sigma_range, cfg.sigma_angle),
+            kalman_sensor: RadioSensor::new(
+                cfg.frame,
+                cfg.sigma_range * inflate,
+                cfg.sigma_angle * inflate,
+            ),
+            noise,
+            scales: [cfg.sigma_range, cfg.sigma_angle, cfg.sigma_angle],
+            filter,
+            step_cache: DiscreteModel {
+                dt: f64::NAN,
+                phi: Mat6::identity(),
+                gamma: Default::default(),
+                q: Mat6::zeros(),
+            },
+            last_update: None,
+            failed: false,
+        };
+        nav.discrete(1.0);
+        // every field is finite, but x0 near the largest double with its uncertainty can
+        // still overflow (a particle filter's initial draw x0 + L eps): refuse it here rather
+        // than hand out an estimator whose estimate is not a number
+        let cov_ok = matches!(nav.filter, AnyFilter::Hinf(_))
+            || nav.filter.covariance().iter().all(|v| v.is_finite());
+        if !(nav.filter.state().iter().all(|v| v.is_finite()) && cov_ok) {
+            return Err(NavError::invalid(format!(
+                "the initial estimate x0 = {:?} with sigma_pos0 = {}, sigma_vel0 = {} overflows \
+                 double precision in the {} filter's initial state",
+                cfg.x0,
+                num(cfg.sigma_pos0),
+                num(cfg.sigma_vel0),
+                cfg.filter.name()
+            )));
+        }
+        Ok(nav)
+    }
+
+    /// The configuration this navigator was built from.
+    pub fn config(&self) -> &NavConfig {
+        &self.cfg
+    }
+
+    /// Make `step_cache` the discrete model for step `dt` (recomputed only when `dt`
+    /// changes).
+    fn discrete(&mut self, dt: f64) {
+        if self.step_cache.dt != dt {
+            let qc = Mat3::identity() * self.cfg.accel_psd;
+            let mut d = self.model.discretize(dt, &qc, self.cfg.discretization);
+            // the AQUKF adapts the velocity part itself (q_vel is its initial q_vv)
+            let qv = if self.cfg.filter == FilterKind::Aqukf {
+                [0.0; 3]
+            } else {
+                self.cfg.q_vel
+            };
+            let qio = State::from_row_slice(&[
+                self.cfg.q_pos[0],
+                self.cfg.q_pos[1],
+                self.cfg.q_pos[2],
+                qv[0],
+                qv[1],
+                qv[2],
+            ]) * dt;
+            d.q += self.cfg.frame.cov_to_canonical(&Mat6::from_diagonal(&qio));
+            self.step_cache = d;
+        }
+    }
+
+    /// The longest accepted step [s]: [`MAX_STEP_PERIODS`] orbital periods.
+    pub fn max_step(&self) -> f64 {
+        MAX_STEP_PERIODS * std::f64::consts::TAU / self.cfg.mean_motion
+    }
+
+    /// [`Navigator::check_dt_in_full`] without a call in the common case: `0 < dt <=`
+    /// [`Navigator::max_step`] (false for NaN; `max_step` is finite) and no filter with a
+    /// fixed period.
+    #[inline(always)]
+    fn check_dt(&self, dt: f64) -> Result<(), NavError> {
+        if dt > 0.0 && dt <= self.max_step() && !matches!(self.filter, AnyFilter::Hinf(_)) {
+            Ok(())
+        } else {
+            self.check_dt_in_full(dt)
+        }
+    }
+
+    #[cold]
+    #[inline(never)]
+    fn check_dt_in_full(&self, dt: f64) -> Result<(), NavError> {
+        positive("step size h", dt)?;
+        if dt > self.max_step() {
+            return Err(NavError::invalid(format!(
+                "step size h = {} s is longer than {MAX_STEP_PERIODS} orbital periods ({} s at \
+                 mean_motion {} rad/s), where the linearised CW model means nothing: split \
+                 the interval, or check the time unit",
+                num(dt),
+                num(self.max_step()),
+                num(self.cfg.mean_motion)
+            )));
+        }
+        if let AnyFilter::Hinf(f) = &self.filter {
+            let t = f.period();
+            if (dt - t).abs() > 1e-9 * t {
+                return Err(NavError::invalid(format!(
+                    "the hinf filter was designed for hinf_period = {} s and holds for that \
+                     period only; step h = {} s refused (set hinf_period to the step size)",
+                    num(t),
+                    num(dt)
+                )));
+            }
+        }
+        Ok(())
+    }
+
+    /// [`Navigator::check_measurement_in_full`] without a call in the common case (finite,
+    /// range `>= 0`, elevation in `[-pi/2, pi/2]`).
+    #[inline(always)]
+    fn check_measurement(z: &[f64; 3]) -> Result<(), NavError> {
+        if crate::numerics::all_finite(z)
+            && z[0] >= 0.0
+            && z[2].abs() <= std::f64::consts::FRAC_PI_2
+        {
+            Ok(())
+        } else {
+            Self::check_measurement_in_full(z)
+        }
+    }
+
+    #[cold]
+    #[inline(never)]
+    fn check_measurement_in_full(z: &[f64; 3]) -> Result<(), NavError> {
+        finite3("measurement (range, azimuth, elevation)", z)?;
+        if z[0] < 0.0 {
+            return Err(NavError::invalid(format!(
+                "measured range must be >= 0 (got {})",
+                num(z[0])
+            )));
+        }
+        if z[2].abs() > std::f64::consts::FRAC_PI_2 {
+            return Err(NavError::invalid(format!(
+                "measured elevation must lie in [-pi/2, pi/2] (got {})",
+                num(z[2])
+            )));
+        }
+        Ok(())
+    }
+
+    fn check_not_failed(&self) -> Result<(), NavError> {
+        if self.failed {
+            Err(NavError {
+                kind: NavErrorKind::Numerical,
+                message: format!(
+                    "the {} particle filter failed in an earlier step (its prediction after \
+                     a successful update) and its particles are no longer valid: reset the \
+                     estimator",
+                    self.cfg.filter.name()
+                ),
+            })
+        } else {
+            Ok(())
+        }
+    }
+
+    /// Time update over `dt` [s] with thrust `thrust` [N] (I/O frame) held constant.
+    pub fn predict(&mut self, thrust: &[f64; 3], dt: f64) -> Result<(), NavError> {
+        self.check_dt(dt)?;
+        finite3("thrust", thrust)?;
+        self.check_not_failed()?;
+        self.predict_checked(thrust, dt)
+    }
+
+    /// [`Navigator::predict`] once its inputs are checked.
+    fn predict_checked(&mut self, thrust: &[f64; 3], dt: f64) -> Result<(), NavError> {
+        let accel = canonical_accel(&self.cfg, thrust);
+        self.discrete(dt);
+        // the cached model by reference (no copy of its ~100 numbers per step)
+        self.filter
+            .predict(&self.step_cache, &accel)
+            .map_err(NavError::from)
+    }
+
+    /// Measurement update with `(range [m], azimuth [rad], elevation [rad])` in the I/O frame.
+    /// The particle filters weigh with the configured noise density, the Kalman filters use
+    /// the Gaussian of its variance.
+    pub fn update(&mut self, z: &[f64; 3]) -> Result<UpdateInfo, NavError> {
+        Self::check_measurement(z)?;
+        self.check_not_failed()?;
+        self.update_checked(z)
+    }
+
+    /// [`Navigator::update`] once its input is checked.
+    fn update_checked(&mut self, z: &[f64; 3]) -> Result<UpdateInfo, NavError> {
+        let zv = Vec3::from_row_slice(z);
+        let r = match &mut self.filter {
+            AnyFilter::Pf(pf) => pf.update_with(&self.sensor, &zv, &self.noise, &self.scales),
+            other => other.update(&self.kalman_sensor, &zv),
+        };
+        let info = r?;
+        self.last_update = Some(info);
+        Ok(info)
+    }
+
+    /// One step: update with `measurement` (taken at the step's start, if any), then predict
+    /// over `dt` with `thrust` held. All inputs are checked before anything changes; a
+    /// failed step leaves the estimate as it was, except a particle filter whose
+    /// prediction fails after a successful update, which is marked failed (see the type's
+    /// documentation).
+    pub fn step(
+        &mut self,
+        thrust: &[f64; 3],
+        measurement: Option<&[f64; 3]>,
+        dt: f64,
+    ) -> Result<(), NavError> {
+        self.check_dt(dt)?;
+        finite3("thrust", thrust)?;
+        if let Some(z) = measurement {
+            Self::check_measurement(z)?;
+        }
+        self.check_not_failed()?;
+        // the EKF's update and prediction commit together (no snapshot to copy); the
+        // discrete model is a cache of `dt` alone
+        self.discrete(dt);
+        if let (AnyFilter::Ekf(f), Some(z)) = (&mut self.filter, measurement) {
+            let accel = canonical_accel(&self.cfg, thrust);
+            let zv = Vec3::from_row_slice(z);
+            let info = f.update_predict(&self.kalman_sensor, &zv, &self.step_cache, &accel)?;
+            self.last_update = Some(info);
+            return Ok(());
+        }
+        // the UKF's likewise (issue 15: the snapshot and its copies were ~40 % of its FMU
+        // cycle's overhead)
+        if let (AnyFilter::Ukf(f), Some(z)) = (&mut self.filter, measurement) {
+            let accel = canonical_accel(&self.cfg, thrust);
+            let zv = Vec3::from_row_slice(z);
+            let info = f.update_predict(&self.kalman_sensor, &zv, &self.step_cache, &accel)?;
+            self.last_update = Some(info);
+            return Ok(());
+        }
+        // other Kalman-type filters: a small snapshot on the stack to restore
+        let saved = self.filter.snapshot();
+        let last = self.last_update;
+        let mut updated = false;
+        // checked above, once
+        let result = match measurement {
+            Some(z) => self.update_checked(z).map(|_| updated = true),
+            None => Ok(()),
+        }
+        .and_then(|()| self.predict_checked(thrust, dt));
+        if result.is_err() {
+            match saved {
+                // a particle filter's failed update or prediction changed nothing by
+                // itself; a failed prediction after a committed update cannot be undone
+                Snapshot::None => self.failed |= updated,
+                s => {
+                    self.filter.restore(&s);
+                    self.last_update = last;
+                }
+            }
+        }
+        result
+    }
+
+    /// Back to the initial estimate. A particle filter is rebuilt from its settings (new
+    /// particles drawn with the configured seed), so a reset navigator reproduces a new one
+    /// bit for bit; a failed particle filter works again.
+    pub fn reset(&mut self) {
+        let (x0, p0) = (self.cfg.initial_state(), self.cfg.initial_covariance());
+        match &mut self.filter {
+            AnyFilter::Pf(pf) => *pf = ParticleFilter::new(x0, p0, *pf.params()),
+            AnyFilter::Aqukf(f) => f.reset(x0, p0),
+            AnyFilter::Imm(f) => f.reset(x0, p0),
+            other => other.set_estimate(x0, p0),
+        }
+        self.last_update = None;
+        self.failed = false;
+    }
+
+    /// State estimate in the I/O frame.
+    pub fn state(&self) -> State {
+        self.cfg.frame.state_from_canonical(self.filter.state())
+    }
+
+    /// Covariance in the I/O frame.
+    pub fn covariance(&self) -> Mat6 {
+        self.cfg.frame.cov_from_canonical(self.filter.covariance())
+    }
+
+    /// 1-sigma per state component in the I/O frame: the square roots of the covariance's
+    /// diagonal. A NaN or negative variance (a failed filter; the H-infinity filter, which
+    /// has no covariance) gives NaN, never a reassuring 0. The C ABI, the FMU and the
+    /// Python package all report this.
+    pub fn sigma(&self) -> [f64; 6] {
+        let p = self
+            .cfg
+            .frame
+            .variances_from_canonical(self.filter.covariance());
+        std::array::from_fn(|i| {
+            let v = p[i];
+            if v >= 0.0 {
+                v.sqrt()
+            } else {
+                f64::NAN
+            }
+        })
+    }
+
+    /// Diagnostics of the last measurement update, if any since construction or reset.
+    /// The particle filters report the innovation of their weighted mean and no NIS (NaN).
+    pub fn last_update(&self) -> Option<UpdateInfo> {
+        self.last_update
+    }
+
+    /// Effective sample size `1 / sum w_i^2` of a particle filter after its last update
+    /// (before resampling; the particle count before the first update), in
+    /// `[1, particles]` (clamped there against rounding of the normalised weights). `None`
+    /// for the Kalman filters, which carry no particles.
+    pub fn ess(&self) -> Option<f64> {
+        match &self.filter {
+            AnyFilter::Pf(pf) => Some(pf.ess().clamp(1.0, pf.params().particles as f64)),
+            _ => None,
+        }
+    }
+
+    /// The AQUKF's current adaptive velocity density `q_vv` [m^2/s^3] in the I/O frame:
+    /// the diagonal of `T blockdiag(0, diag(q_vv)) T^T`. Every frame rotation is a signed
+    /// permutation, so the rotated matrix is diagonal again and this is exact (entries
+    /// permuted). `None` for the other filters.
+    pub fn q_vv(&self) -> Option<[f64; 3]> {
+        match &self.filter {
+            AnyFilter::Aqukf(f) => {
+                let q = f.q_vv();
+                let c =
+                    Mat6::from_diagonal(&State::from_row_slice(&[0.0, 0.0, 0.0, q[0], q[1], q[2]]));
+                let io = self.cfg.frame.cov_from_canonical(&c);
+                Some([io[(3, 3)], io[(4, 4)], io[(5, 5)]])
+            }
+            _ => None,
+        }
+    }
+
+    /// The IMM's (filter code 10) mode probabilities after the last step, NaN past
+    /// `imm_modes`; `None` for the other filters.
+    pub fn mode_probabilities(&self) -> Option<[f64; MAX_MODES]> {
+        match &self.filter {
+            AnyFilter::Imm(f) => {
+                let mu = f.mode_probabilities();
+                let r = f.params().modes;
+                Some(std::array::from_fn(
+                    |j| {
+                        if j < r {
+                            mu[j]
+                        } else {
+                            f64::NAN
+                        }
+                    },
+                ))
+            }
+            _ => None,
+        }
+    }
+
+    /// The certified `gamma` of the H-infinity design (filter code 9), `None` otherwise.
+    pub fn hinf_gamma(&self) -> Option<f64> {
+        match &self.filter {
+            AnyFilter::Hinf(f) => Some(f.gamma()),
+            _ => None,
+        }
+    }
+
+    /// How the H-infinity filter was designed (filter code 9; route, Riccati record,
+    /// iterations: [`crate::hinf::HinfDesignInfo`]), `None` otherwise.
+    pub fn hinf_design_info(&self) -> Option<crate::hinf::HinfDesignInfo> {
+        match &self.filter {
+            AnyFilter::Hinf(f) => f.design_info().copied(),
+            _ => None,
+        }
+    }
+
+    /// The H2 norm of the H-infinity design (filter code 9; see
+    /// [`crate::hinf::design::HinfDesign::h2_norm`]), `None` otherwise.
+    pub fn hinf_h2_norm(&self) -> Option<f64> {
+        match &self.filter {
+            AnyFilter::Hinf(f) => Some(f.h2_norm()),
+            _ => None,
+        }
+    }
+
+    /// Whether the H-infinity filter (code 9) runs its designed, certified gain (true
+    /// after the hand-over of track initiation, or always without it); `None` for the
+    /// other filters.
+    pub fn hinf_certified(&self) -> Option<bool> {
+        match &self.filter {
+            AnyFilter::Hinf(f) => Some(f.certified()),
+            _ => None,
+        }
+    }
+
+    /// The estimator itself (canonical frame).
+    pub fn filter(&self) -> &AnyFilter {
+        &self.filter
+    }
+}
