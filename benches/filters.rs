@@ -93,11 +93,11 @@ fn filters(c: &mut Criterion) {
             p0,
             UkfParams::default(),
             cfg.aq_params(),
-            cfg.mean_motion,
+            cfg.dynamics(),
         )
     });
     bare(c, "imm_step", || {
-        Imm::new(x0, p0, cfg.imm_params(), cfg.mean_motion)
+        Imm::new(x0, p0, cfg.imm_params(), cfg.dynamics())
     });
 
     for kind in [FilterKind::Ekf, FilterKind::Ukf] {

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Soak of every filter through the FMU (issue 11, item 5; tests/soak.rs): 10^6 steps per
+# Soak of every filter through the FMU (tests/soak.rs): 10^6 steps per
 # Kalman-type filter (EKF, UKF, AQUKF, H-infinity), 10^5 per particle filter, against an
 # independent truth, with random dropouts, burns and step sizes. Not part of
 # scripts/test.sh (tens of minutes). Prints one table row per filter (lines "SOAK | ...")

@@ -29,10 +29,10 @@
 //! otherwise — the average impulse is kept, the chaser dithers within about `I_min / m` of
 //! velocity around the hold point.
 
-use crate::dynamics::CwModel;
+use crate::dynamics::{CwModel, Discretization, Dynamics, RelativeDynamics};
 use crate::frames::Frame;
 use crate::numerics::state::{Reader, StateError, Writer};
-use crate::types::{Mat6, Mat63, State, Vec3};
+use crate::types::{Mat3, Mat6, Mat63, State, Vec3};
 
 /// Everything that defines the guidance law. [`Default`]: paper 000's frame and orbit, a
 /// 1000 kg chaser, a V-bar hold 300 m along-track, `w = 0.01` rad/s, `zeta = 0.9`, 10 N per
@@ -128,7 +128,7 @@ impl GuidanceConfig {
 #[derive(Debug, Clone, Copy)]
 pub struct Guidance {
     cfg: GuidanceConfig,
-    model: CwModel,
+    model: Dynamics,
     hold: Vec3,
     cache: Option<(f64, Mat6, Mat63)>,
     /// Thrust applied over the current step [N, canonical].
@@ -144,7 +144,7 @@ impl Guidance {
         cfg.validate()?;
         Ok(Self {
             cfg,
-            model: CwModel::new(cfg.mean_motion),
+            model: CwModel::new(cfg.mean_motion).into(),
             hold: cfg.frame.vec_to_canonical(&Vec3::from_row_slice(&cfg.hold)),
             cache: None,
             thrust: Vec3::zeros(),
@@ -204,9 +204,11 @@ impl Guidance {
         let (phi, gamma) = match self.cache {
             Some((hc, p, g)) if hc.to_bits() == h.to_bits() => (p, g),
             _ => {
-                let pg = (self.model.phi(h), self.model.gamma(h));
-                self.cache = Some((h, pg.0, pg.1));
-                pg
+                let d = self.model.step(t, h, &Mat3::zeros(), Discretization::Exact);
+                if self.model.time_invariant() {
+                    self.cache = Some((h, d.phi, d.gamma));
+                }
+                (d.phi, d.gamma)
             }
         };
         let x = self.cfg.frame.state_to_canonical(estimate);

@@ -25,13 +25,13 @@
 //! measurement is then dropped or not, so the noise sequence does not depend on the dropout
 //! settings.
 
-use crate::dynamics::CwModel;
+use crate::dynamics::{CwModel, Discretization, Dynamics, RelativeDynamics};
 use crate::frames::Frame;
 use crate::noise::NoiseModel;
 use crate::numerics::state::{refuse, Reader, StateError, Writer};
 use crate::orbit::{TwoBodyJ2, R_EARTH};
 use crate::sensors::RadioSensor;
-use crate::types::{Mat6, Mat63, State, Vec3};
+use crate::types::{Mat3, Mat6, Mat63, State, Vec3};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -181,10 +181,11 @@ impl PlantConfig {
 /// The true relative motion.
 #[derive(Debug, Clone, Copy)]
 enum Truth {
-    /// Exact CW: the canonical state and the transition of the last step length.
-    Cw {
+    /// The linear relative dynamics (CW): the canonical state and the transition of the
+    /// last step length (kept for a time-invariant model).
+    Linear {
         x: State,
-        model: CwModel,
+        model: Dynamics,
         cache: Option<(f64, Mat6, Mat63)>,
     },
     /// Two-body + J2 of both spacecraft.
@@ -223,9 +224,9 @@ impl Plant {
             .frame
             .state_to_canonical(&State::from_row_slice(&cfg.x0));
         let truth = match cfg.truth_model {
-            TruthModel::Cw => Truth::Cw {
+            TruthModel::Cw => Truth::Linear {
                 x: x0,
-                model: CwModel::new(cfg.mean_motion),
+                model: CwModel::new(cfg.mean_motion).into(),
                 cache: None,
             },
             TruthModel::TwoBodyJ2 => Truth::TwoBodyJ2(TwoBodyJ2::new(
@@ -258,7 +259,7 @@ impl Plant {
     /// The true relative state in the canonical Hill frame.
     pub fn truth_canonical(&self) -> State {
         match &self.truth {
-            Truth::Cw { x, .. } => *x,
+            Truth::Linear { x, .. } => *x,
             Truth::TwoBodyJ2(t) => t.relative(),
         }
     }
@@ -277,13 +278,15 @@ impl Plant {
         }
         let a = self.cfg.frame.vec_to_canonical(thrust) / self.cfg.chaser_mass;
         match &mut self.truth {
-            Truth::Cw { x, model, cache } => {
+            Truth::Linear { x, model, cache } => {
                 let (phi, gamma) = match cache {
                     Some((hc, p, g)) if hc.to_bits() == h.to_bits() => (*p, *g),
                     _ => {
-                        let pg = (model.phi(h), model.gamma(h));
-                        *cache = Some((h, pg.0, pg.1));
-                        pg
+                        let d = model.step(t - self.t0, h, &Mat3::zeros(), Discretization::Exact);
+                        if model.time_invariant() {
+                            *cache = Some((h, d.phi, d.gamma));
+                        }
+                        (d.phi, d.gamma)
                     }
                 };
                 *x = phi * *x + gamma * a;
@@ -320,7 +323,7 @@ impl Plant {
     pub fn save(&self, w: &mut Writer<'_>) {
         w.tag(b"PLNT");
         match &self.truth {
-            Truth::Cw { x, .. } => {
+            Truth::Linear { x, .. } => {
                 w.u8(TruthModel::Cw as u8);
                 w.matrix(x);
             }
@@ -346,7 +349,7 @@ impl Plant {
         let kind = r.u8("truth model")?;
         let mut truth = self.truth;
         match (&mut truth, kind) {
-            (Truth::Cw { x, .. }, 1) => *x = r.finite_matrix("true state")?,
+            (Truth::Linear { x, .. }, 1) => *x = r.finite_matrix("true state")?,
             (Truth::TwoBodyJ2(t), 2) => {
                 t.target = r.finite_matrix("target state")?;
                 t.chaser = r.finite_matrix("chaser state")?;

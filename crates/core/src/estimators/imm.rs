@@ -41,7 +41,7 @@
 //! failed step changes nothing.
 
 use super::{finite, Ekf, Estimator, FilterError, UpdateInfo};
-use crate::dynamics::{CwModel, DiscreteModel};
+use crate::dynamics::{DiscreteModel, Dynamics, RelativeDynamics};
 use crate::numerics::state::{refuse, Persist, Reader, StateError, Writer};
 use crate::numerics::symmetrize;
 use crate::sensors::MeasurementModel;
@@ -68,9 +68,9 @@ impl Default for ImmParams {
     /// (1e-3 m^2/s^3: about 3 cm/s per second, 3 N on 100 kg). The quiet mode lasts
     /// 10^5 s on average (an unannounced manoeuvre a day), the manoeuvring ones 10 s. A
     /// quiet mode this sticky keeps the manoeuvring modes at a stationary probability of
-    /// 1e-4 each, which is what keeps the quiet-phase cost at 1-2 % (with 0.999 / 0.95,
-    /// 1.26x the UKF's position RMSE and 1.8x its velocity RMSE on `model_error_burns`
-    /// without burns); the likelihood ratio of a burn still lifts mode 3 within seconds.
+    /// 1e-4 each, which keeps the quiet-phase cost small (less sticky modes cost visibly more
+    /// without burns: `docs/results.md`, "No model error: the quiet phase with an honest
+    /// Q"); the likelihood ratio of a burn still lifts mode 3 within seconds.
     fn default() -> Self {
         Self {
             modes: 3,
@@ -144,7 +144,7 @@ impl ImmParams {
     }
 }
 
-/// The IMM filter on the CW model (filter code 10).
+/// The IMM filter (filter code 10) on any relative dynamics.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Imm {
     params: ImmParams,
@@ -152,22 +152,23 @@ pub struct Imm {
     mu: [f64; MAX_MODES],
     x: State,
     p: Mat6,
-    cw: CwModel,
+    dynamics: Dynamics,
     basis_dt: f64,
     basis: Mat6,
 }
 
 impl Imm {
     /// All modes at `(x0, p0)` (canonical), mode probabilities at the stationary
-    /// distribution ([`ImmParams::stationary`]); `params` validated by the caller.
-    pub fn new(x0: State, p0: Mat6, params: ImmParams, mean_motion: f64) -> Self {
+    /// distribution ([`ImmParams::stationary`]); `params` validated by the caller; the
+    /// modes' extra noise is the Van Loan noise of `dynamics`.
+    pub fn new(x0: State, p0: Mat6, params: ImmParams, dynamics: impl Into<Dynamics>) -> Self {
         Self {
             params,
             modes: std::array::from_fn(|_| Ekf::new(x0, p0)),
             mu: params.stationary(),
             x: x0,
             p: p0,
-            cw: CwModel::new(mean_motion),
+            dynamics: dynamics.into(),
             basis_dt: f64::NAN,
             basis: Mat6::zeros(),
         }
@@ -198,9 +199,9 @@ impl Imm {
         self.params.modes.clamp(2, MAX_MODES)
     }
 
-    fn refresh_basis(&mut self, dt: f64) {
-        if self.basis_dt != dt {
-            self.basis = self.cw.van_loan_q(&Mat3::identity(), dt);
+    fn refresh_basis(&mut self, t: f64, dt: f64) {
+        if self.basis_dt != dt || !self.dynamics.time_invariant() {
+            self.basis = self.dynamics.step_noise(t, dt, &Mat3::identity());
             self.basis_dt = dt;
         }
     }
@@ -228,7 +229,7 @@ impl Imm {
 
 impl Estimator for Imm {
     fn predict(&mut self, model: &DiscreteModel, accel: &Vec3) -> Result<(), FilterError> {
-        self.refresh_basis(model.dt);
+        self.refresh_basis(model.t, model.dt);
         let r = self.r();
         let pi = self.params.transition(model.dt);
         let mut c = [0.0; MAX_MODES];
@@ -367,7 +368,7 @@ impl Persist for Imm {
             mu,
             x,
             p,
-            cw: _,
+            dynamics: _,
             basis_dt: _,
             basis: _,
         } = self;
@@ -390,7 +391,7 @@ impl Persist for Imm {
             mu,
             x,
             p,
-            cw: _,
+            dynamics: _,
             basis_dt: _,
             basis: _,
         } = self;
@@ -422,6 +423,7 @@ impl Persist for Imm {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::dynamics::CwModel;
     use crate::frames::Frame;
     use crate::sensors::RadioSensor;
 
@@ -444,7 +446,7 @@ mod tests {
             accel_psd: [0.0; 3],
             p_stay: [0.99, 0.9, 0.8],
         };
-        let mut imm = Imm::new(x0, p0, params, 1e-3);
+        let mut imm = Imm::new(x0, p0, params, CwModel::new(1e-3));
         let mut ekf = Ekf::new(x0, p0);
         let sensor = RadioSensor::new(Frame::RadialAlongNormal, 0.5, 1e-4);
         let m = model(1.0, 1e-8);
@@ -494,7 +496,12 @@ mod tests {
     #[test]
     fn failed_update_changes_nothing() {
         let x0 = State::zeros();
-        let mut imm = Imm::new(x0, Mat6::identity() * 1e-30, ImmParams::default(), 1e-3);
+        let mut imm = Imm::new(
+            x0,
+            Mat6::identity() * 1e-30,
+            ImmParams::default(),
+            CwModel::new(1e-3),
+        );
         let before = imm.clone();
         let sensor = RadioSensor::new(Frame::RadialAlongNormal, 0.5, 1e-4);
         assert!(imm.update(&sensor, &Vec3::new(1.0, 0.0, 0.0)).is_err());

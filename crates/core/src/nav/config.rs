@@ -861,6 +861,12 @@ impl NavConfig {
         Ok(spec)
     }
 
+    /// The relative dynamics the configuration describes (the one place that chooses the
+    /// model: the Clohessy–Wiltshire model of `mean_motion` today).
+    pub fn dynamics(&self) -> crate::dynamics::Dynamics {
+        crate::dynamics::Dynamics::Cw(crate::dynamics::CwModel::new(self.mean_motion))
+    }
+
     /// The measurement-noise density (scales `sigma_range`, `sigma_angle`).
     pub fn noise(&self) -> NoiseModel {
         match self.noise_model {

@@ -217,13 +217,13 @@ pub fn build_filter_with(cfg: &NavConfig, opts: &FilterOptions) -> Result<AnyFil
             p0,
             cfg.ukf(),
             cfg.aq_params(),
-            cfg.mean_motion,
+            cfg.dynamics(),
         ))),
         FilterKind::Imm => Ok(AnyFilter::Imm(Imm::new(
             x0,
             p0,
             cfg.imm_params(),
-            cfg.mean_motion,
+            cfg.dynamics(),
         ))),
         #[cfg(feature = "hinf")]
         FilterKind::Hinf => {

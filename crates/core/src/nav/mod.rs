@@ -31,7 +31,7 @@ pub use error::{NavError, NavErrorKind};
 pub use factory::{build_filter, build_filter_with, AnyFilter, FilterOptions};
 pub use persist::STATE_FORMAT_VERSION;
 
-use crate::dynamics::{CwModel, DiscreteModel};
+use crate::dynamics::{DiscreteModel, Dynamics, RelativeDynamics};
 use crate::estimators::pf::ParticleFilter;
 use crate::estimators::{Estimator, UpdateInfo, MAX_MODES};
 use crate::noise::NoiseModel;
@@ -44,7 +44,7 @@ use factory::Snapshot;
 /// Longest accepted step, in orbital periods `2 pi / n` of the target: a prediction over
 /// more than 1000 orbits (for a 90-minute orbit, two months; geostationary, three years) is
 /// far outside the linearised CW model and is almost certainly a units or time-base error
-/// (a step of 1e45 s was seen from a co-simulation master). [`Navigator::predict`] and
+/// (a co-simulation master can send a step of 1e45 s). [`Navigator::predict`] and
 /// [`Navigator::step`] refuse it with a message naming the limit; below it every step
 /// returns a value or an error in bounded time (the discretisation is closed-form).
 pub const MAX_STEP_PERIODS: f64 = 1000.0;
@@ -82,7 +82,11 @@ fn finite3(name: &str, v: &[f64; 3]) -> Result<(), NavError> {
 #[derive(Debug, Clone)]
 pub struct Navigator {
     cfg: NavConfig,
-    model: CwModel,
+    dynamics: Dynamics,
+    /// start time of the next step [s since construction or reset]: a time-varying
+    /// model's steps depend on it. Not in the saved state: today's one model (CW) does not
+    /// depend on it; a time-varying model adds it to the state's format
+    t: f64,
     /// the sensor with the noise model's scales (particle filters' likelihood)
     sensor: RadioSensor,
     /// the sensor with the noise model's variance (Kalman filters)
@@ -102,12 +106,13 @@ impl Navigator {
     pub fn new(cfg: &NavConfig) -> Result<Self, NavError> {
         cfg.validate()?;
         let filter = build_filter(cfg)?;
-        let model = CwModel::new(cfg.mean_motion);
+        let dynamics = cfg.dynamics();
         let noise = cfg.noise();
         let inflate = noise.variance_factor().sqrt();
         let mut nav = Self {
             cfg: *cfg,
-            model,
+            dynamics,
+            t: 0.0,
             sensor: RadioSensor::new(cfg.frame, cfg.sigma_range, cfg.sigma_angle),
             kalman_sensor: RadioSensor::new(
                 cfg.frame,
@@ -118,6 +123,7 @@ impl Navigator {
             scales: [cfg.sigma_range, cfg.sigma_angle, cfg.sigma_angle],
             filter,
             step_cache: DiscreteModel {
+                t: 0.0,
                 dt: f64::NAN,
                 phi: Mat6::identity(),
                 gamma: Default::default(),
@@ -150,12 +156,12 @@ impl Navigator {
         &self.cfg
     }
 
-    /// Make `step_cache` the discrete model for step `dt` (recomputed only when `dt`
-    /// changes).
+    /// Make `step_cache` the discrete model of the step from `self.t` over `dt`
+    /// (recomputed only when `dt` changes, or at every step for a time-varying model).
     fn discrete(&mut self, dt: f64) {
-        if self.step_cache.dt != dt {
+        if self.step_cache.dt != dt || !self.dynamics.time_invariant() {
             let qc = Mat3::identity() * self.cfg.accel_psd;
-            let mut d = self.model.discretize(dt, &qc, self.cfg.discretization);
+            let mut d = self.dynamics.step(self.t, dt, &qc, self.cfg.discretization);
             // the AQUKF adapts the velocity part itself (q_vel is its initial q_vv)
             let qv = if self.cfg.filter == FilterKind::Aqukf {
                 [0.0; 3]
@@ -173,6 +179,7 @@ impl Navigator {
             d.q += self.cfg.frame.cov_to_canonical(&Mat6::from_diagonal(&qio));
             self.step_cache = d;
         }
+        self.step_cache.t = self.t;
     }
 
     /// The longest accepted step [s]: [`MAX_STEP_PERIODS`] orbital periods.
@@ -282,9 +289,9 @@ impl Navigator {
         let accel = canonical_accel(&self.cfg, thrust);
         self.discrete(dt);
         // the cached model by reference (no copy of its ~100 numbers per step)
-        self.filter
-            .predict(&self.step_cache, &accel)
-            .map_err(NavError::from)
+        self.filter.predict(&self.step_cache, &accel)?;
+        self.t += dt;
+        Ok(())
     }
 
     /// Measurement update with `(range [m], azimuth [rad], elevation [rad])` in the I/O frame.
@@ -333,15 +340,17 @@ impl Navigator {
             let zv = Vec3::from_row_slice(z);
             let info = f.update_predict(&self.kalman_sensor, &zv, &self.step_cache, &accel)?;
             self.last_update = Some(info);
+            self.t += dt;
             return Ok(());
         }
-        // the UKF's likewise (issue 15: the snapshot and its copies were ~40 % of its FMU
-        // cycle's overhead)
+        // the UKF's likewise (a snapshot and its copies would be a large part of its FMU
+        // cycle's cost)
         if let (AnyFilter::Ukf(f), Some(z)) = (&mut self.filter, measurement) {
             let accel = canonical_accel(&self.cfg, thrust);
             let zv = Vec3::from_row_slice(z);
             let info = f.update_predict(&self.kalman_sensor, &zv, &self.step_cache, &accel)?;
             self.last_update = Some(info);
+            self.t += dt;
             return Ok(());
         }
         // other Kalman-type filters: a small snapshot on the stack to restore
@@ -381,6 +390,7 @@ impl Navigator {
         }
         self.last_update = None;
         self.failed = false;
+        self.t = 0.0;
     }
 
     /// State estimate in the I/O frame.

@@ -15,7 +15,9 @@ impl Navigator {
         let Self {
             cfg,
             // configuration: rebuilt from `cfg` by the restoring navigator
-            model: _,
+            dynamics: _,
+            // the step's start time: no model depends on it yet (see the field)
+            t: _,
             sensor: _,
             kalman_sensor: _,
             noise: _,

@@ -74,11 +74,10 @@
 //! gated by a chi-square test as in the robust adaptive UKF of Hajiyev & Soken 2014). (1)
 //! alone is slow when `q_0` is small: `d_j` measures the filter's *correction*
 //! `dX = K nu`, and with a small `Q` the velocity gain is small, so `q` grows only
-//! geometrically and then overshoots (measured on `model_error_burns`: 29 s to recover from
-//! the first burn, velocity errors up to 1.6 m/s while `q` overshoots to 0.6 m^2/s^3). The
-//! fading factor responds to the innovation itself within one step, and the corrections
-//! that follow feed the window with the level the manoeuvre needs (0.10 m position RMSE
-//! after the burns, against 0.26 m for the window law and 3.5 m for the UKF). Once the
+//! geometrically and then overshoots. The fading factor responds to the innovation itself
+//! within one step, and the corrections that follow feed the window with the level the
+//! manoeuvre needs (the figures: `docs/results.md`, "Model error (a): unreported burns").
+//! Once the
 //! windowed NIS is consistent again, `q` returns to `q_0` and `lambda` to 1.
 //!
 //! **No allocation**: the window is a fixed-capacity ring buffer of [`MAX_WINDOW`] entries
@@ -100,7 +99,7 @@ pub use adaptive_q::{chi2_quantile_wh, AdaptiveQ};
 pub use params::{AdaptationLaw, AqParams, MAX_GATE_WINDOW, MAX_WINDOW};
 
 use super::{Estimator, FilterError, Ukf, UkfParams, UpdateInfo};
-use crate::dynamics::{CwModel, DiscreteModel};
+use crate::dynamics::{DiscreteModel, Dynamics, RelativeDynamics};
 use crate::numerics::state::{Persist, Reader, StateError, Writer};
 use crate::sensors::MeasurementModel;
 use crate::types::{Mat3, Mat6, State, Vec3};
@@ -266,18 +265,25 @@ impl AdaptiveUkf {
 #[derive(Debug, Clone, PartialEq)]
 pub struct Aqukf {
     core: AdaptiveUkf,
-    cw: CwModel,
+    dynamics: Dynamics,
     basis_dt: f64,
     basis: [Mat6; 3],
 }
 
 impl Aqukf {
-    /// A filter from `x0`, `p0` (canonical) for the CW model of mean motion `mean_motion`
-    /// (rad/s), with validated sigma-point and adaptive settings (`aq.q_vv0` canonical).
-    pub fn new(x0: State, p0: Mat6, ukf: UkfParams, aq: AqParams, mean_motion: f64) -> Self {
+    /// A filter from `x0`, `p0` (canonical) on `dynamics` (whose Van Loan noise the
+    /// adapted density is discretised with), with validated sigma-point and adaptive
+    /// settings (`aq.q_vv0` canonical).
+    pub fn new(
+        x0: State,
+        p0: Mat6,
+        ukf: UkfParams,
+        aq: AqParams,
+        dynamics: impl Into<Dynamics>,
+    ) -> Self {
         Self {
             core: AdaptiveUkf::new(x0, p0, ukf, aq),
-            cw: CwModel::new(mean_motion),
+            dynamics: dynamics.into(),
             basis_dt: f64::NAN,
             basis: [Mat6::zeros(); 3],
         }
@@ -332,12 +338,12 @@ impl Aqukf {
         self.core.elapsed = s.elapsed;
     }
 
-    fn refresh_basis(&mut self, dt: f64) {
-        if self.basis_dt != dt {
+    fn refresh_basis(&mut self, t: f64, dt: f64) {
+        if self.basis_dt != dt || !self.dynamics.time_invariant() {
             for (i, b) in self.basis.iter_mut().enumerate() {
                 let mut qc = Mat3::zeros();
                 qc[(i, i)] = 1.0;
-                *b = self.cw.van_loan_q(&qc, dt);
+                *b = self.dynamics.step_noise(t, dt, &qc);
             }
             self.basis_dt = dt;
         }
@@ -346,7 +352,7 @@ impl Aqukf {
 
 impl Estimator for Aqukf {
     fn predict(&mut self, model: &DiscreteModel, accel: &Vec3) -> Result<(), FilterError> {
-        self.refresh_basis(model.dt);
+        self.refresh_basis(model.t, model.dt);
         let basis = self.basis;
         self.core.predict_with(
             model.dt,
@@ -410,7 +416,7 @@ impl Persist for Aqukf {
     fn save_state(&self, w: &mut Writer<'_>) {
         let Self {
             core,
-            cw: _,
+            dynamics: _,
             basis_dt: _,
             basis: _,
         } = self;
@@ -420,7 +426,7 @@ impl Persist for Aqukf {
     fn load_state(&mut self, r: &mut Reader<'_>) -> Result<(), StateError> {
         let Self {
             core,
-            cw: _,
+            dynamics: _,
             basis_dt: _,
             basis: _,
         } = self;

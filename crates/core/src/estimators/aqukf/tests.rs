@@ -1,5 +1,6 @@
 use super::adaptive_q::normal_quantile;
 use super::*;
+use crate::dynamics::CwModel;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::StandardNormal;

@@ -27,48 +27,14 @@
 //! Paper 000 discretises with Euler, `Phi = I + T A`; [`Discretization::Euler`] keeps that
 //! only so the paper can be reproduced literally.
 
+use super::{DiscreteModel, Discretization, RelativeDynamics};
 use crate::types::{Mat3, Mat6, Mat63, State, Vec3};
-
-/// How the continuous model is turned into a discrete one.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-#[repr(i32)]
-pub enum Discretization {
-    /// Exact: closed-form `Phi`, exact ZOH `Gamma`, closed-form (Van Loan) `Qd` (default).
-    #[default]
-    Exact = 1,
-    /// First order, `Phi = I + T A`, `Gamma = T B`, `Qd = T B Qc B^T` (paper 000 literally).
-    Euler = 2,
-}
-
-impl Discretization {
-    /// From the stable code (1 exact, 2 Euler).
-    pub fn from_code(code: i32) -> Option<Self> {
-        match code {
-            1 => Some(Self::Exact),
-            2 => Some(Self::Euler),
-            _ => None,
-        }
-    }
-}
 
 /// The CW model for one mean motion `n` [rad/s].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CwModel {
     /// Mean motion of the target's circular orbit [rad/s].
     pub n: f64,
-}
-
-/// One discrete step of the model: `X+ = phi X + gamma a + w`, `cov(w) = q`.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct DiscreteModel {
-    /// Step length [s].
-    pub dt: f64,
-    /// State transition matrix.
-    pub phi: Mat6,
-    /// Input matrix for a thrust acceleration held over the step [m/s^2 -> state].
-    pub gamma: Mat63,
-    /// Process-noise covariance added over the step.
-    pub q: Mat6,
 }
 
 /// Below this `|n t|` the process noise is summed as a series ([`CwModel::process_noise`]).
@@ -364,12 +330,13 @@ impl CwModel {
         q
     }
 
-    /// The discrete model over a step `dt` with a continuous white acceleration of
+    /// The discrete model over a step `dt` (from `t = 0`; the model is time-invariant) with a continuous white acceleration of
     /// spectral density `qc` (3x3, canonical frame, [m^2/s^3]; noise by
     /// [`CwModel::van_loan_q`]).
     pub fn discretize(&self, dt: f64, qc: &Mat3, method: Discretization) -> DiscreteModel {
         match method {
             Discretization::Exact => DiscreteModel {
+                t: 0.0,
                 dt,
                 phi: self.phi(dt),
                 gamma: self.gamma(dt),
@@ -382,6 +349,7 @@ impl CwModel {
             Discretization::Euler => {
                 let b = Self::continuous_b();
                 DiscreteModel {
+                    t: 0.0,
                     dt,
                     phi: Mat6::identity() + self.continuous_a() * dt,
                     gamma: b * dt,
@@ -397,10 +365,22 @@ impl CwModel {
     }
 }
 
-impl DiscreteModel {
-    /// `X+ = phi X + gamma a` (mean propagation).
-    pub fn apply(&self, x: &State, accel: &Vec3) -> State {
-        self.phi * x + self.gamma * accel
+/// CW is time-invariant: every step of the same length is the same.
+impl RelativeDynamics for CwModel {
+    fn step(&self, t: f64, dt: f64, qc: &Mat3, method: Discretization) -> DiscreteModel {
+        DiscreteModel {
+            t,
+            ..self.discretize(dt, qc, method)
+        }
+    }
+    fn step_noise(&self, _t: f64, dt: f64, qc: &Mat3) -> Mat6 {
+        self.van_loan_q(qc, dt)
+    }
+    fn system_matrix(&self, _t: f64) -> Mat6 {
+        self.continuous_a()
+    }
+    fn time_invariant(&self) -> bool {
+        true
     }
 }
 
@@ -659,8 +639,8 @@ mod tests {
 
     #[test]
     fn huge_steps_give_numbers_not_hangs() {
-        // no iteration depends on the numbers (the issue-11 inputs hung or panicked in the
-        // matrix exponential): 1000 orbits still give a positive-definite Q; 1e45 s gives
+        // no iteration depends on the numbers (an iterative matrix exponential hangs or
+        // panics on steps like these): 1000 orbits still give a positive-definite Q; 1e45 s gives
         // huge finite entries; 1e300 s non-finite ones, which the filters refuse (the
         // navigator refuses such steps before, see nav::MAX_STEP_PERIODS)
         let m = CwModel::new(N);
