@@ -86,7 +86,7 @@ fn filters(c: &mut Criterion) {
     let p0 = cfg.initial_covariance();
     bare(c, "ekf_step", || Ekf::new(x0, p0));
     bare(c, "ukf_step", || Ukf::new(x0, p0, UkfParams::default()));
-    // issue 12: the AQUKF with the NIS-gated law (the default) and the three-mode IMM
+    // the AQUKF with the NIS-gated law (the default) and the three-mode IMM
     bare(c, "aqukf_gated_step", || {
         Aqukf::new(
             x0,

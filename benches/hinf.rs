@@ -1,6 +1,6 @@
 //! H-infinity filter (paper 002): the LMI design solves (assembly included) — paper form,
 //! gamma-optimal observer (the Riccati route; its SDP as `hinf_design_observer_sdp`; also
-//! on the quiet-truth noise), mixed H2/H-infinity observer (issue 12; both of its solves: the
+//! on the quiet-truth noise), mixed H2/H-infinity observer (both of its solves: the
 //! gamma-optimal observer it is bounded by, then the mixed SDP) on paper 002's noise and on
 //! the noise model filter 9 derives for a quiet truth — and one runtime filter step.
 //! Targets: design <= 0.5 s, step <= 200 ns.
@@ -25,8 +25,8 @@ fn bench(c: &mut Criterion) {
     g.bench_function("hinf_design_observer", |b| {
         b.iter(|| design_open_loop(black_box(&spec), &opts).unwrap())
     });
-    // the previous route of the gamma-optimal observer (the eliminated SDP, issue 15), kept
-    // as its reference and fallback: the before/after pair in one binary
+    // the SDP route of the gamma-optimal observer (the eliminated SDP), its reference and
+    // fallback: both routes timed in one binary
     let open = relnav_core::hinf::HinfPlant::open_loop(&spec);
     g.bench_function("hinf_design_observer_sdp", |b| {
         b.iter(|| design_observer_sdp(black_box(&open), spec.period, &opts).unwrap())

@@ -1,11 +1,10 @@
 //! Criterion benchmarks of the particle filters: one step (update with the measurement,
 //! resampling when due, predict) on paper 000's model, in steady state. The literal SIR
-//! (no moves, the algorithm of the numpy anchor) at N = 1500 (issue 15: <= 40 us,
-//! single-threaded); with the moves (the default) at N = 1500 and N = 100 000 (ns per
-//! particle), RPF, UPF, GA-PF and CGA-PF at N = 1500 each literal (no moves: the filters
-//! the issue's figures measured, which predate the moves) and with the moves (issue 15's goals
-//! in `benches/summarize.py`); the thread scaling of the
-//! chunked path (issue 10) at N = 10^5 and 10^6 on 1 and 2 threads (`pf_scaling`, 10
+//! (no moves, the algorithm of the numpy anchor) at N = 1500, single-threaded; with the
+//! moves (the default) at N = 1500 and N = 100 000 (ns per particle), RPF, UPF, GA-PF and
+//! CGA-PF at N = 1500 each literal (no moves: comparable with figures taken without the
+//! moves) and with the moves (the targets are in `benches/summarize.py`); the thread
+//! scaling of the chunked path at N = 10^5 and 10^6 on 1 and 2 threads (`pf_scaling`, 10
 //! samples each; `cargo bench --bench pf -- threads`). `scripts/bench.sh` runs these
 //! with the vectorised numpy SIR anchor (`benches/anchor_numpy_sir.py`) and prints medians
 //! and ratios.
@@ -104,8 +103,8 @@ fn benches(c: &mut Criterion) {
     // the literal SIR of paper 000 (no moves): the same algorithm as the numpy anchor
     bench_pf_threads(c, "sir_literal_step_n1500", PfKind::Sir, 1500, 0, false);
     bench_pf(c, "sir_step_n1500", PfKind::Sir, 1500);
-    // the issue's RPF/GA-PF/UPF/CGA-PF figures predate the moves: the literal filters are the
-    // like-for-like rows, the default (moves) rows add the rejuvenation
+    // the literal filters are the rows comparable with figures taken without the moves;
+    // the default (moves) rows add the rejuvenation
     bench_pf_threads(c, "rpf_literal_step_n1500", PfKind::Rpf, 1500, 0, false);
     bench_pf(c, "rpf_step_n1500", PfKind::Rpf, 1500);
     bench_pf_threads(c, "gapf_literal_step_n1500", PfKind::Gapf, 1500, 0, false);
@@ -117,7 +116,8 @@ fn benches(c: &mut Criterion) {
     bench_pf(c, "sir_step_n100000", PfKind::Sir, 100_000);
 }
 
-/// Issue 10's scaling: the SIR (with its moves) at N = 10^5 and 10^6 on 1 and 2 threads.
+/// The thread scaling of the chunked path: the SIR (with its moves) at N = 10^5 and 10^6 on
+/// 1 and 2 threads.
 fn scaling(c: &mut Criterion) {
     for n in [100_000, 1_000_000] {
         for t in [1, 2] {

@@ -8,7 +8,7 @@
 //! navigator, the C ABI (`relnav_estimator_step`) and one FMU master cycle (`fmi2SetReal` of
 //! the three measurements, `fmi2DoStep`, `fmi2GetReal` of the 12 estimate outputs: the
 //! `fmu_cycle_*` criterion bench); their counts less the bare filter's are the layers'
-//! overheads (issue 15 item 3).
+//! overheads.
 //! `time-ekf` / `time-ukf` (second argument: the number of batches) are the wall-clock
 //! companion: the bare step, the navigator's step and the FMU cycle, 600 steps each, timed
 //! **interleaved** batch by batch so that a busy machine slows all three alike; the minimum,

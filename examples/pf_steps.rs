@@ -1,4 +1,4 @@
-//! A fixed amount of particle-filter work for instruction counting (issue 10 item 3):
+//! A fixed amount of particle-filter work for instruction counting:
 //! the SIR (moves on, the default) on paper 000's model, `warm` steps into steady state,
 //! then `steps` more. Under `valgrind --tool=callgrind` the difference of the instruction
 //! counts of two runs that differ only in `steps` is the cost of those steps alone (the

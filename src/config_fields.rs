@@ -246,7 +246,7 @@ pub struct relnav_config {
     /// Allowed: >= 0.
     /// Default: 0.
     pub hinf_d: f64,
-    /// H-infinity filter: the LMI design (mixed H2/H-infinity by default; gamma_optimal is issue 5's filter).
+    /// H-infinity filter: the LMI design (mixed H2/H-infinity by default; gamma_optimal is the pure worst-case design).
     /// A `relnav_hinf_form` code: 1 gamma_optimal, 3 mixed.
     /// Default: 3 (mixed).
     pub hinf_design: i32,

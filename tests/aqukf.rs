@@ -174,16 +174,14 @@ fn time_rmse(m: &[[f64; 2]], from: usize) -> (f64, f64) {
 /// deviation of the order of `Q` itself, and the window recursion integrates it, so `q_vv`
 /// wanders around the true value
 /// (a random walk pulled back only weakly in the velocity, which radio measures only
-/// through the position); measured here +34 % / +53 % at N = 10 (the evaluation engine's
-/// 30-run campaign: +14 % / +70 %; docs/evaluation.md). The margins would catch a broken
-/// adaptation (a q_vv that runs to the ceiling gives metres).
+/// through the position); its cost depends on the set-up (the engine's campaign:
+/// docs/results.md, "No model error: the quiet phase with an honest Q"). The margins would
+/// catch a broken adaptation (a q_vv that runs to the ceiling gives metres).
 ///
 /// *The gated law* is the UKF except after a false alarm of its chi-square gate (one test
-/// in 1000): issue 12's bar, within 1.2x the UKF in position and velocity (measured here
-/// +0.1 % / +0.0 %).
+/// in 1000): within 1.2x the UKF in position and velocity.
 ///
-/// *The IMM* mixes in its manoeuvring modes with their (small) probabilities: the same bar
-/// (measured here: equal to the UKF to 4 digits).
+/// *The IMM* mixes in its manoeuvring modes with their (small) probabilities: the same bar.
 #[test]
 fn no_worse_than_the_ukf_without_model_error() {
     let q = 1e-6;
@@ -215,7 +213,7 @@ fn no_worse_than_the_ukf_without_model_error() {
 /// UKF tuned for the quiet phase is still above 3 m and stays above 1 m for at least 200 s
 /// after the burn. The gated law, whose fading factor answers the first inconsistent
 /// innovations, and the IMM, whose burn mode takes over, never leave 1 m during the burn
-/// either (measured peaks 0.48 m and 0.31 m; the window law's 1.45 m).
+/// either (the window law's error does exceed 1 m there).
 #[test]
 fn recovers_from_an_unreported_burn_where_the_ukf_does_not() {
     let q = 1e-9;

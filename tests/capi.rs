@@ -127,7 +127,7 @@ fn defaults_of_the_new_fields() {
         (c.hinf_design, c.hinf_gamma_factor, c.hinf_acquisition),
         (relnav_hinf_form::RELNAV_HINF_MIXED as i32, 1.5, 1)
     );
-    // issue 12: the gated adaptation law by default, the IMM's three modes
+    // the gated adaptation law by default, the IMM's three modes
     assert_eq!(c.aq_law, relnav_adaptation::RELNAV_ADAPTATION_GATED as i32);
     assert_eq!((c.aq_gate_window, c.aq_gate_quantile), (10, 0.999));
     assert_eq!(c.imm_modes, 3);

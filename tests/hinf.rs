@@ -2,7 +2,7 @@
 //! of the solver — the assembled LMI with nalgebra, stability and the H-infinity norm of the
 //! filter-error system over a grid of the true orbit-rate error — for the paper's case, two
 //! other orbits, an infeasible request, the paper's published matrices and the open-loop
-//! observer design; the mixed H2/H-infinity observer (issue 12) against the same checks,
+//! observer design; the mixed H2/H-infinity observer against the same checks,
 //! its H2 norm against a Lyapunov-free computation and the Kalman bound, and the track
 //! initiation of the runtime filter.
 #![cfg(feature = "hinf")]
@@ -83,8 +83,8 @@ fn check_paper_case(spec: &HinfSpec) -> (f64, f64) {
 fn paper_case_is_feasible_and_verified_and_beats_the_published_filter() {
     let spec = HinfSpec::paper();
     let (gamma, ours) = check_paper_case(&spec);
-    // pinned (docs/evaluation.md; cvxpy + Clarabel on the literal SDP: 0.35879; the
-    // eliminated SDP's margins sit on smaller LMIs: 0.358760)
+    // pinned (cvxpy + Clarabel on the literal SDP agree; the eliminated SDP's margins sit
+    // on smaller LMIs, so its gamma is slightly lower, within the tolerance)
     assert!((gamma - 0.35879).abs() < 1e-4 * 0.35879, "gamma {gamma}");
     let (plant, a_of) = closed_loop(&spec);
     let published = HinfMatrices::paper_published();
@@ -158,8 +158,8 @@ fn open_loop_needs_the_observer_form() {
     let d = design_observer(&plant, spec.period, &DesignOptions::default())
         .unwrap_or_else(|e| panic!("{e}"));
     assert!(d.lmi_max_eig < 0.0);
-    // pinned (docs/evaluation.md): the mixed design's bound is relative to it (the Riccati
-    // route's 0.500014; the SDP's was 0.500029)
+    // pinned: the mixed design's bound is relative to it (the Riccati route's value; the
+    // SDP's, above it by its margins, would fail the tolerance)
     assert_eq!(d.route, DesignRoute::Riccati);
     assert!((d.gamma - 0.500014).abs() < 5e-6, "gamma {}", d.gamma);
     let g = d.matrices.b_f;
@@ -712,11 +712,11 @@ fn check_riccati_route(
     r
 }
 
-/// Issue 15, item 1: the gamma-optimal observer by the Riccati route on paper 002's noise,
+/// The gamma-optimal observer by the Riccati route on paper 002's noise,
 /// on the quiet-truth noise filter 9 derives (12 orders of magnitude), and on three other
 /// orbits / frames / periods. On the quiet noise the SDP posed in metres and m/s stops
 /// well above the infimum (its certificate bound `P <= 1e4 I` binds: the Riccati
-/// certificate reaches 6.7e6 there; docs/evaluation.md); posed in balanced units it agrees.
+/// certificate's `P` is far larger there); posed in balanced units it agrees.
 #[test]
 fn riccati_route_matches_the_sdp() {
     use relnav_core::frames::Frame;

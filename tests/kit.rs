@@ -66,8 +66,9 @@ fn kit_descriptions_are_their_own() {
     }
 }
 
-/// relnav.fmu's variables keep their value references through the restructuring: the
-/// first ones of issue 1's table, spot-checked by name, and the table is still dense.
+/// relnav.fmu's value references are stable (a master addresses the variables by them):
+/// the first ones of the original variable table, spot-checked by name, and the table is
+/// dense.
 #[test]
 fn relnav_value_references_are_unchanged() {
     use relnav_nav_model::VARIABLES;

@@ -253,10 +253,10 @@ fn small_q_run(filter: FilterKind, pf_move: bool, seed: u64) -> (f64, f64) {
     ((sp / n).sqrt(), (sv / n).sqrt())
 }
 
-/// Small honest process noise: every kind with its moves stays within the issue's
-/// margins of the EKF (1.3 times its position RMSE, 2 times its velocity RMSE) in every
-/// seed, where the literal SIR degenerates (measured: 190-375 times the EKF's position
-/// error through the FMU; here more than 3 times in every seed).
+/// Small honest process noise: every kind with its moves stays within the particle
+/// filters' margins of the EKF (1.3 times its position RMSE, 2 times its velocity RMSE) in
+/// every seed, where the literal SIR degenerates (more than 3 times the EKF's position
+/// error in every seed; through the FMU, hundreds of times).
 #[test]
 fn small_process_noise_moving_filters_match_the_ekf_literal_sir_degenerates() {
     for seed in 0..2 {
@@ -429,7 +429,7 @@ fn row<'a>(
 /// paper's 0.4 m, and within 10 % of the bound in position and velocity (an efficient
 /// estimator's RMSE over 8 runs scatters by a few per cent around the bound; the EKF's is
 /// asserted the same way). The literal SIR and the SIR without moves fail, as documented
-/// (measured: hundreds of metres; tens of metres).
+/// (docs/filters.md, "`pf_move`: Gaussian-prior moves").
 #[test]
 fn paper000_particle_filters_meet_their_reproduced_bars() {
     let moving = ["SIR PF", "RPF", "UPF", "GA-PF", "CGA-PF"];
@@ -455,9 +455,10 @@ fn paper000_particle_filters_meet_their_reproduced_bars() {
 }
 
 /// Paper 003 (lidar, contaminated Gaussian zeta = 0.2): every particle filter beats the
-/// Gaussian EKF by at least 15 % in position (the 100-run reproduction: 26-28 %), and the
-/// unscented ones come within 15 % of a 10 000-particle SIR on the same runs (100 runs:
-/// 3.1 %; 16 runs of heavy-tailed errors scatter by several per cent).
+/// Gaussian EKF by at least 15 % in position, and the unscented ones come within 15 % of a
+/// 10 000-particle SIR on the same runs: wide margins, because 16 runs of heavy-tailed
+/// errors scatter by several per cent (the 100-run figures: docs/results.md, "Paper 003:
+/// lidar with heavy-tailed noise").
 #[test]
 fn paper003_particle_filters_beat_the_gaussian_filters() {
     let labels = [

@@ -1,5 +1,5 @@
-//! Bounded time, no panic, for every input (issue 11, item 3): the inputs that hung or
-//! panicked inside nalgebra's matrix exponential (reached from the Van Loan noise via
+//! Bounded time, no panic, for every input: the inputs that hung or panicked inside
+//! nalgebra's matrix exponential (reached from the Van Loan noise via
 //! `Navigator::predict`), the FMU steps of 1e45 and 1e300 s, random fmi2 call sequences
 //! with such steps, and the crashes the fuzz targets found (fuzz/README.md), each as a
 //! readable Rust test.
@@ -63,9 +63,9 @@ fn configs() -> Vec<NavConfig> {
 
 const Z: [f64; 3] = [670.8, 0.8961, 0.3025];
 
-/// The issue's inputs: steps of 1e45 and 1e300 s (and the other extremes) are refused at
-/// once, with a message naming the limit, by every filter, through predict and step; the
-/// estimate is unchanged.
+/// The reported hangs' inputs: steps of 1e45 and 1e300 s (and the other extremes) are
+/// refused at once, with a message naming the limit, by every filter, through predict and
+/// step; the estimate is unchanged.
 #[test]
 fn absurd_steps_are_refused_with_the_limit_named() {
     for cfg in configs() {
@@ -129,9 +129,9 @@ fn huge_legitimate_steps_return_a_value_or_an_error() {
     }
 }
 
-/// The AQUKF of the issue: `fmi2DoStep` with a step of 1e45 s (filter 3, every other
-/// parameter at its default) did not return within 60 s. It now fails at once with a
-/// logged reason, and so do 1e300 and the largest double; the instance can be reset.
+/// The reported AQUKF hang: `fmi2DoStep` with a step of 1e45 s (filter 3, every other
+/// parameter at its default) must fail at once with a logged reason, and so must 1e300
+/// and the largest double; the instance can be reset.
 #[test]
 fn fmu_step_of_1e45_on_the_aqukf_returns_an_error() {
     bounded("fmi2DoStep(1e45)", || {
@@ -185,7 +185,7 @@ fn vr_named(name: &str) -> u32 {
     VARIABLES.iter().find(|v| v.name == name).unwrap().vr
 }
 
-/// The issue's random fmi2 call sequences: 300 sequences (seeded) of parameter changes,
+/// Random fmi2 call sequences: 300 sequences (seeded) of parameter changes,
 /// initialisation, inputs and steps of random sizes including 1e45 and 1e300 s, over the
 /// filters 1-8 (the H-infinity design runs in the C-ABI tests). Every sequence returns;
 /// no call returns fmi2Fatal (a caught panic).
@@ -458,7 +458,7 @@ fn restore_contract(nav: &mut Navigator, b: &[u8], what: &str) {
                 nav.state()
             );
             // a reset cannot fail: an accepted state must not make it non-finite (the
-            // `capi` fuzz target's H-infinity state with a huge C_F^-1, 1 December 2026)
+            // `capi` fuzz target's H-infinity state with a huge C_F^-1)
             nav.reset();
             assert!(
                 nav.state().iter().all(|v| v.is_finite()),
@@ -489,10 +489,10 @@ fn restore_contract(nav: &mut Navigator, b: &[u8], what: &str) {
 /// finding, so the artifact's offset no longer lands in the weighted mean: the same three
 /// 0xff bytes are written at every offset of the CGA-PF state, and at least one (the
 /// weighted mean) must be refused for its non-finite estimate. Two more patches, the finite
-/// but huge 1e300 and `f64::MAX`, and a reset after every accepted state, come from the `capi` target's
-/// finding of 1 December 2026: an H-infinity state with a huge `C_F^-1` was accepted (its
+/// but huge 1e300 and `f64::MAX`, and a reset after every accepted state, come from a
+/// finding of the `capi` target: an H-infinity state with a huge `C_F^-1` was accepted (its
 /// estimate was finite) and the next reset, which cannot fail, gave infinities; a restored
-/// `C_F` / `C_F^-1` must now be an inverse pair of moderate size.
+/// `C_F` / `C_F^-1` must be an inverse pair of moderate size.
 #[test]
 fn crafted_states_behind_a_valid_checksum_never_give_a_nan_estimate() {
     let cfg = NavConfig {
@@ -557,13 +557,13 @@ fn crafted_states_behind_a_valid_checksum_never_give_a_nan_estimate() {
     }
 }
 
-/// The `capi` fuzz target's crash of 1 December 2026 (evening campaign,
-/// `crash-adef8859...`): an RPF with 2 particles, a position process noise of 7.5e159 m^2
-/// on one axis and a 4e-149 rad angle noise. Its first update draws the particles from
-/// the measurement and the velocities from the prior, whose covariance (variances from
-/// 1e-6 to 7.5e159) nalgebra's eigensolver returned as NaN: the update succeeded with a
-/// NaN estimate. Now the decomposition is refused (`numerics::eigen` checks its results)
-/// and the update fails with the estimate untouched. Every particle kind, the same inputs.
+/// A crash found by the `capi` fuzz target: an RPF with 2 particles, a position process
+/// noise of 7.5e159 m^2 on one axis and a 4e-149 rad angle noise. Its first update draws
+/// the particles from the measurement and the velocities from the prior, whose covariance
+/// (variances from 1e-6 to 7.5e159) nalgebra's eigensolver returned as NaN: the update
+/// succeeded with a NaN estimate. The decomposition must be refused (`numerics::eigen`
+/// checks its results) and the update fail with the estimate untouched. Every particle
+/// kind, the same inputs.
 #[test]
 fn particle_update_with_an_extreme_prior_fails_cleanly_or_stays_finite() {
     bounded("particle filters, extreme prior", || {

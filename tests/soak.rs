@@ -1,5 +1,5 @@
-//! Soak (issue 11, item 5): long runs of every filter through the FMU (the exported
-//! `fmi2*` functions, called as a master calls them), against an independent truth.
+//! Soak: long runs of every filter through the FMU (the exported `fmi2*` functions, called
+//! as a master calls them), against an independent truth.
 //!
 //! Run with `bash scripts/soak.sh` (release-like test profile, one filter at a time;
 //! `#[ignore]`d so that `cargo test` does not run it). Per Kalman-type filter (EKF, UKF,
@@ -656,20 +656,20 @@ fn soak_cgapf() {
     run("cgapf", 8, 100_000, 200);
 }
 
-/// Regression of the soak's loss of track (issue 11 item 5; `docs/evaluation.md`, "Soak
-/// through the FMU"): the soak's first 1 200 steps (seed 11, 500 particles). Without its
-/// moves (`pf_move = false`) the SIR collapses: the likelihood (0.5 m, 2e-4 rad) is
-/// narrower than the spread of the predicted particles after a long step, the weights
-/// fall onto a few particles, resampling copies them and the transition cannot separate
-/// the copies again (white acceleration 1e-9 m^2/s^3). Where the collapse shows depends on
-/// the random stream: with rand_distr's normals it lost the target (error above 100 m) at
-/// step 1 147; with the batched ziggurat (issue 15) it drifts away with a mean NEES of
-/// 1.9e10 and 88 m of error at step 1 200. The control below therefore checks the
-/// collapse, not the crossing of 100 m: lost, or a mean NEES a hundred times above the
-/// chi-square(6) band's upper end (the filter's covariance no longer describes its
-/// error). With the moves (the default) the same filter follows the
-/// EKF: no error above 100 m, position RMS within issue 10's 1.3 times the EKF's on the
-/// same steps, and a mean NEES inside the chi-square(6) 95 % band of one step.
+/// Regression of the soak's loss of track (docs/filters.md, "`pf_move`: Gaussian-prior
+/// moves"): the soak's first 1 200 steps (seed 11, 500 particles). Without its moves
+/// (`pf_move = false`) the SIR collapses: the likelihood (0.5 m, 2e-4 rad) is narrower
+/// than the spread of the predicted particles after a long step, the weights fall onto a
+/// few particles, resampling copies them and the transition cannot separate the copies
+/// again (white acceleration 1e-9 m^2/s^3). Where the collapse shows depends on the random
+/// stream: with one stream it loses the target (error above 100 m) within these steps,
+/// with another it drifts tens of metres away with a huge mean NEES. The control below
+/// therefore checks the collapse, not the crossing of 100 m: lost, or a mean NEES a
+/// hundred times above the chi-square(6) band's upper end (the filter's covariance no
+/// longer describes its error). With the moves (the default) the same filter follows the
+/// EKF: no error above 100 m, position RMS within 1.3 times the EKF's on the same steps
+/// (the particle filters' bar against the EKF), and a mean NEES inside the chi-square(6)
+/// 95 % band of one step.
 #[test]
 fn sir_keeps_track_where_the_literal_sir_loses_it() {
     const STEPS: usize = 1_200;

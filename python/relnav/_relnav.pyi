@@ -118,7 +118,7 @@ class Estimator:
             hinf_b_pos [m]: H-infinity filter: process-noise scaling on positions (paper 002 B: 0.05); 0 with hinf_b_vel = 0 (default): derived from accel_psd, q_pos_*, q_vel_* (the noise every other filter uses).
             hinf_b_vel [m/s]: H-infinity filter: process-noise scaling on velocities (paper 002 B: 0.001); 0 with hinf_b_pos = 0 (default): derived.
             hinf_d [m]: H-infinity filter: scaling of the indirect position measurement noise (paper 002 D: 0.1); 0 (default): derived from sigma_range, sigma_angle and the noise model at the initial estimate's position.
-            hinf_design: H-infinity filter: the LMI design (mixed H2/H-infinity by default; gamma_optimal is issue 5's filter). One of: 1 gamma_optimal, 3 mixed.
+            hinf_design: H-infinity filter: the LMI design (mixed H2/H-infinity by default; gamma_optimal is the pure worst-case design). One of: 1 gamma_optimal, 3 mixed.
             hinf_gamma_factor: H-infinity filter, mixed design: bound on the certified gamma (hinf_gamma) as a multiple of the gamma-optimal design's (> 1).
             hinf_acquisition: H-infinity filter: start with the Kalman gain of the design's noise model and hand over to the designed gain once that is no worse (track initiation); false: the designed gain from the first step.
             aq_law: AQUKF (filter 3): adaptation law of the velocity process noise (1 window: paper 001 at every update; 2 gated: only while the windowed NIS exceeds its chi-square bound). One of: 1 window, 2 gated.

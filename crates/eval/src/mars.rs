@@ -554,8 +554,8 @@ mod tests {
 
     /// Table 3's direction on the built-in file (3 runs, fixed seeds): the fixed-Q UKF does
     /// not get back below 10 km after the periapsis passage, the AQUKF never leaves it,
-    /// and its mean position error is under a third of the UKF's (measured: 3.2 km against
-    /// 55 km; the paper: 8.3 km against 92 km).
+    /// and its mean position error is under a third of the UKF's (the paper's Table 3 has
+    /// about a tenth; the figures: docs/results.md, "Paper 001: Mars approach").
     #[test]
     fn table3_direction_ukf_diverges_aqukf_stays_bounded() {
         let (_, _, text) = crate::builtin::MARS[0];

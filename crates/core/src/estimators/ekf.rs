@@ -12,7 +12,8 @@
 //! P+ = (I - K H) P- (I - K H)^T + K R K^T      (Joseph form: symmetric PSD by construction)
 //! ```
 //!
-//! Both covariance products use the CW structure (issue 15): `Phi` is block diagonal in
+//! Both covariance products use the CW structure, which skips the products with zero
+//! blocks: `Phi` is block diagonal in
 //! the in-plane and out-of-plane components and `H = [H_r 0]` has zero velocity columns
 //! (`propagate_covariance`, `joseph_update` in the module `estimators::covariance`).
 
@@ -66,7 +67,7 @@ impl Ekf {
         let (x, p, info, _) = self.updated(sensor, z)?;
         // the time update of `Estimator::predict`, from the uncommitted update
         // written out rather than through `time_update`: its in-place form costs an extra
-        // copy of the state and covariance here (75 instructions per step, measured)
+        // copy of the state and covariance here
         let x = model.apply(&x, accel);
         let p = propagate_covariance(&model.phi, &p, &model.q);
         finite(&x, "predicted state")?;

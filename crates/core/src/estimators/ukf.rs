@@ -12,7 +12,7 @@
 //! `P- = sum Wc (chi_i - x-)(chi_i - x-)^T + Q` (additive noise; [`Ukf::predict_with`],
 //! used for nonlinear models). For the linear CW model this equals the Kalman time update
 //! — the unscented transform is exact for linear maps — so [`Estimator::predict`] with a
-//! [`DiscreteModel`] computes that form directly (issue 15: a quarter of the step's instructions);
+//! [`DiscreteModel`] computes that form directly, saving the sigma points' propagation;
 //! the tests check that both agree to rounding.
 //!
 //! Measurement update: sigma points are redrawn from `(x-, P-)`, passed through `h`, and
@@ -175,8 +175,8 @@ impl Ukf {
             pxz += dx * dz.transpose() * self.wc[i];
         }
         // the closed-form 3 x 3 factor, inlined (nalgebra's generic factor and solves are
-        // out-of-line calls from the navigator's step, whose copies were a third of the
-        // UKF's FMU cycle overhead: issue 15)
+        // out-of-line calls from the navigator's step, whose argument copies are a large
+        // part of the UKF's FMU cycle overhead)
         let chol = cholesky::chol3(&pzz).ok_or(FilterError::NotPositiveDefinite(
             "innovation covariance Pzz",
         ))?;
@@ -634,14 +634,14 @@ impl Ukf {
     ) -> Result<UpdateInfo, FilterError> {
         // `measurement_update` with the factor written out (`chol6`, the same bits): inlined
         // into the navigator's step, nalgebra's factorisation stays an out-of-line call with
-        // copies in and out (168 instructions per FMU cycle, measured)
+        // copies in and out
         let l = cholesky::chol6(&self.p)
             .ok_or(FilterError::NotPositiveDefinite("state covariance P"))?;
         let (x, p, info) =
             self.measurement_update_factored(&self.x, &self.p, &l, sensor, &sensor.noise_cov(), z)?;
         // the time update of `Estimator::predict`, from the uncommitted update
         // written out rather than through `time_update`: its in-place form costs an extra
-        // copy of the state and covariance here (75 instructions per step, measured)
+        // copy of the state and covariance here
         let x = model.apply(&x, accel);
         let p = propagate_covariance(&model.phi, &p, &model.q);
         finite(&x, "predicted state")?;

@@ -567,8 +567,8 @@ pub const ACQUISITION_MARGIN: f64 = 0.25;
 /// `x <- A x + Gamma a + K (y - C x)`. `B`, `D` are the design's noise inputs and `H = |Ea|
 /// Ha` its robustness input (the orbit-rate uncertainty), taken as one more unit white
 /// noise, as the H-infinity criterion weighs it like the others: without it the acquiring
-/// Kalman filter trusts the nominal orbit rate as much as an EKF does (issue 12: 8.2 m
-/// instead of 2.0 m with a 5 % rate error at 5 km). At each measurement the
+/// Kalman filter trusts the nominal orbit rate as much as an EKF does, and with the orbit
+/// rate off by a few per cent its error is several times larger. At each measurement the
 /// certified gain is used iff `P <= (1 + m) X_G` (Loewner order; `m` =
 /// [`ACQUISITION_MARGIN`]), `X_G` the steady-state error covariance of `G` under the same
 /// `Q`, `R` ([`verify::observer_error_covariance`]). Since `P -> (A - G C) P (A - G C)^T + Q
@@ -820,9 +820,9 @@ impl crate::estimators::Estimator for HinfEstimator {
 const MAX_OUTPUT_MAP_ENTRY: f64 = 1e50;
 
 /// A restored output map `C_F` and its saved inverse must be an inverse pair of moderate
-/// size: a crafted state behind a valid checksum (the `capi` fuzz target, 1 December
-/// 2026) carried a finite but huge `C_F^-1`, was accepted because its estimate was finite,
-/// and the next reset (which cannot fail) turned the estimate into infinities.
+/// size: otherwise a crafted state behind a valid checksum with a finite but huge
+/// `C_F^-1` (as the `capi` fuzz target found) is accepted because its estimate is finite,
+/// and the next reset (which cannot fail) turns the estimate into infinities.
 fn check_output_map(c_f: &Mat6, c_f_inv: &Mat6) -> Result<(), StateError> {
     let big = c_f
         .iter()

@@ -1,4 +1,5 @@
-//! The gamma-optimal observer without a generic SDP (issue 15, item 1): a bisection on
+//! The gamma-optimal observer without a generic SDP (much faster than the interior-point
+//! solve, and not limited by its bound on `P`): a bisection on
 //! `gamma` in which each trial is decided by the discrete-time H-infinity filtering
 //! Riccati equation, solved by a structure-preserving doubling algorithm; the gain in
 //! closed form. [`crate::hinf::design::design_observer`] certifies the result on the

@@ -483,7 +483,7 @@ crate::config! {
     hinf_design: HinfDesignKind {
         elements: [("hinf_design", 64, "", 3, "")],
         rule: Rule::Any, c: true, scenario: NO_KEY, slot: Some(32),
-        description: "H-infinity filter: the LMI design (mixed H2/H-infinity by default; gamma_optimal is issue 5's filter)",
+        description: "H-infinity filter: the LMI design (mixed H2/H-infinity by default; gamma_optimal is the pure worst-case design)",
     },
     hinf_gamma_factor: f64 {
         elements: [("hinf_gamma_factor", 65, "", 1.5, "")],

@@ -181,8 +181,8 @@ pub fn build_filter(cfg: &NavConfig) -> Result<AnyFilter, NavError> {
 /// published filters of paper 002's reproduction, designed once per scenario).
 #[derive(Debug, Clone, Default)]
 pub struct FilterOptions {
-    /// The particles' initialisation (`None`: the kind's default,
-    /// [`crate::estimators::pf::PfKind::default_init`]).
+    /// The particles' initialisation (`None`: [`PfInit::FirstMeasurement`], the default of
+    /// every kind, [`crate::estimators::pf::PfKind::default_init`]).
     pub pf_init: Option<PfInit>,
     /// The regularised filter's kernel.
     pub pf_kernel: Kernel,

@@ -10,8 +10,8 @@ mod openblas {
 }
 
 /// Run OpenBLAS single-threaded. The H-infinity design's dense blocks are 45x45: threads
-/// only add synchronisation, and on a loaded 2-core machine they made a solve several
-/// times slower (3.5 s against 0.5 s). Called by the design before each solve. OpenBLAS
+/// only add synchronisation, and on a loaded machine they make a solve several
+/// times slower. Called by the design before each solve. OpenBLAS
 /// is linked statically and its symbols are not exported, so this changes only relnav's
 /// own copy, never a host's BLAS.
 pub fn single_thread() {

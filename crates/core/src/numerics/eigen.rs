@@ -122,7 +122,7 @@ mod tests {
         assert!(symmetric_eigenvalues(big).is_some());
     }
 
-    /// The `capi` fuzz target's covariance (1 December 2026): finite, but a dynamic range
+    /// A covariance found by the `capi` fuzz target: finite, but a dynamic range
     /// of 1e166 makes nalgebra's decomposition return NaN and infinities. Refused, not
     /// returned.
     #[test]

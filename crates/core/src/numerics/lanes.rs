@@ -13,8 +13,8 @@ const SUM_LANES: usize = 16;
 /// `sum v_i` in sixteen interleaved partial sums (`v_i` goes to lane `i mod 16`; the
 /// tail of fewer than 16 values to lanes `0..`), the lanes then added pairwise in a fixed
 /// order (lane `j` plus lane `j + 8`, then `j + 4`, `j + 2`, `j + 1`). The particle
-/// filters' weight sums and sums of squares (issue 15): one chain in index order is 1 500
-/// dependent adds for 1 500 particles, bound by the add's latency; sixteen chains run at the
+/// filters' weight sums and sums of squares: one chain in index order is `N`
+/// dependent adds for `N` particles, bound by the add's latency; sixteen chains run at the
 /// adds' throughput. Every lane is a scalar chain whatever the vector width, so the result
 /// is the same bits on every instruction set, and fixed by the length: reproducible. It
 /// differs from the in-order sum at rounding level (both are within `(n - 1) eps sum|v_i|`).

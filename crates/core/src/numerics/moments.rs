@@ -529,7 +529,7 @@ impl LaneSums {
     pub(crate) fn finish(&self, reference: &State, wsum: f64) -> Moments {
         // the sums through memory: else LLVM sees the lane additions below as the sums'
         // uses and its SLP vectoriser packs the loops across entries instead of lanes
-        // (scalar arithmetic with shuffles, measured three times the instructions)
+        // (scalar arithmetic with shuffles, far slower)
         let sums = std::hint::black_box(self);
         let lanes = |v: &L4| v[0] + v[1] + v[2] + v[3];
         let mut out = Moments::new(*reference);

@@ -89,8 +89,8 @@ pub(crate) fn gather_to_block_in(
 
 /// `os[i][k] = a[k][i]`: a transposed block out into the particles `os` (at most
 /// [`BLOCK`]), four at a time by [`simd::lanes_to_rows`]' shuffles (with the token), the rest
-/// element by element. Inlined: here the shuffles cost the caller nothing (in a function of
-/// their own they measured more instructions per step).
+/// element by element. Inlined: the shuffles pay off only inside the caller's loop (behind
+/// a call of their own they cost more than they save).
 #[inline(always)]
 pub(crate) fn block_to_rows(v3: Option<simd::V3>, a: &[[f64; BLOCK]; N], os: &mut [State]) {
     let done = os.len() - os.len() % 4;

@@ -9,7 +9,7 @@
 //! `1 + (r + r^2 U(r))` with `U(r) = sum_(k=2)^13 r^(k-2) / k!` by Estrin's scheme (pairs
 //! `c_k + c_(k+1) r`, combined with `r^2`, then `r^4`): as many operations as Horner's rule
 //! but a third of its dependent depth, which bounds a vectorised loop over many values by
-//! latency (docs/evaluation.md, "Eleventh pass"; the `1 +` last, so that its one rounding
+//! latency (the `1 +` last, so that its one rounding
 //! dominates as in Horner's form); then `e^x = e^r 2^n`, the
 //! power of two applied as two normal factors `2^n1 2^n2` (`n1 + n2 = n`, both
 //! `>= -538`), so a result in the subnormal range is rounded once, as it should be.

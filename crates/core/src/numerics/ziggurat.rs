@@ -5,12 +5,12 @@
 //! symmetric uniform from the top 52, so index and value never share bits), with 1024 layers
 //! (index: the low 10 bits) instead of their 128 or 256: the fraction of values that leave
 //! the fast path falls from 1.49 % (256 layers) to 0.43 %, for a table of 8 KiB on the fast
-//! path (`X_i`; the slow path's `f(X_i)` another 8 KiB). Measured in docs/evaluation.md
-//! ("Eighth pass": 2048 layers cost fewer instructions but more time).
+//! path (`X_i`; the slow path's `f(X_i)` another 8 KiB). More layers would leave the fast
+//! path still less often, but the larger table costs more time than it saves.
 //!
 //! Why not `rand_distr::StandardNormal`: it is the same algorithm, but it draws one value
 //! at a time behind a per-value branch, and rand_distr exposes neither a batch interface
-//! nor its tables. The particle filters need 6 N normals per step (issue 15, item 2), so
+//! nor its tables. The particle filters need 6 N normals per step, so
 //! [`Ziggurat::fill_batch`] splits the work on a batch of 16 values into three loops:
 //! 1. the batch's 64-bit words from the generator (one word per value, in order);
 //! 2. the fast path on every word without a branch: `x = u X_i` and the flag
@@ -283,14 +283,13 @@ pub(crate) const LANES: usize = 4;
 /// `(x << k) | (x >> (64 - k))`, with `^` or `+`) into a funnel-shift intrinsic that its SLP
 /// vectoriser then keeps scalar (`rorx` per lane, with extracts and inserts around it); with
 /// amounts it cannot see, the output is two AVX2 shifts by a broadcast count and an or per
-/// four words. The state's rotation `rotl(s3, 45)` stays a constant rotation: measured on the
-/// particle steps, that mix vectorises the whole step in the simple loops and falls back to
-/// one `rorx` (not three scalar shifts) where the SLP vectoriser does not take the step
-/// (docs/evaluation.md, "Seventh pass"). One loop is the exception: the RPF's jitter, where
+/// four words. The state's rotation `rotl(s3, 45)` stays a constant rotation: in the
+/// particle steps' simple loops that mix vectorises the whole step, and where the SLP
+/// vectoriser does not take the step it falls back to one `rorx` (not three scalar shifts).
+/// One loop is the exception: the RPF's jitter, where
 /// the SLP vectoriser splits the step into 128-bit halves with a `rorx` and two extracts and
 /// inserts per word; it draws its words by `Lanes::step::<true>`, with the state's
-/// rotation by opaque amounts as well, which keeps that step in AVX2 registers (about 40
-/// instructions per particle fewer; measured in docs/evaluation.md, "Eleventh pass"). The
+/// rotation by opaque amounts as well, which keeps that step in AVX2 registers. The
 /// bits are the same either way (tested against the reference generator).
 #[derive(Debug, Clone)]
 pub struct Lanes {

@@ -91,7 +91,7 @@ fn campaign(
     let t0 = std::time::Instant::now();
     let r = runner::run(s, &opts)?;
     let secs = t0.elapsed().as_secs_f64();
-    // campaign throughput (issue 15 item 4; scripts/bench.sh collects these lines): the
+    // campaign throughput (scripts/bench.sh collects these lines): the
     // Monte Carlo runs alone, without the metrics, CSV and plots written below
     eprintln!(
         "throughput {}: {} runs of {} steps, {} filters in {secs:.3} s = {:.2} runs/s",

@@ -24,13 +24,13 @@
 //! **Outputs.** After an update: the weighted mean and covariance of the particles (with
 //! moves: those of the rejuvenated set, see [`moves`]). The literal SIR, RPF and GA-PF
 //! (`moves = false`) report the weighted mean and covariance of the cloud *before*
-//! resampling (the RPF and GA-PF without moves, when they resample: of the moved cloud after it), formed in the
-//! normalisation's pass over the particles (`exp_moments`, about the predictive mean):
-//! a lower-variance estimate than the moments of the resampled copies, which the
-//! covariance was before 2 December 2026 (the mean was already the weighted one). After a prediction: the mean and
-//! covariance of the particle predictive density `sum_i w_i N(Phi x_i + Gamma a, Q)`,
-//! exactly `Phi m + Gamma a` and `Phi P Phi^T + Q` — the same quantities the sample
-//! moments of the drawn particles estimate, without their sampling noise.
+//! resampling (the RPF and GA-PF without moves, when they resample: of the moved cloud
+//! after it), formed in the normalisation's pass over the particles (`exp_moments`, about
+//! the predictive mean): a lower-variance estimate than the moments of the resampled
+//! copies. After a prediction: the mean and covariance of the particle predictive density
+//! `sum_i w_i N(Phi x_i + Gamma a, Q)`, exactly `Phi m + Gamma a` and `Phi P Phi^T + Q` —
+//! the same quantities the sample moments of the drawn particles estimate, without their
+//! sampling noise.
 //!
 //! **Moves** ([`PfParams::moves`], on by default; [`moves`] has the method and its
 //! justification). With process noise honest for a quiet truth (a white acceleration of
@@ -52,8 +52,8 @@
 //!   `h = A N^(-1/(n+4))`, `A = (8 (n + 4) (2 sqrt(pi))^n / c_n)^(1/(n+4))`, `c_n` the unit
 //!   ball's volume; `eps = r u` with `u` uniform on the sphere and `r^2 ~ Beta(n/2, 2)`.
 //!
-//! Plain jitter widens the set by `h^2 P` at every resampling (3 times the EKF's error
-//! with small `Q`, measured); with moves each jittered particle is accepted by the
+//! Plain jitter widens the set by `h^2 P` at every resampling (with small `Q` the error
+//! grows to several times the EKF's); with moves each jittered particle is accepted by the
 //! Metropolis–Hastings test of [`moves`] — the MCMC-regularised filter of the same
 //! authors — and the set keeps the posterior's spread.
 //!
@@ -88,19 +88,19 @@
 //! `p(z | x) N(x; xbar_0, P_prior) / q(x)` — exact importance sampling of the first
 //! posterior.
 //!
-//! **The collapse of the literal SIR on paper 000** (issue 4's "known trap"): its prior is
-//! 50 m / 1 m/s wide while one measurement pins the position to a 0.5 m x 0.12 m x 0.12 m
-//! box, about 1e-7 of the prior's volume: with thousands of particles none lands in the
-//! likelihood's support, one particle takes all the weight and the filter ends hundreds of
-//! metres off. [`PfInit::Prior`] with `moves = false` keeps that literal behaviour.
-//! [`PfInit::FirstMeasurement`] (the default) draws the positions from the first
-//! measurement's likelihood (the noisy measurement inverted to a position, noise drawn
-//! from the sensor's noise model) and the velocities from the prior: the posterior after
-//! the first measurement up to the prior's density over a box of a few decimetres, which
-//! a 50 m prior makes flat to 1e-4; the first measurement is consumed by it. That alone
-//! leaves the velocities impoverished (the prior's N draws, none closer than ~0.1 m/s to
-//! the truth, which paper 000's 1e-3 m/s velocity noise cannot refine: the SIR without
-//! moves drifts metres off within 100 s, `tests/pf.rs`); the moves refine them.
+//! **The collapse of the literal SIR on paper 000** (a known trap of that set-up): its
+//! prior is 50 m / 1 m/s wide while one measurement pins the position to a 0.5 m x 0.12 m
+//! x 0.12 m box, about 1e-7 of the prior's volume: with thousands of particles none lands
+//! in the likelihood's support, one particle takes all the weight and the filter ends
+//! hundreds of metres off. [`PfInit::Prior`] with `moves = false` keeps that literal
+//! behaviour. [`PfInit::FirstMeasurement`] (the default) draws the positions from the first
+//! measurement's likelihood (the noisy measurement inverted to a position, noise drawn from
+//! the sensor's noise model) and the velocities from the prior: the posterior after the
+//! first measurement up to the prior's density over a box of a few decimetres, which a 50 m
+//! prior makes flat to 1e-4; the first measurement is consumed by it. That alone leaves the
+//! velocities impoverished (the prior's N draws, none closer than ~0.1 m/s to the truth,
+//! which paper 000's 1e-3 m/s velocity noise cannot refine: the SIR without moves drifts
+//! metres off within 100 s, `tests/pf.rs`); the moves refine them.
 //!
 //! **Threads.** From [`PARALLEL_MIN_PARTICLES`] particles on the particle loops run in
 //! fixed chunks on worker threads, with results independent of the thread count

@@ -8,24 +8,24 @@
 //! honest small process noise (a white acceleration of 1e-10 m^2/s^3, i.e. 1e-5 m/s per
 //! step) the copies stay on top of each other: the set degenerates onto a handful of
 //! points, the weighted moments understate the posterior, the next measurements fall
-//! outside the cloud and the filter diverges (the SIR 190-375 times the EKF's error,
-//! issue 10). With paper 000's large position noise the set stays diverse in position but
+//! outside the cloud and the filter diverges (the SIR ends hundreds of times the EKF's
+//! error). With paper 000's large position noise the set stays diverse in position but
 //! not in velocity, whose noise is 1e-3 m/s per step: the velocity spread shrinks at every
 //! resampling like the variance of a Wright–Fisher population (by about `1 / N_eff` per
 //! generation), which the small velocity noise cannot replenish, and the Monte Carlo error
 //! of the mean, `P / N` per step at best, accumulates over the velocity's long memory
-//! (measured and computed for paper 000: 0.005 m/s from `N = 1500` independent draws
-//! alone, where the EKF's error is 0.003 m/s). Both are cured by moving the particles with
-//! a Markov kernel toward a posterior target (below) and by estimating the posterior's moments
-//! with a variance-reduced estimator — not by widening the set.
+//! (on paper 000, with `N = 1500`, to more than the EKF's whole velocity error). Both are
+//! cured by moving the particles with a Markov kernel toward a posterior target (below) and
+//! by estimating the posterior's moments with a variance-reduced estimator — not by
+//! widening the set.
 //!
 //! **The target.** The exact filtering posterior at step `k`,
 //! `p(x | z_1:k) ∝ p(z_k | x) ∫ p(x | x') p(x' | z_1:k-1) dx'`, cannot be evaluated
 //! pointwise (the integral is over the previous particles: `O(N^2)`), and the resample-move
 //! target on the extended space, `p(z_k | x) p(x | x'_ancestor)`, pins each particle to its
 //! ancestor within the process noise — with small noise no move is ever accepted (the
-//! GA-PF measured 51 m off on paper 000 with it). The standard practical answer, used here
-//! by every move, is the posterior with the predictive density replaced by its Gaussian
+//! GA-PF ends tens of metres off on paper 000 with it). The standard practical answer, used
+//! here by every move, is the posterior with the predictive density replaced by its Gaussian
 //! of the same mean and covariance (the predictive moments are exact for the particle
 //! approximation, see the module docs):
 //!
@@ -82,8 +82,8 @@
 //! positive definite, the particles' own moments are used.) This is what makes the
 //! particle filters as accurate as the EKF on Gaussian noise: the sampling noise of a
 //! 1500-particle set, `P / N` in the mean and `sqrt(2 / N)` relative in the covariance at
-//! every step, otherwise accumulates into the velocity (measured: 1.3-3.3 times the EKF's
-//! velocity error with the move but without the correction, 1.00-1.02 with it).
+//! every step, otherwise accumulates into the velocity (with the move but without the
+//! correction, the velocity error stays well above the EKF's; with it, the EKF's).
 //!
 //! **RPF with moves** ([`ParticleFilter::regularise_mh`]): after resampling, each particle
 //! is jittered by the kernel `h D eps` of the module docs and the jittered particle is

@@ -225,7 +225,7 @@ impl Jitter {
     ///
     /// `SHIFTED` goes to [`Ziggurat::fill_batch_lanes_with`] (the same values either way):
     /// true in the plain RPF's loop, where it keeps the generator's step in AVX2 registers,
-    /// false in the MH moves' loop, where the shifted form measured more instructions.
+    /// false in the MH moves' loop, where the shifted form is slower.
     #[inline(always)]
     #[allow(clippy::needless_range_loop)] // index loops over fixed lanes: they vectorise
     fn block<const SHIFTED: bool>(
@@ -281,8 +281,8 @@ impl Jitter {
     /// each, about `reference`) are formed from them after the loop ([`LaneSums`], each
     /// group's sums in registers for the whole run); without it particle by particle from
     /// `x` ([`unit_moments`], the same sums as the GA-PF's parallel path).
-    /// (Accumulated in the block loop, the lane sums broke the vectorisation of the block
-    /// code: measured.) Inlined into [`ParticleFilter::regularise`]'s
+    /// (Accumulated in the block loop, the lane sums break the vectorisation of the block
+    /// code.) Inlined into [`ParticleFilter::regularise`]'s
     /// [`crate::numerics::simd::dispatch_v3`].
     ///
     /// With `parents` `(src, idx)` particle `k` of `x` is written as `src[idx[k]]` moved
@@ -309,7 +309,7 @@ impl Jitter {
             match parents.and_then(|(src, idx)| Some((src, idx.get(block)?))) {
                 Some((src, ib)) => gather_to_block_in(v3, src, ib, &mut xs),
                 None => {
-                    // element copies: the shuffles measured worse here, inlined or in a
+                    // element copies: the shuffles are slower here, inlined or in a
                     // function of their own (whose call spills the loop's vector registers)
                     for (i, xi) in xb.iter().enumerate() {
                         for k in 0..N {

@@ -380,11 +380,10 @@ fn walk_cumulative(
 /// a data-dependent branch: the same indices, bit for bit (tested against the walk).
 ///
 /// The walk's inner loop exits after a random number of steps per point, so its branch
-/// mispredicts about once per particle: `resample` at N = M = 1500 took about 15 us on
-/// this machine for some 30 instructions per particle (the literal SIR's step is 40 us;
-/// `perf` put 15 % of it in the walk; issue 15). Here each particle `i < last` counts the
+/// mispredicts about once per particle, which makes the walk a noticeable part of the
+/// literal SIR's step. Here each particle `i < last` counts the
 /// points below its cumulative weight instead, independently of the others (the loop
-/// vectorises), and the same call takes about 6 us:
+/// vectorises, and no branch depends on the data):
 ///
 /// ```text
 /// n_i = #{k < M : t_k < C_i} = the least k with t_k >= C_i (M if none)
@@ -468,8 +467,8 @@ fn write_runs(out: &mut [usize], first: usize, ends: &[u64], mut start: usize) -
 /// points' own comparisons `t_(k-1) < c[i] <= t_k`; `false` if an estimate failed them (then
 /// the walk runs: the estimate is off only where `c[i] / step - u` lies within rounding of
 /// an integer). Branch-free, so that it vectorises; the count, an integer in `[0, 2^52)`,
-/// becomes one as the low bits of `k + 2^52` (exact; the conversion `as usize`, saturating,
-/// took 13 instructions per particle).
+/// becomes one as the low bits of `k + 2^52` (exact, and cheaper than the saturating
+/// conversion `as usize`).
 #[inline(always)]
 #[allow(clippy::needless_range_loop)] // index loops over fixed lanes: they vectorise
 fn count_below<const C: usize>(

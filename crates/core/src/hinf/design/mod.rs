@@ -79,8 +79,8 @@
 //! satisfy (a), (b), (c) and `S > 0`: 44 scalars instead of 134, LMIs of sizes 21, 21, 21
 //! (with the thin factors below) instead of one of 45. The eliminated SDP has the same
 //! infimum as eq. 20 for the same bound `R <= rho I`; the margins `-eps I` now sit on (a),
-//! (b), (c), which is less conservative than `-eps I` on the 45 x 45 matrix: measured gamma
-//! 0.358760 against 0.358787 (7.6e-5 relative, docs/evaluation.md).
+//! (b), (c), which is less conservative than `-eps I` on the 45 x 45 matrix: the gamma it
+//! reaches is slightly lower than the literal SDP's.
 //!
 //! *Thin factors.* `B` and `Ha` enter only beside `-g2 I` and `-l I`, i.e. through `W B B'
 //! W / g2` and `W Ha Ha' W / l`: any `F` with `F F' = B B'` gives the same LMI (congruence
@@ -111,7 +111,7 @@
 //! `xi_1 -> xi_1 - xi_0`, where they enter the `S` row only (`Psi_jj = -S`, `Q` = -(i)).
 //! Eq. 20 is then assembled at the reconstructed filter and checked with nalgebra like
 //! before ([`crate::hinf::verify::lmi_paper`]); it is not the filter of [`design_paper_full`]
-//! (the optimal filter is not unique), its H2 norm differs (docs/evaluation.md).
+//! (the optimal filter is not unique), and its H2 norm differs.
 //!
 //! *Observer form.* `Y = P G` enters the `P` row only, beside `-(C E_e + D E_v)`: `ker
 //! U` gives `P > L'L`, `ker V` the 21 x 21 LMI in `(P row, e, w, d)` on `ker [C D]`
@@ -162,8 +162,8 @@
 //! ([`design_observer_sdp`], [`design_observer_full`]) stays as the reference and as the
 //! fallback, taken automatically and recorded in [`HinfDesign::route`] and
 //! [`HinfDesign::riccati_failure`]. The Riccati route is not bounded by `P <= rho I`, so
-//! it reaches the infimum where the SDP's bound binds (the quiet-truth noise:
-//! docs/evaluation.md).
+//! it reaches the infimum where the SDP's bound binds (as on the quiet-truth noise, whose
+//! error covariance spans many orders of magnitude).
 //!
 //! # Mixed H2/H-infinity observer design
 //!

@@ -239,9 +239,9 @@ impl Sdp {
             verbose: false,
             // Clarabel's own choice of LDL per KKT matrix (its `faer-sparse` feature, as in
             // its Python wheel): faer's supernodal factorisation where the KKT system is
-            // dense enough (flops / nnz(L) >= 40: the literal paper form's PSD blocks; 4.0 G
-            // -> 1.8 G instructions), QDLDL elsewhere (the eliminated paper form, the
-            // observer designs). docs/evaluation.md, "H-infinity design speed".
+            // dense enough (flops / nnz(L) >= 40: the literal paper form's PSD blocks, where
+            // it halves the solve's work), QDLDL elsewhere (the eliminated paper form, the
+            // observer designs)
             // one thread: deterministic, and the machine's cores belong to the caller
             max_threads: 1,
             equilibrate_enable: self.equilibrate,

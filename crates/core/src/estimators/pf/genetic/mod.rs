@@ -12,9 +12,9 @@
 //! Why not the exact resample-move target `p(z | x) p(x | ancestor)`: conditional on its
 //! ancestor a particle's velocity is pinned to the process noise (paper 000: 1e-3 m/s
 //! per step), so every useful move is rejected and the population keeps the velocity
-//! draws it started with — the impoverishment the moves are there to cure (measured:
-//! GA-PF 51 m off on paper 000 with that target). The Gaussian predictive is the same
-//! kind of approximation as the RPF's kernel density. Paper 003's test on the likelihood
+//! draws it started with — the impoverishment the moves are there to cure (with that
+//! target the GA-PF ends tens of metres off on paper 000). The Gaussian predictive is the
+//! same kind of approximation as the RPF's kernel density. Paper 003's test on the likelihood
 //! ratio alone is this test with a flat predictive: it would pull the population onto the
 //! likelihood's peak against the dynamics.
 //! Every move is an exact Metropolis–Hastings move for `pi`: the GA-PF mutation is a
@@ -22,8 +22,8 @@
 //! see `crossover`); the cloud mutation, whose step length depends on the current
 //! particle's fitness, carries the Hastings correction for the reverse step. (The heuristic
 //! acceptance of the GA-PF literature — the arithmetic crossover `l a + (1 - l) b`,
-//! `l ~ U(0, 1)`, accepted on the target ratio alone — contracts the population: measured
-//! on paper 003, NEES 106-178 against 6 and RMSE 20 m against the SIR's 16 m.) The
+//! `l ~ U(0, 1)`, accepted on the target ratio alone — contracts the population: on paper
+//! 003 the filter becomes grossly overconfident and less accurate than the SIR.) The
 //! fitness-adaptive crossover and mutation probabilities (and the population statistics
 //! they use, fixed within a generation) are the one approximation left.
 //!
