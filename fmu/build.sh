@@ -6,10 +6,13 @@
 #   relnav_guidance.fmu  the hold-point guidance law (fmu/guidance)
 #   relnav_system.ssp    the closed GNC loop of the three (fmu/ssp/*.ssd)
 #
-# (and each FMU unpacked in target/fmu/<id>/). One cargo invocation in the release profile
-# builds the three cdylibs and the packer `relnav-fmu` (fmu/pack): only the cdylibs export
-# fmi2* symbols, one model each. Extra arguments go to cargo (e.g. -j2). Set
-# CARGO_TARGET_DIR as usual.
+# (and each FMU unpacked in target/fmu/<id>/). The three cdylibs and the packer
+# `relnav-fmu` (fmu/pack) are default members of the workspace: the plain release build
+# (`cargo build --release`, which scripts/test.sh has run just before) builds them with
+# the rest in one feature resolution, so here it has nothing left to do. A build of the
+# FMU packages alone (`-p ...`) would resolve other features for shared dependencies and
+# compile them again. Only the cdylibs export fmi2* symbols, one model each. Extra
+# arguments go to cargo (e.g. -j2). Set CARGO_TARGET_DIR as usual.
 set -euo pipefail
 
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -18,7 +21,7 @@ if ! command -v cargo >/dev/null 2>&1 && [ -x "$HOME/.cargo/bin/cargo" ]; then
     PATH="$HOME/.cargo/bin:$PATH"
 fi
 
-cargo build --release -p relnav_fmu -p relnav_plant -p relnav_guidance -p relnav-fmu-pack "$@"
+cargo build --release "$@"
 TARGET="${CARGO_TARGET_DIR:-$ROOT/target}"
 # the packer finds the cdylibs beside itself, in target/release/
 "$TARGET/release/relnav-fmu" --all

@@ -6,6 +6,9 @@
 #   bash scripts/fuzz.sh build            # only build the targets (scripts/test.sh starts this
 #                                         # early, in the background, and runs `smoke` later)
 #
+# `smoke` and `build` use cargo-fuzz's dev build (fuzz/Cargo.toml: opt-level 1), which
+# compiles far faster than its release build; `long` uses the release build.
+#
 # RELNAV_FUZZ_SANITIZER=none builds without AddressSanitizer (about three times the
 # executions per second; separate target dir fuzz/target-nosan) for long campaigns; the
 # default is address.
@@ -37,6 +40,11 @@ trap 'rm -rf "$scratch"' EXIT
 
 san="${RELNAV_FUZZ_SANITIZER:-address}"
 build_args=(-s "$san")
+if [ "$mode" = long ]; then
+    build_args+=(--release)
+else
+    build_args+=(--dev)
+fi
 if [ "$san" = none ]; then
     build_args+=(--target-dir fuzz/target-nosan)
 fi

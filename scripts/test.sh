@@ -2,7 +2,8 @@
 # relnav's single test command (CI runs it through .ci/run):
 #
 #   setup (scripts/setup.sh, also builds and installs the Python package relnav)
-#   -> cargo fmt --check -> cargo clippy -D warnings (workspace) -> cargo test
+#   -> cargo fmt --check -> cargo clippy -D warnings (workspace, every target: benches and
+#   examples are compiled and linted here) -> cargo test (libraries, binaries, tests/)
 #   -> cargo build --release -> FMUs and SSP (fmu/build.sh: relnav.fmu, the system kit's
 #   relnav_plant.fmu, relnav_guidance.fmu, relnav_system.ssp)
 #   -> pytest tests/python (in .venv) -> C++ harness (cmake, build, ctest; valgrind)
@@ -146,7 +147,7 @@ run_fuzz_smoke() {
 stage "setup" required bash scripts/setup.sh
 stage "cargo fmt --check" optional cargo fmt --all -- --check
 stage "cargo clippy" optional cargo clippy --workspace --all-targets -j"$JOBS" -- -D warnings
-stage "cargo test" optional cargo test --workspace --exclude relnav-python --all-targets -j"$JOBS"
+stage "cargo test" optional cargo test --workspace --exclude relnav-python --tests -j"$JOBS"
 stage "cargo test --doc" optional cargo test --workspace --exclude relnav-python --doc -j"$JOBS"
 stage "cargo build --release" required cargo build --release -j"$JOBS"
 start_fuzz_build

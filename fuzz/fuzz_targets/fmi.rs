@@ -193,7 +193,7 @@ struct Input {
 
 const MAX_OPS: usize = 64;
 const MAX_PARTICLES: i32 = 16;
-const N_VR: u32 = VARIABLES.len() as u32 + 3; // a few unknown value references too
+const N_VR: u32 = relnav_nav_model::N_VARS as u32 + 3; // a few unknown value references too
 
 fn var_index(name: &str) -> Option<u32> {
     VARIABLES.iter().find(|v| v.name == name).map(|v| v.vr)
