@@ -32,47 +32,64 @@
 use crate::dynamics::{CwModel, Discretization, Dynamics, RelativeDynamics};
 use crate::frames::Frame;
 use crate::numerics::state::{Reader, StateError, Writer};
+use crate::params::{closed, Rule};
 use crate::types::{Mat3, Mat6, Mat63, State, Vec3};
 
-/// Everything that defines the guidance law. [`Default`]: paper 000's frame and orbit, a
-/// 1000 kg chaser, a V-bar hold 300 m along-track, `w = 0.01` rad/s, `zeta = 0.9`, 10 N per
-/// axis, no minimum impulse bit, engaged from the start.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct GuidanceConfig {
-    /// I/O frame of the estimate, the hold point and the thrust.
-    pub frame: Frame,
-    /// Mean motion of the target's circular orbit [rad/s].
-    pub mean_motion: f64,
-    /// Chaser mass [kg].
-    pub chaser_mass: f64,
-    /// Hold point in the I/O frame [m].
-    pub hold: [f64; 3],
-    /// Natural frequency `w` of the closed loop [rad/s].
-    pub bandwidth: f64,
-    /// Damping ratio `zeta`.
-    pub damping: f64,
-    /// Largest thrust per axis [N].
-    pub thrust_max: f64,
-    /// Minimum impulse bit per axis [N s] (0: none).
-    pub min_impulse_bit: f64,
-    /// Time from which the law commands thrust [s] (before it: zero thrust).
-    pub engage_time: f64,
-}
-
-impl Default for GuidanceConfig {
-    fn default() -> Self {
-        Self {
-            frame: Frame::AlongRadialAntinormal,
-            mean_motion: 2.0 * std::f64::consts::PI / 7200.0,
-            chaser_mass: 1000.0,
-            hold: [300.0, 0.0, 0.0],
-            bandwidth: 0.01,
-            damping: 0.9,
-            thrust_max: 10.0,
-            min_impulse_bit: 0.0,
-            engage_time: 0.0,
-        }
-    }
+crate::config! {
+    /// Everything that defines the guidance law: relnav_guidance.fmu's parameters (value
+    /// references in the declarations). [`Default`]: frame 2, a 7200 s orbit, 1000 kg, the
+    /// hold point (300, 0, 0) m, bandwidth 0.01 rad/s, damping 0.9, 10 N per axis.
+    pub struct GuidanceConfig, GUIDANCE_PARAMS;
+    frame: Frame {
+        elements: [("frame", 0, "", 2, "")],
+        rule: Rule::Any, c: false, scenario: None, slot: None,
+        description: "Hill-frame convention of the estimate, the hold point and the thrust (as relnav's frame)",
+    },
+    mean_motion: f64 {
+        elements: [("mean_motion", 1, "rad/s", 2.0 * std::f64::consts::PI / 7200.0, "")],
+        rule: Rule::Interval { lo: closed(1e-9), hi: closed(0.1), why: " rad/s" },
+        c: false, scenario: None, slot: None,
+        description: "Mean motion of the target's circular orbit (1e-9..0.1)",
+    },
+    chaser_mass: f64 {
+        elements: [("chaser_mass", 2, "kg", 1000.0, "")],
+        rule: Rule::Positive, c: false, scenario: None, slot: None,
+        description: "Chaser mass: thrust = mass * commanded acceleration (> 0)",
+    },
+    hold: [f64; 3] {
+        elements: [
+            ("hold_x", 3, "m", 300.0, "Hold point x (at rest in the Hill frame)"),
+            ("hold_y", 4, "m", 0.0, "Hold point y"),
+            ("hold_z", 5, "m", 0.0, "Hold point z"),
+        ],
+        rule: Rule::Finite, c: false, scenario: None, slot: None,
+        description: "Hold point in the I/O frame",
+    },
+    bandwidth: f64 {
+        elements: [("bandwidth", 6, "rad/s", 0.01, "")],
+        rule: Rule::Positive, c: false, scenario: None, slot: None,
+        description: "Natural frequency w of the closed loop e'' + 2 zeta w e' + w^2 e = 0 (> 0; w * step <= 0.5)",
+    },
+    damping: f64 {
+        elements: [("damping", 7, "", 0.9, "")],
+        rule: Rule::Positive, c: false, scenario: None, slot: None,
+        description: "Damping ratio zeta of the closed loop (> 0)",
+    },
+    thrust_max: f64 {
+        elements: [("thrust_max", 8, "N", 10.0, "")],
+        rule: Rule::Positive, c: false, scenario: None, slot: None,
+        description: "Largest thrust per axis (> 0)",
+    },
+    min_impulse_bit: f64 {
+        elements: [("min_impulse_bit", 9, "N.s", 0.0, "")],
+        rule: Rule::NonNegative, c: false, scenario: None, slot: None,
+        description: "Smallest impulse a thruster delivers: the commanded impulse is accumulated per axis and fired once it reaches this bit (0: none)",
+    },
+    engage_time: f64 {
+        elements: [("engage_time", 10, "s", 0.0, "")],
+        rule: Rule::Finite, c: false, scenario: None, slot: None,
+        description: "Time from which thrust is commanded (zero thrust before)",
+    },
 }
 
 /// Largest `bandwidth * h` a step may have: the sampled PD loop (with the one-step delay
@@ -82,42 +99,8 @@ pub const MAX_BANDWIDTH_STEP: f64 = 0.5;
 impl GuidanceConfig {
     /// Check every setting; the message names the first bad one.
     pub fn validate(&self) -> Result<(), String> {
-        let (lo, hi) = (1e-9, 0.1);
-        if !(lo..=hi).contains(&self.mean_motion) {
-            return Err(format!(
-                "mean_motion must lie in [{lo:e}, {hi}] rad/s (got {})",
-                self.mean_motion
-            ));
-        }
-        let pos = |name: &str, v: f64| {
-            if v.is_finite() && v > 0.0 {
-                Ok(())
-            } else {
-                Err(format!("{name} must be finite and > 0 (got {v})"))
-            }
-        };
-        pos("chaser_mass", self.chaser_mass)?;
-        pos("bandwidth", self.bandwidth)?;
-        pos("damping", self.damping)?;
-        pos("thrust_max", self.thrust_max)?;
-        if let Some(i) = self.hold.iter().position(|v| !v.is_finite()) {
-            return Err(format!(
-                "hold_{} must be finite (got {})",
-                ["x", "y", "z"][i],
-                self.hold[i]
-            ));
-        }
-        if !(self.min_impulse_bit.is_finite() && self.min_impulse_bit >= 0.0) {
-            return Err(format!(
-                "min_impulse_bit must be finite and >= 0 (got {})",
-                self.min_impulse_bit
-            ));
-        }
-        if !self.engage_time.is_finite() {
-            return Err(format!(
-                "engage_time must be finite (got {})",
-                self.engage_time
-            ));
+        for p in GUIDANCE_PARAMS {
+            p.check(self)?;
         }
         Ok(())
     }

@@ -27,9 +27,11 @@
 
 use crate::dynamics::{CwModel, Discretization, Dynamics, RelativeDynamics};
 use crate::frames::Frame;
+use crate::nav::NoiseKind;
 use crate::noise::NoiseModel;
 use crate::numerics::state::{refuse, Reader, StateError, Writer};
 use crate::orbit::{TwoBodyJ2, R_EARTH};
+use crate::params::{closed, open, Rule};
 use crate::sensors::RadioSensor;
 use crate::types::{Mat3, Mat6, Mat63, State, Vec3};
 use rand::{Rng, SeedableRng};
@@ -47,119 +49,127 @@ crate::codes! {
     }
 }
 
-/// Everything that defines a plant. [`Default`] is paper 000's example: frame 2, a 7200 s
-/// orbit, the chaser at rest at (400, 500, 200) m, 1000 kg, a measurement every second with
-/// 0.5 m / 0.01 deg Gaussian noise.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct PlantConfig {
-    /// I/O frame of the true state, the thrust and the measurement angles.
-    pub frame: Frame,
-    /// CW or two-body + J2.
-    pub truth_model: TruthModel,
-    /// Mean motion of the target's circular orbit [rad/s].
-    pub mean_motion: f64,
-    /// Chaser mass [kg] (acceleration = thrust / mass).
-    pub chaser_mass: f64,
-    /// True initial relative state `(x, y, z, vx, vy, vz)` in the I/O frame [m, m/s].
-    pub x0: [f64; 6],
-    /// Two-body + J2: inclination of the target's orbit [rad].
-    pub inclination: f64,
-    /// Two-body + J2: longest integration substep [s].
-    pub j2_substep: f64,
-    /// Time between measurements [s].
-    pub measurement_period: f64,
-    /// Range noise scale [m] (1 sigma of the Gaussian, nominal sigma of the other models).
-    pub sigma_range: f64,
-    /// Azimuth and elevation noise scale [rad].
-    pub sigma_angle: f64,
-    /// Noise density (white: Gaussian, mixture or Student-t).
-    pub noise: NoiseModel,
-    /// Probability that a due measurement is lost, in [0, 1].
-    pub dropout_probability: f64,
-    /// Start of the dropout window [s] (no window when `dropout_stop <= dropout_start`).
-    pub dropout_start: f64,
-    /// End of the dropout window [s] (excluded).
-    pub dropout_stop: f64,
-    /// Seed of the noise and dropout draws.
-    pub seed: u64,
-}
-
-impl Default for PlantConfig {
-    fn default() -> Self {
-        Self {
-            frame: Frame::AlongRadialAntinormal,
-            truth_model: TruthModel::Cw,
-            mean_motion: 2.0 * std::f64::consts::PI / 7200.0,
-            chaser_mass: 1000.0,
-            x0: [400.0, 500.0, 200.0, 0.0, 0.0, 0.0],
-            inclination: 51.6 * std::f64::consts::PI / 180.0,
-            j2_substep: 1.0,
-            measurement_period: 1.0,
-            sigma_range: 0.5,
-            sigma_angle: 0.01 * std::f64::consts::PI / 180.0,
-            noise: NoiseModel::Gaussian,
-            dropout_probability: 0.0,
-            dropout_start: 0.0,
-            dropout_stop: 0.0,
-            seed: 0,
-        }
-    }
-}
-
-fn finite_pos(name: &str, v: f64) -> Result<(), String> {
-    if v.is_finite() && v > 0.0 {
-        Ok(())
-    } else {
-        Err(format!("{name} must be finite and > 0 (got {v})"))
-    }
+crate::config! {
+    /// Everything that defines a plant: relnav_plant.fmu's parameters (value references in
+    /// the declarations). [`Default`] is paper 000's example: frame 2, a 7200 s orbit, the
+    /// chaser at rest at (400, 500, 200) m, 1000 kg, a measurement every second with
+    /// 0.5 m / 0.01 deg Gaussian noise.
+    pub struct PlantConfig, PLANT_PARAMS;
+    frame: Frame {
+        elements: [("frame", 0, "", 2, "")],
+        rule: Rule::Any, c: false, scenario: None, slot: None,
+        description: "Hill-frame convention of the thrust, the true state and the measurement angles (as relnav's frame)",
+    },
+    truth_model: TruthModel {
+        elements: [("truth_model", 1, "", 1, "")],
+        rule: Rule::Any, c: false, scenario: None, slot: None,
+        description: "Truth of the relative motion",
+    },
+    mean_motion: f64 {
+        elements: [("mean_motion", 2, "rad/s", 2.0 * std::f64::consts::PI / 7200.0, "")],
+        rule: Rule::Interval { lo: closed(1e-9), hi: closed(0.1), why: " rad/s" },
+        c: false, scenario: None, slot: None,
+        description: "Mean motion of the target's circular orbit (1e-9..0.1)",
+    },
+    chaser_mass: f64 {
+        elements: [("chaser_mass", 3, "kg", 1000.0, "")],
+        rule: Rule::Positive, c: false, scenario: None, slot: None,
+        description: "Chaser mass: thrust / mass = acceleration (> 0)",
+    },
+    x0: [f64; 6] {
+        elements: [
+            ("true_x0", 4, "m", 400.0, "True initial relative position x"),
+            ("true_y0", 5, "m", 500.0, "True initial relative position y"),
+            ("true_z0", 6, "m", 200.0, "True initial relative position z"),
+            ("true_vx0", 7, "m/s", 0.0, "True initial relative velocity vx"),
+            ("true_vy0", 8, "m/s", 0.0, "True initial relative velocity vy"),
+            ("true_vz0", 9, "m/s", 0.0, "True initial relative velocity vz"),
+        ],
+        rule: Rule::Finite, c: false, scenario: None, slot: None,
+        description: "True initial relative state (x, y, z, vx, vy, vz) in the I/O frame",
+    },
+    inclination: f64 {
+        elements: [("inclination", 10, "rad", 51.6 * std::f64::consts::PI / 180.0, "")],
+        rule: Rule::Interval { lo: closed(0.0), hi: closed(std::f64::consts::PI), why: " rad" },
+        c: false, scenario: None, slot: None,
+        description: "truth_model two_body_j2: inclination of the target's orbit (in [0, pi]; the target starts at its ascending node)",
+    },
+    j2_substep: f64 {
+        elements: [("j2_substep", 11, "s", 1.0, "")],
+        rule: Rule::Positive, c: false, scenario: None, slot: None,
+        description: "truth_model two_body_j2: longest integration substep (a step h takes round(h / j2_substep), at least 1, equal substeps; > 0)",
+    },
+    measurement_period: f64 {
+        elements: [("measurement_period", 12, "s", 1.0, "")],
+        rule: Rule::Positive, c: false, scenario: None, slot: None,
+        description: "Time between measurements from the start time; a measurement is taken at the first communication point at or after its due time (> 0)",
+    },
+    sigma_range: f64 {
+        elements: [("sigma_range", 13, "m", 0.5, "")],
+        rule: Rule::Positive, c: false, scenario: None, slot: None,
+        description: "Range measurement noise, 1 sigma of the Gaussian (nominal sigma of the other noise models; > 0)",
+    },
+    sigma_angle: f64 {
+        elements: [("sigma_angle", 14, "rad", 0.01 * std::f64::consts::PI / 180.0, "")],
+        rule: Rule::Positive, c: false, scenario: None, slot: None,
+        description: "Azimuth and elevation measurement noise, 1 sigma of the Gaussian (nominal sigma of the other noise models; > 0)",
+    },
+    noise_model: NoiseKind {
+        elements: [("noise_model", 15, "", 1, "")],
+        rule: Rule::Any, c: false, scenario: None, slot: None,
+        description: "Measurement-noise density scaled by sigma_range and sigma_angle (as relnav's noise_model)",
+    },
+    noise_zeta: f64 {
+        elements: [("noise_zeta", 16, "", 0.2, "")],
+        rule: Rule::Interval { lo: closed(0.0), hi: open(1.0), why: ": the weight of the mixture's wide component" },
+        c: false, scenario: None, slot: None,
+        description: "Mixture noise: weight of the wide component (in [0, 1))",
+    },
+    noise_scale: f64 {
+        elements: [("noise_scale", 17, "", 10.0, "")],
+        rule: Rule::Interval {
+            lo: closed(1.0),
+            hi: open(f64::INFINITY),
+            why: ": the mixture's wide component over the nominal sigma",
+        },
+        c: false, scenario: None, slot: None,
+        description: "Mixture noise: sigma of the wide component over the nominal sigma (>= 1)",
+    },
+    noise_dof: f64 {
+        elements: [("noise_dof", 18, "", 4.0, "")],
+        rule: Rule::Interval { lo: open(2.0), hi: open(f64::INFINITY), why: ": the Student-t needs a finite variance" },
+        c: false, scenario: None, slot: None,
+        description: "Student-t noise: degrees of freedom (> 2)",
+    },
+    dropout_probability: f64 {
+        elements: [("dropout_probability", 19, "", 0.0, "")],
+        rule: Rule::Interval { lo: closed(0.0), hi: closed(1.0), why: "" },
+        c: false, scenario: None, slot: None,
+        description: "Probability that a due measurement is lost (in [0, 1]; one uniform draw per due measurement)",
+    },
+    dropout_start: f64 {
+        elements: [("dropout_start", 20, "s", 0.0, "")],
+        rule: Rule::Finite, c: false, scenario: None, slot: None,
+        description: "Start of a window in which every measurement is lost (none when dropout_stop <= dropout_start)",
+    },
+    dropout_stop: f64 {
+        elements: [("dropout_stop", 21, "s", 0.0, "")],
+        rule: Rule::Finite, c: false, scenario: None, slot: None,
+        description: "End of the dropout window (excluded)",
+    },
+    seed: u64 {
+        elements: [("seed", 22, "", 0, "")],
+        rule: Rule::Any, c: false, scenario: None, slot: None,
+        description: "Seed of the measurement noise and dropout draws (identical seeds give identical outputs)",
+    },
 }
 
 impl PlantConfig {
     /// Check every setting; the message names the first bad one.
     pub fn validate(&self) -> Result<(), String> {
-        let (lo, hi) = (1e-9, 0.1);
-        if !(lo..=hi).contains(&self.mean_motion) {
-            return Err(format!(
-                "mean_motion must lie in [{lo:e}, {hi}] rad/s (got {})",
-                self.mean_motion
-            ));
+        for p in PLANT_PARAMS {
+            p.check(self)?;
         }
-        finite_pos("chaser_mass", self.chaser_mass)?;
-        if let Some(i) = self.x0.iter().position(|v| !v.is_finite()) {
-            let names = [
-                "true_x0", "true_y0", "true_z0", "true_vx0", "true_vy0", "true_vz0",
-            ];
-            return Err(format!("{} must be finite (got {})", names[i], self.x0[i]));
-        }
-        finite_pos("measurement_period", self.measurement_period)?;
-        finite_pos("sigma_range", self.sigma_range)?;
-        finite_pos("sigma_angle", self.sigma_angle)?;
-        match self.noise {
-            NoiseModel::Gaussian | NoiseModel::Mixture { .. } | NoiseModel::StudentT { .. } => {}
-            other => return Err(format!("noise model {other:?} is not offered by the plant")),
-        }
-        self.noise
-            .validate()
-            .map_err(|e| e.replace("noise.", "noise_"))?;
-        if !(0.0..=1.0).contains(&self.dropout_probability) {
-            return Err(format!(
-                "dropout_probability must lie in [0, 1] (got {})",
-                self.dropout_probability
-            ));
-        }
-        if !(self.dropout_start.is_finite() && self.dropout_stop.is_finite()) {
-            return Err(format!(
-                "dropout_start and dropout_stop must be finite (got {}, {})",
-                self.dropout_start, self.dropout_stop
-            ));
-        }
-        if !(0.0..=std::f64::consts::PI).contains(&self.inclination) {
-            return Err(format!(
-                "inclination must lie in [0, pi] rad (got {})",
-                self.inclination
-            ));
-        }
-        finite_pos("j2_substep", self.j2_substep)?;
         if self.truth_model == TruthModel::TwoBodyJ2 {
             let a = (crate::orbit::MU_EARTH / (self.mean_motion * self.mean_motion)).cbrt();
             if a <= R_EARTH {
@@ -171,6 +181,20 @@ impl PlantConfig {
             }
         }
         Ok(())
+    }
+
+    /// The measurement-noise density (scales `sigma_range`, `sigma_angle`).
+    pub fn noise(&self) -> NoiseModel {
+        match self.noise_model {
+            NoiseKind::Gaussian => NoiseModel::Gaussian,
+            NoiseKind::Mixture => NoiseModel::Mixture {
+                zeta: self.noise_zeta,
+                scale: self.noise_scale,
+            },
+            NoiseKind::StudentT => NoiseModel::StudentT {
+                dof: self.noise_dof,
+            },
+        }
     }
 
     fn sensor(&self) -> RadioSensor {
@@ -312,7 +336,7 @@ impl Plant {
         let r = self.truth_canonical().fixed_rows::<3>(0).into_owned();
         let z = self
             .sensor
-            .measure_with(&r, &self.cfg.noise, &mut ar, &mut self.rng);
+            .measure_with(&r, &self.cfg.noise(), &mut ar, &mut self.rng);
         let in_window = t >= self.cfg.dropout_start && t < self.cfg.dropout_stop;
         let valid = z.is_some() && !in_window && u >= self.cfg.dropout_probability;
         Some(Sample { z, valid })
@@ -413,7 +437,7 @@ mod tests {
     #[test]
     fn save_and_load_continue_bit_for_bit() {
         let cfg = PlantConfig {
-            noise: NoiseModel::StudentT { dof: 4.0 },
+            noise_model: NoiseKind::StudentT,
             dropout_probability: 0.3,
             truth_model: TruthModel::TwoBodyJ2,
             ..PlantConfig::default()

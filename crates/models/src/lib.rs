@@ -8,16 +8,16 @@
 //!   ([`relnav_core::plant::Plant`]);
 //! * [`guidance`] — `relnav_guidance.fmu`, the kit's hold-point guidance law
 //!   ([`relnav_core::guidance::Guidance`]);
-//! * [`codes`] — the code lists these tables share with relnav.fmu's.
+//! * [`params`] — parameter rows and `config_of` from relnav-core's declarations (every
+//!   model's, relnav.fmu's included).
 //!
 //! relnav.fmu's own model, the navigation estimator over
-//! [`relnav_core::nav::Navigator`], is built the same way in `relnav-nav-model`: its
-//! parameters become a configuration through the C ABI crate's conversion (the messages C
-//! users get), which this crate does not link, so the kit's FMU binaries export nothing but
-//! their `fmi2*` functions.
+//! [`relnav_core::nav::Navigator`], is built the same way in `relnav-nav-model`, a crate
+//! of its own because it links the H-infinity design, which the kit's FMU binaries do
+//! without.
 
 #![forbid(unsafe_code)]
 
-pub mod codes;
 pub mod guidance;
+pub mod params;
 pub mod plant;

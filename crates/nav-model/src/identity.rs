@@ -6,10 +6,9 @@
 //! [`VARIABLES`], checked by a test). The Python package takes its keyword arguments from
 //! the same table.
 
-use relnav_core::nav::{NavConfig, PARAMS};
-use relnav_core::params::{element_by_id, Kind, Param};
+use relnav_core::nav::PARAMS;
 use relnav_fmi::model::{DefaultExperiment, Generated, ModelInfo};
-use relnav_fmi::variables::{Causality, VarDef, VarType, Variability};
+use relnav_fmi::variables::VarDef;
 use std::sync::LazyLock;
 
 /// relnav.fmu's model identifier (and binary name).
@@ -95,23 +94,9 @@ mod io {
 /// from relnav-core's declarations (a name that is not declared fails to compile).
 pub mod vr {
     pub use super::io::vr::*;
-    use relnav_core::nav::PARAMS;
-    use relnav_core::params::id_of;
 
-    macro_rules! param_vrs {
-        ($( $id:ident = $name:literal ),* $(,)?) => {
-            $(
-                #[doc = concat!("`", $name, "` (a parameter).")]
-                pub const $id: u32 = match id_of(PARAMS, $name) {
-                    Some(id) => id,
-                    None => u32::MAX,
-                };
-                const _: () = assert!($id != u32::MAX, concat!($name, " has no value reference"));
-            )*
-        };
-    }
-
-    param_vrs! {
+    relnav_models::param_vrs! {
+        relnav_core::nav::PARAMS;
         FILTER = "filter",
         FRAME = "frame",
         DISCRETIZATION = "discretization",
@@ -169,38 +154,17 @@ pub mod vr {
     }
 }
 
+/// The inputs' and outputs' rows alone.
+pub fn io_variables() -> &'static [VarDef] {
+    io::VARIABLES
+}
+
 /// Number of variables.
 pub const N_VARS: usize = 84;
 
 /// Every variable of relnav.fmu; the value reference is the index.
-pub static VARIABLES: LazyLock<Vec<VarDef>> = LazyLock::new(|| {
-    (0..N_VARS as u32)
-        // a value reference that is neither would leave a hole (the table's test fails)
-        .filter_map(|id| match element_by_id(PARAMS, id) {
-            Some((p, i)) => Some(parameter_row(p, i, id)),
-            None => io::VARIABLES.iter().find(|v| v.vr == id).copied(),
-        })
-        .collect()
-});
-
-/// The FMU variable of element `i` of a declared parameter.
-fn parameter_row(p: &'static Param<NavConfig>, i: usize, id: u32) -> VarDef {
-    let e = &p.elements[i];
-    VarDef {
-        vr: id,
-        name: e.name,
-        causality: Causality::Parameter,
-        variability: Variability::Fixed,
-        ty: match p.kind {
-            Kind::Real => VarType::Real(e.unit),
-            Kind::Count | Kind::Seed => VarType::Integer,
-            Kind::Bool => VarType::Boolean,
-            Kind::Code(list) => VarType::Code(list),
-        },
-        start: e.default.as_f64(),
-        description: p.element_description(e),
-    }
-}
+pub static VARIABLES: LazyLock<Vec<VarDef>> =
+    LazyLock::new(|| relnav_models::params::table(PARAMS, io::VARIABLES, N_VARS));
 
 #[cfg(test)]
 mod tests {
@@ -213,17 +177,10 @@ mod tests {
     fn table_is_dense_and_holds_every_declared_parameter() {
         assert_eq!(check_table(&VARIABLES), Ok(()));
         assert_eq!(VARIABLES.len(), N_VARS);
-        for v in io::VARIABLES {
-            assert!(element_by_id(PARAMS, v.vr).is_none(), "{}", v.name);
-        }
-        for p in PARAMS {
-            for e in p.elements {
-                if let Some(id) = e.id {
-                    let v = &VARIABLES[id as usize];
-                    assert_eq!((v.name, v.causality), (e.name, Causality::Parameter));
-                }
-            }
-        }
+        assert_eq!(
+            relnav_models::params::check_declared(PARAMS, io_variables(), &VARIABLES),
+            Ok(())
+        );
         assert_eq!(vr::FILTER, 0);
         assert_eq!(vr::PF_THREADS, 83);
     }

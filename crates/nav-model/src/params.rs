@@ -3,7 +3,6 @@
 //! parameters by their FMU names (the Python package).
 
 use relnav_core::nav::{NavConfig, NavError, PARAMS};
-use relnav_core::params::{Kind, Value};
 
 /// The checked navigator configuration of relnav.fmu's parameter values (indexed by value
 /// reference; other variables are ignored). Parameters that are not FMU variables keep
@@ -15,21 +14,8 @@ use relnav_core::params::{Kind, Value};
 /// `relnav_config` goes through the same declarations) refuse a bad parameter with the
 /// same message.
 pub fn config_of(values: &[f64]) -> Result<NavConfig, NavError> {
-    let mut cfg = NavConfig::default();
-    for p in PARAMS {
-        for (i, e) in p.elements.iter().enumerate() {
-            let Some(id) = e.id else { continue };
-            let v = values.get(id as usize).copied().unwrap_or(f64::NAN);
-            let value = match p.kind {
-                Kind::Real => Value::Real(v),
-                // FMI Integers are 32-bit; the seed keeps their bit pattern
-                Kind::Seed => Value::Int(i64::from(v as i32 as u32)),
-                Kind::Bool => Value::Int(i64::from(v != 0.0)),
-                Kind::Count | Kind::Code(_) => Value::Int(i64::from(v as i32)),
-            };
-            cfg.assign(p, i, value)?;
-        }
-    }
+    let cfg: NavConfig =
+        relnav_models::params::config_from(PARAMS, values).map_err(NavError::invalid)?;
     cfg.validate()?;
     Ok(cfg)
 }

@@ -13,29 +13,16 @@ pub mod identity;
 
 pub use identity::{vr, INFO, VARIABLES};
 
-use relnav_core::frames::Frame;
-use relnav_core::guidance::{Guidance, GuidanceConfig};
+use relnav_core::guidance::{Guidance, GuidanceConfig, GUIDANCE_PARAMS};
 use relnav_core::numerics::state::{Reader, Writer};
 use relnav_core::types::State;
 use relnav_fmi::model::{Model, ModelInfo};
 use relnav_fmi::variables::{start_values, VarDef};
 
-/// The guidance configuration the parameter values describe (checked).
+/// The guidance configuration the parameter values describe (each stored through its
+/// declaration in [`relnav_core::guidance::GUIDANCE_PARAMS`], then the whole checked).
 pub fn config_of(values: &[f64]) -> Result<GuidanceConfig, String> {
-    let v = |r: u32| values.get(r as usize).copied().unwrap_or(f64::NAN);
-    let frame = Frame::from_code(v(vr::FRAME) as i32)
-        .ok_or_else(|| format!("frame {} is not a code", v(vr::FRAME)))?;
-    let cfg = GuidanceConfig {
-        frame,
-        mean_motion: v(vr::MEAN_MOTION),
-        chaser_mass: v(vr::CHASER_MASS),
-        hold: [vr::HOLD_X, vr::HOLD_Y, vr::HOLD_Z].map(v),
-        bandwidth: v(vr::BANDWIDTH),
-        damping: v(vr::DAMPING),
-        thrust_max: v(vr::THRUST_MAX),
-        min_impulse_bit: v(vr::MIN_IMPULSE_BIT),
-        engage_time: v(vr::ENGAGE_TIME),
-    };
+    let cfg: GuidanceConfig = crate::params::config_from(GUIDANCE_PARAMS, values)?;
     cfg.validate()?;
     Ok(cfg)
 }
@@ -64,7 +51,7 @@ impl Model for GuidanceFmu {
     }
 
     fn check_alone(def: &VarDef, value: f64) -> Result<(), String> {
-        let mut values = start_values(VARIABLES);
+        let mut values = start_values(&VARIABLES);
         values[def.vr as usize] = value;
         config_of(&values).map(|_| ())
     }
@@ -145,8 +132,13 @@ mod tests {
 
     #[test]
     fn table_is_dense_and_the_defaults_are_the_laws() {
-        assert_eq!(check_table(VARIABLES), Ok(()));
-        let values = start_values(VARIABLES);
+        assert_eq!(check_table(&VARIABLES), Ok(()));
+        assert_eq!(VARIABLES.len(), identity::N_VARS);
+        assert_eq!(
+            crate::params::check_declared(GUIDANCE_PARAMS, identity::io_variables(), &VARIABLES),
+            Ok(())
+        );
+        let values = start_values(&VARIABLES);
         assert_eq!(config_of(&values), Ok(GuidanceConfig::default()));
         // the inputs x..vz are contiguous (read as one state)
         let names: Vec<_> = (vr::X..=vr::VZ)

@@ -13,72 +13,16 @@ pub mod identity;
 
 pub use identity::{vr, INFO, TRUTH_MODEL_TYPE, VARIABLES};
 
-use crate::codes::NOISE_MODEL_TYPE;
-use relnav_core::frames::Frame;
-use relnav_core::noise::NoiseModel;
 use relnav_core::numerics::state::{Reader, Writer};
-use relnav_core::plant::{Plant, PlantConfig, TruthModel};
+use relnav_core::plant::{Plant, PlantConfig, PLANT_PARAMS};
 use relnav_core::types::Vec3;
 use relnav_fmi::model::{Model, ModelInfo};
 use relnav_fmi::variables::{start_values, VarDef};
 
-/// The noise density of a `noise_model` code and its parameters, every parameter checked
-/// whatever the code (as relnav checks them).
-fn noise_of(code: f64, zeta: f64, scale: f64, dof: f64) -> Result<NoiseModel, String> {
-    let fix = |e: String| e.replace("noise.", "noise_");
-    NoiseModel::Mixture { zeta, scale }
-        .validate()
-        .map_err(fix)?;
-    NoiseModel::StudentT { dof }.validate().map_err(fix)?;
-    match code as i32 {
-        1 => Ok(NoiseModel::Gaussian),
-        2 => Ok(NoiseModel::Mixture { zeta, scale }),
-        3 => Ok(NoiseModel::StudentT { dof }),
-        other => Err(format!(
-            "noise_model {other} is not a code (allowed: {})",
-            NOISE_MODEL_TYPE.codes()
-        )),
-    }
-}
-
-/// The plant configuration the parameter values describe (checked).
+/// The plant configuration the parameter values describe (each stored through its
+/// declaration in [`relnav_core::plant::PLANT_PARAMS`], then the whole checked).
 pub fn config_of(values: &[f64]) -> Result<PlantConfig, String> {
-    let v = |r: u32| values.get(r as usize).copied().unwrap_or(f64::NAN);
-    let frame = Frame::from_code(v(vr::FRAME) as i32)
-        .ok_or_else(|| format!("frame {} is not a code", v(vr::FRAME)))?;
-    let truth_model = TruthModel::from_code(v(vr::TRUTH_MODEL) as i32)
-        .ok_or_else(|| format!("truth_model {} is not a code", v(vr::TRUTH_MODEL)))?;
-    let cfg = PlantConfig {
-        frame,
-        truth_model,
-        mean_motion: v(vr::MEAN_MOTION),
-        chaser_mass: v(vr::CHASER_MASS),
-        x0: [
-            vr::TRUE_X0,
-            vr::TRUE_Y0,
-            vr::TRUE_Z0,
-            vr::TRUE_VX0,
-            vr::TRUE_VY0,
-            vr::TRUE_VZ0,
-        ]
-        .map(v),
-        inclination: v(vr::INCLINATION),
-        j2_substep: v(vr::J2_SUBSTEP),
-        measurement_period: v(vr::MEASUREMENT_PERIOD),
-        sigma_range: v(vr::SIGMA_RANGE),
-        sigma_angle: v(vr::SIGMA_ANGLE),
-        noise: noise_of(
-            v(vr::NOISE_MODEL),
-            v(vr::NOISE_ZETA),
-            v(vr::NOISE_SCALE),
-            v(vr::NOISE_DOF),
-        )?,
-        dropout_probability: v(vr::DROPOUT_PROBABILITY),
-        dropout_start: v(vr::DROPOUT_START),
-        dropout_stop: v(vr::DROPOUT_STOP),
-        // FMI Integers are 32-bit; the seed's bit pattern is kept
-        seed: u64::from(v(vr::SEED) as i32 as u32),
-    };
+    let cfg: PlantConfig = crate::params::config_from(PLANT_PARAMS, values)?;
     cfg.validate()?;
     Ok(cfg)
 }
@@ -131,7 +75,7 @@ impl Model for PlantFmu {
     /// checked by the generic layer; the orbit-inside-the-Earth combination at
     /// initialisation).
     fn check_alone(def: &VarDef, value: f64) -> Result<(), String> {
-        let mut values = start_values(VARIABLES);
+        let mut values = start_values(&VARIABLES);
         values[def.vr as usize] = value;
         config_of(&values).map(|_| ())
     }
@@ -178,7 +122,7 @@ impl Model for PlantFmu {
             cfg.measurement_period,
             cfg.sigma_range,
             cfg.sigma_angle,
-            cfg.noise,
+            cfg.noise(),
             cfg.dropout_probability,
             cfg.dropout_start,
             cfg.dropout_stop,
@@ -238,8 +182,13 @@ mod tests {
 
     #[test]
     fn table_is_dense_and_the_defaults_are_the_plants() {
-        assert_eq!(check_table(VARIABLES), Ok(()));
-        let values = start_values(VARIABLES);
+        assert_eq!(check_table(&VARIABLES), Ok(()));
+        assert_eq!(VARIABLES.len(), identity::N_VARS);
+        assert_eq!(
+            crate::params::check_declared(PLANT_PARAMS, identity::io_variables(), &VARIABLES),
+            Ok(())
+        );
+        let values = start_values(&VARIABLES);
         assert_eq!(config_of(&values), Ok(PlantConfig::default()));
     }
 
