@@ -10,10 +10,10 @@
 #   -> C++ harness under ASan+UBSan (second build dir) -> fuzz smoke run (scripts/fuzz.sh
 #   smoke, 20 s per target, only when nightly Rust and cargo-fuzz are installed)
 #
-# The fuzz targets' build (cargo-fuzz: one codegen unit, AddressSanitizer, its own target
-# dir; the longest single build of the run) starts in the background, at nice 10, right
-# after the release build, so that it uses the core that pytest and the valgrind runs of the
-# C++ harness (single-threaded) leave idle; the fuzz smoke stage waits for it.
+# The fuzz targets' build (cargo-fuzz's dev profile with AddressSanitizer, its own target
+# dir) starts in the background, at nice 10, right after setup: it takes the CPU the
+# stages in front leave (link steps, single-threaded test binaries, pytest, valgrind) and
+# the fuzz smoke stage waits for what is left of it.
 #
 # Every stage is run and reported; a stage that later ones need (setup, release build,
 # FMU) stops the run when it fails. Exits non-zero if any stage failed; the last line is
@@ -91,7 +91,7 @@ run_pytest() {
 run_cpp_harness() {
     cmake -S cpp-harness -B cpp-harness/build -DCMAKE_BUILD_TYPE=Debug &&
         cmake --build cpp-harness/build -j"$JOBS" &&
-        ctest --test-dir cpp-harness/build --output-on-failure
+        ctest --test-dir cpp-harness/build --output-on-failure -j"$JOBS"
 }
 
 # The same harness under AddressSanitizer + UndefinedBehaviorSanitizer (a second build
@@ -101,7 +101,7 @@ run_cpp_harness_sanitized() {
         cmake --build cpp-harness/build-asan -j"$JOBS" &&
         ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:halt_on_error=1:strict_string_checks=1:detect_stack_use_after_return=1" \
             UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1" \
-            ctest --test-dir cpp-harness/build-asan --output-on-failure
+            ctest --test-dir cpp-harness/build-asan --output-on-failure -j"$JOBS"
 }
 
 # The fuzz targets' build in the background (see the header); its output goes to a log that
@@ -145,12 +145,12 @@ run_fuzz_smoke() {
 }
 
 stage "setup" required bash scripts/setup.sh
+start_fuzz_build
 stage "cargo fmt --check" optional cargo fmt --all -- --check
 stage "cargo clippy" optional cargo clippy --workspace --all-targets -j"$JOBS" -- -D warnings
 stage "cargo test" optional cargo test --workspace --exclude relnav-python --tests -j"$JOBS"
 stage "cargo test --doc" optional cargo test --workspace --exclude relnav-python --doc -j"$JOBS"
 stage "cargo build --release" required cargo build --release -j"$JOBS"
-start_fuzz_build
 stage "build FMUs" required bash fmu/build.sh -j"$JOBS"
 stage "pytest tests/python" optional run_pytest
 stage "C++ harness" optional run_cpp_harness
