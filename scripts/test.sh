@@ -28,6 +28,9 @@ if ! command -v cargo >/dev/null 2>&1 && [ -x "$HOME/.cargo/bin/cargo" ]; then
     PATH="$HOME/.cargo/bin:$PATH"
 fi
 export CARGO_TERM_COLOR="${CARGO_TERM_COLOR:-never}"
+# every build here is a full one from the clone's state: incremental compilation would only
+# write caches (time and disk) that a one-shot run never reads
+export CARGO_INCREMENTAL="${CARGO_INCREMENTAL:-0}"
 JOBS="${RELNAV_JOBS:-2}"
 # the Python extension (python/, in the workspace) is checked against the venv's Python
 export PYO3_PYTHON="${PYO3_PYTHON:-$ROOT/.venv/bin/python}"
