@@ -27,11 +27,11 @@
 
 use crate::dynamics::{CwModel, Discretization, Dynamics, RelativeDynamics};
 use crate::frames::Frame;
-use crate::nav::NoiseKind;
+use crate::nav::config::{NoiseKind, NOISE_DOF_RULE, NOISE_SCALE_RULE, NOISE_ZETA_RULE};
 use crate::noise::NoiseModel;
 use crate::numerics::state::{refuse, Reader, StateError, Writer};
 use crate::orbit::{TwoBodyJ2, R_EARTH};
-use crate::params::{closed, open, Rule};
+use crate::params::{closed, Rule};
 use crate::sensors::RadioSensor;
 use crate::types::{Mat3, Mat6, Mat63, State, Vec3};
 use rand::{Rng, SeedableRng};
@@ -121,23 +121,19 @@ crate::config! {
     },
     noise_zeta: f64 {
         elements: [("noise_zeta", 16, "", 0.2, "")],
-        rule: Rule::Interval { lo: closed(0.0), hi: open(1.0), why: ": the weight of the mixture's wide component" },
+        rule: NOISE_ZETA_RULE,
         c: false, scenario: None, slot: None,
         description: "Mixture noise: weight of the wide component (in [0, 1))",
     },
     noise_scale: f64 {
         elements: [("noise_scale", 17, "", 10.0, "")],
-        rule: Rule::Interval {
-            lo: closed(1.0),
-            hi: open(f64::INFINITY),
-            why: ": the mixture's wide component over the nominal sigma",
-        },
+        rule: NOISE_SCALE_RULE,
         c: false, scenario: None, slot: None,
         description: "Mixture noise: sigma of the wide component over the nominal sigma (>= 1)",
     },
     noise_dof: f64 {
         elements: [("noise_dof", 18, "", 4.0, "")],
-        rule: Rule::Interval { lo: open(2.0), hi: open(f64::INFINITY), why: ": the Student-t needs a finite variance" },
+        rule: NOISE_DOF_RULE,
         c: false, scenario: None, slot: None,
         description: "Student-t noise: degrees of freedom (> 2)",
     },
@@ -185,16 +181,8 @@ impl PlantConfig {
 
     /// The measurement-noise density (scales `sigma_range`, `sigma_angle`).
     pub fn noise(&self) -> NoiseModel {
-        match self.noise_model {
-            NoiseKind::Gaussian => NoiseModel::Gaussian,
-            NoiseKind::Mixture => NoiseModel::Mixture {
-                zeta: self.noise_zeta,
-                scale: self.noise_scale,
-            },
-            NoiseKind::StudentT => NoiseModel::StudentT {
-                dof: self.noise_dof,
-            },
-        }
+        self.noise_model
+            .model(self.noise_zeta, self.noise_scale, self.noise_dof)
     }
 
     fn sensor(&self) -> RadioSensor {

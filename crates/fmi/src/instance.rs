@@ -486,26 +486,8 @@ fn refused(func: &str, e: StateError) -> Failure {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::variables::{CodeItem, CodeList, Variability};
-
-    static CODES: CodeList = CodeList {
-        name: "Codes",
-        c_type: "codes",
-        c_prefix: "CODES_",
-        c_enum: false,
-        items: &[
-            CodeItem {
-                name: "a",
-                code: 1,
-                description: "first",
-            },
-            CodeItem {
-                name: "c",
-                code: 3,
-                description: "third",
-            },
-        ],
-    };
+    use crate::variables::tests::CODES;
+    use crate::variables::Variability;
 
     /// The access table's direct stores are exactly the sets the full path accepts with
     /// no other check or effect, for every causality, type and state.

@@ -183,10 +183,11 @@ pub fn check_table(vars: &[VarDef]) -> Result<(), String> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
-    static CODES: CodeList = CodeList {
+    /// A code list with a gap (codes 1 and 3), shared by the layer's tests.
+    pub(crate) static CODES: CodeList = CodeList {
         name: "Codes",
         c_type: "codes",
         c_prefix: "CODES_",

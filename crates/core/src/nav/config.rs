@@ -116,6 +116,36 @@ crate::codes! {
     }
 }
 
+impl NoiseKind {
+    /// The density of this code with its parameters (the navigator's and the plant's).
+    pub fn model(self, zeta: f64, scale: f64, dof: f64) -> NoiseModel {
+        match self {
+            NoiseKind::Gaussian => NoiseModel::Gaussian,
+            NoiseKind::Mixture => NoiseModel::Mixture { zeta, scale },
+            NoiseKind::StudentT => NoiseModel::StudentT { dof },
+        }
+    }
+}
+
+/// Domain of `noise_zeta` (every configuration with a noise model declares it with this).
+pub const NOISE_ZETA_RULE: Rule = Rule::Interval {
+    lo: closed(0.0),
+    hi: open(1.0),
+    why: ": the weight of the mixture's wide component",
+};
+/// Domain of `noise_scale`.
+pub const NOISE_SCALE_RULE: Rule = Rule::Interval {
+    lo: closed(1.0),
+    hi: open(f64::INFINITY),
+    why: ": the mixture's wide component over the nominal sigma",
+};
+/// Domain of `noise_dof`.
+pub const NOISE_DOF_RULE: Rule = Rule::Interval {
+    lo: open(2.0),
+    hi: open(f64::INFINITY),
+    why: ": the Student-t needs a finite variance",
+};
+
 crate::codes! {
     /// H-infinity design codes (`hinf_design` parameter): the C ABI's `relnav_hinf_form`
     /// codes available to the navigator (code 2, the paper form, needs the closed loop
@@ -420,23 +450,19 @@ crate::config! {
     },
     noise_zeta: f64 {
         elements: [("noise_zeta", 49, "", 0.2, "")],
-        rule: Rule::Interval { lo: closed(0.0), hi: open(1.0), why: ": the weight of the mixture's wide component" },
+        rule: NOISE_ZETA_RULE,
         c: true, scenario: NO_KEY, slot: Some(21),
         description: "Mixture noise: weight of the wide component (in [0, 1))",
     },
     noise_scale: f64 {
         elements: [("noise_scale", 50, "", 10.0, "")],
-        rule: Rule::Interval {
-            lo: closed(1.0),
-            hi: open(f64::INFINITY),
-            why: ": the mixture's wide component over the nominal sigma",
-        },
+        rule: NOISE_SCALE_RULE,
         c: true, scenario: NO_KEY, slot: Some(22),
         description: "Mixture noise: sigma of the wide component over the nominal sigma (>= 1)",
     },
     noise_dof: f64 {
         elements: [("noise_dof", 51, "", 4.0, "")],
-        rule: Rule::Interval { lo: open(2.0), hi: open(f64::INFINITY), why: ": the Student-t needs a finite variance" },
+        rule: NOISE_DOF_RULE,
         c: true, scenario: NO_KEY, slot: Some(23),
         description: "Student-t noise: degrees of freedom (> 2)",
     },
@@ -869,16 +895,8 @@ impl NavConfig {
 
     /// The measurement-noise density (scales `sigma_range`, `sigma_angle`).
     pub fn noise(&self) -> NoiseModel {
-        match self.noise_model {
-            NoiseKind::Gaussian => NoiseModel::Gaussian,
-            NoiseKind::Mixture => NoiseModel::Mixture {
-                zeta: self.noise_zeta,
-                scale: self.noise_scale,
-            },
-            NoiseKind::StudentT => NoiseModel::StudentT {
-                dof: self.noise_dof,
-            },
-        }
+        self.noise_model
+            .model(self.noise_zeta, self.noise_scale, self.noise_dof)
     }
 
     /// The particle-filter settings for filter codes 4-8 (`None` for the other filters):
