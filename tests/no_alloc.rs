@@ -411,3 +411,58 @@ fn particle_filter_steps_do_not_allocate() {
         );
     }
 }
+
+/// Steps with a sensor added beside the radio (the generic path, `Navigator::step_with`)
+/// allocate nothing either, in every filter but the H-infinity one (whose test above
+/// covers it with the radio).
+#[test]
+fn steps_with_added_sensors_do_not_allocate() {
+    use relnav_core::nav::Named;
+    use relnav_core::sensors::{CartesianSensor, Modelled, SensorNoise};
+    use std::sync::Arc;
+    for filter in FilterKind::ALL {
+        if filter == FilterKind::Hinf {
+            continue;
+        }
+        let cfg = NavConfig {
+            filter,
+            particles: 300,
+            accel_psd: 1e-9,
+            ..Default::default()
+        };
+        let mut nav = Navigator::new(&cfg).unwrap();
+        let fix = Modelled {
+            model: CartesianSensor {
+                frame: cfg.frame,
+                sigma: 2.0,
+            },
+            noise: SensorNoise::gaussian([2.0; 3]),
+        };
+        nav.add_sensor(Arc::new(Named::new("position", fix)));
+        // the radio's reading as a position in the same frame
+        let position = |k: usize| {
+            let [rho, az, el] = measurement(k);
+            [
+                rho * el.cos() * az.cos(),
+                rho * el.cos() * az.sin(),
+                rho * el.sin(),
+            ]
+        };
+        let p0 = position(0);
+        nav.step_with(&[0.0; 3], Some(&measurement(0)), &[Some(&p0[..])], 1.0)
+            .unwrap();
+        let n = allocations(|| {
+            for k in 1..60 {
+                let p = position(k);
+                let reading = [(k % 2 == 0).then_some(&p[..])];
+                nav.step_with(&[0.1, 0.0, -0.1], Some(&measurement(k)), &reading, 1.0)
+                    .unwrap();
+            }
+        });
+        assert_eq!(
+            n, 0,
+            "{filter:?}: {n} allocations in steps with an added sensor"
+        );
+        assert!(nav.sensor_report(0).is_some());
+    }
+}

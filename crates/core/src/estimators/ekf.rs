@@ -18,12 +18,60 @@
 //! (`propagate_covariance`, `joseph_update` in the module `estimators::covariance`).
 
 use super::covariance::{joseph_update, propagate_covariance, time_update};
-use super::{finite, Estimator, FilterError, UpdateInfo};
+use super::{finite, Estimator, FilterError, SensorUpdate, UpdateInfo};
 use crate::dynamics::DiscreteModel;
 use crate::numerics::cholesky::chol3;
 use crate::numerics::state::{Persist, Reader, StateError, Writer};
-use crate::sensors::MeasurementModel;
+use crate::numerics::symmetrize;
+use crate::sensors::{MeasurementModel, Sensor};
 use crate::types::{Mat3, Mat6, Mat63, State, Vec3};
+use nalgebra::{SMatrix, SVector};
+
+/// The linearised (EKF) measurement update of `(x, P)` with any sensor, not committed:
+/// the updated state and covariance (Joseph form, full `H`: the generic path), the
+/// update's diagnostics and the innovation covariance `S`. Components the sensor marks
+/// unused get a zero row of `H` and a zero residual (their gain column vanishes).
+pub(crate) fn linearised_update<const D: usize, S: Sensor<D> + ?Sized>(
+    x: &State,
+    p: &Mat6,
+    sensor: &S,
+    z: &SVector<f64, D>,
+) -> Result<(State, Mat6, SensorUpdate<D>, SMatrix<f64, D, D>), FilterError> {
+    let lin = sensor.linearize(x)?;
+    let mut nu = sensor.residual(z, &lin.z);
+    let mut h = lin.h;
+    for (k, used) in lin.used.iter().enumerate() {
+        if !used {
+            nu[k] = 0.0;
+            h.row_mut(k).fill(0.0);
+        }
+    }
+    let r = sensor.noise().cov();
+    let ph = p * h.transpose();
+    let s = h * ph + r;
+    let chol = s
+        .cholesky()
+        .ok_or(FilterError::NotPositiveDefinite("innovation covariance S"))?;
+    // K^T = S^-1 (H P)
+    let k = chol.solve(&ph.transpose()).transpose();
+    let xn = x + k * nu;
+    let ikh = Mat6::identity() - k * h;
+    let pn = symmetrize(&(ikh * p * ikh.transpose() + k * r * k.transpose()));
+    finite(&xn, "updated state")?;
+    finite(&pn, "updated covariance")?;
+    let nis = nu.dot(&chol.solve(&nu));
+    let dof = lin.used.iter().filter(|u| **u).count();
+    Ok((
+        xn,
+        pn,
+        SensorUpdate {
+            innovation: nu,
+            nis,
+            dof,
+        },
+        s,
+    ))
+}
 
 /// Extended Kalman filter with a Joseph-form update.
 #[derive(Debug, Clone, PartialEq)]
@@ -48,6 +96,19 @@ impl Ekf {
         z: &Vec3,
     ) -> Result<(UpdateInfo, Mat3), FilterError> {
         let (x, p, info, s) = self.updated(sensor, z)?;
+        self.x = x;
+        self.p = p;
+        Ok((info, s))
+    }
+
+    /// [`Estimator::update_sensor`], returning also the innovation covariance `S` (the
+    /// interacting multiple-model filter's mode likelihood).
+    pub fn update_sensor_with_s<const D: usize, S: Sensor<D> + ?Sized>(
+        &mut self,
+        sensor: &S,
+        z: &SVector<f64, D>,
+    ) -> Result<(SensorUpdate<D>, SMatrix<f64, D, D>), FilterError> {
+        let (x, p, info, s) = linearised_update(&self.x, &self.p, sensor, z)?;
         self.x = x;
         self.p = p;
         Ok((info, s))
@@ -138,6 +199,14 @@ impl Estimator for Ekf {
         z: &Vec3,
     ) -> Result<UpdateInfo, FilterError> {
         self.update_with_s(sensor, z).map(|(info, _)| info)
+    }
+
+    fn update_sensor<const D: usize, S: Sensor<D> + ?Sized>(
+        &mut self,
+        sensor: &S,
+        z: &SVector<f64, D>,
+    ) -> Result<SensorUpdate<D>, FilterError> {
+        self.update_sensor_with_s(sensor, z).map(|(info, _)| info)
     }
 
     fn state(&self) -> &State {

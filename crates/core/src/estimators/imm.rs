@@ -40,12 +40,13 @@
 //! prediction works on a copy of the modes on the stack and commits only on success, so a
 //! failed step changes nothing.
 
-use super::{finite, Ekf, Estimator, FilterError, UpdateInfo};
+use super::{finite, Ekf, Estimator, FilterError, SensorUpdate, UpdateInfo};
 use crate::dynamics::{DiscreteModel, Dynamics, RelativeDynamics};
 use crate::numerics::state::{refuse, Persist, Reader, StateError, Writer};
 use crate::numerics::symmetrize;
-use crate::sensors::MeasurementModel;
+use crate::sensors::{MeasurementModel, Sensor};
 use crate::types::{Mat3, Mat6, State, Vec3};
+use nalgebra::{SMatrix, SVector};
 
 /// Largest number of modes.
 pub const MAX_MODES: usize = 3;
@@ -227,6 +228,71 @@ impl Imm {
     }
 }
 
+impl Imm {
+    /// The measurement update of every mode by `update` (its innovation, NIS and innovation
+    /// covariance `S`), the mode probabilities by the Gaussian likelihoods `N(nu_j; 0, S_j)`,
+    /// the combined estimate; returns the mixture's innovation and NIS (prior mode
+    /// probabilities). The filter is unchanged on error.
+    fn update_modes<const D: usize>(
+        &mut self,
+        mut update: impl FnMut(
+            &mut Ekf,
+        )
+            -> Result<(SVector<f64, D>, f64, SMatrix<f64, D, D>), FilterError>,
+    ) -> Result<(SVector<f64, D>, f64), FilterError> {
+        let r = self.r();
+        let mut next = self.modes.clone();
+        let mut ll = [f64::NEG_INFINITY; MAX_MODES];
+        let mut nus = [SVector::<f64, D>::zeros(); MAX_MODES];
+        let mut ss = [SMatrix::<f64, D, D>::zeros(); MAX_MODES];
+        for j in 0..r {
+            let (innovation, nis, s) = update(&mut next[j])?;
+            let chol = s
+                .cholesky()
+                .ok_or(FilterError::NotPositiveDefinite("innovation covariance S"))?;
+            let ln_det: f64 = chol.l_dirty().diagonal().iter().map(|d| 2.0 * d.ln()).sum();
+            ll[j] = -0.5 * (nis + ln_det);
+            nus[j] = innovation;
+            ss[j] = s;
+        }
+        let top = ll.iter().take(r).copied().fold(f64::NEG_INFINITY, f64::max);
+        if !top.is_finite() {
+            return Err(FilterError::NonFinite("mode likelihood"));
+        }
+        let mut mu = [0.0; MAX_MODES];
+        let mut sum = 0.0;
+        for j in 0..r {
+            mu[j] = self.mu[j] * (ll[j] - top).exp();
+            sum += mu[j];
+        }
+        if !(sum > 0.0 && sum.is_finite()) {
+            return Err(FilterError::NonFinite("mode probabilities"));
+        }
+        for m in mu.iter_mut() {
+            *m /= sum;
+        }
+        // diagnostics of the mixture (prior mode probabilities)
+        let mut nu = SVector::<f64, D>::zeros();
+        for (n, m) in nus.iter().zip(self.mu).take(r) {
+            nu += n * m;
+        }
+        let mut s = SMatrix::<f64, D, D>::zeros();
+        for ((n, sj), m) in nus.iter().zip(ss).zip(self.mu).take(r) {
+            let d = n - nu;
+            s += (sj + d * d.transpose()) * m;
+        }
+        let nis = s.cholesky().map_or(f64::NAN, |c| nu.dot(&c.solve(&nu)));
+        let saved = (self.modes.clone(), self.mu);
+        self.modes = next;
+        self.mu = mu;
+        if let Err(e) = self.combine() {
+            (self.modes, self.mu) = saved;
+            return Err(e);
+        }
+        Ok((nu, nis))
+    }
+}
+
 impl Estimator for Imm {
     fn predict(&mut self, model: &DiscreteModel, accel: &Vec3) -> Result<(), FilterError> {
         self.refresh_basis(model.t, model.dt);
@@ -280,61 +346,34 @@ impl Estimator for Imm {
         sensor: &M,
         z: &Vec3,
     ) -> Result<UpdateInfo, FilterError> {
-        let r = self.r();
-        let mut next = self.modes.clone();
-        let mut ll = [f64::NEG_INFINITY; MAX_MODES];
-        let mut nus = [Vec3::zeros(); MAX_MODES];
-        let mut ss = [Mat3::zeros(); MAX_MODES];
         let mut azimuth_used = true;
-        for j in 0..r {
-            let (info, s) = next[j].update_with_s(sensor, z)?;
-            let chol = s
-                .cholesky()
-                .ok_or(FilterError::NotPositiveDefinite("innovation covariance S"))?;
-            let ln_det: f64 = chol.l_dirty().diagonal().iter().map(|d| 2.0 * d.ln()).sum();
-            ll[j] = -0.5 * (info.nis + ln_det);
-            nus[j] = info.innovation;
-            ss[j] = s;
+        let (innovation, nis) = self.update_modes(|mode| {
+            let (info, s) = mode.update_with_s(sensor, z)?;
             azimuth_used &= info.azimuth_used;
-        }
-        let top = ll.iter().take(r).copied().fold(f64::NEG_INFINITY, f64::max);
-        if !top.is_finite() {
-            return Err(FilterError::NonFinite("mode likelihood"));
-        }
-        let mut mu = [0.0; MAX_MODES];
-        let mut sum = 0.0;
-        for j in 0..r {
-            mu[j] = self.mu[j] * (ll[j] - top).exp();
-            sum += mu[j];
-        }
-        if !(sum > 0.0 && sum.is_finite()) {
-            return Err(FilterError::NonFinite("mode probabilities"));
-        }
-        for m in mu.iter_mut() {
-            *m /= sum;
-        }
-        // diagnostics of the mixture (prior mode probabilities)
-        let mut nu = Vec3::zeros();
-        for (n, m) in nus.iter().zip(self.mu).take(r) {
-            nu += n * m;
-        }
-        let mut s = Mat3::zeros();
-        for ((n, sj), m) in nus.iter().zip(ss).zip(self.mu).take(r) {
-            let d = n - nu;
-            s += (sj + d * d.transpose()) * m;
-        }
-        let nis = s.cholesky().map_or(f64::NAN, |c| nu.dot(&c.solve(&nu)));
-        let saved = (self.modes.clone(), self.mu);
-        self.modes = next;
-        self.mu = mu;
-        if let Err(e) = self.combine() {
-            (self.modes, self.mu) = saved;
-            return Err(e);
-        }
+            Ok((info.innovation, info.nis, s))
+        })?;
         Ok(UpdateInfo {
-            innovation: nu,
+            innovation,
             nis,
             azimuth_used,
+        })
+    }
+
+    fn update_sensor<const D: usize, S: Sensor<D> + ?Sized>(
+        &mut self,
+        sensor: &S,
+        z: &SVector<f64, D>,
+    ) -> Result<SensorUpdate<D>, FilterError> {
+        let mut dof = D;
+        let (innovation, nis) = self.update_modes(|mode| {
+            let (info, s) = mode.update_sensor_with_s(sensor, z)?;
+            dof = dof.min(info.dof);
+            Ok((info.innovation, info.nis, s))
+        })?;
+        Ok(SensorUpdate {
+            innovation,
+            nis,
+            dof,
         })
     }
 

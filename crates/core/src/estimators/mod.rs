@@ -1,15 +1,19 @@
 //! Estimators behind one trait.
 //!
 //! Every filter works on the canonical-frame state `(r, v)` (see [`crate::frames`]), takes
-//! its dynamics as a [`DiscreteModel`] for the current step and its measurement model as a
-//! [`MeasurementModel`] (radio range/azimuth/elevation or Cartesian position). Frames, units of thrust and the choice of step are the caller's
+//! its dynamics as a [`DiscreteModel`] for the current step and a measurement either from a
+//! [`MeasurementModel`] (the radio's range/azimuth/elevation or a Cartesian position, with
+//! the vectorised specialisations: [`Estimator::update`]) or from any [`Sensor`] (one
+//! generic path: [`Estimator::update_sensor`]). Frames, units of thrust and the choice of
+//! step are the caller's
 //! ([`crate::nav::Navigator`]). All types are fixed-size nalgebra matrices: a step performs
 //! no heap allocation (checked by `tests/no_alloc.rs`). A step that fails leaves the
 //! estimate unchanged.
 
 use crate::dynamics::DiscreteModel;
-use crate::sensors::{GeometryError, MeasurementModel};
+use crate::sensors::{GeometryError, MeasurementModel, Sensor};
 use crate::types::{Mat6, State, Vec3};
+use nalgebra::SVector;
 
 pub mod aqukf;
 mod covariance;
@@ -34,6 +38,8 @@ pub enum FilterError {
     NotPositiveDefinite(&'static str),
     /// The result contains NaN or infinity.
     NonFinite(&'static str),
+    /// This filter cannot take this measurement (the reason).
+    Unsupported(&'static str),
 }
 
 impl std::fmt::Display for FilterError {
@@ -44,6 +50,7 @@ impl std::fmt::Display for FilterError {
                 write!(f, "{what} is not positive definite")
             }
             FilterError::NonFinite(what) => write!(f, "{what} is not finite"),
+            FilterError::Unsupported(why) => f.write_str(why),
         }
     }
 }
@@ -66,6 +73,20 @@ pub struct UpdateInfo {
     pub azimuth_used: bool,
 }
 
+/// Diagnostics of a measurement update through the generic path
+/// ([`Estimator::update_sensor`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SensorUpdate<const D: usize> {
+    /// Innovation `z - h(x-)` at the prior estimate (angles wrapped; zero for the
+    /// components not used).
+    pub innovation: SVector<f64, D>,
+    /// Normalised innovation squared `nu^T S^-1 nu` (NaN for the filters that form no
+    /// innovation covariance: the particle and H-infinity filters).
+    pub nis: f64,
+    /// Components used (the chi-square degrees of freedom of `nis`).
+    pub dof: usize,
+}
+
 /// A recursive estimator of the canonical relative state.
 pub trait Estimator {
     /// Time update over one step: `x+ = Phi x + Gamma a`, covariance through the model,
@@ -78,6 +99,16 @@ pub trait Estimator {
         sensor: &M,
         z: &Vec3,
     ) -> Result<UpdateInfo, FilterError>;
+    /// Measurement update with `z` from any `sensor` of any dimension: the generic path
+    /// every filter has (the Kalman filters' update with the sensor's linearisation or
+    /// sigma points and its noise's Gaussian, the particle filters' weighting with its
+    /// noise density; see each filter). [`Estimator::update`] is the radio's specialised
+    /// path. The estimate is unchanged on error.
+    fn update_sensor<const D: usize, S: Sensor<D> + ?Sized>(
+        &mut self,
+        sensor: &S,
+        z: &SVector<f64, D>,
+    ) -> Result<SensorUpdate<D>, FilterError>;
     /// Current state estimate (canonical frame).
     fn state(&self) -> &State;
     /// Current error covariance (canonical frame).

@@ -30,12 +30,12 @@
 //! `Wc_0 ~ -1e6` and loses about twelve digits of the covariance for this problem.
 
 use super::covariance::{propagate_covariance, time_update};
-use super::{finite, Estimator, FilterError, UpdateInfo};
+use super::{finite, Estimator, FilterError, SensorUpdate, UpdateInfo};
 use crate::dynamics::DiscreteModel;
 use crate::numerics::cholesky::{self, chol3_lane, dot3, forward_lane, lower6, outer6};
 use crate::numerics::state::{Persist, Reader, StateError, Writer};
 use crate::numerics::symmetrize;
-use crate::sensors::{AngleTrig, GeometryError, MeasurementModel, SevenBlock};
+use crate::sensors::{AngleTrig, GeometryError, MeasurementModel, Sensor, SevenBlock};
 use crate::types::{Mat3, Mat6, Mat63, State, Vec3};
 use nalgebra::{SMatrix, SVector};
 
@@ -301,6 +301,62 @@ impl Ukf {
         self.x = xn;
         self.p = pn;
         Ok(nis)
+    }
+
+    /// The unscented measurement update of `(x, P)` with any sensor (the generic path,
+    /// [`Estimator::update_sensor`]), not committed: the 13 sigma points' measurements,
+    /// their mean and deviations by the sensor's own `mean` and `residual` (circular for
+    /// angles), `Pzz = sum Wc dz dz^T + R` with the noise's Gaussian `R`, `Pxz`, the gain
+    /// by a Cholesky solve. Components the sensor marks unused at `x` are dropped (zero
+    /// deviations and residual).
+    pub fn sensor_update<const D: usize, S: Sensor<D> + ?Sized>(
+        &self,
+        x: &State,
+        p: &Mat6,
+        sensor: &S,
+        z: &SVector<f64, D>,
+    ) -> Result<(State, Mat6, SensorUpdate<D>), FilterError> {
+        let used = sensor.linearize(x)?.used;
+        let s = self.sigma_points(x, p)?;
+        let mut zs = [SVector::<f64, D>::zeros(); NS];
+        for (i, zi) in zs.iter_mut().enumerate() {
+            *zi = sensor
+                .measure(&s.column(i).into_owned())
+                .ok_or(FilterError::Geometry(GeometryError::ZeroRange))?;
+        }
+        let z_hat = sensor.mean(&self.wm, &zs);
+        let drop = |mut v: SVector<f64, D>| {
+            for (k, u) in used.iter().enumerate() {
+                if !u {
+                    v[k] = 0.0;
+                }
+            }
+            v
+        };
+        let mut pzz = sensor.noise().cov();
+        let mut pxz = SMatrix::<f64, N, D>::zeros();
+        for (i, zi) in zs.iter().enumerate() {
+            let dz = drop(sensor.residual(zi, &z_hat));
+            let dx = s.column(i) - x;
+            pzz += dz * dz.transpose() * self.wc[i];
+            pxz += dx * dz.transpose() * self.wc[i];
+        }
+        let chol = pzz.cholesky().ok_or(FilterError::NotPositiveDefinite(
+            "innovation covariance Pzz",
+        ))?;
+        let k = chol.solve(&pxz.transpose()).transpose();
+        let nu = drop(sensor.residual(z, &z_hat));
+        let xn = x + k * nu;
+        let pn = symmetrize(&(p - k * pzz * k.transpose()));
+        finite(&xn, "updated state")?;
+        finite(&pn, "updated covariance")?;
+        let nis = nu.dot(&chol.solve(&nu));
+        let info = SensorUpdate {
+            innovation: nu,
+            nis,
+            dof: used.iter().filter(|u| **u).count(),
+        };
+        Ok((xn, pn, info))
     }
 
     fn sigma_points(&self, x: &State, p: &Mat6) -> Result<Sigma, FilterError> {
@@ -670,6 +726,17 @@ impl Estimator for Ukf {
     ) -> Result<UpdateInfo, FilterError> {
         let (x, p, info) =
             self.measurement_update(&self.x, &self.p, sensor, &sensor.noise_cov(), z)?;
+        self.x = x;
+        self.p = p;
+        Ok(info)
+    }
+
+    fn update_sensor<const D: usize, S: Sensor<D> + ?Sized>(
+        &mut self,
+        sensor: &S,
+        z: &SVector<f64, D>,
+    ) -> Result<SensorUpdate<D>, FilterError> {
+        let (x, p, info) = self.sensor_update(&self.x, &self.p, sensor, z)?;
         self.x = x;
         self.p = p;
         Ok(info)

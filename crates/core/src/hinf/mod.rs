@@ -798,6 +798,38 @@ impl crate::estimators::Estimator for HinfEstimator {
             azimuth_used: true,
         })
     }
+    /// A sensor that fixes the position ([`crate::sensors::Sensor::position_fix`]: the
+    /// radio, a Cartesian position) is taken as the design's measured position, one per
+    /// step; any other is refused: the design's guarantee covers a position measurement.
+    fn update_sensor<const D: usize, S: crate::sensors::Sensor<D> + ?Sized>(
+        &mut self,
+        sensor: &S,
+        z: &nalgebra::SVector<f64, D>,
+    ) -> Result<crate::estimators::SensorUpdate<D>, crate::estimators::FilterError> {
+        use crate::estimators::FilterError;
+        let y = sensor.position_fix(z).ok_or(FilterError::Unsupported(
+            "the H-infinity filter takes position measurements only (its design's \
+             measurement): this sensor does not fix the position",
+        ))?;
+        if !y.iter().all(|v| v.is_finite()) {
+            return Err(FilterError::NonFinite("indirect position"));
+        }
+        if self.pending.is_some() {
+            return Err(FilterError::Unsupported(
+                "the H-infinity filter takes one position measurement per step",
+            ));
+        }
+        let innovation = match sensor.measure(self.filter.state()) {
+            Some(zh) => sensor.residual(z, &zh),
+            None => nalgebra::SVector::from_element(f64::NAN),
+        };
+        self.pending = Some(y);
+        Ok(crate::estimators::SensorUpdate {
+            innovation,
+            nis: f64::NAN,
+            dof: D,
+        })
+    }
     fn state(&self) -> &State {
         self.filter.state()
     }

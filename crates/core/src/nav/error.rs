@@ -44,6 +44,12 @@ impl NavError {
 
 impl From<FilterError> for NavError {
     fn from(e: FilterError) -> Self {
+        if let FilterError::Unsupported(why) = e {
+            return Self {
+                kind: NavErrorKind::NotImplemented,
+                message: why.to_string(),
+            };
+        }
         Self {
             kind: NavErrorKind::Numerical,
             message: format!("filter step failed: {e}"),

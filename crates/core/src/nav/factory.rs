@@ -8,11 +8,12 @@ use super::error::{NavError, NavErrorKind};
 use crate::dynamics::DiscreteModel;
 use crate::estimators::aqukf::AqukfSnapshot;
 use crate::estimators::pf::{Kernel, ParticleFilter, PfInit};
-use crate::estimators::{Aqukf, Ekf, Estimator, FilterError, Imm, Ukf, UpdateInfo};
+use crate::estimators::{Aqukf, Ekf, Estimator, FilterError, Imm, SensorUpdate, Ukf, UpdateInfo};
 use crate::hinf::HinfEstimator;
 use crate::numerics::state::{Persist, Reader, StateError, Writer};
-use crate::sensors::MeasurementModel;
+use crate::sensors::{MeasurementModel, Sensor};
 use crate::types::{Mat6, State, Vec3};
+use nalgebra::SVector;
 
 /// The estimators a navigator can run (enum dispatch: no boxing, no allocation per step).
 #[derive(Debug, Clone)]
@@ -135,6 +136,20 @@ impl Estimator for AnyFilter {
             AnyFilter::Pf(f) => f.update(sensor, z),
             AnyFilter::Hinf(f) => f.update(sensor, z),
             AnyFilter::Imm(f) => f.update(sensor, z),
+        }
+    }
+    fn update_sensor<const D: usize, S: Sensor<D> + ?Sized>(
+        &mut self,
+        sensor: &S,
+        z: &SVector<f64, D>,
+    ) -> Result<SensorUpdate<D>, FilterError> {
+        match self {
+            AnyFilter::Ekf(f) => f.update_sensor(sensor, z),
+            AnyFilter::Ukf(f) => f.update_sensor(sensor, z),
+            AnyFilter::Aqukf(f) => f.update_sensor(sensor, z),
+            AnyFilter::Pf(f) => f.update_sensor(sensor, z),
+            AnyFilter::Hinf(f) => f.update_sensor(sensor, z),
+            AnyFilter::Imm(f) => f.update_sensor(sensor, z),
         }
     }
     fn state(&self) -> &State {

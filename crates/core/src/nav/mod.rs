@@ -22,6 +22,9 @@ pub mod config;
 pub mod error;
 pub mod factory;
 mod persist;
+#[cfg(test)]
+mod sensor_tests;
+pub mod sensors;
 
 pub use config::{
     FilterKind, HinfDesignKind, NavConfig, NoiseKind, Setting, MAX_INITIAL_MAGNITUDE,
@@ -30,6 +33,7 @@ pub use config::{
 pub use error::{NavError, NavErrorKind};
 pub use factory::{build_filter, build_filter_with, AnyFilter, FilterOptions};
 pub use persist::STATE_FORMAT_VERSION;
+pub use sensors::{Named, NavSensor, SensorReport};
 
 use crate::dynamics::{DiscreteModel, Dynamics, RelativeDynamics};
 use crate::estimators::pf::ParticleFilter;
@@ -40,6 +44,7 @@ use crate::sensors::RadioSensor;
 use crate::types::{Mat3, Mat6, State, Vec3};
 use config::positive;
 use factory::Snapshot;
+use std::sync::Arc;
 
 /// Longest accepted step, in orbital periods `2 pi / n` of the target: a prediction over
 /// more than 1000 orbits (for a 90-minute orbit, two months; geostationary, three years) is
@@ -96,6 +101,12 @@ pub struct Navigator {
     filter: AnyFilter,
     step_cache: DiscreteModel,
     last_update: Option<UpdateInfo>,
+    /// the sensors beside the radio ([`Navigator::add_sensor`]), in the order they are
+    /// applied, and each one's last report
+    sensors: Vec<Arc<dyn NavSensor>>,
+    reports: Vec<Option<SensorReport>>,
+    /// a step's new reports, committed when the step succeeds (allocated with the sensors)
+    pending: Vec<Option<SensorReport>>,
     /// a particle filter's prediction failed after its update in one step: refuse to go
     /// on until reset
     failed: bool,
@@ -130,6 +141,9 @@ impl Navigator {
                 q: Mat6::zeros(),
             },
             last_update: None,
+            sensors: Vec::new(),
+            reports: Vec::new(),
+            pending: Vec::new(),
             failed: false,
         };
         nav.discrete(1.0);
@@ -377,6 +391,110 @@ impl Navigator {
         result
     }
 
+    /// Add a sensor beside the configured radio (any [`crate::sensors::Sensor`] through
+    /// [`Named`]); returns its index among the added sensors, the position of its reading
+    /// in [`Navigator::step_with`]. Sensors are configuration: a saved state does not hold
+    /// them, and a navigator that restores one must have been given the same sensors.
+    pub fn add_sensor(&mut self, sensor: Arc<dyn NavSensor>) -> usize {
+        self.sensors.push(sensor);
+        self.reports.push(None);
+        self.pending.push(None);
+        self.sensors.len() - 1
+    }
+
+    /// The sensors added by [`Navigator::add_sensor`], in order.
+    pub fn sensors(&self) -> &[Arc<dyn NavSensor>] {
+        &self.sensors
+    }
+
+    /// The last report of added sensor `i` (`None` before its first update or after a
+    /// reset).
+    pub fn sensor_report(&self, i: usize) -> Option<SensorReport> {
+        self.reports.get(i).copied().flatten()
+    }
+
+    /// One step with every sensor: the radio's `measurement` (if any), then the reading of
+    /// each added sensor that has one (`readings[i]` for sensor `i`, in the order they were
+    /// added; `readings` as long as the sensors), all taken at the step's start, then the
+    /// prediction over `dt` with `thrust` held. Inputs are checked before anything changes.
+    /// A failed step leaves the estimate as it was, except a particle filter that fails
+    /// after one of its updates succeeded (its updates are each transactional, not the
+    /// step): it is marked failed, as in [`Navigator::step`].
+    pub fn step_with(
+        &mut self,
+        thrust: &[f64; 3],
+        measurement: Option<&[f64; 3]>,
+        readings: &[Option<&[f64]>],
+        dt: f64,
+    ) -> Result<(), NavError> {
+        if readings.len() != self.sensors.len() {
+            return Err(NavError::invalid(format!(
+                "{} readings given for {} added sensors",
+                readings.len(),
+                self.sensors.len()
+            )));
+        }
+        if readings.iter().all(Option::is_none) {
+            return self.step(thrust, measurement, dt);
+        }
+        self.check_dt(dt)?;
+        finite3("thrust", thrust)?;
+        if let Some(z) = measurement {
+            Self::check_measurement(z)?;
+        }
+        for (s, z) in self.sensors.iter().zip(readings) {
+            if let Some(z) = z {
+                s.check(z).map_err(NavError::invalid)?;
+            }
+        }
+        self.check_not_failed()?;
+        self.discrete(dt);
+        // several updates: the whole filter to restore (no heap: the Kalman-type filters
+        // are fixed-size); the particle filters' updates are each transactional
+        let saved = match &self.filter {
+            AnyFilter::Pf(_) => None,
+            f => Some(f.clone()),
+        };
+        let last = self.last_update;
+        self.pending.iter_mut().for_each(|r| *r = None);
+        let mut updated = false;
+        let mut result = match measurement {
+            Some(z) => self.update_checked(z).map(|_| updated = true),
+            None => Ok(()),
+        };
+        for (i, z) in readings.iter().enumerate() {
+            if result.is_err() {
+                break;
+            }
+            if let (Some(z), Some(s)) = (z, self.sensors.get(i)) {
+                result = match s.apply(&mut self.filter, z) {
+                    Ok(r) => {
+                        self.pending[i] = Some(r);
+                        updated = true;
+                        Ok(())
+                    }
+                    Err(e) => Err(NavError::from(e)),
+                };
+            }
+        }
+        let result = result.and_then(|()| self.predict_checked(thrust, dt));
+        match (&result, saved) {
+            (Ok(()), _) => {
+                for (r, p) in self.reports.iter_mut().zip(&self.pending) {
+                    if p.is_some() {
+                        *r = *p;
+                    }
+                }
+            }
+            (Err(_), Some(f)) => {
+                self.filter = f;
+                self.last_update = last;
+            }
+            (Err(_), None) => self.failed |= updated,
+        }
+        result
+    }
+
     /// Back to the initial estimate. A particle filter is rebuilt from its settings (new
     /// particles drawn with the configured seed), so a reset navigator reproduces a new one
     /// bit for bit; a failed particle filter works again.
@@ -389,6 +507,7 @@ impl Navigator {
             other => other.set_estimate(x0, p0),
         }
         self.last_update = None;
+        self.reports.iter_mut().for_each(|r| *r = None);
         self.failed = false;
         self.t = 0.0;
     }

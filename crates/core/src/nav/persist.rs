@@ -26,6 +26,11 @@ impl Navigator {
             // a cache of the discrete model per step size, recomputed from `cfg` (same bits)
             step_cache: _,
             last_update,
+            // the added sensors are the caller's configuration, their reports diagnostics
+            // (cleared by a restore)
+            sensors: _,
+            reports: _,
+            pending: _,
             failed,
         } = self;
         w.tag(b"CONF");
@@ -158,6 +163,7 @@ impl Navigator {
         // commit: nothing below can fail
         self.filter = filter;
         self.last_update = last_update;
+        self.reports.iter_mut().for_each(|r| *r = None);
         self.failed = failed;
         Ok(())
     }

@@ -25,19 +25,26 @@
 //! * Azimuth residuals are wrapped to `(-pi, pi]` ([`wrap_pi`]), so a measurement of 359.99°
 //!   against a prediction of 0.01° is a 0.02° residual, not 359.98°.
 //!
-//! The [`MeasurementModel`] trait (what a filter needs of a sensor) and the geometry types
-//! are here; the sensors are [`RadioSensor`] (`radio.rs`, with its vectorised residuals and
-//! unscented transforms) and [`CartesianSensor`] (`cartesian.rs`); the angle helpers
-//! ([`wrap_pi`], [`AngleTrig`], [`asin_small`]) are in `angles.rs`.
+//! Two traits say what a filter needs of a sensor. [`Sensor`] (`sensor.rs`) is the generic
+//! one: any number of components, a function of the full state, its own noise density;
+//! every filter takes it through one path
+//! ([`crate::estimators::Estimator::update_sensor`]). [`MeasurementModel`] (here) is the
+//! radio-shaped specialisation: three components of the position, with the hooks the
+//! filters' vectorised paths use ([`Modelled`] makes one a [`Sensor`]). The sensors are
+//! [`RadioSensor`] (`radio.rs`, with its vectorised residuals and unscented transforms)
+//! and [`CartesianSensor`] (`cartesian.rs`); the angle helpers ([`wrap_pi`], [`AngleTrig`],
+//! [`asin_small`]) are in `angles.rs`.
 
 mod angles;
 mod cartesian;
 mod radio;
+mod sensor;
 
 pub(crate) use angles::ASIN_SERIES_MAX;
 pub use angles::{asin_series, asin_small, wrap_2pi, wrap_pi, AngleTrig};
 pub use cartesian::CartesianSensor;
 pub use radio::RadioSensor;
+pub use sensor::{Linearization, Modelled, Sensor, SensorNoise};
 
 use crate::types::{Mat3, Mat36, Vec3};
 

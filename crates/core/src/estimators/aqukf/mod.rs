@@ -98,10 +98,10 @@ mod tests;
 pub use adaptive_q::{chi2_quantile_wh, AdaptiveQ};
 pub use params::{AdaptationLaw, AqParams, MAX_GATE_WINDOW, MAX_WINDOW};
 
-use super::{Estimator, FilterError, Ukf, UkfParams, UpdateInfo};
+use super::{Estimator, FilterError, SensorUpdate, Ukf, UkfParams, UpdateInfo};
 use crate::dynamics::{DiscreteModel, Dynamics, RelativeDynamics};
 use crate::numerics::state::{Persist, Reader, StateError, Writer};
-use crate::sensors::MeasurementModel;
+use crate::sensors::{MeasurementModel, Sensor};
 use crate::types::{Mat3, Mat6, State, Vec3};
 use nalgebra::{SMatrix, SVector};
 
@@ -226,6 +226,19 @@ impl AdaptiveUkf {
         let info = self.ukf.update(sensor, z)?;
         let dof = if info.azimuth_used { 3.0 } else { 2.0 };
         self.observe(&x0, &p0, info.nis, dof);
+        Ok(info)
+    }
+
+    /// Unscented update with any sensor ([`Ukf::sensor_update`]), then the adaptation on
+    /// its innovation (the NIS with the sensor's used components as degrees of freedom).
+    pub fn update_sensor<const D: usize, S: Sensor<D> + ?Sized>(
+        &mut self,
+        sensor: &S,
+        z: &SVector<f64, D>,
+    ) -> Result<SensorUpdate<D>, FilterError> {
+        let (x0, p0) = (*self.ukf.state(), *self.ukf.covariance());
+        let info = self.ukf.update_sensor(sensor, z)?;
+        self.observe(&x0, &p0, info.nis, info.dof as f64);
         Ok(info)
     }
 
@@ -368,6 +381,14 @@ impl Estimator for Aqukf {
         z: &Vec3,
     ) -> Result<UpdateInfo, FilterError> {
         self.core.update(sensor, z)
+    }
+
+    fn update_sensor<const D: usize, S: Sensor<D> + ?Sized>(
+        &mut self,
+        sensor: &S,
+        z: &SVector<f64, D>,
+    ) -> Result<SensorUpdate<D>, FilterError> {
+        self.core.update_sensor(sensor, z)
     }
 
     fn state(&self) -> &State {

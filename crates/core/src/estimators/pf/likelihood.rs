@@ -7,8 +7,73 @@ use super::N;
 use crate::noise::NoiseModel;
 use crate::numerics::simd;
 use crate::numerics::soa::BLOCK;
-use crate::sensors::{AngleTrig, MeasurementModel};
+use crate::sensors::{AngleTrig, MeasurementModel, Sensor, SensorNoise};
 use crate::types::{State, Vec3};
+use nalgebra::{SMatrix, SVector};
+
+/// What the particle filters' moves need of a measurement's likelihood (`D` its
+/// components): `ln p(z | x)` of one particle, of a run of particles and of a block of
+/// candidates in structure-of-arrays form, and the linearisation and local noise variances
+/// of the Gaussian proposal of the rejuvenation. [`Likelihood`] is the radio's (its
+/// vectorised residuals), [`SensorLikelihood`] any [`Sensor`]'s.
+pub(super) trait ParticleLikelihood<const D: usize>: Sync {
+    /// `ln p(z | x)` up to a constant, `-inf` where the measurement is undefined.
+    fn log(&self, x: &State) -> f64;
+    /// [`ParticleLikelihood::log`] of every particle of `x` into `out` (same length).
+    fn log_many(&self, x: &[State], out: &mut [f64]);
+    /// `ln p(z | c)` of the first `n` candidates of a block in structure-of-arrays form
+    /// (`c[k][lane]`) into `ll` (the other lanes unspecified).
+    fn log_soa(&self, c: &[[f64; BLOCK]; 6], n: usize, ll: &mut [f64; BLOCK]);
+    /// The measurement linearised at `m0`: `H` and the innovation `z - h(m0)` (components
+    /// not used: zero row and zero residual); `None` where it cannot be.
+    fn linear(&self, m0: &State) -> Option<(SMatrix<f64, D, 6>, SVector<f64, D>)>;
+    /// The variance of the Gaussian that stands in for component `k`'s noise at the
+    /// innovation `nu` with predicted variance `pred_var` ([`NoiseModel::local_variance`]).
+    fn local_variance(&self, k: usize, nu: f64, pred_var: f64) -> f64;
+}
+
+/// The likelihood of any [`Sensor`]'s measurement `z`: its own noise density.
+pub(super) struct SensorLikelihood<'a, S: ?Sized, const D: usize> {
+    pub(super) sensor: &'a S,
+    pub(super) z: SVector<f64, D>,
+    pub(super) noise: SensorNoise<D>,
+}
+
+impl<const D: usize, S: Sensor<D> + ?Sized> ParticleLikelihood<D> for SensorLikelihood<'_, S, D> {
+    fn log(&self, x: &State) -> f64 {
+        match self.sensor.measure(x) {
+            Some(zh) => self.noise.log_density(&self.sensor.residual(&self.z, &zh)),
+            None => f64::NEG_INFINITY,
+        }
+    }
+    fn log_many(&self, x: &[State], out: &mut [f64]) {
+        for (xi, o) in x.iter().zip(out.iter_mut()) {
+            *o = self.log(xi);
+        }
+    }
+    fn log_soa(&self, c: &[[f64; BLOCK]; 6], n: usize, ll: &mut [f64; BLOCK]) {
+        for (i, l) in ll.iter_mut().enumerate().take(n) {
+            *l = self.log(&State::from_fn(|k, _| c[k][i]));
+        }
+    }
+    fn linear(&self, m0: &State) -> Option<(SMatrix<f64, D, 6>, SVector<f64, D>)> {
+        let lin = self.sensor.linearize(m0).ok()?;
+        let mut nu = self.sensor.residual(&self.z, &lin.z);
+        let mut h = lin.h;
+        for (k, used) in lin.used.iter().enumerate() {
+            if !used {
+                nu[k] = 0.0;
+                h.row_mut(k).fill(0.0);
+            }
+        }
+        Some((h, nu))
+    }
+    fn local_variance(&self, k: usize, nu: f64, pred_var: f64) -> f64 {
+        self.noise
+            .model
+            .local_variance(nu, pred_var, self.noise.scales[k])
+    }
+}
 
 /// The measurement likelihood a particle filter weighs with.
 pub(super) struct Likelihood<'a, M> {
@@ -51,6 +116,38 @@ impl<'a, M: MeasurementModel> Likelihood<'a, M> {
                 .map(|k| self.noise.log_density(d[k], self.scales[k]))
                 .sum()
         }
+    }
+}
+
+impl<M: MeasurementModel> ParticleLikelihood<3> for Likelihood<'_, M> {
+    #[inline(always)]
+    fn log(&self, x: &State) -> f64 {
+        Likelihood::log(self, x)
+    }
+    fn log_many(&self, x: &[State], out: &mut [f64]) {
+        Likelihood::log_many(self, x, out)
+    }
+    /// Through the sensor's vectorised residuals ([`MeasurementModel::residuals_at`]).
+    #[inline(always)]
+    fn log_soa(&self, c: &[[f64; BLOCK]; 6], n: usize, ll: &mut [f64; BLOCK]) {
+        let r = [c[0], c[1], c[2]];
+        let mut d = [[0.0; BLOCK]; 3];
+        let mut ok = [false; BLOCK];
+        self.log_block_soa(&r, n, &mut d, &mut ok, ll);
+    }
+    fn linear(&self, m0: &State) -> Option<(SMatrix<f64, 3, 6>, Vec3)> {
+        let g = self
+            .sensor
+            .linearize(&m0.fixed_rows::<3>(0).into_owned())
+            .ok()?;
+        let mut nu = self.sensor.diff(&self.z, &g.z);
+        if !g.azimuth_usable {
+            nu.y = 0.0; // H row is zero too (see the sensors docs)
+        }
+        Some((g.h, nu))
+    }
+    fn local_variance(&self, k: usize, nu: f64, pred_var: f64) -> f64 {
+        self.noise.local_variance(nu, pred_var, self.scales[k])
     }
 }
 

@@ -119,6 +119,7 @@ mod predict;
 mod regularise;
 pub mod resample;
 mod rng;
+mod sensor_update;
 #[cfg(test)]
 mod tests;
 mod transition;

@@ -97,7 +97,7 @@
 //! The GA-PF's and the CGA-PF's operators are Metropolis–Hastings moves for the same
 //! `pi` ([`super::genetic`]).
 
-use super::likelihood::Likelihood;
+use super::likelihood::ParticleLikelihood;
 use super::par::CHUNK;
 use super::ParticleFilter;
 use crate::numerics::cholesky::chol;
@@ -106,29 +106,26 @@ use crate::numerics::soa::BLOCK;
 use crate::numerics::symmetrize;
 use crate::numerics::vexp::exp_nonpos;
 use crate::numerics::ziggurat::{Lanes, Ziggurat};
-use crate::sensors::MeasurementModel;
-use crate::types::{Mat3, Mat6, State, Vec3};
-use nalgebra::SMatrix;
+use crate::types::{Mat6, State};
+use nalgebra::{SMatrix, SVector};
 use std::cell::OnceCell;
 
-type Mat36 = SMatrix<f64, 3, 6>;
-
 /// The independence sampler of the rejuvenation (see the module documentation).
-struct Rejuvenation<'a, M> {
-    lik: &'a Likelihood<'a, M>,
+struct Rejuvenation<'a, L, const D: usize> {
+    lik: &'a L,
     /// the linearisation point `m-`
     m0: State,
-    h: Mat36,
-    nu: Vec3,
+    h: SMatrix<f64, D, 6>,
+    nu: SVector<f64, D>,
     /// `1 / R_kk`
-    rinv: Vec3,
+    rinv: SVector<f64, D>,
     /// proposal mean `m+` and Cholesky factor `L+`
     mq: State,
     lq: Mat6,
     /// `H L+` and `nu - H (m+ - m-)`: the linearised residual of `y = m+ + L+ eps` is
     /// `c - H L+ eps`
-    hl: Mat36,
-    c: Vec3,
+    hl: SMatrix<f64, D, 6>,
+    c: SVector<f64, D>,
 }
 
 /// What one run of particles contributes to the moments and the counts.
@@ -142,13 +139,13 @@ struct RejuvenationSums {
     accepted: u64,
 }
 
-impl<M: MeasurementModel> Rejuvenation<'_, M> {
+impl<const D: usize, L: ParticleLikelihood<D>> Rejuvenation<'_, L, D> {
     /// `ln g(z | x)` from the linearised residual `res`.
     #[inline(always)]
-    fn log_g(&self, res: &Vec3) -> f64 {
-        -0.5 * (res.x * res.x * self.rinv.x
-            + res.y * res.y * self.rinv.y
-            + res.z * res.z * self.rinv.z)
+    fn log_g(&self, res: &SVector<f64, D>) -> f64 {
+        // every term is >= 0, so starting from +0 adds nothing
+        let q = (0..D).fold(0.0, |acc, k| acc + res[k] * res[k] * self.rinv[k]);
+        -0.5 * q
     }
 
     /// One independence MH step for each particle of a run, block by block: the block's
@@ -243,27 +240,17 @@ impl ParticleFilter {
     /// sets the filter's mean and covariance. False (nothing moved) when the Gaussian
     /// proposal cannot be formed (the sensor's linearisation fails at the predictive mean
     /// or a covariance is not positive definite).
-    pub(super) fn rejuvenate<M: MeasurementModel>(
-        &mut self,
-        lik: &Likelihood<'_, M>,
-        sensor: &M,
-        z: &Vec3,
-    ) -> bool {
+    pub(super) fn rejuvenate<const D: usize, L: ParticleLikelihood<D>>(&mut self, lik: &L) -> bool {
         let (m0, p0) = (self.pred_mean, self.pred_cov);
-        let Ok(g) = sensor.linearize(&m0.fixed_rows::<3>(0).into_owned()) else {
+        let Some((h, nu)) = lik.linear(&m0) else {
             return false;
         };
-        let mut nu = sensor.diff(z, &g.z);
-        if !g.azimuth_usable {
-            nu.y = 0.0; // H row is zero too (see the sensors docs)
-        }
-        let h = g.h;
         let ph = p0 * h.transpose();
         let hph = h * ph;
         // the noise's Gaussian stand-in at this innovation (its variance for Gaussian
         // noise; the narrow or the wide one for an inlier or an outlier of a heavy tail)
-        let r = Mat3::from_diagonal(&Vec3::from_fn(|k, _| {
-            lik.noise.local_variance(nu[k], hph[(k, k)], lik.scales[k])
+        let r = SMatrix::<f64, D, D>::from_diagonal(&SVector::<f64, D>::from_fn(|k, _| {
+            lik.local_variance(k, nu[k], hph[(k, k)])
         }));
         let Some(s) = (hph + r).cholesky() else {
             return false;
@@ -280,7 +267,7 @@ impl ParticleFilter {
             m0,
             h,
             nu,
-            rinv: Vec3::new(1.0 / r[(0, 0)], 1.0 / r[(1, 1)], 1.0 / r[(2, 2)]),
+            rinv: SVector::<f64, D>::from_fn(|k, _| 1.0 / r[(k, k)]),
             mq,
             lq,
             hl: h * lq,

@@ -7,13 +7,14 @@ use super::rng::PfRng;
 use super::transition::{CwBlocks, Transition};
 use super::ParticleFilter;
 use crate::dynamics::DiscreteModel;
-use crate::estimators::{Estimator, FilterError, UpdateInfo};
+use crate::estimators::{Estimator, FilterError, SensorUpdate, UpdateInfo};
 use crate::noise::NoiseModel;
 use crate::numerics::cholesky::chol;
 use crate::numerics::eigen::psd_sqrt;
 use crate::numerics::symmetrize;
-use crate::sensors::MeasurementModel;
+use crate::sensors::{MeasurementModel, Sensor};
 use crate::types::{Mat6, State, Vec3};
+use nalgebra::SVector;
 use rand::SeedableRng;
 use std::cell::OnceCell;
 
@@ -139,6 +140,14 @@ impl Estimator for ParticleFilter {
         let r = sensor.noise_cov();
         let scales = [r[(0, 0)].sqrt(), r[(1, 1)].sqrt(), r[(2, 2)].sqrt()];
         self.update_with(sensor, z, &NoiseModel::Gaussian, &scales)
+    }
+
+    fn update_sensor<const D: usize, S: Sensor<D> + ?Sized>(
+        &mut self,
+        sensor: &S,
+        z: &SVector<f64, D>,
+    ) -> Result<SensorUpdate<D>, FilterError> {
+        self.update_sensor_with(sensor, z)
     }
 
     fn state(&self) -> &State {

@@ -5,7 +5,7 @@
 //! ([`ParticleFilter::regularise_mh`]; [`super::moves`] has the target and why); without,
 //! every jitter is kept ([`ParticleFilter::regularise`]).
 
-use super::likelihood::Likelihood;
+use super::likelihood::ParticleLikelihood;
 use super::par::CHUNK;
 use super::params::{bandwidth, Kernel};
 use super::{ParticleFilter, N};
@@ -15,16 +15,15 @@ use crate::numerics::moments::{unit_moments, LaneSums, Moments};
 use crate::numerics::soa::{block_to_rows, gather_to_block_in, BLOCK};
 use crate::numerics::vexp::exp_nonpos;
 use crate::numerics::ziggurat::{Lanes, Ziggurat, LANES};
-use crate::sensors::MeasurementModel;
 use crate::types::{Mat6, State};
 use std::cell::OnceCell;
 
 impl ParticleFilter {
     /// RPF with moves: kernel jitter `h D eps` after resampling, each jittered particle
     /// accepted by the Metropolis–Hastings test on `pi` (see the module documentation).
-    pub(super) fn regularise_mh<M: MeasurementModel>(
+    pub(super) fn regularise_mh<const D: usize, L: ParticleLikelihood<D>>(
         &mut self,
-        lik: &Likelihood<'_, M>,
+        lik: &L,
         cov_before: &Mat6,
     ) {
         // a non-finite particle covariance (particles near overflow) has no kernel: no jitter

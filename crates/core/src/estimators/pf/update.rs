@@ -3,7 +3,7 @@
 //! filters' moments, the resampling and the kind's moves, and the first-measurement
 //! initialisation.
 
-use super::likelihood::Likelihood;
+use super::likelihood::{Likelihood, ParticleLikelihood};
 use super::moments::{exp_moments, exp_moments_soa};
 use super::par::CHUNK;
 use super::params::PfKind;
@@ -58,6 +58,55 @@ impl ParticleFilter {
         }
         std::mem::swap(&mut self.x, &mut self.x_tmp);
         std::mem::swap(&mut self.xbar, &mut self.xbar_tmp);
+        Ok(())
+    }
+
+    /// The bookkeeping after the first-measurement initialisation drew the particles:
+    /// equal weights, the summary, each particle's own covariance, the ESS.
+    pub(super) fn first_update_done(&mut self) {
+        let n = self.x.len();
+        self.w.iter_mut().for_each(|v| *v = 1.0 / n as f64);
+        self.logw.iter_mut().for_each(|v| *v = 0.0);
+        self.awaiting_first = false;
+        self.prior_mode = false;
+        self.summarise();
+        if !self.pc.is_empty() {
+            // the particle's own uncertainty: the spread of the drawn positions and the
+            // prior's velocity block (or nothing: started afresh at the next step)
+            let p = if self.params.carry_covariance {
+                let mut p = self.prior_cov;
+                p.fixed_view_mut::<3, 3>(0, 0)
+                    .copy_from(&self.cov().fixed_view::<3, 3>(0, 0));
+                p.fixed_view_mut::<3, 3>(0, 3).fill(0.0);
+                p.fixed_view_mut::<3, 3>(3, 0).fill(0.0);
+                p
+            } else {
+                Mat6::zeros()
+            };
+            self.pc.iter_mut().for_each(|c| *c = p);
+        }
+        self.ess = n as f64;
+    }
+
+    /// The predictive density as a Gaussian, the prior part of the moves' target
+    /// (`pred_mean`, `pred_cov`, and the factor `pred_l` for the kinds whose moves use it).
+    pub(super) fn set_predictive(&mut self) -> Result<(), FilterError> {
+        let kind = self.params.kind;
+        (self.pred_mean, self.pred_cov) = if self.prior_mode {
+            (self.prior_mean, self.prior_cov)
+        } else {
+            (self.mean, *self.cov())
+        };
+        let needs_pred_l = match kind {
+            PfKind::Rpf => self.params.moves,
+            PfKind::Gapf | PfKind::Cgapf => true,
+            PfKind::Sir | PfKind::Upf => false,
+        };
+        if needs_pred_l {
+            self.pred_l = chol_loaded(&self.pred_cov).ok_or(FilterError::NotPositiveDefinite(
+                "predictive covariance of the particles",
+            ))?;
+        }
         Ok(())
     }
 
@@ -261,27 +310,7 @@ impl ParticleFilter {
         self.materialise();
         if self.awaiting_first {
             self.init_from_measurement(sensor, z, noise, scales)?;
-            self.w.iter_mut().for_each(|v| *v = 1.0 / n as f64);
-            self.logw.iter_mut().for_each(|v| *v = 0.0);
-            self.awaiting_first = false;
-            self.prior_mode = false;
-            self.summarise();
-            if !self.pc.is_empty() {
-                // the particle's own uncertainty: the spread of the drawn positions and the
-                // prior's velocity block (or nothing: started afresh at the next step)
-                let p = if self.params.carry_covariance {
-                    let mut p = self.prior_cov;
-                    p.fixed_view_mut::<3, 3>(0, 0)
-                        .copy_from(&self.cov().fixed_view::<3, 3>(0, 0));
-                    p.fixed_view_mut::<3, 3>(0, 3).fill(0.0);
-                    p.fixed_view_mut::<3, 3>(3, 0).fill(0.0);
-                    p
-                } else {
-                    Mat6::zeros()
-                };
-                self.pc.iter_mut().for_each(|c| *c = p);
-            }
-            self.ess = n as f64;
+            self.first_update_done();
             return Ok(UpdateInfo {
                 innovation: Vec3::zeros(),
                 nis: f64::NAN,
@@ -290,22 +319,7 @@ impl ParticleFilter {
         }
         let lik = Likelihood::new(sensor, z, noise, scales);
         let kind = self.params.kind;
-        // the predictive density as a Gaussian: the prior part of the moves' target
-        (self.pred_mean, self.pred_cov) = if self.prior_mode {
-            (self.prior_mean, self.prior_cov)
-        } else {
-            (self.mean, *self.cov())
-        };
-        let needs_pred_l = match kind {
-            PfKind::Rpf => self.params.moves,
-            PfKind::Gapf | PfKind::Cgapf => true,
-            PfKind::Sir | PfKind::Upf => false,
-        };
-        if needs_pred_l {
-            self.pred_l = chol_loaded(&self.pred_cov).ok_or(FilterError::NotPositiveDefinite(
-                "predictive covariance of the particles",
-            ))?;
-        }
+        self.set_predictive()?;
         let vf = noise.variance_factor();
         let r = Mat3::from_diagonal(&Vec3::from_fn(|k, _| scales[k] * scales[k] * vf));
         let fused = if kind.unscented() {
@@ -359,6 +373,32 @@ impl ParticleFilter {
         } else {
             Some(self.weigh(&lik, fresh))
         };
+        self.finish_update(&lik, fused, fresh, kind.unscented())?;
+        self.prior_mode = false;
+        let innovation = sensor
+            .predict(&self.mean.fixed_rows::<3>(0).into_owned())
+            .map(|zh| sensor.diff(z, &zh))
+            .unwrap_or_default();
+        Ok(UpdateInfo {
+            innovation,
+            nis: f64::NAN,
+            azimuth_used: true,
+        })
+    }
+
+    /// The update after the weighting, for any likelihood: the normalisation (`fused`: the
+    /// maximum log-weight when the weighting pass formed it), the commit, the resampling
+    /// and the kind's moves on resampling, the rejuvenation. `fresh`: `soa` held the
+    /// particles before the update.
+    pub(super) fn finish_update<const D: usize, L: ParticleLikelihood<D>>(
+        &mut self,
+        lik: &L,
+        fused: Option<f64>,
+        fresh: bool,
+        proposed: bool,
+    ) -> Result<(), FilterError> {
+        let n = self.x.len();
+        let kind = self.params.kind;
         let max = fused.unwrap_or_else(|| resample::max_ignoring_nan(&self.logw_tmp));
         // the literal transition-proposal filters' moments before resampling are their
         // outputs (and the RPF's and GA-PF's kernels), formed with the weights; with moves
@@ -373,7 +413,7 @@ impl ParticleFilter {
         // commit: from here on nothing can fail
         std::mem::swap(&mut self.w, &mut self.scratch);
         std::mem::swap(&mut self.logw, &mut self.logw_tmp);
-        if kind.unscented() {
+        if proposed {
             std::mem::swap(&mut self.x, &mut self.x_tmp);
             std::mem::swap(&mut self.pc, &mut self.pc_tmp);
         }
@@ -442,12 +482,12 @@ impl ParticleFilter {
             // the moved set themselves
             let mut summarised = false;
             match kind {
-                PfKind::Rpf if self.params.moves => self.regularise_mh(&lik, &cov_before),
+                PfKind::Rpf if self.params.moves => self.regularise_mh(lik, &cov_before),
                 PfKind::Rpf => {
                     summarised = self.regularise(self.params.kernel, &cov_before, jitter_gathers)
                 }
-                PfKind::Gapf => summarised = self.genetic_moves(&lik, &cov_before),
-                PfKind::Cgapf => self.cloud_moves(&lik),
+                PfKind::Gapf => summarised = self.genetic_moves(lik, &cov_before),
+                PfKind::Cgapf => self.cloud_moves(lik),
                 PfKind::Sir | PfKind::Upf => {}
             }
             // the weighted moments before a plain resampling are kept (lower variance
@@ -456,23 +496,15 @@ impl ParticleFilter {
                 self.summarise();
             }
         }
-        if self.params.moves && !self.rejuvenate(&lik, sensor, z) {
+        if self.params.moves && !self.rejuvenate(lik) {
             self.summarise();
         }
         // particles left as the transition drew them: `soa` still holds them
-        if fresh && !resampling && !self.params.moves && !kind.unscented() {
+        if fresh && !resampling && !self.params.moves && !proposed {
             self.soa_fresh = true;
         }
         self.prior_mode = false;
-        let innovation = sensor
-            .predict(&self.mean.fixed_rows::<3>(0).into_owned())
-            .map(|zh| sensor.diff(z, &zh))
-            .unwrap_or_default();
-        Ok(UpdateInfo {
-            innovation,
-            nis: f64::NAN,
-            azimuth_used: true,
-        })
+        Ok(())
     }
 
     /// The unscented kinds' first update from the Gaussian prior ([`super::PfInit::Prior`]):

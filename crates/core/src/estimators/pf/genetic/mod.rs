@@ -61,9 +61,9 @@
 //! cloud drops' normals from a pool of batched normals, only where they can matter) and the
 //! adaptive probabilities for sixteen items at once; the selected pairs' candidates (eight
 //! pairs, sixteen lanes) and the selected particles' mutations (sixteen lanes, six batches
-//! of normals, component-major) in structure-of-arrays form; their likelihood by
-//! [`MeasurementModel::residuals_at`] and the predictive density by forward substitution
-//! across the lanes; all inside [`simd::dispatch`] (the same bits on the AVX2 and the
+//! of normals, component-major) in structure-of-arrays form; their likelihood through
+//! `ParticleLikelihood::log_soa` (the radio's vectorised residuals) and the predictive
+//! density by forward substitution across the lanes; all inside [`simd::dispatch`] (the same bits on the AVX2 and the
 //! baseline path, tested). The uniforms, the words and the mutations' normals come from
 //! four xoshiro256++ lanes ([`Lanes`], seeded from the filter's generator at the start of
 //! each call, transient like the transition's, so the saved state holds only the
@@ -90,7 +90,7 @@ mod target;
 #[cfg(test)]
 mod tests;
 
-use super::likelihood::Likelihood;
+use super::likelihood::ParticleLikelihood;
 use super::params::{bandwidth, Kernel};
 use super::ParticleFilter;
 use crate::numerics::eigen::psd_sqrt;
@@ -99,7 +99,6 @@ use crate::numerics::simd;
 use crate::numerics::soa::{transpose_into, BLOCK};
 use crate::numerics::vexp::exp_nonpos;
 use crate::numerics::ziggurat::Lanes;
-use crate::sensors::MeasurementModel;
 use crate::types::Mat6;
 use population::{accept_linear, fitness, Block, CloudDrop, Pop};
 use std::cell::OnceCell;
@@ -145,9 +144,9 @@ impl ParticleFilter {
     /// (the rejuvenation sets it). Serially the population is transposed into `soa` (marked
     /// current: the next transition reads it there) and summed in lanes
     /// ([`unit_moments_soa`]); in chunks particle by particle (`unit_moments`).
-    pub(super) fn genetic_moves<M: MeasurementModel>(
+    pub(super) fn genetic_moves<const D: usize, L: ParticleLikelihood<D>>(
         &mut self,
-        lik: &Likelihood<'_, M>,
+        lik: &L,
         cov_before: &Mat6,
     ) -> bool {
         let g = self.params.genetic;
@@ -246,7 +245,7 @@ impl ParticleFilter {
     /// sixteen acceptance uniforms.
     // lane-indexed loops over several arrays: the form that vectorises across lanes
     #[allow(clippy::needless_range_loop)]
-    pub(super) fn cloud_moves<M: MeasurementModel>(&mut self, lik: &Likelihood<'_, M>) {
+    pub(super) fn cloud_moves<const D: usize, L: ParticleLikelihood<D>>(&mut self, lik: &L) {
         let c = self.params.cloud;
         let n = self.x.len();
         let t = Target::new(lik, &self.pred_mean, &self.pred_l);

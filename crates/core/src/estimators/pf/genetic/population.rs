@@ -6,10 +6,10 @@
 
 use super::target::Target;
 use super::B;
+use crate::estimators::pf::likelihood::ParticleLikelihood;
 use crate::estimators::pf::rng::PfRng;
 use crate::numerics::vexp::exp_nonpos;
 use crate::numerics::ziggurat::{Lanes, Ziggurat, LANES};
-use crate::sensors::MeasurementModel;
 use crate::types::State;
 use rand::RngCore;
 
@@ -198,9 +198,9 @@ impl Pop<'_> {
     /// instead of one per candidate and per parent. The log ratio is
     /// `(ln p(z | a') + ln p(z | b')) - (ln p(z | a) + ln p(z | b)) - (s^2 - 1) D + 6 u`.
     #[inline(always)]
-    pub(super) fn crossover_block<M: MeasurementModel>(
+    pub(super) fn crossover_block<const D: usize, L: ParticleLikelihood<D>>(
         &mut self,
-        t: &Target<'_, '_, M>,
+        t: &Target<'_, L, D>,
         count: usize,
         best: Option<f64>,
     ) {
@@ -434,9 +434,9 @@ impl Pop<'_> {
     /// replace their particles.
     /// Particles are distinct, so the blocks equal the particles one at a time.
     #[inline(always)]
-    pub(super) fn mutate_blocks<M: MeasurementModel>(
+    pub(super) fn mutate_blocks<const D: usize, L: ParticleLikelihood<D>>(
         &mut self,
-        t: &Target<'_, '_, M>,
+        t: &Target<'_, L, D>,
         count: usize,
         words: bool,
         mut make: impl FnMut(&mut Block),

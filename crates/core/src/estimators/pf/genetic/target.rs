@@ -2,25 +2,27 @@
 //! candidates in structure-of-arrays form.
 
 use super::B;
-use crate::estimators::pf::likelihood::Likelihood;
-use crate::sensors::MeasurementModel;
+use crate::estimators::pf::likelihood::ParticleLikelihood;
 use crate::types::{Mat6, State};
+use std::marker::PhantomData;
 
 /// The move steps' target `ln pi(x) = ln p(z | x) + ln N(x; m-, P-)` on blocks of
 /// candidates in structure-of-arrays form (`c[k][lane]`): the likelihood through
-/// [`MeasurementModel::residuals_at`], the predictive's quadratic form by forward
+/// [`ParticleLikelihood::log_soa`] (the radio's vectorised residuals), the predictive's quadratic form by forward
 /// substitution with `L-`'s reciprocal diagonal.
-pub(super) struct Target<'a, 'b, M> {
-    lik: &'a Likelihood<'b, M>,
+pub(super) struct Target<'a, L, const D: usize> {
+    lik: &'a L,
+    dim: PhantomData<[(); D]>,
     m: [f64; 6],
     l: [[f64; 6]; 6],
     inv_diag: [f64; 6],
 }
 
-impl<'a, 'b, M: MeasurementModel> Target<'a, 'b, M> {
-    pub(super) fn new(lik: &'a Likelihood<'b, M>, m: &State, l: &Mat6) -> Self {
+impl<'a, const D: usize, Lk: ParticleLikelihood<D>> Target<'a, Lk, D> {
+    pub(super) fn new(lik: &'a Lk, m: &State, l: &Mat6) -> Self {
         Self {
             lik,
+            dim: PhantomData,
             m: std::array::from_fn(|k| m[k]),
             l: std::array::from_fn(|i| std::array::from_fn(|j| l[(i, j)])),
             inv_diag: std::array::from_fn(|k| 1.0 / l[(k, k)]),
@@ -71,32 +73,9 @@ impl<'a, 'b, M: MeasurementModel> Target<'a, 'b, M> {
     }
 
     /// `ln p(z | c)` into `ll` for the first `n` lanes (the others unspecified): `-inf`
-    /// where the measurement is undefined.
+    /// where the measurement is undefined ([`ParticleLikelihood::log_soa`]).
     #[inline(always)]
     pub(super) fn log_likelihood(&self, c: &[[f64; B]; 6], n: usize, ll: &mut [f64; B]) {
-        let r = [c[0], c[1], c[2]];
-        let mut d = [[0.0; B]; 3];
-        let mut ok = [false; B];
-        let lik = self.lik;
-        lik.sensor
-            .residuals_at(&lik.z, &lik.trig, &r, n, &mut d, &mut ok);
-        if lik.gaussian {
-            let w = &lik.neg_half_inv_var;
-            for (i, l) in ll.iter_mut().enumerate() {
-                let v = w[0] * d[0][i] * d[0][i] + w[1] * d[1][i] * d[1][i];
-                let v = v + w[2] * d[2][i] * d[2][i];
-                *l = if ok[i] { v } else { f64::NEG_INFINITY };
-            }
-        } else {
-            for (i, l) in ll.iter_mut().enumerate().take(n) {
-                *l = if ok[i] {
-                    (0..3)
-                        .map(|k| lik.noise.log_density(d[k][i], lik.scales[k]))
-                        .sum()
-                } else {
-                    f64::NEG_INFINITY
-                };
-            }
-        }
+        self.lik.log_soa(c, n, ll);
     }
 }

@@ -1,0 +1,128 @@
+//! The particle filters' generic measurement update ([`Estimator::update_sensor`]): any
+//! [`Sensor`], weighed with its own noise density.
+//!
+//! Every kind weighs its transition-drawn particles with the sensor's likelihood
+//! (`w_i <- w_i p(z | x_i)`: successive sensors in one step multiply their likelihoods),
+//! then normalises, resamples and moves as on the radio's path (the RPF's kernel, the
+//! GA-PF's and CGA-PF's operators and the Gaussian-prior rejuvenation through
+//! [`ParticleLikelihood`]). The unscented kinds' per-particle proposals are formed for the
+//! radio only: on this path the UPF and CGA-PF weigh with the transition as proposal. At
+//! the first update a particle filter started from the first measurement draws its
+//! positions from the measurement when the sensor fixes the position
+//! ([`Sensor::position_fix`]), and otherwise keeps the particles drawn from the prior.
+//!
+//! [`Estimator::update_sensor`]: crate::estimators::Estimator::update_sensor
+
+use super::likelihood::{ParticleLikelihood, SensorLikelihood};
+use super::rng::gauss6;
+use super::ParticleFilter;
+use crate::estimators::{FilterError, SensorUpdate};
+use crate::numerics::eigen::psd_sqrt;
+use crate::sensors::Sensor;
+use crate::types::State;
+use nalgebra::SVector;
+
+impl ParticleFilter {
+    /// The generic measurement update (see the module documentation); transactional as
+    /// [`ParticleFilter::update_with`].
+    pub fn update_sensor_with<const D: usize, S: Sensor<D> + ?Sized>(
+        &mut self,
+        sensor: &S,
+        z: &SVector<f64, D>,
+    ) -> Result<SensorUpdate<D>, FilterError> {
+        let rng = self.rng.clone();
+        self.save_chunk_rngs();
+        let r = self.try_update_sensor(sensor, z);
+        if r.is_err() {
+            self.rng = rng;
+            self.restore_chunk_rngs();
+        }
+        r
+    }
+
+    fn try_update_sensor<const D: usize, S: Sensor<D> + ?Sized>(
+        &mut self,
+        sensor: &S,
+        z: &SVector<f64, D>,
+    ) -> Result<SensorUpdate<D>, FilterError> {
+        let fresh = std::mem::take(&mut self.soa_fresh);
+        self.materialise();
+        let noise = sensor.noise();
+        if self.awaiting_first {
+            if sensor.position_fix(z).is_some() {
+                self.init_from_fix(sensor, z)?;
+                self.first_update_done();
+                return Ok(SensorUpdate {
+                    innovation: SVector::zeros(),
+                    nis: f64::NAN,
+                    dof: D,
+                });
+            }
+            // no position to draw from: the particles drawn from the prior are weighed
+            self.awaiting_first = false;
+        }
+        let lik = SensorLikelihood {
+            sensor,
+            z: *z,
+            noise,
+        };
+        self.set_predictive()?;
+        let mut max = f64::NEG_INFINITY;
+        for ((x, ll), (lw, lwn)) in self
+            .x
+            .iter()
+            .zip(self.loglik.iter_mut())
+            .zip(self.logw.iter().zip(self.logw_tmp.iter_mut()))
+        {
+            *ll = lik.log(x);
+            *lwn = lw + *ll;
+            // `if l > m` keeps `m` for a NaN `l`
+            max = if *lwn > max { *lwn } else { max };
+        }
+        self.finish_update(&lik, Some(max), fresh, false)?;
+        let innovation = sensor
+            .measure(&self.mean)
+            .map_or_else(SVector::zeros, |zh| sensor.residual(z, &zh));
+        Ok(SensorUpdate {
+            innovation,
+            nis: f64::NAN,
+            dof: D,
+        })
+    }
+
+    /// Positions from the sensor's position fix of the measurement less a noise draw,
+    /// velocities from the prior (the radio path's first-measurement initialisation for
+    /// any position-fixing sensor).
+    fn init_from_fix<const D: usize, S: Sensor<D> + ?Sized>(
+        &mut self,
+        sensor: &S,
+        z: &SVector<f64, D>,
+    ) -> Result<(), FilterError> {
+        let noise = sensor.noise();
+        let l = psd_sqrt(&self.prior_cov).ok_or(FilterError::NonFinite("prior covariance"))?;
+        for i in 0..self.x.len() {
+            let mut zi = *z;
+            let mut st = 0.0;
+            for k in 0..D {
+                zi[k] -= noise.model.sample(noise.scales[k], &mut st, &mut self.rng);
+            }
+            let r = sensor
+                .position_fix(&zi)
+                .ok_or(FilterError::NonFinite("measurement inversion"))?;
+            let v =
+                self.prior_mean.fixed_rows::<3>(3) + (l * gauss6(&mut self.rng)).fixed_rows::<3>(3);
+            self.x_tmp[i] = State::new(r.x, r.y, r.z, v.x, v.y, v.z);
+            if let Some(xb) = self.xbar_tmp.get_mut(i) {
+                *xb = self.x_tmp[i];
+            }
+        }
+        if !self.x_tmp.iter().all(|x| x.iter().all(|v| v.is_finite())) {
+            return Err(FilterError::NonFinite(
+                "particles drawn from the measurement",
+            ));
+        }
+        std::mem::swap(&mut self.x, &mut self.x_tmp);
+        std::mem::swap(&mut self.xbar, &mut self.xbar_tmp);
+        Ok(())
+    }
+}

@@ -1,0 +1,447 @@
+//! The generic sensor path ([`Estimator::update_sensor`], [`Navigator::step_with`]) in
+//! every filter, against independent references: the radio's specialised path on the same
+//! measurement, the information form of the Kalman update for a linear sensor, and a
+//! truth propagated here by RK4 from the CW equations with measurements formed here.
+
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+use super::*;
+use crate::frames::Frame;
+use crate::sensors::{
+    CartesianSensor, GeometryError, Linearization, Modelled, Sensor, SensorNoise,
+};
+use nalgebra::{SMatrix, SVector};
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+use rand_distr::{Distribution, StandardNormal};
+use std::f64::consts::{PI, TAU};
+
+/// The relative velocity (canonical frame), as relative GNSS gives it.
+#[derive(Debug, Clone, Copy)]
+struct Velocity {
+    sigma: f64,
+}
+
+impl Sensor<3> for Velocity {
+    fn measure(&self, x: &State) -> Option<Vec3> {
+        Some(Vec3::new(x[3], x[4], x[5]))
+    }
+    fn linearize(&self, x: &State) -> Result<Linearization<3>, GeometryError> {
+        let mut h = SMatrix::<f64, 3, 6>::zeros();
+        h.fixed_view_mut::<3, 3>(0, 3).fill_with_identity();
+        Ok(Linearization {
+            z: Vec3::new(x[3], x[4], x[5]),
+            h,
+            used: [true; 3],
+        })
+    }
+    fn noise(&self) -> SensorNoise<3> {
+        SensorNoise::gaussian([self.sigma; 3])
+    }
+}
+
+/// The line of sight (azimuth `atan2(y, x)`, elevation `asin(z / rho)`, canonical frame):
+/// an angles-only sensor of two components.
+#[derive(Debug, Clone, Copy)]
+struct LineOfSight {
+    sigma: f64,
+}
+
+fn los(x: &State) -> Option<SVector<f64, 2>> {
+    let rho = (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]).sqrt();
+    (rho > 1e-6).then(|| SVector::<f64, 2>::new(x[1].atan2(x[0]), (x[2] / rho).asin()))
+}
+
+fn wrap(a: f64) -> f64 {
+    (a + PI).rem_euclid(TAU) - PI
+}
+
+impl Sensor<2> for LineOfSight {
+    fn measure(&self, x: &State) -> Option<SVector<f64, 2>> {
+        los(x)
+    }
+    fn linearize(&self, x: &State) -> Result<Linearization<2>, GeometryError> {
+        let z = los(x).ok_or(GeometryError::ZeroRange)?;
+        let (px, py, pz) = (x[0], x[1], x[2]);
+        let rxy2 = px * px + py * py;
+        let rxy = rxy2.sqrt();
+        let rho2 = rxy2 + pz * pz;
+        let mut h = SMatrix::<f64, 2, 6>::zeros();
+        h[(0, 0)] = -py / rxy2;
+        h[(0, 1)] = px / rxy2;
+        h[(1, 0)] = -px * pz / (rho2 * rxy);
+        h[(1, 1)] = -py * pz / (rho2 * rxy);
+        h[(1, 2)] = rxy / rho2;
+        Ok(Linearization {
+            z,
+            h,
+            used: [true; 2],
+        })
+    }
+    fn residual(&self, z: &SVector<f64, 2>, zh: &SVector<f64, 2>) -> SVector<f64, 2> {
+        SVector::<f64, 2>::new(wrap(z[0] - zh[0]), z[1] - zh[1])
+    }
+    fn mean(&self, w: &[f64], zs: &[SVector<f64, 2>]) -> SVector<f64, 2> {
+        let (mut s, mut c, mut e) = (0.0, 0.0, 0.0);
+        for (wi, zi) in w.iter().zip(zs) {
+            s += wi * zi[0].sin();
+            c += wi * zi[0].cos();
+            e += wi * zi[1];
+        }
+        SVector::<f64, 2>::new(s.atan2(c), e)
+    }
+    fn noise(&self) -> SensorNoise<2> {
+        SensorNoise::gaussian([self.sigma; 2])
+    }
+}
+
+/// Paper 000's example (the configuration's defaults, frame 2) with filter `code`, and the
+/// truth's initial state in the canonical frame (5 m and 0.05 m/s off the estimate).
+fn setup(code: i64) -> (NavConfig, State) {
+    let cfg = NavConfig {
+        filter: FilterKind::ALL
+            .into_iter()
+            .find(|k| *k as i64 == code)
+            .unwrap(),
+        particles: 1000,
+        ..Default::default()
+    };
+    let io = [400.0, 500.0, 200.0, 0.05, 0.05, 0.05];
+    (
+        cfg,
+        cfg.frame.state_to_canonical(&State::from_row_slice(&io)),
+    )
+}
+
+/// The CW equations' right-hand side (canonical: x radial, y along-track, z normal).
+fn cw_rhs(n: f64, s: &State) -> State {
+    State::from_row_slice(&[
+        s[3],
+        s[4],
+        s[5],
+        3.0 * n * n * s[0] + 2.0 * n * s[4],
+        -2.0 * n * s[3],
+        -n * n * s[2],
+    ])
+}
+
+/// The truth over `dt` by RK4 in 10 substeps (error far below the sensors' noise).
+fn propagate(n: f64, s: &State, dt: f64) -> State {
+    let h = dt / 10.0;
+    let mut x = *s;
+    for _ in 0..10 {
+        let k1 = cw_rhs(n, &x);
+        let k2 = cw_rhs(n, &(x + k1 * (h / 2.0)));
+        let k3 = cw_rhs(n, &(x + k2 * (h / 2.0)));
+        let k4 = cw_rhs(n, &(x + k3 * h));
+        x += (k1 + k2 * 2.0 + k3 * 2.0 + k4) * (h / 6.0);
+    }
+    x
+}
+
+/// A noisy radio measurement of the canonical position `c` in frame 2 (x along-track,
+/// y radial, z anti-normal), formed here.
+fn radio(cfg: &NavConfig, c: &State, rng: &mut ChaCha8Rng) -> [f64; 3] {
+    assert_eq!(cfg.frame, Frame::AlongRadialAntinormal);
+    let p = [c[1], c[0], -c[2]];
+    let rho = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
+    let g = |rng: &mut ChaCha8Rng| -> f64 { StandardNormal.sample(rng) };
+    [
+        rho + cfg.sigma_range * g(rng),
+        (p[1].atan2(p[0]) + cfg.sigma_angle * g(rng)).rem_euclid(TAU),
+        (p[2] / rho).asin() + cfg.sigma_angle * g(rng),
+    ]
+}
+
+fn noisy<const D: usize>(z: SVector<f64, D>, sigma: f64, rng: &mut ChaCha8Rng) -> [f64; D] {
+    std::array::from_fn(|k| {
+        let g: f64 = StandardNormal.sample(rng);
+        z[k] + sigma * g
+    })
+}
+
+/// `|a - b| <= tol * scale` entry by entry, with the scale of each covariance entry
+/// `sqrt(P_ii P_jj)` and of each state entry its standard deviation.
+fn assert_close(a: &AnyFilter, b: &AnyFilter, tol: f64, what: &str) {
+    let (pa, pb) = (a.covariance(), b.covariance());
+    for i in 0..6 {
+        let si = pa[(i, i)].sqrt();
+        let dx = (a.state()[i] - b.state()[i]).abs();
+        assert!(dx <= tol * si, "{what}: x[{i}] {dx:e} vs sigma {si:e}");
+        for j in 0..6 {
+            let s = (pa[(i, i)] * pa[(j, j)]).sqrt();
+            let d = (pa[(i, j)] - pb[(i, j)]).abs();
+            assert!(d <= tol * s, "{what}: P[{i},{j}] {d:e} vs {s:e}");
+        }
+    }
+}
+
+/// The radio as a generic sensor gives the radio path's update, to rounding, in every
+/// Kalman-type filter (a different order of operations: the full Joseph form, all 13
+/// sigma points), and to sampling agreement in the particle filters that weigh with the
+/// transition as proposal (the same draws; likelihoods equal to rounding). The unscented
+/// kinds' per-particle proposals are the radio path's only (see `pf::sensor_update`).
+#[test]
+fn the_radio_through_the_generic_path_is_the_radio_path() {
+    for code in [1, 2, 3, 10, 4, 5, 7] {
+        let (cfg, truth) = setup(code);
+        let mut rng = ChaCha8Rng::seed_from_u64(7);
+        let mut a = build_filter(&cfg).unwrap();
+        let mut b = a.clone();
+        let model = cfg
+            .dynamics()
+            .step(0.0, 1.0, &(Mat3::identity() * 1e-6), cfg.discretization);
+        let sensor = RadioSensor::new(cfg.frame, cfg.sigma_range, cfg.sigma_angle);
+        let generic = Modelled {
+            model: sensor,
+            noise: SensorNoise::gaussian([cfg.sigma_range, cfg.sigma_angle, cfg.sigma_angle]),
+        };
+        let mut x = truth;
+        for _ in 0..5 {
+            let z = Vec3::from(radio(&cfg, &x, &mut rng));
+            a.update(&sensor, &z).unwrap();
+            b.update_sensor(&generic, &z).unwrap();
+            a.predict(&model, &Vec3::zeros()).unwrap();
+            b.predict(&model, &Vec3::zeros()).unwrap();
+            x = propagate(cfg.mean_motion, &x, 1.0);
+        }
+        // particle filters: the same particles as long as no weight rounds across a
+        // resampling boundary (true here); Kalman filters: rounding only
+        let tol = if (4..=8).contains(&code) { 1e-6 } else { 1e-9 };
+        assert_close(&a, &b, tol, &format!("filter {code}"));
+    }
+}
+
+/// A linear sensor (the velocity) through the EKF's and the UKF's generic paths is the
+/// information form of the Kalman update, `P+ = (P^-1 + H^T R^-1 H)^-1`,
+/// `x+ = P+ (P^-1 x + H^T R^-1 z)`, computed here.
+#[test]
+fn a_linear_sensor_gives_the_information_form() {
+    let x = State::from_row_slice(&[500.0, 400.0, -200.0, 0.1, -0.2, 0.05]);
+    let mut p = Mat6::from_diagonal(&State::from_row_slice(&[
+        2500.0, 2500.0, 2500.0, 1.0, 1.0, 1.0,
+    ]));
+    p[(0, 3)] = 20.0;
+    p[(3, 0)] = 20.0;
+    p[(4, 1)] = -10.0;
+    p[(1, 4)] = -10.0;
+    let v = Velocity { sigma: 5e-4 };
+    let z = Vec3::new(0.11, -0.19, 0.049);
+    let mut h = SMatrix::<f64, 3, 6>::zeros();
+    h.fixed_view_mut::<3, 3>(0, 3).fill_with_identity();
+    let rinv = Mat3::identity() / (v.sigma * v.sigma);
+    let pinv = p.try_inverse().unwrap();
+    let p_post = (pinv + h.transpose() * rinv * h).try_inverse().unwrap();
+    let x_post = p_post * (pinv * x + h.transpose() * rinv * z);
+    let filters: [AnyFilter; 2] = [
+        AnyFilter::Ekf(crate::estimators::Ekf::new(x, p)),
+        AnyFilter::Ukf(crate::estimators::Ukf::new(x, p, Default::default())),
+    ];
+    for mut f in filters {
+        let info = f.update_sensor(&v, &z).unwrap();
+        assert_eq!(info.dof, 3);
+        let r = (v.sigma * v.sigma) * Mat3::identity();
+        let s = h * p * h.transpose() + r;
+        let nu = z - Vec3::new(x[3], x[4], x[5]);
+        let nis = nu.dot(&(s.try_inverse().unwrap() * nu));
+        assert!(
+            (info.nis - nis).abs() <= 1e-9 * nis,
+            "{} vs {nis}",
+            info.nis
+        );
+        for i in 0..6 {
+            let si = p_post[(i, i)].sqrt();
+            assert!((f.state()[i] - x_post[i]).abs() <= 1e-6 * si, "x[{i}]");
+            for j in 0..6 {
+                let sij = (p_post[(i, i)] * p_post[(j, j)]).sqrt();
+                let d = (f.covariance()[(i, j)] - p_post[(i, j)]).abs();
+                assert!(d <= 1e-6 * sij, "P[{i},{j}] {d:e} vs {sij:e}");
+            }
+        }
+    }
+}
+
+/// RMS velocity error over the last half of a 200 s run (1 s steps, radio at every step)
+/// and the velocity sensor's mean NIS, with the velocity sensor (every second step) and
+/// the line of sight (every step) added when `extra`.
+fn run(code: i64, extra: bool, quiet: bool, seed: u64) -> (f64, f64) {
+    let (mut cfg, mut x) = setup(code);
+    if quiet {
+        // the truth's own process noise: none (a trace of white acceleration keeps P
+        // positive definite)
+        (cfg.q_pos, cfg.q_vel, cfg.accel_psd) = ([0.0; 3], [0.0; 3], 1e-14);
+    }
+    let mut nav = Navigator::new(&cfg).unwrap();
+    let vel = Velocity { sigma: 5e-4 };
+    let sight = LineOfSight { sigma: 1e-3 };
+    if extra {
+        assert_eq!(nav.add_sensor(Arc::new(Named::new("velocity", vel))), 0);
+        assert_eq!(
+            nav.add_sensor(Arc::new(Named::new("line of sight", sight))),
+            1
+        );
+    }
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let (mut sq, mut count, mut nis, mut nis_n) = (0.0, 0, 0.0, 0);
+    for k in 0..200 {
+        let z = radio(&cfg, &x, &mut rng);
+        let zv = noisy(vel.measure(&x).unwrap(), vel.sigma, &mut rng);
+        let zs = noisy(los(&x).unwrap(), sight.sigma, &mut rng);
+        let readings: Vec<Option<&[f64]>> = if extra {
+            vec![(k % 2 == 0).then_some(&zv[..]), Some(&zs[..])]
+        } else {
+            vec![]
+        };
+        nav.step_with(&[0.0; 3], Some(&z), &readings, 1.0)
+            .unwrap_or_else(|e| panic!("filter {code}, step {k}: {e}"));
+        if extra && k % 2 == 0 {
+            let r = nav.sensor_report(0).unwrap();
+            if r.nis.is_finite() {
+                nis += r.nis;
+                nis_n += 1;
+            }
+        }
+        x = propagate(cfg.mean_motion, &x, 1.0);
+        if k >= 100 {
+            let est = cfg.frame.state_to_canonical(&nav.state());
+            sq += (est.fixed_rows::<3>(3) - x.fixed_rows::<3>(3)).norm_squared();
+            count += 1;
+        }
+    }
+    ((sq / count as f64).sqrt(), nis / nis_n.max(1) as f64)
+}
+
+/// Every filter but the H-infinity one takes a velocity sensor and an angles-only sensor
+/// beside the radio: the velocity error falls to the velocity sensor's level (3-axis RMS
+/// at most 4 sigma, where the radio alone leaves it at least 5 times above).
+#[test]
+fn every_filter_takes_any_sensor() {
+    for code in [1, 2, 3, 10, 4, 5, 6, 7, 8] {
+        let (alone, _) = run(code, false, false, 11);
+        let (with, _) = run(code, true, false, 11);
+        eprintln!("filter {code}: RMS velocity error {with:.3e} m/s with, {alone:.3e} without");
+        assert!(
+            with <= 4.0 * 5e-4 * 3f64.sqrt() && with <= 0.2 * alone,
+            "filter {code}: RMS velocity error {with:e} with the sensors, {alone:e} without"
+        );
+    }
+}
+
+/// With the truth's process noise (none), the Kalman filters' velocity NIS averages its 3
+/// degrees of freedom over the 100 velocity updates of a run (chi-square: the mean of 100
+/// has standard deviation sqrt(6 / 100) = 0.24; bound 4 of those), on four seeds.
+#[test]
+fn the_generic_path_is_consistent() {
+    for code in [1, 2, 10] {
+        for seed in 0..4 {
+            let (_, nis) = run(code, true, true, seed);
+            eprintln!("filter {code}, seed {seed}: mean velocity NIS {nis:.3}");
+            assert!(
+                (nis - 3.0).abs() <= 4.0 * (6.0f64 / 100.0).sqrt(),
+                "filter {code}, seed {seed}: mean NIS {nis}"
+            );
+        }
+    }
+}
+
+/// The H-infinity filter takes a sensor that fixes the position (its design's
+/// measurement) and refuses one that does not, naming why, with the estimate unchanged.
+#[cfg(feature = "hinf")]
+#[test]
+fn the_hinf_filter_takes_position_fixes_only() {
+    let (cfg, x) = setup(9);
+    let mut nav = Navigator::new(&cfg).unwrap();
+    nav.add_sensor(Arc::new(Named::new("velocity", Velocity { sigma: 5e-4 })));
+    let cart = CartesianSensor {
+        frame: cfg.frame,
+        sigma: 1.0,
+    };
+    let fix = Modelled {
+        model: cart,
+        noise: SensorNoise::gaussian([1.0; 3]),
+    };
+    nav.add_sensor(Arc::new(Named::new("position", fix)));
+    let before = nav.state();
+    let zv = [0.0; 3];
+    let e = nav
+        .step_with(&[0.0; 3], None, &[Some(&zv[..]), None], 1.0)
+        .unwrap_err();
+    assert_eq!(e.kind, NavErrorKind::NotImplemented, "{e}");
+    assert!(e.message.contains("position"), "{e}");
+    assert_eq!(nav.state(), before);
+    let p = cfg
+        .frame
+        .vec_from_canonical(&x.fixed_rows::<3>(0).into_owned());
+    nav.step_with(&[0.0; 3], None, &[None, Some(p.as_slice())], 1.0)
+        .unwrap();
+    // the radio and a position fix in one step: one position measurement per step
+    let z = radio(&cfg, &x, &mut ChaCha8Rng::seed_from_u64(1));
+    let e = nav
+        .step_with(&[0.0; 3], Some(&z), &[None, Some(p.as_slice())], 1.0)
+        .unwrap_err();
+    assert_eq!(e.kind, NavErrorKind::NotImplemented, "{e}");
+}
+
+/// `step_with` checks every reading before anything changes, applies the radio then the
+/// added sensors in their order, and leaves a Kalman filter as it was when a later update
+/// fails.
+#[test]
+fn step_with_checks_orders_and_undoes() {
+    let (cfg, x) = setup(1);
+    let mut nav = Navigator::new(&cfg).unwrap();
+    let vel = Velocity { sigma: 5e-4 };
+    nav.add_sensor(Arc::new(Named::new("velocity", vel)));
+    let z = radio(&cfg, &x, &mut ChaCha8Rng::seed_from_u64(2));
+    let zv = [0.05, 0.05, 0.05];
+    let before = nav.clone();
+    let wrong = [1.0, 2.0];
+    for (readings, what) in [
+        (vec![Some(&wrong[..])], "3 components"),
+        (vec![Some(&[f64::NAN, 0.0, 0.0][..])], "finite"),
+        (vec![], "readings given"),
+    ] {
+        let e = nav
+            .step_with(&[0.0; 3], Some(&z), &readings, 1.0)
+            .unwrap_err();
+        assert_eq!(e.kind, NavErrorKind::InvalidArgument);
+        assert!(e.message.contains(what), "{e}");
+        assert_eq!(nav.state(), before.state());
+    }
+    // the order: radio, then the velocity, then the prediction
+    let mut other = before.clone();
+    other.update(&z).unwrap();
+    other
+        .step_with(&[0.0; 3], None, &[Some(&zv[..])], 1.0)
+        .unwrap();
+    nav.step_with(&[0.0; 3], Some(&z), &[Some(&zv[..])], 1.0)
+        .unwrap();
+    assert_eq!(nav.filter().state(), other.filter().state());
+    assert_eq!(nav.filter().covariance(), other.filter().covariance());
+    assert!(nav.sensor_report(0).unwrap().nis.is_finite());
+    // a failing later update undoes the radio's and the velocity's
+    nav.add_sensor(Arc::new(Named::new("broken", Broken)));
+    let kept = (nav.state(), nav.covariance(), nav.sensor_report(0));
+    let e = nav
+        .step_with(&[0.0; 3], Some(&z), &[Some(&zv[..]), Some(&[1.0][..])], 1.0)
+        .unwrap_err();
+    assert_eq!(e.kind, NavErrorKind::Numerical, "{e}");
+    assert_eq!((nav.state(), nav.covariance(), nav.sensor_report(0)), kept);
+    nav.reset();
+    assert!(nav.sensor_report(0).is_none());
+}
+
+/// A sensor whose every linearisation fails.
+#[derive(Debug, Clone, Copy)]
+struct Broken;
+
+impl Sensor<1> for Broken {
+    fn measure(&self, _: &State) -> Option<SVector<f64, 1>> {
+        None
+    }
+    fn linearize(&self, _: &State) -> Result<Linearization<1>, GeometryError> {
+        Err(GeometryError::ZeroRange)
+    }
+    fn noise(&self) -> SensorNoise<1> {
+        SensorNoise::gaussian([1.0])
+    }
+}

@@ -1,0 +1,83 @@
+//! The navigator's sensors beside its configured radio: any [`Sensor`], of any dimension,
+//! added through the Rust API ([`super::Navigator::add_sensor`]) and applied in a step
+//! when its reading is given ([`super::Navigator::step_with`]). [`NavSensor`] is the
+//! object-safe view the navigator holds, so that one navigator holds sensors of different
+//! dimensions; [`Named`] makes any [`Sensor`] one.
+
+use super::factory::AnyFilter;
+use crate::estimators::{Estimator, FilterError};
+use crate::sensors::Sensor;
+use nalgebra::SVector;
+
+/// What an update by one of the navigator's sensors reports.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SensorReport {
+    /// Normalised innovation squared (NaN for the particle and H-infinity filters).
+    pub nis: f64,
+    /// Components used (its degrees of freedom).
+    pub dof: usize,
+}
+
+/// A sensor as the navigator holds it: its name (in messages), its dimension, the check of
+/// a reading and the update of a filter with it (in the sensor's frame and SI units).
+pub trait NavSensor: Send + Sync + std::fmt::Debug {
+    /// Name, for messages.
+    fn name(&self) -> &str;
+    /// Number of components of a reading.
+    fn dim(&self) -> usize;
+    /// Whether `z` is a reading this sensor can produce (length, finiteness, domain).
+    fn check(&self, z: &[f64]) -> Result<(), String>;
+    /// The update of `filter` with the reading `z` (checked) through the generic path
+    /// ([`Estimator::update_sensor`]).
+    fn apply(&self, filter: &mut AnyFilter, z: &[f64]) -> Result<SensorReport, FilterError>;
+}
+
+/// A [`Sensor`] of `D` components with a name: a [`NavSensor`].
+#[derive(Debug, Clone)]
+pub struct Named<S, const D: usize> {
+    /// Name, for messages.
+    pub name: String,
+    /// The sensor.
+    pub sensor: S,
+}
+
+impl<S, const D: usize> Named<S, D> {
+    /// `sensor` named `name`.
+    pub fn new(name: impl Into<String>, sensor: S) -> Self {
+        Self {
+            name: name.into(),
+            sensor,
+        }
+    }
+}
+
+impl<const D: usize, S: Sensor<D> + Send + std::fmt::Debug> NavSensor for Named<S, D> {
+    fn name(&self) -> &str {
+        &self.name
+    }
+    fn dim(&self) -> usize {
+        D
+    }
+    fn check(&self, z: &[f64]) -> Result<(), String> {
+        if z.len() != D {
+            return Err(format!(
+                "{}: a reading has {D} components (got {})",
+                self.name,
+                z.len()
+            ));
+        }
+        self.sensor
+            .check(&SVector::from_column_slice(z))
+            .map_err(|e| format!("{}: {e}", self.name))
+    }
+    fn apply(&self, filter: &mut AnyFilter, z: &[f64]) -> Result<SensorReport, FilterError> {
+        if z.len() != D {
+            return Err(FilterError::Unsupported("reading of the wrong length"));
+        }
+        let info = filter.update_sensor(&self.sensor, &SVector::from_column_slice(z))?;
+        Ok(SensorReport {
+            nis: info.nis,
+            dof: info.dof,
+        })
+    }
+}
