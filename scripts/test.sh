@@ -8,7 +8,8 @@
 #   relnav_plant.fmu, relnav_guidance.fmu, relnav_system.ssp)
 #   -> pytest tests/python (in .venv) -> C++ harness (cmake, build, ctest; valgrind)
 #   -> C++ harness under ASan+UBSan (second build dir) -> fuzz smoke run (scripts/fuzz.sh
-#   smoke, 20 s per target, only when nightly Rust and cargo-fuzz are installed)
+#   smoke, the targets side by side for 20 s, only when nightly Rust and cargo-fuzz are
+#   installed)
 #
 # The fuzz targets' build (cargo-fuzz's dev profile with AddressSanitizer, its own target
 # dir) starts in the background, at nice 10, right after setup: it takes the CPU the
