@@ -1,7 +1,10 @@
 """How the Python package is built and installed: a wheel with its type information, and
 one compiled relnav-core (and relnav-eval, relnav-fmi, relnav-nav-model) shared by the
-CLI/FMU build and the extension's build (the features of every crate both depend on are the
-same, so cargo builds it once: a full release compile less in CI)."""
+CLI/FMU build and the extension's build: the features of every crate both depend on are the
+same, and the extension's build holds the C ABI crate (whose rlib makes cargo emit object
+code beside the LTO bitcode, as in `cargo build --release`), so cargo compiles those crates
+once and the release build after setup compiles only the binaries and the FMU libraries
+(measured: 53 s instead of about 115 s on 2 cores)."""
 
 from __future__ import annotations
 
@@ -40,6 +43,8 @@ def test_cli_and_extension_builds_share_relnavs_dependencies():
     ext = crate_features("relnav-python")
     differ = {k: (alone[k], ext[k]) for k in alone if k in ext and alone[k] != ext[k]}
     assert any(name == "relnav-core" for name, _ in ext) and len(alone) > 50
+    # the C ABI crate in the extension's graph: without it its dependencies are LTO bitcode only
+    assert any(name == "relnav" for name, _ in ext), "python/Cargo.toml must depend on relnav (see there)"
     assert not differ, (
         "these crates get other features in the Python extension's build than in `cargo build --release`, so "
         "relnav and its dependencies would be compiled twice; request the extension's features in the top-level "
