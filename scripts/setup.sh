@@ -134,11 +134,13 @@ fi
 STAMP="$VENV/.relnav-requirements.sha256"
 want="$(sha256sum "$REQ" | cut -d' ' -f1)"
 have="$(cat "$STAMP" 2>/dev/null || true)"
-if [ "$want" = "$have" ] && "$VENV/bin/python" -c 'import fmpy, numpy, pytest, filterpy, libcosimpy.CosimExecution, ecospy, fmu_manipulation_toolbox, maturin, tqdm, dask, distributed' >/dev/null 2>&1; then
+if [ "$want" = "$have" ] && "$VENV/bin/python" -c 'import fmpy, numpy, pytest, xdist, filterpy, libcosimpy.CosimExecution, ecospy, fmu_manipulation_toolbox, maturin, tqdm, dask, distributed' >/dev/null 2>&1; then
     log "venv up to date ($(cd "$ROOT" && "$VENV/bin/python" -c 'import fmpy, numpy; print("fmpy", fmpy.__version__, "numpy", numpy.__version__)'))"
 else
     log "installing Python packages from scripts/requirements.txt"
-    "$VENV/bin/python" -m pip install --disable-pip-version-check -q --no-input -r "$REQ" </dev/null
+    # --no-compile: no bytecode for every module of every package now (a quarter of the
+    # install's time); Python writes it for the modules it imports, when it imports them
+    "$VENV/bin/python" -m pip install --disable-pip-version-check -q --no-input --no-compile -r "$REQ" </dev/null
     echo "$want" >"$STAMP"
     log "venv ready ($("$VENV/bin/python" -c 'import fmpy, numpy; print("fmpy", fmpy.__version__, "numpy", numpy.__version__)'))"
 fi

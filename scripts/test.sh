@@ -6,7 +6,7 @@
 #   examples are compiled and linted here) -> cargo test (libraries, binaries, tests/)
 #   -> cargo build --release -> FMUs and SSP (fmu/build.sh: relnav.fmu, the system kit's
 #   relnav_plant.fmu, relnav_guidance.fmu, relnav_system.ssp)
-#   -> pytest tests/python (in .venv) -> C++ harness (cmake, build, ctest; valgrind)
+#   -> pytest tests/python (in .venv, two workers) -> C++ harness (cmake, build, ctest; valgrind)
 #   -> C++ harness under ASan+UBSan (second build dir) -> fuzz smoke run (scripts/fuzz.sh
 #   smoke, the targets side by side for 20 s, only when nightly Rust and cargo-fuzz are
 #   installed)
@@ -85,7 +85,8 @@ stage() {
 
 run_pytest() {
     local rc=0
-    "$ROOT/.venv/bin/python" -m pytest -q -p no:cacheprovider --durations=5 tests/python || rc=$?
+    # two workers (pytest-xdist): most tests are single-threaded Python driving an FMU
+    "$ROOT/.venv/bin/python" -m pytest -q -p no:cacheprovider -n "$JOBS" --durations=5 tests/python || rc=$?
     if [ "$rc" -eq 5 ]; then
         echo "pytest collected no tests (exit 5): counted as a failure"
     fi
