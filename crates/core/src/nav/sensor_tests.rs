@@ -445,3 +445,32 @@ impl Sensor<1> for Broken {
         SensorNoise::gaussian([1.0])
     }
 }
+
+/// The AQUKF's adaptation takes the first update after a prediction only (its window's
+/// term is per prediction interval): a velocity reading in the same step as the radio
+/// changes the estimate, not the adapted density.
+#[test]
+fn the_aqukf_adapts_on_the_first_update_of_a_step() {
+    let (cfg, x) = setup(3);
+    // the window law adapts at every update it takes (the gated one only while its gate
+    // is open)
+    let cfg = NavConfig {
+        aq_law: crate::estimators::AdaptationLaw::Window,
+        ..cfg
+    };
+    let z = radio(&cfg, &x, &mut ChaCha8Rng::seed_from_u64(5));
+    let zv = [0.3, -0.2, 0.1];
+    let mut alone = Navigator::new(&cfg).unwrap();
+    let mut with = alone.clone();
+    with.add_sensor(Arc::new(Named::new("velocity", Velocity { sigma: 5e-4 })));
+    // a first step (no interval before it) the same for both, then the radio with and
+    // without the velocity after a prediction of 1 s
+    alone.step(&[0.0; 3], Some(&z), 1.0).unwrap();
+    with.step_with(&[0.0; 3], Some(&z), &[None], 1.0).unwrap();
+    alone.step(&[0.0; 3], Some(&z), 1.0).unwrap();
+    with.step_with(&[0.0; 3], Some(&z), &[Some(&zv[..])], 1.0)
+        .unwrap();
+    assert_ne!(alone.state(), with.state());
+    assert_eq!(alone.q_vv(), with.q_vv());
+    assert_ne!(alone.q_vv(), Some(cfg.q_vel), "the radio's update adapted");
+}

@@ -231,6 +231,8 @@ impl AdaptiveUkf {
 
     /// Unscented update with any sensor ([`Ukf::sensor_update`]), then the adaptation on
     /// its innovation (the NIS with the sensor's used components as degrees of freedom).
+    /// The window's term is per prediction interval, so only the first update after a
+    /// prediction feeds it ([`AdaptiveQ::observe`] ignores an interval of zero).
     pub fn update_sensor<const D: usize, S: Sensor<D> + ?Sized>(
         &mut self,
         sensor: &S,

@@ -14,12 +14,9 @@
 //! [`Estimator::update_sensor`]: crate::estimators::Estimator::update_sensor
 
 use super::likelihood::{ParticleLikelihood, SensorLikelihood};
-use super::rng::gauss6;
 use super::ParticleFilter;
 use crate::estimators::{FilterError, SensorUpdate};
-use crate::numerics::eigen::psd_sqrt;
 use crate::sensors::Sensor;
-use crate::types::State;
 use nalgebra::SVector;
 
 impl ParticleFilter {
@@ -99,30 +96,13 @@ impl ParticleFilter {
         z: &SVector<f64, D>,
     ) -> Result<(), FilterError> {
         let noise = sensor.noise();
-        let l = psd_sqrt(&self.prior_cov).ok_or(FilterError::NonFinite("prior covariance"))?;
-        for i in 0..self.x.len() {
+        self.init_positions(|rng| {
             let mut zi = *z;
             let mut st = 0.0;
             for k in 0..D {
-                zi[k] -= noise.model.sample(noise.scales[k], &mut st, &mut self.rng);
+                zi[k] -= noise.model.sample(noise.scales[k], &mut st, rng);
             }
-            let r = sensor
-                .position_fix(&zi)
-                .ok_or(FilterError::NonFinite("measurement inversion"))?;
-            let v =
-                self.prior_mean.fixed_rows::<3>(3) + (l * gauss6(&mut self.rng)).fixed_rows::<3>(3);
-            self.x_tmp[i] = State::new(r.x, r.y, r.z, v.x, v.y, v.z);
-            if let Some(xb) = self.xbar_tmp.get_mut(i) {
-                *xb = self.x_tmp[i];
-            }
-        }
-        if !self.x_tmp.iter().all(|x| x.iter().all(|v| v.is_finite())) {
-            return Err(FilterError::NonFinite(
-                "particles drawn from the measurement",
-            ));
-        }
-        std::mem::swap(&mut self.x, &mut self.x_tmp);
-        std::mem::swap(&mut self.xbar, &mut self.xbar_tmp);
-        Ok(())
+            sensor.position_fix(&zi)
+        })
     }
 }

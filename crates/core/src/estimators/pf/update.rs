@@ -8,7 +8,7 @@ use super::moments::{exp_moments, exp_moments_soa};
 use super::par::CHUNK;
 use super::params::PfKind;
 use super::resample::{self, effective_sample_size, normalize_log_weights_with_max, resample};
-use super::rng::gauss6;
+use super::rng::{gauss6, PfRng};
 use super::unscented::{SharedDraw, ShrinkKernel, Unscented};
 use super::{ParticleFilter, N};
 use crate::estimators::{FilterError, UpdateInfo};
@@ -32,17 +32,28 @@ impl ParticleFilter {
         noise: &NoiseModel,
         scales: &[f64; 3],
     ) -> Result<(), FilterError> {
-        // the velocity rows of a square root of the prior draw from its velocity marginal
-        let l = psd_sqrt(&self.prior_cov).ok_or(FilterError::NonFinite("prior covariance"))?;
-        for i in 0..self.x.len() {
+        self.init_positions(|rng| {
             let mut zi = *z;
             let mut st = 0.0;
             for k in 0..3 {
-                zi[k] -= noise.sample(scales[k], &mut st, &mut self.rng);
+                zi[k] -= noise.sample(scales[k], &mut st, rng);
             }
-            let r = sensor
-                .invert(&zi)
-                .ok_or(FilterError::NonFinite("measurement inversion"))?;
+            sensor.invert(&zi)
+        })
+    }
+
+    /// Each particle's position from `fix` (a position drawn from the measurement's
+    /// likelihood: the measurement less a noise draw, inverted; `None` where it cannot be
+    /// inverted), its velocity from the prior; committed only when every particle was
+    /// drawn, and drawn finite.
+    pub(super) fn init_positions(
+        &mut self,
+        mut fix: impl FnMut(&mut PfRng) -> Option<Vec3>,
+    ) -> Result<(), FilterError> {
+        // the velocity rows of a square root of the prior draw from its velocity marginal
+        let l = psd_sqrt(&self.prior_cov).ok_or(FilterError::NonFinite("prior covariance"))?;
+        for i in 0..self.x.len() {
+            let r = fix(&mut self.rng).ok_or(FilterError::NonFinite("measurement inversion"))?;
             let v =
                 self.prior_mean.fixed_rows::<3>(3) + (l * gauss6(&mut self.rng)).fixed_rows::<3>(3);
             self.x_tmp[i] = State::new(r.x, r.y, r.z, v.x, v.y, v.z);
@@ -50,7 +61,6 @@ impl ParticleFilter {
                 *xb = self.x_tmp[i];
             }
         }
-        // commit only when every particle was drawn, and drawn finite
         if !self.x_tmp.iter().all(|x| x.iter().all(|v| v.is_finite())) {
             return Err(FilterError::NonFinite(
                 "particles drawn from the measurement",
