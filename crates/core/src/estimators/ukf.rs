@@ -272,34 +272,22 @@ impl Ukf {
     where
         H: Fn(&State) -> Option<SVector<f64, M>>,
     {
-        let s = self.sigma_points(&self.x, &self.p)?;
-        let mut zs = [SVector::<f64, M>::zeros(); NS];
-        let mut z_hat = SVector::<f64, M>::zeros();
-        for (i, zi) in zs.iter_mut().enumerate() {
-            *zi = h(&s.column(i).into_owned())
-                .ok_or(FilterError::Geometry(GeometryError::ZeroRange))?;
-            z_hat += *zi * self.wm[i];
-        }
-        let mut pzz = *r;
-        let mut pxz = SMatrix::<f64, N, M>::zeros();
-        for (i, zi) in zs.iter().enumerate() {
-            let dz = zi - z_hat;
-            let dx = s.column(i) - self.x;
-            pzz += dz * dz.transpose() * self.wc[i];
-            pxz += dx * dz.transpose() * self.wc[i];
-        }
-        let chol = pzz.cholesky().ok_or(FilterError::NotPositiveDefinite(
-            "innovation covariance Pzz",
-        ))?;
-        let k = chol.solve(&pxz.transpose()).transpose();
-        let nu = z - z_hat;
-        let xn = self.x + k * nu;
-        let pn = symmetrize(&(self.p - k * pzz * k.transpose()));
-        finite(&xn, "updated state")?;
-        finite(&pn, "updated covariance")?;
-        let nis = nu.dot(&chol.solve(&nu));
-        self.x = xn;
-        self.p = pn;
+        let plain = Measurement {
+            h,
+            mean: |wm: &[f64], zs: &[SVector<f64, M>]| {
+                let mut z_hat = SVector::<f64, M>::zeros();
+                for (zi, w) in zs.iter().zip(wm) {
+                    z_hat += *zi * *w;
+                }
+                z_hat
+            },
+            residual: |a: &SVector<f64, M>, b: &SVector<f64, M>| a - b,
+            r: *r,
+            used: [true; M],
+        };
+        let (x, p, _, nis) = self.unscented_update(&self.x, &self.p, &plain, z)?;
+        self.x = x;
+        self.p = p;
         Ok(nis)
     }
 
@@ -317,26 +305,55 @@ impl Ukf {
         z: &SVector<f64, D>,
     ) -> Result<(State, Mat6, SensorUpdate<D>), FilterError> {
         let used = sensor.linearize(x)?.used;
+        let m = Measurement {
+            h: |x: &State| sensor.measure(x),
+            mean: |wm: &[f64], zs: &[SVector<f64, D>]| sensor.mean(wm, zs),
+            residual: |a: &SVector<f64, D>, b: &SVector<f64, D>| sensor.residual(a, b),
+            r: sensor.noise().cov(),
+            used,
+        };
+        let (xn, pn, nu, nis) = self.unscented_update(x, p, &m, z)?;
+        let info = SensorUpdate {
+            innovation: nu,
+            nis,
+            dof: used.iter().filter(|u| **u).count(),
+        };
+        Ok((xn, pn, info))
+    }
+
+    /// The unscented measurement update of `(x, P)` with measurement `m`, not committed:
+    /// the updated state and covariance, the innovation and the NIS.
+    fn unscented_update<const D: usize, H, A, R>(
+        &self,
+        x: &State,
+        p: &Mat6,
+        m: &Measurement<H, A, R, D>,
+        z: &SVector<f64, D>,
+    ) -> Result<(State, Mat6, SVector<f64, D>, f64), FilterError>
+    where
+        H: Fn(&State) -> Option<SVector<f64, D>>,
+        A: Fn(&[f64], &[SVector<f64, D>]) -> SVector<f64, D>,
+        R: Fn(&SVector<f64, D>, &SVector<f64, D>) -> SVector<f64, D>,
+    {
         let s = self.sigma_points(x, p)?;
         let mut zs = [SVector::<f64, D>::zeros(); NS];
         for (i, zi) in zs.iter_mut().enumerate() {
-            *zi = sensor
-                .measure(&s.column(i).into_owned())
+            *zi = (m.h)(&s.column(i).into_owned())
                 .ok_or(FilterError::Geometry(GeometryError::ZeroRange))?;
         }
-        let z_hat = sensor.mean(&self.wm, &zs);
+        let z_hat = (m.mean)(&self.wm, &zs);
         let drop = |mut v: SVector<f64, D>| {
-            for (k, u) in used.iter().enumerate() {
+            for (k, u) in m.used.iter().enumerate() {
                 if !u {
                     v[k] = 0.0;
                 }
             }
             v
         };
-        let mut pzz = sensor.noise().cov();
+        let mut pzz = m.r;
         let mut pxz = SMatrix::<f64, N, D>::zeros();
         for (i, zi) in zs.iter().enumerate() {
-            let dz = drop(sensor.residual(zi, &z_hat));
+            let dz = drop((m.residual)(zi, &z_hat));
             let dx = s.column(i) - x;
             pzz += dz * dz.transpose() * self.wc[i];
             pxz += dx * dz.transpose() * self.wc[i];
@@ -345,18 +362,13 @@ impl Ukf {
             "innovation covariance Pzz",
         ))?;
         let k = chol.solve(&pxz.transpose()).transpose();
-        let nu = drop(sensor.residual(z, &z_hat));
+        let nu = drop((m.residual)(z, &z_hat));
         let xn = x + k * nu;
         let pn = symmetrize(&(p - k * pzz * k.transpose()));
         finite(&xn, "updated state")?;
         finite(&pn, "updated covariance")?;
         let nis = nu.dot(&chol.solve(&nu));
-        let info = SensorUpdate {
-            innovation: nu,
-            nis,
-            dof: used.iter().filter(|u| **u).count(),
-        };
-        Ok((xn, pn, info))
+        Ok((xn, pn, nu, nis))
     }
 
     fn sigma_points(&self, x: &State, p: &Mat6) -> Result<Sigma, FilterError> {
@@ -378,6 +390,16 @@ impl Ukf {
         }
         s
     }
+}
+
+/// A measurement as the unscented update takes it: the function, the weighted mean and the
+/// residual of its values, the noise covariance and the components used.
+struct Measurement<H, A, R, const D: usize> {
+    h: H,
+    mean: A,
+    residual: R,
+    r: SMatrix<f64, D, D>,
+    used: [bool; D],
 }
 
 /// What the unscented measurement update of any state `x` with the covariance
