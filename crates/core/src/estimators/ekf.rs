@@ -30,22 +30,15 @@ use nalgebra::{SMatrix, SVector};
 /// The linearised (EKF) measurement update of `(x, P)` with any sensor, not committed:
 /// the updated state and covariance (Joseph form, full `H`: the generic path), the
 /// update's diagnostics and the innovation covariance `S`. Components the sensor marks
-/// unused get a zero row of `H` and a zero residual (their gain column vanishes).
+/// unused are dropped ([`Sensor::innovation`]).
 pub(crate) fn linearised_update<const D: usize, S: Sensor<D> + ?Sized>(
     x: &State,
     p: &Mat6,
     sensor: &S,
     z: &SVector<f64, D>,
 ) -> Result<(State, Mat6, SensorUpdate<D>, SMatrix<f64, D, D>), FilterError> {
-    let lin = sensor.linearize(x)?;
-    let mut nu = sensor.residual(z, &lin.z);
-    let mut h = lin.h;
-    for (k, used) in lin.used.iter().enumerate() {
-        if !used {
-            nu[k] = 0.0;
-            h.row_mut(k).fill(0.0);
-        }
-    }
+    let (lin, nu) = sensor.innovation(x, z)?;
+    let h = lin.h;
     let r = sensor.noise().cov();
     let ph = p * h.transpose();
     let s = h * ph + r;

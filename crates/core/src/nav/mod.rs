@@ -274,6 +274,22 @@ impl Navigator {
         Ok(())
     }
 
+    /// The checks of a step's step size, thrust and radio measurement.
+    #[inline(always)]
+    fn check_step(
+        &self,
+        thrust: &[f64; 3],
+        measurement: Option<&[f64; 3]>,
+        dt: f64,
+    ) -> Result<(), NavError> {
+        self.check_dt(dt)?;
+        finite3("thrust", thrust)?;
+        if let Some(z) = measurement {
+            Self::check_measurement(z)?;
+        }
+        Ok(())
+    }
+
     fn check_not_failed(&self) -> Result<(), NavError> {
         if self.failed {
             Err(NavError {
@@ -340,11 +356,7 @@ impl Navigator {
         measurement: Option<&[f64; 3]>,
         dt: f64,
     ) -> Result<(), NavError> {
-        self.check_dt(dt)?;
-        finite3("thrust", thrust)?;
-        if let Some(z) = measurement {
-            Self::check_measurement(z)?;
-        }
+        self.check_step(thrust, measurement, dt)?;
         self.check_not_failed()?;
         // the EKF's update and prediction commit together (no snapshot to copy); the
         // discrete model is a cache of `dt` alone
@@ -437,11 +449,7 @@ impl Navigator {
         if readings.iter().all(Option::is_none) {
             return self.step(thrust, measurement, dt);
         }
-        self.check_dt(dt)?;
-        finite3("thrust", thrust)?;
-        if let Some(z) = measurement {
-            Self::check_measurement(z)?;
-        }
+        self.check_step(thrust, measurement, dt)?;
         for (s, z) in self.sensors.iter().zip(readings) {
             if let Some(z) = z {
                 s.check(z).map_err(NavError::invalid)?;

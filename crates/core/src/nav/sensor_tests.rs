@@ -474,3 +474,32 @@ fn the_aqukf_adapts_on_the_first_update_of_a_step() {
     assert_eq!(alone.q_vv(), with.q_vv());
     assert_ne!(alone.q_vv(), Some(cfg.q_vel), "the radio's update adapted");
 }
+
+/// A particle filter large enough for the chunked path weighs an added sensor's reading
+/// there too, with results that do not depend on the thread count.
+#[test]
+fn the_generic_path_is_thread_count_independent() {
+    use crate::estimators::pf::PARALLEL_MIN_PARTICLES;
+    let (cfg, x) = setup(4);
+    let run = |threads: usize| {
+        let mut cfg = cfg;
+        (cfg.particles, cfg.pf_threads) = (PARALLEL_MIN_PARTICLES, threads);
+        let mut nav = Navigator::new(&cfg).unwrap();
+        nav.add_sensor(Arc::new(Named::new("velocity", Velocity { sigma: 5e-4 })));
+        let mut rng = ChaCha8Rng::seed_from_u64(9);
+        let mut xt = x;
+        for _ in 0..3 {
+            let z = radio(&cfg, &xt, &mut rng);
+            let zv = noisy(
+                Velocity { sigma: 5e-4 }.measure(&xt).unwrap(),
+                5e-4,
+                &mut rng,
+            );
+            nav.step_with(&[0.0; 3], Some(&z), &[Some(&zv[..])], 1.0)
+                .unwrap();
+            xt = propagate(cfg.mean_motion, &xt, 1.0);
+        }
+        (nav.state(), nav.covariance())
+    };
+    assert_eq!(run(1), run(2));
+}

@@ -101,6 +101,24 @@ pub trait Sensor<const D: usize>: Sync {
     }
     /// The measurement noise.
     fn noise(&self) -> SensorNoise<D>;
+    /// The linearisation at `x` and the innovation `z - h(x)`, with the components not
+    /// used dropped (zero row of `H`, zero residual: their gain column vanishes), as every
+    /// linearised update takes them.
+    fn innovation(
+        &self,
+        x: &State,
+        z: &SVector<f64, D>,
+    ) -> Result<(Linearization<D>, SVector<f64, D>), GeometryError> {
+        let mut lin = self.linearize(x)?;
+        let mut nu = self.residual(z, &lin.z);
+        for (k, used) in lin.used.iter().enumerate() {
+            if !used {
+                nu[k] = 0.0;
+                lin.h.row_mut(k).fill(0.0);
+            }
+        }
+        Ok((lin, nu))
+    }
     /// `ln p(z | x)` up to a constant, as the particle filters weigh: the noise density of
     /// the residual, `-inf` where the measurement is undefined.
     fn log_likelihood(&self, z: &SVector<f64, D>, x: &State) -> f64 {

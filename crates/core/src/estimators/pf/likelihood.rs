@@ -30,9 +30,34 @@ pub(super) trait ParticleLikelihood<const D: usize>: Sync {
     /// The variance of the Gaussian that stands in for component `k`'s noise at the
     /// innovation `nu` with predicted variance `pred_var` ([`NoiseModel::local_variance`]).
     fn local_variance(&self, k: usize, nu: f64, pred_var: f64) -> f64;
+    /// The weighting pass of the transition-proposal kinds over a run of particles: the
+    /// log-likelihoods into `ll`, the new log-weights `logw + ll` into `logw_new`, and
+    /// their maximum (NaN ignored, `-inf` if there is none). `soa`: the particles
+    /// transposed by blocks (the filter's `soa`), for a likelihood that reads them there.
+    /// Default: [`ParticleLikelihood::log`] particle by particle.
+    fn weigh_many(
+        &self,
+        x: &[State],
+        soa: Option<&[[[f64; BLOCK]; N]]>,
+        logw: &[f64],
+        logw_new: &mut [f64],
+        ll: &mut [f64],
+    ) -> f64 {
+        let _ = soa;
+        let mut max = f64::NEG_INFINITY;
+        for ((xi, lli), (lw, lwn)) in x.iter().zip(ll).zip(logw.iter().zip(logw_new)) {
+            *lli = self.log(xi);
+            *lwn = lw + *lli;
+            // `if l > m` keeps `m` for a NaN `l`
+            max = if *lwn > max { *lwn } else { max };
+        }
+        max
+    }
 }
 
-/// The likelihood of any [`Sensor`]'s measurement `z`: its own noise density.
+/// The likelihood of any [`Sensor`]'s measurement `z` ([`Sensor::log_likelihood`]: its own
+/// noise density unless the sensor says otherwise); `noise` for the rejuvenation's local
+/// variances.
 pub(super) struct SensorLikelihood<'a, S: ?Sized, const D: usize> {
     pub(super) sensor: &'a S,
     pub(super) z: SVector<f64, D>,
@@ -41,10 +66,7 @@ pub(super) struct SensorLikelihood<'a, S: ?Sized, const D: usize> {
 
 impl<const D: usize, S: Sensor<D> + ?Sized> ParticleLikelihood<D> for SensorLikelihood<'_, S, D> {
     fn log(&self, x: &State) -> f64 {
-        match self.sensor.measure(x) {
-            Some(zh) => self.noise.log_density(&self.sensor.residual(&self.z, &zh)),
-            None => f64::NEG_INFINITY,
-        }
+        self.sensor.log_likelihood(&self.z, x)
     }
     fn log_many(&self, x: &[State], out: &mut [f64]) {
         for (xi, o) in x.iter().zip(out.iter_mut()) {
@@ -57,16 +79,8 @@ impl<const D: usize, S: Sensor<D> + ?Sized> ParticleLikelihood<D> for SensorLike
         }
     }
     fn linear(&self, m0: &State) -> Option<(SMatrix<f64, D, 6>, SVector<f64, D>)> {
-        let lin = self.sensor.linearize(m0).ok()?;
-        let mut nu = self.sensor.residual(&self.z, &lin.z);
-        let mut h = lin.h;
-        for (k, used) in lin.used.iter().enumerate() {
-            if !used {
-                nu[k] = 0.0;
-                h.row_mut(k).fill(0.0);
-            }
-        }
-        Some((h, nu))
+        let (lin, nu) = self.sensor.innovation(m0, &self.z).ok()?;
+        Some((lin.h, nu))
     }
     fn local_variance(&self, k: usize, nu: f64, pred_var: f64) -> f64 {
         self.noise
@@ -148,6 +162,18 @@ impl<M: MeasurementModel> ParticleLikelihood<3> for Likelihood<'_, M> {
     }
     fn local_variance(&self, k: usize, nu: f64, pred_var: f64) -> f64 {
         self.noise.local_variance(nu, pred_var, self.scales[k])
+    }
+    /// Through the vectorised residuals, reading the positions from `soa` when given
+    /// ([`Likelihood::weigh_many`]).
+    fn weigh_many(
+        &self,
+        x: &[State],
+        soa: Option<&[[[f64; BLOCK]; N]]>,
+        logw: &[f64],
+        logw_new: &mut [f64],
+        ll: &mut [f64],
+    ) -> f64 {
+        Likelihood::weigh_many(self, x, soa, logw, logw_new, ll)
     }
 }
 

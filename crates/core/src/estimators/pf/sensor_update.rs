@@ -5,7 +5,7 @@
 //! (`w_i <- w_i p(z | x_i)`: successive sensors in one step multiply their likelihoods),
 //! then normalises, resamples and moves as on the radio's path (the RPF's kernel, the
 //! GA-PF's and CGA-PF's operators and the Gaussian-prior rejuvenation through
-//! [`ParticleLikelihood`]). The unscented kinds' per-particle proposals are formed for the
+//! `ParticleLikelihood`). The unscented kinds' per-particle proposals are formed for the
 //! radio only: on this path the UPF and CGA-PF weigh with the transition as proposal. At
 //! the first update a particle filter started from the first measurement draws its
 //! positions from the measurement when the sensor fixes the position
@@ -13,7 +13,8 @@
 //!
 //! [`Estimator::update_sensor`]: crate::estimators::Estimator::update_sensor
 
-use super::likelihood::{ParticleLikelihood, SensorLikelihood};
+use super::likelihood::SensorLikelihood;
+use super::update::less_noise;
 use super::ParticleFilter;
 use crate::estimators::{FilterError, SensorUpdate};
 use crate::sensors::Sensor;
@@ -64,18 +65,7 @@ impl ParticleFilter {
             noise,
         };
         self.set_predictive()?;
-        let mut max = f64::NEG_INFINITY;
-        for ((x, ll), (lw, lwn)) in self
-            .x
-            .iter()
-            .zip(self.loglik.iter_mut())
-            .zip(self.logw.iter().zip(self.logw_tmp.iter_mut()))
-        {
-            *ll = lik.log(x);
-            *lwn = lw + *ll;
-            // `if l > m` keeps `m` for a NaN `l`
-            max = if *lwn > max { *lwn } else { max };
-        }
+        let max = self.weigh(&lik, fresh);
         self.finish_update(&lik, Some(max), fresh, false)?;
         let innovation = sensor
             .measure(&self.mean)
@@ -97,12 +87,7 @@ impl ParticleFilter {
     ) -> Result<(), FilterError> {
         let noise = sensor.noise();
         self.init_positions(|rng| {
-            let mut zi = *z;
-            let mut st = 0.0;
-            for k in 0..D {
-                zi[k] -= noise.model.sample(noise.scales[k], &mut st, rng);
-            }
-            sensor.position_fix(&zi)
+            sensor.position_fix(&less_noise(z, &noise.model, &noise.scales, rng))
         })
     }
 }

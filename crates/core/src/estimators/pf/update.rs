@@ -21,7 +21,24 @@ use crate::numerics::vexp::exp_nonpos;
 use crate::numerics::{lane_sum, lane_sum_sq};
 use crate::sensors::{AngleTrig, MeasurementModel};
 use crate::types::{Mat3, Mat6, State, Vec3};
+use nalgebra::SVector;
 use std::cell::OnceCell;
+
+/// `z` less a draw of the noise `model` with `scales`, component by component (the
+/// first-measurement initialisation's draw of a noise-free measurement).
+pub(super) fn less_noise<const D: usize>(
+    z: &SVector<f64, D>,
+    model: &NoiseModel,
+    scales: &[f64; D],
+    rng: &mut PfRng,
+) -> SVector<f64, D> {
+    let mut zi = *z;
+    let mut st = 0.0;
+    for k in 0..D {
+        zi[k] -= model.sample(scales[k], &mut st, rng);
+    }
+    zi
+}
 
 impl ParticleFilter {
     /// Positions from the measurement's likelihood, velocities from the prior.
@@ -32,14 +49,7 @@ impl ParticleFilter {
         noise: &NoiseModel,
         scales: &[f64; 3],
     ) -> Result<(), FilterError> {
-        self.init_positions(|rng| {
-            let mut zi = *z;
-            let mut st = 0.0;
-            for k in 0..3 {
-                zi[k] -= noise.sample(scales[k], &mut st, rng);
-            }
-            sensor.invert(&zi)
-        })
+        self.init_positions(|rng| sensor.invert(&less_noise(z, noise, scales, rng)))
     }
 
     /// Each particle's position from `fix` (a position drawn from the measurement's
@@ -146,9 +156,13 @@ impl ParticleFilter {
     }
 
     /// The log-weights `logw_tmp` and log-likelihoods of the transition-proposal kinds, in
-    /// one pass ([`Likelihood::weigh_many`]); their maximum (per chunk on the parallel path).
-    /// `fresh`: `soa` holds the particles (transposed, serial path).
-    fn weigh<M: MeasurementModel>(&mut self, lik: &Likelihood<'_, M>, fresh: bool) -> f64 {
+    /// one pass ([`ParticleLikelihood::weigh_many`]); their maximum (per chunk on the
+    /// parallel path). `fresh`: `soa` holds the particles (transposed, serial path).
+    pub(super) fn weigh<const D: usize, L: ParticleLikelihood<D>>(
+        &mut self,
+        lik: &L,
+        fresh: bool,
+    ) -> f64 {
         if self.chunked() {
             let jobs: Vec<_> = self
                 .x
@@ -384,7 +398,6 @@ impl ParticleFilter {
             Some(self.weigh(&lik, fresh))
         };
         self.finish_update(&lik, fused, fresh, kind.unscented())?;
-        self.prior_mode = false;
         let innovation = sensor
             .predict(&self.mean.fixed_rows::<3>(0).into_owned())
             .map(|zh| sensor.diff(z, &zh))
