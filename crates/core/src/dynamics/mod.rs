@@ -14,8 +14,10 @@
 //! [`DiscreteModel`]s as they take CW's.
 
 mod cw;
+mod elliptic;
 
 pub use cw::CwModel;
+pub use elliptic::{eccentric_anomaly, EllipticModel, KEPLER_ITERATIONS, QUADRATURE_BOUND};
 
 use crate::types::{Mat3, Mat6, Mat63, State, Vec3};
 
@@ -85,23 +87,45 @@ pub trait RelativeDynamics {
 pub enum Dynamics {
     /// Clohessy–Wiltshire: target on a circular orbit.
     Cw(CwModel),
+    /// Yamanaka–Ankersen: target on an elliptic orbit.
+    Elliptic(EllipticModel),
 }
 
+/// The largest eccentricity the library takes: [`eccentric_anomaly`]'s fixed iterations
+/// are verified to double precision up to it.
+pub const MAX_ECCENTRICITY: f64 = 0.99;
+
 impl Dynamics {
+    /// The model of a target orbit: CW at `e = 0` (closed-form noise and input matrices),
+    /// the linearised elliptic model otherwise.
+    pub fn of_orbit(n: f64, e: f64, nu0: f64) -> Self {
+        if e == 0.0 {
+            Dynamics::Cw(CwModel::new(n))
+        } else {
+            Dynamics::Elliptic(EllipticModel::new(n, e, nu0))
+        }
+    }
+
     /// Propagate a state exactly from `t` over `dt` with a constant acceleration `accel`.
     pub fn propagate(&self, x: &State, accel: &Vec3, t: f64, dt: f64) -> State {
-        let _ = t;
         match self {
             Dynamics::Cw(m) => m.propagate(x, accel, dt),
+            Dynamics::Elliptic(m) => m.propagate(x, accel, t, dt),
         }
     }
 
     /// The zero-order-hold input matrix of the step from `t` over `dt`.
     pub fn input_matrix(&self, t: f64, dt: f64) -> Mat63 {
-        let _ = t;
         match self {
             Dynamics::Cw(m) => m.gamma(dt),
+            Dynamics::Elliptic(m) => m.gamma(t, dt),
         }
+    }
+}
+
+impl From<EllipticModel> for Dynamics {
+    fn from(m: EllipticModel) -> Self {
+        Dynamics::Elliptic(m)
     }
 }
 
@@ -115,21 +139,25 @@ impl RelativeDynamics for Dynamics {
     fn step(&self, t: f64, dt: f64, qc: &Mat3, method: Discretization) -> DiscreteModel {
         match self {
             Dynamics::Cw(m) => m.step(t, dt, qc, method),
+            Dynamics::Elliptic(m) => m.step(t, dt, qc, method),
         }
     }
     fn step_noise(&self, t: f64, dt: f64, qc: &Mat3) -> Mat6 {
         match self {
             Dynamics::Cw(m) => m.step_noise(t, dt, qc),
+            Dynamics::Elliptic(m) => m.step_noise(t, dt, qc),
         }
     }
     fn system_matrix(&self, t: f64) -> Mat6 {
         match self {
             Dynamics::Cw(m) => m.system_matrix(t),
+            Dynamics::Elliptic(m) => m.system_matrix(t),
         }
     }
     fn time_invariant(&self) -> bool {
         match self {
             Dynamics::Cw(m) => m.time_invariant(),
+            Dynamics::Elliptic(m) => m.time_invariant(),
         }
     }
 }
