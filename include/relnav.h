@@ -176,7 +176,7 @@ typedef struct relnav_config {
   // A `relnav_discretization` code: 1 exact, 2 euler.
   // Default: 1 (exact).
   int32_t discretization;
-  // Mean motion of the target's circular orbit (> 0).
+  // Mean motion of the target's orbit, 2 pi / period (> 0).
   // Unit: rad/s.
   // Allowed: > 0.
   // Default: 0.0008726646259971648.
@@ -358,6 +358,14 @@ typedef struct relnav_config {
   // Allowed: 0..=1024.
   // Default: 0.
   int32_t pf_threads;
+  // Eccentricity of the target's orbit (0 <= e <= 0.99): 0 the Clohessy-Wiltshire model, > 0 the linearised elliptic model of Yamanaka and Ankersen; mean_motion stays 2 pi / period.
+  // Allowed: in [0, 0.99].
+  // Default: 0.
+  double eccentricity;
+  // True anomaly of the target at the start time (unused at eccentricity 0).
+  // Unit: rad.
+  // Default: 0.
+  double true_anomaly0;
 } relnav_config;
 
 // How the H-infinity filter of an estimator (filter code 9) was designed

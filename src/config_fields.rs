@@ -113,7 +113,7 @@ pub struct relnav_config {
     /// A `relnav_discretization` code: 1 exact, 2 euler.
     /// Default: 1 (exact).
     pub discretization: i32,
-    /// Mean motion of the target's circular orbit (> 0).
+    /// Mean motion of the target's orbit, 2 pi / period (> 0).
     /// Unit: rad/s.
     /// Allowed: > 0.
     /// Default: 0.0008726646259971648.
@@ -295,6 +295,14 @@ pub struct relnav_config {
     /// Allowed: 0..=1024.
     /// Default: 0.
     pub pf_threads: i32,
+    /// Eccentricity of the target's orbit (0 <= e <= 0.99): 0 the Clohessy-Wiltshire model, > 0 the linearised elliptic model of Yamanaka and Ankersen; mean_motion stays 2 pi / period.
+    /// Allowed: in [0, 0.99].
+    /// Default: 0.
+    pub eccentricity: f64,
+    /// True anomaly of the target at the start time (unused at eccentricity 0).
+    /// Unit: rad.
+    /// Default: 0.
+    pub true_anomaly0: f64,
 }
 
 impl relnav_config {
@@ -343,6 +351,8 @@ impl relnav_config {
         imm_p_stay: [0.0; 3],
         pf_move: 0,
         pf_threads: 0,
+        eccentricity: 0.0,
+        true_anomaly0: 0.0,
     };
 
     /// Element `i` of parameter `k` (its index in the table).
@@ -391,6 +401,8 @@ impl relnav_config {
             40 => Value::Real(*self.imm_p_stay.get(i)?),
             41 => Value::Int(i64::from(self.pf_move)),
             42 => Value::Int(i64::from(self.pf_threads)),
+            43 => Value::Real(self.eccentricity),
+            44 => Value::Real(self.true_anomaly0),
             _ => return None,
         })
     }
@@ -442,6 +454,8 @@ impl relnav_config {
             40 if i < 3 => self.imm_p_stay[i] = v.as_f64(),
             41 => self.pf_move = v.as_int().map_or(i32::MAX, |x| i32::try_from(x).unwrap_or(i32::MAX)),
             42 => self.pf_threads = v.as_int().map_or(i32::MAX, |x| i32::try_from(x).unwrap_or(i32::MAX)),
+            43 => self.eccentricity = v.as_f64(),
+            44 => self.true_anomaly0 = v.as_f64(),
             _ => {}
         }
     }

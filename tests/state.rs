@@ -354,7 +354,7 @@ fn bad_states_are_refused_and_change_nothing() {
         let mut c = good.clone();
         c[8..12].copy_from_slice(&(STATE_FORMAT_VERSION + 1).to_le_bytes());
         reseal(&mut c, EST_HEADER);
-        refusal(&mut target, &c, "format version 2", "version");
+        refusal(&mut target, &c, "format version 3", "version");
         // another magic
         let mut c = good.clone();
         c[0] = b'X';
@@ -422,9 +422,9 @@ fn malformed_fields_are_refused() {
     let mut nav = Navigator::new(&cfg).unwrap();
     let mut b = Vec::new();
     nav.save_state(&mut b);
-    // payload: CONF (4 + 4 + 8 per setting), NAVG (4 + 1 + 1 + 33), tag (4), UKF (48 + 288),
-    // q (24)
-    let head = EST_HEADER + conf_len() + 39 + 4 + 336 + 24;
+    // payload: CONF (4 + 4 + 8 per setting), NAVG (4 + 1 + 8 + 1 + 33), tag (4),
+    // UKF (48 + 288), q (24)
+    let head = EST_HEADER + conf_len() + 47 + 4 + 336 + 24;
     assert_eq!(&b[head - 24 - 336 - 4..head - 24 - 336], b"AQUK");
     b[head..head + 8].copy_from_slice(&10u64.to_le_bytes());
     reseal(&mut b, EST_HEADER);
@@ -439,7 +439,7 @@ fn malformed_fields_are_refused() {
     nav.save_state(&mut b);
     let n = 10;
     // PART: n, m, x0, P0, x (n*48), logw, w, loglik (n*8 each), perm (n*4)
-    let perm = EST_HEADER + conf_len() + 39 + 4 + 16 + 48 + 288 + n * 48 + 3 * n * 8;
+    let perm = EST_HEADER + conf_len() + 47 + 4 + 16 + 48 + 288 + n * 48 + 3 * n * 8;
     assert_eq!(
         u32::from_le_bytes(b[perm + 4..perm + 8].try_into().unwrap()),
         1
@@ -455,7 +455,7 @@ fn malformed_fields_are_refused() {
     // a non-finite particle
     let mut b = Vec::new();
     nav.save_state(&mut b);
-    let x = EST_HEADER + conf_len() + 39 + 4 + 16 + 48 + 288;
+    let x = EST_HEADER + conf_len() + 47 + 4 + 16 + 48 + 288;
     b[x..x + 8].copy_from_slice(&f64::NAN.to_le_bytes());
     reseal(&mut b, EST_HEADER);
     refusal(&mut nav, &b, "particle must be finite", "NaN particle");
@@ -483,12 +483,13 @@ fn malformed_fields_are_refused() {
 #[test]
 fn sizes_follow_the_documented_layout() {
     assert_eq!(
-        STATE_FORMAT_VERSION, 1,
+        STATE_FORMAT_VERSION, 2,
         "update docs/state-format.md and this table"
     );
     let conf = conf_len();
-    // failure flag, last-update flag, innovation, NIS, azimuth flag (zeros when absent)
-    let navg = 4 + 1 + 1 + 3 * 8 + 8 + 1;
+    // failure flag, step start time, last-update flag, innovation, NIS, azimuth flag
+    // (zeros when absent)
+    let navg = 4 + 1 + 8 + 1 + 3 * 8 + 8 + 1;
     let m6 = 36 * 8;
     let v6 = 6 * 8;
     let kalman = v6 + m6;

@@ -182,7 +182,7 @@ def test_ssds_are_valid_and_agree_with_the_fmus():
         ends = [(b, bc) for _, _, b, bc in sysm.connections]
         assert len(ends) == len(set(ends)) == 16
         structure[variant] = ({k: c.connectors for k, c in sysm.components.items()}, sysm.connections)
-    assert structure["paper000"] == structure["lidar"]
+    assert structure["paper000"] == structure["lidar"] == structure["proba3"]
 
 
 # ---------------------------------------------------------------- plant: truth

@@ -4,12 +4,16 @@
 //! really move the chaser.
 //!
 //! **Law** (canonical Hill frame, state `X = (r, v)`, hold point `r_h` at rest in the
-//! rotating frame): the CW accelerations are cancelled and a PD law with natural frequency
-//! `w` (`bandwidth`) and damping ratio `zeta` acts on the error,
+//! rotating frame): the accelerations of the linearised relative motion are cancelled and a
+//! PD law with natural frequency `w` (`bandwidth`) and damping ratio `zeta` acts on the
+//! error,
 //!
 //! ```text
-//! a = -w^2 (r - r_h) - 2 zeta w v - f_cw(X),   f_cw(X) = (3 n^2 x + 2 n vy, -2 n vx, -n^2 z)
+//! a = -w^2 (r - r_h) - 2 zeta w v - f(X, t),   f_cw(X) = (3 n^2 x + 2 n vy, -2 n vx, -n^2 z)
 //! ```
+//!
+//! with `f = f_cw` on a circular orbit and, at `eccentricity > 0`, the velocity rows of the
+//! elliptic model's `A(t) X` ([`crate::dynamics::EllipticModel::continuous_a`]),
 //!
 //! so that the closed loop is `e'' + 2 zeta w e' + w^2 e = 0` on every axis (a V-bar hold,
 //! `x_h = z_h = 0`, costs no thrust at rest; elsewhere `f_cw(r_h)` is held by thrust). The
@@ -17,8 +21,8 @@
 //!
 //! **Sampled data** (one step of computational delay, compensated): at `fmi2DoStep(t, h)`
 //! the input is the estimate at `t`; the thrust `F_k` applied over `[t, t + h)` is this law's
-//! previous output, so the estimate is predicted to `t + h` with the exact CW transition
-//! `X+ = Phi(h) X + Gamma(h) F_k / m` and the law evaluated there gives `F_(k+1)`, published
+//! previous output, so the estimate is predicted to `t + h` with the exact transition of the
+//! same model, `X+ = Phi X + Gamma F_k / m` and the law evaluated there gives `F_(k+1)`, published
 //! at `t + h` and applied over `[t + h, t + 2h)`. The output does not depend on the inputs
 //! of the same communication point (no direct feedthrough), so the loop has no algebraic
 //! loop in any master.
@@ -29,8 +33,9 @@
 //! otherwise — the average impulse is kept, the chaser dithers within about `I_min / m` of
 //! velocity around the hold point.
 
-use crate::dynamics::{CwModel, Discretization, Dynamics, RelativeDynamics};
+use crate::dynamics::{Discretization, Dynamics, RelativeDynamics};
 use crate::frames::Frame;
+use crate::nav::config::ECCENTRICITY_RULE;
 use crate::numerics::state::{Reader, StateError, Writer};
 use crate::params::{closed, Rule};
 use crate::types::{Mat3, Mat6, Mat63, State, Vec3};
@@ -49,7 +54,7 @@ crate::config! {
         elements: [("mean_motion", 1, "rad/s", 2.0 * std::f64::consts::PI / 7200.0, "")],
         rule: Rule::Interval { lo: closed(1e-9), hi: closed(0.1), why: " rad/s" },
         c: false, scenario: None, slot: None,
-        description: "Mean motion of the target's circular orbit (1e-9..0.1)",
+        description: "Mean motion of the target's orbit, 2 pi / period (1e-9..0.1)",
     },
     chaser_mass: f64 {
         elements: [("chaser_mass", 2, "kg", 1000.0, "")],
@@ -90,6 +95,17 @@ crate::config! {
         rule: Rule::Finite, c: false, scenario: None, slot: None,
         description: "Time from which thrust is commanded (zero thrust before)",
     },
+    eccentricity: f64 {
+        elements: [("eccentricity", 22, "", 0.0, "")],
+        rule: ECCENTRICITY_RULE,
+        c: false, scenario: None, slot: None,
+        description: "Eccentricity of the target's orbit (0 <= e <= 0.99): the law cancels and predicts with the linearised elliptic model (Yamanaka-Ankersen) when > 0, with CW at 0",
+    },
+    true_anomaly0: f64 {
+        elements: [("true_anomaly0", 23, "rad", 0.0, "")],
+        rule: Rule::Finite, c: false, scenario: None, slot: None,
+        description: "True anomaly of the target at the start time (unused at eccentricity 0)",
+    },
 }
 
 /// Largest `bandwidth * h` a step may have: the sampled PD loop (with the one-step delay
@@ -112,6 +128,8 @@ impl GuidanceConfig {
 pub struct Guidance {
     cfg: GuidanceConfig,
     model: Dynamics,
+    /// start time: the elliptic model's epoch (true anomaly `true_anomaly0`)
+    t0: f64,
     hold: Vec3,
     cache: Option<(f64, Mat6, Mat63)>,
     /// Thrust applied over the current step [N, canonical].
@@ -127,13 +145,21 @@ impl Guidance {
         cfg.validate()?;
         Ok(Self {
             cfg,
-            model: CwModel::new(cfg.mean_motion).into(),
+            model: Dynamics::of_orbit(cfg.mean_motion, cfg.eccentricity, cfg.true_anomaly0),
+            t0: 0.0,
             hold: cfg.frame.vec_to_canonical(&Vec3::from_row_slice(&cfg.hold)),
             cache: None,
             thrust: Vec3::zeros(),
             pending: Vec3::zeros(),
             delta_v: 0.0,
         })
+    }
+
+    /// The same law started at time `t0` (the instant the target is at `true_anomaly0`;
+    /// [`Guidance::new`] starts at 0).
+    pub fn starting_at(mut self, t0: f64) -> Self {
+        self.t0 = t0;
+        self
     }
 
     /// Thrust commanded for the current step [N, I/O frame].
@@ -147,18 +173,26 @@ impl Guidance {
         self.delta_v
     }
 
-    /// The law's acceleration for the canonical state `x` (before the thrust limit).
-    pub fn acceleration(&self, x: &State) -> Vec3 {
-        let n = self.cfg.mean_motion;
+    /// The law's acceleration for the canonical state `x` at time `t` (before the thrust
+    /// limit).
+    pub fn acceleration(&self, x: &State, t: f64) -> Vec3 {
         let (w, zeta) = (self.cfg.bandwidth, self.cfg.damping);
         let r = x.fixed_rows::<3>(0).into_owned();
         let v = x.fixed_rows::<3>(3).into_owned();
-        let f_cw = Vec3::new(
-            3.0 * n * n * x[0] + 2.0 * n * x[4],
-            -2.0 * n * x[3],
-            -n * n * x[2],
-        );
-        -(r - self.hold) * (w * w) - v * (2.0 * zeta * w) - f_cw
+        let f = match &self.model {
+            Dynamics::Cw(m) => {
+                let n = m.n;
+                Vec3::new(
+                    3.0 * n * n * x[0] + 2.0 * n * x[4],
+                    -2.0 * n * x[3],
+                    -n * n * x[2],
+                )
+            }
+            model => (model.system_matrix(t - self.t0) * x)
+                .fixed_rows::<3>(3)
+                .into_owned(),
+        };
+        -(r - self.hold) * (w * w) - v * (2.0 * zeta * w) - f
     }
 
     /// One step from `t` over `h` with the estimate `estimate` [I/O frame] at `t`: account
@@ -187,7 +221,9 @@ impl Guidance {
         let (phi, gamma) = match self.cache {
             Some((hc, p, g)) if hc.to_bits() == h.to_bits() => (p, g),
             _ => {
-                let d = self.model.step(t, h, &Mat3::zeros(), Discretization::Exact);
+                let d = self
+                    .model
+                    .step(t - self.t0, h, &Mat3::zeros(), Discretization::Exact);
                 if self.model.time_invariant() {
                     self.cache = Some((h, d.phi, d.gamma));
                 }
@@ -199,7 +235,7 @@ impl Guidance {
         let tol = 1e-9 * (t + h).abs().max(1.0);
         let fmax = self.cfg.thrust_max;
         let command = if t + h >= self.cfg.engage_time - tol {
-            (self.acceleration(&predicted) * m).map(|f| f.clamp(-fmax, fmax))
+            (self.acceleration(&predicted, t + h) * m).map(|f| f.clamp(-fmax, fmax))
         } else {
             Vec3::zeros()
         };
@@ -244,6 +280,7 @@ impl Guidance {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::dynamics::CwModel;
 
     /// On the exact CW truth the closed loop reaches the hold point from paper 000's
     /// start (with the estimate equal to the truth), and a V-bar hold costs nothing once

@@ -12,6 +12,7 @@
 //! order 10; a test checks its order and energy/angular-momentum conservation.
 
 use crate::types::{State, Vec3};
+use nalgebra::SVector;
 
 /// Standard gravitational parameter of the Earth [m^3/s^2] (EGM-96).
 pub const MU_EARTH: f64 = 3.986_004_418e14;
@@ -33,10 +34,15 @@ pub fn rk4_step<F: Fn(f64, &State) -> State>(f: &F, t: f64, y: &State, h: f64) -
 const GBS_SEQ: [usize; 5] = [2, 4, 6, 8, 10];
 
 /// One Gragg–Bulirsch–Stoer step of `y' = f(t, y)` over `h` (order 10; see the module
-/// documentation).
-pub fn gbs_step<F: Fn(f64, &State) -> State>(f: &F, t: f64, y: &State, h: f64) -> State {
+/// documentation), for a state of any dimension `D`.
+pub fn gbs_step<const D: usize, F: Fn(f64, &SVector<f64, D>) -> SVector<f64, D>>(
+    f: &F,
+    t: f64,
+    y: &SVector<f64, D>,
+    h: f64,
+) -> SVector<f64, D> {
     let f0 = f(t, y);
-    let mut table = [State::zeros(); 5];
+    let mut table = [SVector::<f64, D>::zeros(); 5];
     for (j, &n) in GBS_SEQ.iter().enumerate() {
         // modified midpoint with n substeps
         let hs = h / n as f64;
@@ -83,6 +89,13 @@ pub fn j2_rhs(x: &State, a_extra: &Vec3) -> State {
     State::from_row_slice(&[x[3], x[4], x[5], a.x, a.y, a.z])
 }
 
+/// `(r, v)' = (v, -mu r / r^3 + a_extra)` (point-mass gravity).
+pub fn point_mass_rhs(x: &State, a_extra: &Vec3) -> State {
+    let r = x.fixed_rows::<3>(0).into_owned();
+    let a = -r * (MU_EARTH / r.norm().powi(3)) + a_extra;
+    State::from_row_slice(&[x[3], x[4], x[5], a.x, a.y, a.z])
+}
+
 /// The local-vertical frame of a target `(r, v)`: rows are the canonical Hill axes (x
 /// radial, y along-track = h x r, z orbit normal), and the frame's rotation rate
 /// `|r x v| / r^2` about its z axis.
@@ -126,9 +139,26 @@ pub fn circular_target(n: f64, incl: f64) -> State {
     State::from_row_slice(&[a, 0.0, 0.0, 0.0, v * incl.cos(), v * incl.sin()])
 }
 
-/// The two-body + J2 truth of both spacecraft: a target on a circular orbit and the chaser,
+/// A Keplerian orbit of mean motion `n` [rad/s] and eccentricity `e` at inclination `incl`
+/// [rad], perigee at the ascending node (argument of perigee and node 0), at true anomaly
+/// `nu` (Earth-centred inertial): `r = p / (1 + e cos nu)` along `(cos nu, sin nu)` and
+/// `v = sqrt(mu / p) (-sin nu, e + cos nu)` in the orbit plane, `p = a (1 - e^2)`.
+pub fn keplerian_target(n: f64, e: f64, nu: f64, incl: f64) -> State {
+    let a = (MU_EARTH / (n * n)).cbrt();
+    let p = a * (1.0 - e * e);
+    let (sn, cn) = nu.sin_cos();
+    let r = p / (1.0 + e * cn);
+    let v = (MU_EARTH / p).sqrt();
+    let (si, ci) = incl.sin_cos();
+    let (px, py) = (r * cn, r * sn);
+    let (vx, vy) = (-v * sn, v * (e + cn));
+    State::from_row_slice(&[px, py * ci, py * si, vx, vy * ci, vy * si])
+}
+
+/// The two-body + J2 truth of both spacecraft: a target on a circular
+/// ([`TwoBodyJ2::new`]) or Keplerian ([`TwoBodyJ2::keplerian`]) orbit and the chaser,
 /// both around the Earth (point mass + J2, [`gbs_step`] substeps), thrust acting on the
-/// chaser in the inertial direction of the target's Hill axes at the start of each step.
+/// chaser along the target's (rotating) Hill axes.
 /// The relative state is read in the target's Hill frame ([`relative_state`]). Used by the
 /// evaluation engine's `two_body_j2` scenarios and by the plant FMU's `truth_model` 2.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -140,6 +170,8 @@ pub struct TwoBodyJ2 {
     /// Longest integration substep [s]: a step `dt` takes `round(dt / substep)` (at least
     /// one) equal substeps.
     pub substep: f64,
+    /// Whether J2 acts (true from the constructors); false: point-mass gravity alone.
+    pub j2: bool,
 }
 
 impl TwoBodyJ2 {
@@ -152,6 +184,24 @@ impl TwoBodyJ2 {
             target,
             chaser,
             substep,
+            j2: true,
+        }
+    }
+
+    /// Target on the Keplerian orbit of mean motion `n`, eccentricity `e` and inclination
+    /// `incl` at true anomaly `nu0` ([`keplerian_target`]), chaser at the canonical relative
+    /// state `rel0`. At `e = 0` this is [`TwoBodyJ2::new`] (the circular orbit from its
+    /// ascending node; `nu0` unused).
+    pub fn keplerian(n: f64, e: f64, nu0: f64, incl: f64, rel0: &State, substep: f64) -> Self {
+        if e == 0.0 {
+            return Self::new(n, incl, rel0, substep);
+        }
+        let target = keplerian_target(n, e, nu0, incl);
+        Self {
+            target,
+            chaser: chaser_from_relative(&target, rel0),
+            substep,
+            j2: true,
         }
     }
 
@@ -161,22 +211,44 @@ impl TwoBodyJ2 {
     }
 
     /// Propagate both over `[t0, t0 + dt)` with the chaser's thrust acceleration `accel`
-    /// (canonical Hill axes at `t0`, held in inertial space over the step).
+    /// held along the target's Hill axes as they rotate (what the linear models' zero-order
+    /// hold assumes): target and chaser are one 12-dimensional system for the integrator,
+    /// the axes taken from the target's state at every evaluation.
     pub fn step(&mut self, accel: &Vec3, t0: f64, dt: f64) {
         let sub = (dt / self.substep).round().max(1.0) as usize;
         let h = dt / sub as f64;
-        let (rot, _) = hill_frame(&self.target);
-        let a_in = rot.transpose() * accel;
+        let j2 = self.j2;
+        let gravity = move |y: &State, a: &Vec3| {
+            if j2 {
+                j2_rhs(y, a)
+            } else {
+                point_mass_rhs(y, a)
+            }
+        };
+        let thrust = *accel != Vec3::zeros();
+        let rhs = |_: f64, y: &SVector<f64, 12>| {
+            let target = y.fixed_rows::<6>(0).into_owned();
+            let chaser = y.fixed_rows::<6>(6).into_owned();
+            let a_in = if thrust {
+                hill_frame(&target).0.transpose() * accel
+            } else {
+                Vec3::zeros()
+            };
+            let (dt_, dc) = (gravity(&target, &Vec3::zeros()), gravity(&chaser, &a_in));
+            SVector::<f64, 12>::from_fn(|i, _| if i < 6 { dt_[i] } else { dc[i - 6] })
+        };
+        let mut y = SVector::<f64, 12>::from_fn(|i, _| {
+            if i < 6 {
+                self.target[i]
+            } else {
+                self.chaser[i - 6]
+            }
+        });
         for j in 0..sub {
-            let t = t0 + j as f64 * h;
-            self.target = gbs_step(
-                &|_, y: &State| j2_rhs(y, &Vec3::zeros()),
-                t,
-                &self.target,
-                h,
-            );
-            self.chaser = gbs_step(&|_, y: &State| j2_rhs(y, &a_in), t, &self.chaser, h);
+            y = gbs_step(&rhs, t0 + j as f64 * h, &y, h);
         }
+        self.target = y.fixed_rows::<6>(0).into_owned();
+        self.chaser = y.fixed_rows::<6>(6).into_owned();
     }
 }
 

@@ -3,14 +3,16 @@
 //! the half of a GNC system a user of relnav.fmu would otherwise have to write.
 //!
 //! **Truth** (canonical Hill frame inside, I/O frame at the interface, SI units):
-//! * [`TruthModel::Cw`]: exact Clohessy–Wiltshire, `X(t + h) = Phi(h) X(t) + Gamma(h) F / m`
-//!   with the closed-form transition and exact zero-order-hold input matrix of
-//!   [`crate::dynamics::CwModel`] (papers 000 and 002, sec. 2), the thrust `F` held over the
-//!   step;
+//! * [`TruthModel::Cw`]: the exact linearised relative motion,
+//!   `X(t + h) = Phi X(t) + Gamma F / m` with the thrust `F` held over the step: at
+//!   `eccentricity` 0 the closed-form transition and exact zero-order-hold input matrix of
+//!   [`crate::dynamics::CwModel`] (papers 000 and 002, sec. 2), otherwise those of the
+//!   elliptic model [`crate::dynamics::EllipticModel`] (Yamanaka–Ankersen);
 //! * [`TruthModel::TwoBodyJ2`]: target and chaser around the Earth, point mass + J2
 //!   ([`crate::orbit::TwoBodyJ2`], the evaluation engine's nonlinear truth), the target
-//!   started on the circular orbit of `mean_motion` at `inclination`, the relative state read
-//!   in the target's Hill frame.
+//!   started on the orbit of `mean_motion` and `eccentricity` at `inclination` (perigee at
+//!   the ascending node, true anomaly `true_anomaly0`), the relative state read in the
+//!   target's Hill frame; [`TruthModel::TwoBody`] the same without J2.
 //!
 //! **Sensor** ([`crate::sensors::RadioSensor::measure_with`], paper 000 sec. 2): range,
 //! azimuth `atan2(y, x)` in `[0, 2 pi)` and elevation `asin(z / range)` of the I/O-frame
@@ -25,8 +27,9 @@
 //! measurement is then dropped or not, so the noise sequence does not depend on the dropout
 //! settings.
 
-use crate::dynamics::{CwModel, Discretization, Dynamics, RelativeDynamics};
+use crate::dynamics::{Discretization, Dynamics, RelativeDynamics};
 use crate::frames::Frame;
+use crate::nav::config::ECCENTRICITY_RULE;
 use crate::nav::config::{NoiseKind, NOISE_DOF_RULE, NOISE_SCALE_RULE, NOISE_ZETA_RULE};
 use crate::noise::NoiseModel;
 use crate::numerics::state::{refuse, Reader, StateError, Writer};
@@ -43,9 +46,11 @@ crate::codes! {
     pub enum TruthModel: TRUTH_MODEL_CODES = "TruthModel", "relnav_truth_model", "RELNAV_TRUTH_", false {
         /// Exact CW (closed-form transition, exact zero-order hold).
         #[default]
-        Cw = 1, "cw", "Exact Clohessy-Wiltshire (closed-form transition, exact zero-order hold of the thrust)";
+        Cw = 1, "cw", "Exact linearised relative motion: Clohessy-Wiltshire at eccentricity 0, the elliptic model of Yamanaka and Ankersen otherwise (closed-form transition, zero-order hold of the thrust)";
         /// Two-body + J2 propagation of target and chaser (10th-order GBS substeps).
         TwoBodyJ2 = 2, "two_body_j2", "Target and chaser around the Earth, point mass + J2 (10th-order Gragg-Bulirsch-Stoer substeps); relative state in the target's Hill frame";
+        /// Two-body propagation (point mass, no J2) of target and chaser.
+        TwoBody = 3, "two_body", "Target and chaser around the Earth, point mass alone (10th-order Gragg-Bulirsch-Stoer substeps); relative state in the target's Hill frame";
     }
 }
 
@@ -69,7 +74,7 @@ crate::config! {
         elements: [("mean_motion", 2, "rad/s", 2.0 * std::f64::consts::PI / 7200.0, "")],
         rule: Rule::Interval { lo: closed(1e-9), hi: closed(0.1), why: " rad/s" },
         c: false, scenario: None, slot: None,
-        description: "Mean motion of the target's circular orbit (1e-9..0.1)",
+        description: "Mean motion of the target's orbit, 2 pi / period (1e-9..0.1)",
     },
     chaser_mass: f64 {
         elements: [("chaser_mass", 3, "kg", 1000.0, "")],
@@ -92,12 +97,12 @@ crate::config! {
         elements: [("inclination", 10, "rad", 51.6 * std::f64::consts::PI / 180.0, "")],
         rule: Rule::Interval { lo: closed(0.0), hi: closed(std::f64::consts::PI), why: " rad" },
         c: false, scenario: None, slot: None,
-        description: "truth_model two_body_j2: inclination of the target's orbit (in [0, pi]; the target starts at its ascending node)",
+        description: "truth_model two_body_j2 and two_body: inclination of the target's orbit (in [0, pi]; perigee at the ascending node)",
     },
     j2_substep: f64 {
         elements: [("j2_substep", 11, "s", 1.0, "")],
         rule: Rule::Positive, c: false, scenario: None, slot: None,
-        description: "truth_model two_body_j2: longest integration substep (a step h takes round(h / j2_substep), at least 1, equal substeps; > 0)",
+        description: "truth_model two_body_j2 and two_body: longest integration substep (a step h takes round(h / j2_substep), at least 1, equal substeps; > 0)",
     },
     measurement_period: f64 {
         elements: [("measurement_period", 12, "s", 1.0, "")],
@@ -158,6 +163,17 @@ crate::config! {
         rule: Rule::Any, c: false, scenario: None, slot: None,
         description: "Seed of the measurement noise and dropout draws (identical seeds give identical outputs)",
     },
+    eccentricity: f64 {
+        elements: [("eccentricity", 37, "", 0.0, "")],
+        rule: ECCENTRICITY_RULE,
+        c: false, scenario: None, slot: None,
+        description: "Eccentricity of the target's orbit (0 <= e <= 0.99): truth_model cw propagates the linearised elliptic model (Yamanaka-Ankersen) when > 0, two_body_j2 starts the target on this Keplerian orbit (perigee at the ascending node); mean_motion stays 2 pi / period",
+    },
+    true_anomaly0: f64 {
+        elements: [("true_anomaly0", 38, "rad", 0.0, "")],
+        rule: Rule::Finite, c: false, scenario: None, slot: None,
+        description: "True anomaly of the target at the start time (unused at eccentricity 0)",
+    },
 }
 
 impl PlantConfig {
@@ -166,13 +182,19 @@ impl PlantConfig {
         for p in PLANT_PARAMS {
             p.check(self)?;
         }
-        if self.truth_model == TruthModel::TwoBodyJ2 {
+        if matches!(
+            self.truth_model,
+            TruthModel::TwoBodyJ2 | TruthModel::TwoBody
+        ) {
             let a = (crate::orbit::MU_EARTH / (self.mean_motion * self.mean_motion)).cbrt();
-            if a <= R_EARTH {
+            let rp = a * (1.0 - self.eccentricity);
+            if rp <= R_EARTH {
                 return Err(format!(
-                    "truth_model two_body_j2: mean_motion {} rad/s is an orbit of radius {a:.0} m, \
-                     inside the Earth (radius {R_EARTH} m)",
-                    self.mean_motion
+                    "truth_model {}: mean_motion {} rad/s and eccentricity {} give a \
+                     perigee radius of {rp:.0} m, inside the Earth (radius {R_EARTH} m)",
+                    self.truth_model.name(),
+                    self.mean_motion,
+                    self.eccentricity
                 ));
             }
         }
@@ -238,15 +260,21 @@ impl Plant {
         let truth = match cfg.truth_model {
             TruthModel::Cw => Truth::Linear {
                 x: x0,
-                model: CwModel::new(cfg.mean_motion).into(),
+                model: Dynamics::of_orbit(cfg.mean_motion, cfg.eccentricity, cfg.true_anomaly0),
                 cache: None,
             },
-            TruthModel::TwoBodyJ2 => Truth::TwoBodyJ2(TwoBodyJ2::new(
-                cfg.mean_motion,
-                cfg.inclination,
-                &x0,
-                cfg.j2_substep,
-            )),
+            TruthModel::TwoBodyJ2 | TruthModel::TwoBody => {
+                let mut tb = TwoBodyJ2::keplerian(
+                    cfg.mean_motion,
+                    cfg.eccentricity,
+                    cfg.true_anomaly0,
+                    cfg.inclination,
+                    &x0,
+                    cfg.j2_substep,
+                );
+                tb.j2 = cfg.truth_model == TruthModel::TwoBodyJ2;
+                Truth::TwoBodyJ2(tb)
+            }
         };
         Ok(Self {
             cfg,
@@ -394,6 +422,7 @@ impl Plant {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::dynamics::CwModel;
 
     /// The CW truth with a burn equals `Phi`/`Gamma` chained by hand, and the schedule
     /// takes a measurement every period with the configured draws.

@@ -1,7 +1,8 @@
 //! The papers' numerical examples, shipped inside the binary (the files are
 //! `scenarios/*.toml`; `relnav scenarios` lists them, `--show NAME` prints one).
 
-/// (paper, scenario name, TOML text), in reproduction order.
+/// (paper, scenario name, TOML text), in reproduction order; `"eccentric"` groups issue
+/// 34's eccentric-orbit scenarios (no paper: the elliptic model against CW and the PCRLB).
 pub const BUILTIN: &[(&str, &str, &str)] = &[
     (
         "000",
@@ -67,6 +68,26 @@ pub const BUILTIN: &[(&str, &str, &str)] = &[
         "003",
         "paper003",
         include_str!("../../../scenarios/paper003.toml"),
+    ),
+    (
+        "eccentric",
+        "eccentric_leo",
+        include_str!("../../../scenarios/eccentric_leo.toml"),
+    ),
+    (
+        "eccentric",
+        "eccentric_e01",
+        include_str!("../../../scenarios/eccentric_e01.toml"),
+    ),
+    (
+        "eccentric",
+        "eccentric_e05",
+        include_str!("../../../scenarios/eccentric_e05.toml"),
+    ),
+    (
+        "eccentric",
+        "eccentric_proba3",
+        include_str!("../../../scenarios/eccentric_proba3.toml"),
     ),
 ];
 

@@ -9,7 +9,12 @@
 //! ```
 //!
 //! `F` is the truth's (linear) transition — closed loop with feedback thrust — `Q` the
-//! truth's process noise, `H_k` the measurement Jacobian at the true state, `I_v` the
+//! truth's process noise; for a two-body truth without J2 (`two_body_j2` with `j2 = false`,
+//! any eccentricity) `F_k` is the transition of the relative motion linearised about the
+//! target's Keplerian orbit from `t_k` (CW or Yamanaka–Ankersen: time-varying when
+//! eccentric) and `Q_k = Gamma_k (q / h) Gamma_k^T` that of the truth's random
+//! acceleration of density `q` held over each step `h` (the nonlinearity of the relative
+//! motion is left out: millimetres at the scenarios' ranges), `H_k` the measurement Jacobian at the true state, `I_v` the
 //! Fisher information matrix of the measurement noise, `diag(f / sigma_i^2)` with `f`
 //! from [`relnav_core::noise::NoiseModel::fisher_factor`] (1 for a Gaussian). The expectation
 //! is the Monte Carlo average over the campaign's truth trajectories. The prior `P_0` is
@@ -22,8 +27,8 @@
 
 use crate::scenario::OrbitRateError;
 use crate::sim::Prepared;
-use relnav_core::dynamics::CwModel;
-use relnav_core::types::{Mat6, State};
+use relnav_core::dynamics::{CwModel, Discretization, Dynamics, RelativeDynamics};
+use relnav_core::types::{Mat3, Mat6, State};
 
 /// Why the bound is undefined for this scenario, or `None` when it is defined.
 pub fn undefined_reason(prep: &Prepared) -> Option<String> {
@@ -33,8 +38,9 @@ pub fn undefined_reason(prep: &Prepared) -> Option<String> {
             prep.noise
         ));
     }
-    if prep.scenario.truth.dynamics != crate::scenario::TruthDynamics::Cw {
-        return Some("the truth is not the CW model (nonlinear two-body motion with J2)".into());
+    if let crate::scenario::TruthDynamics::TwoBodyJ2 { j2: true, .. } = prep.scenario.truth.dynamics
+    {
+        return Some("the truth is not a linear model (nonlinear two-body motion with J2)".into());
     }
     if let OrbitRateError::Uniform { .. } = prep.scenario.truth.orbit_rate_error {
         return Some("undefined: the true orbit rate is random per run".into());
@@ -71,12 +77,26 @@ pub fn recursion(prep: &Prepared, mean_info: &[Mat6]) -> Result<Vec<[f64; 6]>, S
         OrbitRateError::Fixed { delta } => delta,
         _ => 0.0,
     };
-    let model = CwModel::new(prep.n0 * (1.0 + delta));
-    let mut f = model.phi(prep.dt);
-    if let Some(k) = &prep.feedback {
-        f += model.gamma(prep.dt) * k;
-    }
-    let q = prep.truth_q;
+    // the transition and noise of the step from t_k
+    let step: Box<dyn Fn(usize) -> (Mat6, Mat6)> = match s.truth.dynamics {
+        crate::scenario::TruthDynamics::Cw => {
+            let model = CwModel::new(prep.n0 * (1.0 + delta));
+            let mut f = model.phi(prep.dt);
+            if let Some(k) = &prep.feedback {
+                f += model.gamma(prep.dt) * k;
+            }
+            let q = prep.truth_q;
+            Box::new(move |_| (f, q))
+        }
+        crate::scenario::TruthDynamics::TwoBodyJ2 { .. } => {
+            let model = Dynamics::of_orbit(prep.n0, s.orbit.eccentricity, s.orbit.true_anomaly0);
+            let (dt, var) = (prep.dt, s.truth.accel_psd / prep.dt);
+            Box::new(move |k| {
+                let d = model.step(k as f64 * dt, dt, &Mat3::zeros(), Discretization::Exact);
+                (d.phi, d.gamma * d.gamma.transpose() * var)
+            })
+        }
+    };
     let p0 = if s.truth.initial_sigma.iter().all(|v| *v > 0.0) {
         frame.cov_to_canonical(&Mat6::from_diagonal(&State::from_fn(|i, _| {
             s.truth.initial_sigma[i].powi(2)
@@ -94,6 +114,7 @@ pub fn recursion(prep: &Prepared, mean_info: &[Mat6]) -> Result<Vec<[f64; 6]>, S
     let mut j = inv(&p0, "P0")? + mean_info.first().copied().unwrap_or_else(Mat6::zeros);
     for (k, info) in mean_info.iter().enumerate() {
         if k > 0 {
+            let (f, q) = step(k - 1);
             let jinv = inv(&j, "J")?;
             let pred = f * jinv * f.transpose() + q;
             j = inv(&pred, "the predicted bound")? + info;

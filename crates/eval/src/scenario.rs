@@ -72,7 +72,8 @@ impl From<FrameName> for Frame {
     }
 }
 
-/// The target's circular orbit: exactly one of the three keys.
+/// The target's orbit: exactly one of the three size keys, and its eccentricity and true
+/// anomaly at time 0 (default 0: a circular orbit).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Orbit {
@@ -80,8 +81,20 @@ pub struct Orbit {
     pub mean_motion: Option<f64>,
     /// Orbital period [s].
     pub period: Option<f64>,
-    /// Altitude above the Earth's equatorial radius [m] (two-body, `MU_EARTH`).
+    /// Altitude above the Earth's equatorial radius [m] (two-body, `MU_EARTH`; the
+    /// semi-major axis' altitude when eccentric).
     pub altitude: Option<f64>,
+    /// Eccentricity (0 <= e <= 0.99): the truth's orbit and, unless a filter sets its own
+    /// `eccentricity`, every filter's model.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub eccentricity: f64,
+    /// True anomaly of the target at time 0 [rad].
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub true_anomaly0: f64,
+}
+
+fn is_zero(v: &f64) -> bool {
+    *v == 0.0
 }
 
 impl Orbit {
@@ -131,15 +144,21 @@ pub enum TruthDynamics {
     #[default]
     Cw,
     /// Target and chaser propagated in Earth-centred inertial coordinates, point mass plus
-    /// J2, by a 10th-order Gragg–Bulirsch–Stoer step of `substep` seconds; the target starts
-    /// on the circular orbit of `orbit` at inclination `inclination_deg`, at its ascending
-    /// node; the relative state is taken in the target's local-vertical frame. The truth's
-    /// process noise is not used (the model error is the point).
+    /// J2 (or point mass alone, `j2 = false`), by a 10th-order Gragg–Bulirsch–Stoer step of
+    /// `substep` seconds; the target starts on the orbit of `orbit` at inclination
+    /// `inclination_deg` (perigee at the ascending node, at `orbit.true_anomaly0`; a
+    /// circular orbit at its ascending node); the relative state is taken in the target's
+    /// local-vertical frame. The truth's `process_noise` is not used; its `accel_psd` is a
+    /// random acceleration on the chaser, drawn per step (variance `accel_psd / step` per
+    /// Hill axis, held over the step like the thrust).
     TwoBodyJ2 {
         /// Inclination of the target's orbit [deg].
         inclination_deg: f64,
         /// Integration step [s] (a divisor of `simulation.step`).
         substep: f64,
+        /// Whether the Earth's J2 acts on both spacecraft (default true).
+        #[serde(default = "yes")]
+        j2: bool,
     },
 }
 
@@ -563,7 +582,9 @@ impl FilterSpec {
     }
 
     /// The navigator configuration of this filter in `scenario`: the scenario's frame, the
-    /// filter's orbit rate `mean_motion` (with its `orbit_rate_error`), the per-step
+    /// filter's orbit rate `mean_motion` (with its `orbit_rate_error`), the orbit's
+    /// eccentricity and true anomaly (a table's `eccentricity = 0.0` gives a CW-model
+    /// filter on an eccentric orbit), the per-step
     /// process noise as rates (`process_noise / step`; for the AQUKF the velocity part is
     /// its initial adaptive density), the H-infinity settings of this table, then every
     /// parameter the table sets. Its sensor settings are the navigator's defaults: the
@@ -573,6 +594,8 @@ impl FilterSpec {
         let mut c = NavConfig {
             frame: scenario.io_frame(),
             mean_motion,
+            eccentricity: scenario.orbit.eccentricity,
+            true_anomaly0: scenario.orbit.true_anomaly0,
             chaser_mass: scenario.truth.chaser_mass,
             hinf_period: step,
             hinf_acquisition: self.hinf_acquisition,
@@ -648,6 +671,22 @@ impl Scenario {
         };
         let n = self.orbit.mean_motion()?;
         pos("orbit (mean motion)", n)?;
+        let e = self.orbit.eccentricity;
+        if !(0.0..=relnav_core::dynamics::MAX_ECCENTRICITY).contains(&e) {
+            return Err(format!(
+                "orbit.eccentricity must lie in [0, 0.99] (got {e})"
+            ));
+        }
+        if !self.orbit.true_anomaly0.is_finite() {
+            return Err("orbit.true_anomaly0 must be finite".into());
+        }
+        if e > 0.0 && self.truth.dynamics == TruthDynamics::Cw {
+            return Err(
+                "orbit.eccentricity > 0 needs truth.dynamics = two_body_j2 (the truth is \
+                 integrated as two-body motion, independent of the filters' linear model)"
+                    .into(),
+            );
+        }
         pos("truth.chaser_mass", self.truth.chaser_mass)?;
         pos("simulation.duration", self.simulation.duration)?;
         pos("simulation.step", self.simulation.step)?;

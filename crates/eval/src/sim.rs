@@ -16,7 +16,7 @@ use nalgebra::SMatrix;
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::StandardNormal;
-use relnav_core::dynamics::{CwModel, DiscreteModel, Discretization};
+use relnav_core::dynamics::{CwModel, DiscreteModel, Discretization, Dynamics, RelativeDynamics};
 use relnav_core::estimators::Estimator;
 use relnav_core::nav::{build_filter_with, AnyFilter, FilterKind, FilterOptions, NavConfig};
 use relnav_core::noise::NoiseModel;
@@ -128,8 +128,15 @@ pub struct PreparedFilter {
     pub x0: State,
     /// Initial covariance.
     pub p0: Mat6,
-    /// The filter's discrete model (closed loop when it knows the controller).
+    /// The filter's discrete model of the first step (closed loop when it knows the
+    /// controller); every step's for a time-invariant model ([`PreparedFilter::model_at`]).
     pub model: DiscreteModel,
+    /// The filter's relative dynamics (the elliptic model's steps differ along the orbit).
+    pub dynamics: Dynamics,
+    /// The per-step process noise added to the dynamics' (the table's `process_noise`).
+    pub extra_q: Mat6,
+    /// The feedback gain the filter models in closed loop, if it knows the controller.
+    pub control: Option<SMatrix<f64, 3, 6>>,
     /// Whether it is told the burns' thrust.
     pub told_thrust: bool,
     /// Its measurement model (variance-matched Gaussian).
@@ -145,6 +152,25 @@ pub struct PreparedFilter {
 }
 
 impl PreparedFilter {
+    /// The filter's discrete model of the step from `t` over `dt` (the prepared one for a
+    /// time-invariant model).
+    pub fn model_at(&self, t: f64, dt: f64) -> DiscreteModel {
+        if self.dynamics.time_invariant() {
+            return self.model;
+        }
+        let mut m = self.dynamics.step(
+            t,
+            dt,
+            &(Mat3::identity() * self.config.accel_psd),
+            self.config.discretization,
+        );
+        m.q += self.extra_q;
+        if let Some(k) = &self.control {
+            m.phi += m.gamma * k;
+        }
+        m
+    }
+
     /// A fresh estimator at the initial estimate, from the one filter factory
     /// ([`relnav_core::nav::build_filter_with`]); `seed` seeds a particle filter.
     pub fn instantiate(&self, seed: u64) -> Result<AnyFilter, String> {
@@ -391,7 +417,9 @@ impl Prepared {
             let config = f
                 .nav_config(s, nf)
                 .map_err(|e| format!("filter \"{}\": {e}", f.label))?;
-            let mut model = CwModel::new(nf).discretize(
+            let dynamics = config.dynamics();
+            let mut model = dynamics.step(
+                0.0,
                 dt,
                 &(Mat3::identity() * config.accel_psd),
                 config.discretization,
@@ -401,8 +429,10 @@ impl Prepared {
             if config.filter == FilterKind::Aqukf {
                 pn[3..].fill(0.0);
             }
-            model.q += frame.cov_to_canonical(&Mat6::from_diagonal(&State::from_row_slice(&pn)));
-            if let (Some(k), true) = (&feedback, f.knows_control) {
+            let extra_q = frame.cov_to_canonical(&Mat6::from_diagonal(&State::from_row_slice(&pn)));
+            model.q += extra_q;
+            let control = if f.knows_control { feedback } else { None };
+            if let Some(k) = &control {
                 model.phi += model.gamma * k;
             }
             let x0 = config.initial_state();
@@ -431,6 +461,9 @@ impl Prepared {
                 x0,
                 p0,
                 model,
+                dynamics,
+                extra_q,
+                control,
                 told_thrust,
                 sensor: filter_sensor,
                 config,
@@ -486,9 +519,10 @@ impl Prepared {
         if let TruthDynamics::TwoBodyJ2 {
             inclination_deg,
             substep,
+            j2,
         } = s.truth.dynamics
         {
-            return self.simulate_two_body(x, inclination_deg.to_radians(), substep, rng);
+            return self.simulate_two_body(x, inclination_deg.to_radians(), substep, j2, rng);
         }
         let mut states = Vec::with_capacity(self.steps + 1);
         let mut meas = Vec::with_capacity(self.steps + 1);
@@ -536,16 +570,30 @@ impl Prepared {
     }
 
     /// The truth of a `two_body_j2` scenario: target and chaser around the Earth (point
-    /// mass + J2, GBS steps of `substep`), burns acting on the chaser (inertial direction of
-    /// the Hill axes at the step's start), relative state in the target's Hill frame.
+    /// mass + J2, or point mass alone, GBS steps of `substep`), the target on the orbit of
+    /// `orbit` (eccentric: perigee at the ascending node), burns and the truth's random
+    /// acceleration (`accel_psd / step` per axis, drawn per step after the measurement)
+    /// acting on the chaser (along the rotating Hill axes),
+    /// relative state in the target's Hill frame.
     fn simulate_two_body(
         &self,
         rel0: State,
         incl: f64,
         substep: f64,
+        j2: bool,
         rng: &mut ChaCha8Rng,
     ) -> (Vec<State>, Vec<Option<Vec3>>) {
-        let mut truth = relnav_core::orbit::TwoBodyJ2::new(self.n0, incl, &rel0, substep);
+        let o = &self.scenario.orbit;
+        let mut truth = relnav_core::orbit::TwoBodyJ2::keplerian(
+            self.n0,
+            o.eccentricity,
+            o.true_anomaly0,
+            incl,
+            &rel0,
+            substep,
+        );
+        truth.j2 = j2;
+        let sigma_a = (self.scenario.truth.accel_psd / self.dt).sqrt();
         let mut states = Vec::with_capacity(self.steps + 1);
         let mut meas = Vec::with_capacity(self.steps + 1);
         let mut ar = [0.0; 3];
@@ -561,7 +609,11 @@ impl Prepared {
                 None
             });
             if k < self.steps {
-                truth.step(&self.burn_accel[k], k as f64 * self.dt, self.dt);
+                let mut a = self.burn_accel[k];
+                if sigma_a > 0.0 {
+                    a += Vec3::from_fn(|_, _| sigma_a * rng.sample::<f64, _>(StandardNormal));
+                }
+                truth.step(&a, k as f64 * self.dt, self.dt);
             }
         }
         (states, meas)
@@ -632,8 +684,9 @@ pub fn run_filter(
             if let (true, Some(kg)) = (f.feedforward_feedback, &prep.feedback) {
                 a += kg * truth[k];
             }
-            est.predict(&f.model, &a)
-                .map_err(|e| format!("t = {}: {e}", k as f64 * prep.dt))?;
+            let t = k as f64 * prep.dt;
+            est.predict(&f.model_at(t, prep.dt), &a)
+                .map_err(|e| format!("t = {t}: {e}"))?;
         }
     }
     Ok(())

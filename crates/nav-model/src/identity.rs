@@ -151,6 +151,8 @@ pub mod vr {
         IMM_P_STAY_3 = "imm_p_stay_3",
         PF_MOVE = "pf_move",
         PF_THREADS = "pf_threads",
+        ECCENTRICITY = "eccentricity",
+        TRUE_ANOMALY0 = "true_anomaly0",
     }
 }
 
@@ -160,7 +162,7 @@ pub fn io_variables() -> &'static [VarDef] {
 }
 
 /// Number of variables.
-pub const N_VARS: usize = 84;
+pub const N_VARS: usize = 86;
 
 /// Every variable of relnav.fmu; the value reference is the index.
 pub static VARIABLES: LazyLock<Vec<VarDef>> =

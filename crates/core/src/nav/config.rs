@@ -27,7 +27,7 @@
 //! `dof / (dof - 2)` for the Student-t), so every filter sees the same noise statistics.
 
 use super::error::{NavError, NavErrorKind};
-use crate::dynamics::{CwModel, Discretization};
+use crate::dynamics::{CwModel, Discretization, MAX_ECCENTRICITY};
 use crate::estimators::pf::resample::Resampler;
 use crate::estimators::pf::{PfKind, PfParams, MAX_PARTICLES, MAX_THREADS};
 use crate::estimators::{
@@ -318,6 +318,13 @@ code_field!(
 /// No scenario key (the parameter comes from elsewhere in a scenario file, or not at all).
 const NO_KEY: Option<&str> = None;
 
+/// The domain of `eccentricity` (relnav, the plant and the guidance law).
+pub const ECCENTRICITY_RULE: Rule = Rule::Interval {
+    lo: closed(0.0),
+    hi: closed(MAX_ECCENTRICITY),
+    why: ": the eccentricity of the target's orbit (Kepler's equation is solved with a fixed number of iterations verified up to 0.99)",
+};
+
 crate::config! {
     /// Everything that defines a navigator. [`Default`] is paper 000's numerical example
     /// (digest, paper 000 "Example", with its covariance-name erratum applied). Field order
@@ -341,7 +348,7 @@ crate::config! {
     mean_motion: f64 {
         elements: [("mean_motion", 3, "rad/s", 2.0 * std::f64::consts::PI / 7200.0, "")],
         rule: Rule::Positive, c: true, scenario: NO_KEY, slot: Some(2),
-        description: "Mean motion of the target's circular orbit (> 0)",
+        description: "Mean motion of the target's orbit, 2 pi / period (> 0)",
     },
     chaser_mass: f64 {
         elements: [("chaser_mass", 4, "kg", 1000.0, "")],
@@ -579,6 +586,17 @@ crate::config! {
         rule: Rule::Count { lo: 0, hi: MAX_THREADS as i64 }, c: true, scenario: NO_KEY, slot: None,
         description: "Particle filters: worker threads of the particle loops from 32768 particles on (0: one per core; 1: the calling thread; <= 1024); results do not depend on it",
     },
+    eccentricity: f64 {
+        elements: [("eccentricity", 84, "", 0.0, "")],
+        rule: ECCENTRICITY_RULE,
+        c: true, scenario: Some("eccentricity"), slot: Some(42),
+        description: "Eccentricity of the target's orbit (0 <= e <= 0.99): 0 the Clohessy-Wiltshire model, > 0 the linearised elliptic model of Yamanaka and Ankersen; mean_motion stays 2 pi / period",
+    },
+    true_anomaly0: f64 {
+        elements: [("true_anomaly0", 85, "rad", 0.0, "")],
+        rule: Rule::Finite, c: true, scenario: Some("true_anomaly0"), slot: Some(43),
+        description: "True anomaly of the target at the start time (unused at eccentricity 0)",
+    },
 }
 
 /// One setting of a [`NavConfig`] as a saved state records it.
@@ -671,7 +689,7 @@ impl NavConfig {
         }
         if !(MEAN_MOTION_RANGE.0..=MEAN_MOTION_RANGE.1).contains(&self.mean_motion) {
             return Err(NavError::invalid(format!(
-                "mean_motion must lie in [{:e}, {}] rad/s (got {}): a circular orbit's rate \
+                "mean_motion must lie in [{:e}, {}] rad/s (got {}): an orbit's mean rate \
                  (low Earth orbit ~1.1e-3, geostationary ~7.3e-5)",
                 MEAN_MOTION_RANGE.0,
                 MEAN_MOTION_RANGE.1,
@@ -807,6 +825,17 @@ impl NavConfig {
         spec.b_vel = if spec.b_vel > 0.0 { spec.b_vel } else { 1.0 };
         spec.d = if spec.d > 0.0 { spec.d } else { 1.0 };
         spec.validate().map_err(hinf)?;
+        if self.filter == FilterKind::Hinf && self.eccentricity > 0.0 {
+            return Err(NavError {
+                kind: NavErrorKind::NotImplemented,
+                message: format!(
+                    "filter 9 (hinf): its LMI design holds for the time-invariant CW model \
+                     (eccentricity 0) only; eccentricity = {} needs a design for the periodic \
+                     system, which this build does not have (use filters 1-8 or 10)",
+                    num(self.eccentricity)
+                ),
+            });
+        }
         if self.filter == FilterKind::Hinf {
             self.hinf_spec()?.validate().map_err(hinf)?;
         }
@@ -888,9 +917,10 @@ impl NavConfig {
     }
 
     /// The relative dynamics the configuration describes (the one place that chooses the
-    /// model: the Clohessy–Wiltshire model of `mean_motion` today).
+    /// model): the Clohessy–Wiltshire model of `mean_motion` at `eccentricity` 0, the
+    /// linearised elliptic model otherwise.
     pub fn dynamics(&self) -> crate::dynamics::Dynamics {
-        crate::dynamics::Dynamics::Cw(crate::dynamics::CwModel::new(self.mean_motion))
+        crate::dynamics::Dynamics::of_orbit(self.mean_motion, self.eccentricity, self.true_anomaly0)
     }
 
     /// The measurement-noise density (scales `sigma_range`, `sigma_angle`).
@@ -1070,7 +1100,7 @@ mod tests {
             .into_iter()
             .map(|(n, _)| n)
             .collect();
-        assert_eq!(names.len(), 55);
+        assert_eq!(names.len(), 57);
         assert_eq!(
             &names[..8],
             [
@@ -1086,5 +1116,6 @@ mod tests {
         );
         assert_eq!(names[21], "discretization");
         assert_eq!(names[54], "pf_move");
+        assert_eq!(&names[55..], ["eccentricity", "true_anomaly0"]);
     }
 }

@@ -19,6 +19,8 @@
 //! the IMM's mode probabilities.
 
 pub mod config;
+#[cfg(test)]
+mod elliptic_tests;
 pub mod error;
 pub mod factory;
 mod persist;
@@ -89,8 +91,7 @@ pub struct Navigator {
     cfg: NavConfig,
     dynamics: Dynamics,
     /// start time of the next step [s since construction or reset]: a time-varying
-    /// model's steps depend on it. Not in the saved state: today's one model (CW) does not
-    /// depend on it; a time-varying model adds it to the state's format
+    /// model's (the elliptic one's) steps depend on it; in the saved state
     t: f64,
     /// the sensor with the noise model's scales (particle filters' likelihood)
     sensor: RadioSensor,
@@ -220,8 +221,8 @@ impl Navigator {
         if dt > self.max_step() {
             return Err(NavError::invalid(format!(
                 "step size h = {} s is longer than {MAX_STEP_PERIODS} orbital periods ({} s at \
-                 mean_motion {} rad/s), where the linearised CW model means nothing: split \
-                 the interval, or check the time unit",
+                 mean_motion {} rad/s), where the linearised relative motion means nothing: \
+                 split the interval, or check the time unit",
                 num(dt),
                 num(self.max_step()),
                 num(self.cfg.mean_motion)

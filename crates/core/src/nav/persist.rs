@@ -16,8 +16,7 @@ impl Navigator {
             cfg,
             // configuration: rebuilt from `cfg` by the restoring navigator
             dynamics: _,
-            // the step's start time: no model depends on it yet (see the field)
-            t: _,
+            t,
             sensor: _,
             kalman_sensor: _,
             noise: _,
@@ -37,6 +36,7 @@ impl Navigator {
         cfg.write_settings(w);
         w.tag(b"NAVG");
         w.bool(*failed);
+        w.f64(*t);
         // always the same size: zeros in place of an absent last update
         let u = last_update.unwrap_or_default();
         w.bool(last_update.is_some());
@@ -138,6 +138,10 @@ impl Navigator {
         }
         r.tag(b"NAVG")?;
         let failed = r.bool("failure flag")?;
+        let t = r.f64("step start time")?;
+        if !t.is_finite() {
+            return Err(refuse("the state's step start time is not finite").into());
+        }
         let present = r.bool("last-update flag")?;
         let u = UpdateInfo {
             innovation: r.matrix("last innovation")?,
@@ -165,6 +169,7 @@ impl Navigator {
         self.last_update = last_update;
         self.reports.iter_mut().for_each(|r| *r = None);
         self.failed = failed;
+        self.t = t;
         Ok(())
     }
 }
@@ -172,7 +177,7 @@ impl Navigator {
 /// Format version of [`Navigator::save_state`]'s bytes. Bump it whenever the layout
 /// changes (a field added to a filter's `Persist`, a new setting); a state of another
 /// version is refused, never misread.
-pub const STATE_FORMAT_VERSION: u32 = 1;
+pub const STATE_FORMAT_VERSION: u32 = 2;
 
 /// Length of the identity block of an estimator state's header (filter code, fingerprint).
 const STATE_IDENT_LEN: usize = 8;

@@ -47,6 +47,8 @@ pub mod vr {
         THRUST_MAX = "thrust_max",
         MIN_IMPULSE_BIT = "min_impulse_bit",
         ENGAGE_TIME = "engage_time",
+        ECCENTRICITY = "eccentricity",
+        TRUE_ANOMALY0 = "true_anomaly0",
     }
 }
 
@@ -56,7 +58,7 @@ pub fn io_variables() -> &'static [VarDef] {
 }
 
 /// Number of variables.
-pub const N_VARS: usize = 22;
+pub const N_VARS: usize = 24;
 
 /// Every variable; the value reference is the index.
 pub static VARIABLES: LazyLock<Vec<VarDef>> = LazyLock::new(|| {

@@ -65,7 +65,9 @@ impl Model for GuidanceFmu {
 
     fn initialize(&mut self, values: &mut [f64], time: f64) -> Result<String, String> {
         let cfg = config_of(values).map_err(|e| format!("invalid parameters: {e}"))?;
-        let law = Guidance::new(cfg).map_err(|e| format!("invalid parameters: {e}"))?;
+        let law = Guidance::new(cfg)
+            .map_err(|e| format!("invalid parameters: {e}"))?
+            .starting_at(time);
         publish(&law, values);
         self.law = Some(law);
         Ok(format!(

@@ -66,6 +66,8 @@ pub mod vr {
         DROPOUT_START = "dropout_start",
         DROPOUT_STOP = "dropout_stop",
         SEED = "seed",
+        ECCENTRICITY = "eccentricity",
+        TRUE_ANOMALY0 = "true_anomaly0",
     }
 }
 
@@ -75,7 +77,7 @@ pub fn io_variables() -> &'static [VarDef] {
 }
 
 /// Number of variables.
-pub const N_VARS: usize = 37;
+pub const N_VARS: usize = 39;
 
 /// Every variable; the value reference is the index.
 pub static VARIABLES: LazyLock<Vec<VarDef>> =
