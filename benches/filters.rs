@@ -100,6 +100,29 @@ fn filters(c: &mut Criterion) {
         Imm::new(x0, p0, cfg.imm_params(), cfg.dynamics())
     });
 
+    // the navigator's EKF on the elliptic model (e = 0.1): a Kepler solve, the transition
+    // and the quadrature of the input matrix and the noise at every step (issue 34's ratio
+    // to `navigator_step_ekf`)
+    {
+        let zs = measurements();
+        let cfg = NavConfig {
+            eccentricity: 0.1,
+            ..Default::default()
+        };
+        let mut nav = Navigator::new(&cfg).unwrap();
+        let mut k = 0;
+        c.bench_function("navigator_step_ekf_elliptic", |b| {
+            b.iter(|| {
+                if k == STEPS {
+                    k = 0;
+                    nav.reset();
+                }
+                nav.step(&[0.0; 3], Some(black_box(&zs[k])), 1.0).unwrap();
+                k += 1;
+            })
+        });
+    }
+
     for kind in [FilterKind::Ekf, FilterKind::Ukf] {
         let zs = measurements();
         let cfg = NavConfig {

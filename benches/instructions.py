@@ -57,6 +57,10 @@ def main():
                 i1, _ = callgrind([kp, mode, str(n1)])
                 i2, _ = callgrind([kp, mode, str(n2)])
                 out["instructions"][name] = ((i2 - gen[n2]) - (i1 - gen[n1])) / (n2 - n1)
+        # the navigator's EKF on the elliptic model (e = 0.1)
+        i1, _ = callgrind([kp, "ecc-ekf", str(n1)])
+        i2, _ = callgrind([kp, "ecc-ekf", str(n2)])
+        out["instructions"]["navigator_step_ekf_elliptic"] = ((i2 - gen[n2]) - (i1 - gen[n1])) / (n2 - n1)
         # particle steps at N = 1500 (examples/pf_steps): (I(20 + 10) - I(20 + 0)) / 10
         pf = str(rel / "examples" / "pf_steps")
         for name, kind, moves in (("sir_literal", "pf", "literal"), ("sir", "pf", "moves"),

@@ -54,7 +54,7 @@ def machine():
 print(f"Machine: {machine()}")
 print()
 anchor = json.loads(sys.argv[1])["filterpy_ukf_step_ns"] if len(sys.argv) > 1 else None
-rows = ["ekf_step", "ukf_step", "navigator_step_ekf", "navigator_step_ukf",
+rows = ["ekf_step", "ukf_step", "navigator_step_ekf", "navigator_step_ekf_elliptic", "navigator_step_ukf",
         "capi_step_ekf", "capi_step_ukf", "fmu_cycle_ekf", "fmu_cycle_ukf"]
 m = {r: median_ns(r) for r in rows}
 print("| benchmark | median | instructions (callgrind) | target |")
@@ -62,6 +62,12 @@ print("|---|---:|---:|---|")
 targets = {"ekf_step": "<= 350 ns", "ukf_step": "<= 900 ns"}
 for r in rows:
     print(f"| {r} | {m[r]:.0f} ns | {instr(r)} | {targets.get(r, '')} |")
+# issue 34: the EKF on the elliptic model (e = 0.1) against the CW EKF, both through the navigator
+ell = "navigator_step_ekf_elliptic"
+ri = ""
+if ell in icount and "navigator_step_ekf" in icount:
+    ri = f"{icount[ell] / icount['navigator_step_ekf']:.2f}x"
+print(f"| ratio elliptic / CW navigator EKF step (same run) | {m[ell] / m['navigator_step_ekf']:.2f}x | {ri} | <= 1.5x |")
 paired = json.loads(sys.argv[5]) if len(sys.argv) > 5 and sys.argv[5] else {}
 for k in ("ekf", "ukf"):
     di = ""

@@ -17,7 +17,10 @@ mod cw;
 mod elliptic;
 
 pub use cw::CwModel;
-pub use elliptic::{eccentric_anomaly, EllipticModel, KEPLER_ITERATIONS, QUADRATURE_BOUND};
+pub use elliptic::{
+    eccentric_anomaly, kepler_iterations, EllipticModel, KEPLER_ITERATIONS, QUADRATURE_BOUND,
+    SHORT_BOUND,
+};
 
 use crate::types::{Mat3, Mat6, Mat63, State, Vec3};
 

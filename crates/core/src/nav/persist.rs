@@ -24,6 +24,8 @@ impl Navigator {
             filter,
             // a cache of the discrete model per step size, recomputed from `cfg` (same bits)
             step_cache: _,
+            // configuration (the rates of `cfg` in the canonical frame)
+            q_rates: _,
             last_update,
             // the added sensors are the caller's configuration, their reports diagnostics
             // (cleared by a restore)
