@@ -76,13 +76,15 @@ class Estimator:
         imm_p_stay_3: float = 0.9,
         pf_move: bool = True,
         pf_threads: int = 0,
+        eccentricity: float = 0.0,
+        true_anomaly0: float = 0.0,
     ) -> None:
         """Keyword arguments are the FMU's parameters (names, types, defaults):
 
             filter: Estimator (codes 1-10: 1-3 Kalman (EKF, UKF, AQUKF), 4-8 particle filters, 9 robust H-infinity, 10 IMM). One of: 1 ekf, 2 ukf, 3 aqukf, 4 pf, 5 rpf, 6 upf, 7 gapf, 8 cgapf, 9 hinf, 10 imm.
             frame: Hill-frame convention of every input and output vector and angle. One of: 1 radial_along_normal, 2 along_radial_antinormal, 3 along_antinormal_nadir.
             discretization: Discretisation of the CW model. One of: 1 exact, 2 euler.
-            mean_motion [rad/s]: Mean motion of the target's circular orbit (> 0).
+            mean_motion [rad/s]: Mean motion of the target's orbit, 2 pi / period (> 0).
             chaser_mass [kg]: Chaser mass: thrust / mass = acceleration (> 0).
             sigma_range [m]: Range measurement noise, 1 sigma of the Gaussian (nominal sigma of the other noise models; > 0).
             sigma_angle [rad]: Azimuth and elevation measurement noise, 1 sigma of the Gaussian (nominal sigma of the other noise models; > 0).
@@ -133,6 +135,8 @@ class Estimator:
             imm_p_stay_3: IMM: probability of staying in mode 3 over one second (in (0, 1)).
             pf_move: Particle filters (codes 4-8): after every update, Metropolis-Hastings moves whose target is the likelihood times the Gaussian of the predictive moments (Gaussian-prior moves, not invariant for the exact posterior; as accurate as the EKF on Gaussian noise, also with small process noise); false: the papers' literal filters (paper 000's SIR, plain RPF, van der Merwe's UPF), which degenerate with small process noise.
             pf_threads: Particle filters: worker threads of the particle loops from 32768 particles on (0: one per core; 1: the calling thread; <= 1024); results do not depend on it.
+            eccentricity: Eccentricity of the target's orbit (0 <= e <= 0.99): 0 the Clohessy-Wiltshire model, > 0 the linearised elliptic model of Yamanaka and Ankersen; mean_motion stays 2 pi / period.
+            true_anomaly0 [rad]: True anomaly of the target at the start time (unused at eccentricity 0).
         """
     # --- parameters: end ---
     def step(self, thrust: _Vec3, measurement: Optional[_Vec3] = None, dt: float = 1.0) -> None:
