@@ -47,6 +47,24 @@ fn measurements() -> Vec<[f64; 3]> {
         .collect()
 }
 
+/// One navigator step (update + predict) over paper 000's measurements, restarting after
+/// the last.
+fn bench_navigator(c: &mut Criterion, name: &str, cfg: NavConfig) {
+    let zs = measurements();
+    let mut nav = Navigator::new(&cfg).unwrap();
+    let mut k = 0;
+    c.bench_function(name, |b| {
+        b.iter(|| {
+            if k == STEPS {
+                k = 0;
+                nav.reset();
+            }
+            nav.step(&[0.0; 3], Some(black_box(&zs[k])), 1.0).unwrap();
+            k += 1;
+        })
+    });
+}
+
 fn bare<E: Estimator>(c: &mut Criterion, name: &str, make: impl Fn() -> E) {
     let cfg = NavConfig::default();
     let zs = measurements();
@@ -103,25 +121,14 @@ fn filters(c: &mut Criterion) {
     // the navigator's EKF on the elliptic model (e = 0.1): a Kepler solve, the transition
     // and the quadrature of the input matrix and the noise at every step (issue 34's ratio
     // to `navigator_step_ekf`)
-    {
-        let zs = measurements();
-        let cfg = NavConfig {
+    bench_navigator(
+        c,
+        "navigator_step_ekf_elliptic",
+        NavConfig {
             eccentricity: 0.1,
             ..Default::default()
-        };
-        let mut nav = Navigator::new(&cfg).unwrap();
-        let mut k = 0;
-        c.bench_function("navigator_step_ekf_elliptic", |b| {
-            b.iter(|| {
-                if k == STEPS {
-                    k = 0;
-                    nav.reset();
-                }
-                nav.step(&[0.0; 3], Some(black_box(&zs[k])), 1.0).unwrap();
-                k += 1;
-            })
-        });
-    }
+        },
+    );
 
     for kind in [FilterKind::Ekf, FilterKind::Ukf] {
         let zs = measurements();
@@ -131,18 +138,7 @@ fn filters(c: &mut Criterion) {
         };
         let mut c_cfg = ffi::relnav_config_default();
         c_cfg.filter = kind as i32;
-        let mut nav = Navigator::new(&cfg).unwrap();
-        let mut k = 0;
-        c.bench_function(&format!("navigator_step_{}", kind.name()), |b| {
-            b.iter(|| {
-                if k == STEPS {
-                    k = 0;
-                    nav.reset();
-                }
-                nav.step(&[0.0; 3], Some(black_box(&zs[k])), 1.0).unwrap();
-                k += 1;
-            })
-        });
+        bench_navigator(c, &format!("navigator_step_{}", kind.name()), cfg);
         let mut est = std::ptr::null_mut();
         // SAFETY: valid pointers; the handle is freed below.
         unsafe { ffi::relnav_estimator_new(&c_cfg, &mut est) };

@@ -40,6 +40,12 @@ BAD = [
     ("resampler", 7),
     ("resampler", 0),
     ("noise_model", 4),
+    # eccentric orbits (issue 34)
+    ("eccentricity", -0.1),
+    ("eccentricity", 1.0),
+    ("eccentricity", 0.995),
+    ("eccentricity", math.nan),
+    ("true_anomaly0", math.inf),
 ]
 
 
@@ -99,6 +105,18 @@ def test_particle_parameters_checked_whatever_the_filter(runner, name, value):
     never hides until the filter changes."""
     exc, stage, log = attempt(runner, {"filter": 1, name: value})
     assert exc is not None and stage == "set" and name in log, (stage, log)
+
+
+def test_hinf_track_initiation_on_an_eccentric_orbit_is_refused_at_exit_initialization(runner):
+    """On an eccentric orbit the H-infinity design is scheduled over the orbit and runs
+    without track initiation: filter 9 with eccentricity > 0 and hinf_acquisition on (each
+    valid alone) is refused at fmi2ExitInitializationMode, the reason logged; with it off
+    the instance initialises."""
+    exc, stage, log = attempt(runner, {"filter": 9, "eccentricity": 0.1})
+    assert exc is not None and exc.status == fmi2Error and stage == "exit", (stage, log)
+    assert "eccentricity" in log and "hinf_acquisition" in log, log
+    exc, stage, log = attempt(runner, {"filter": 9, "eccentricity": 0.1, "hinf_acquisition": False})
+    assert exc is None, log
 
 
 def test_unscented_particle_filters_need_process_noise(runner):

@@ -74,6 +74,8 @@ EXPECTED = {
     # issue 10: the particle filters' moves and worker threads
     "pf_move": ("parameter", "fixed", "Boolean", None),
     "pf_threads": ("parameter", "fixed", "Integer", None),
+    "eccentricity": ("parameter", "fixed", "Real", None),
+    "true_anomaly0": ("parameter", "fixed", "Real", "rad"),
 }
 
 # issue 12's variables, appended in this order after vr 62 (looked up by name: the
@@ -137,6 +139,9 @@ DEFAULTS = {
     # particle filters: Gaussian-prior moves on, one thread per core
     "pf_move": True,
     "pf_threads": 0,
+    # eccentric orbits: a circular orbit by default (the CW model)
+    "eccentricity": 0.0,
+    "true_anomaly0": 0.0,
 }
 
 FMI2_CS_FUNCTIONS = [

@@ -438,7 +438,10 @@ impl Prepared {
             let x0 = config.initial_state();
             let p0 = config.initial_covariance();
             let mut options = f.filter_options();
-            let feedforward_feedback = if config.filter == FilterKind::Hinf {
+            // an eccentric orbit's H-infinity filter is the factory's scheduled design
+            let feedforward_feedback = if config.filter == FilterKind::Hinf
+                && config.eccentricity == 0.0
+            {
                 let (h, ff) = prepare_hinf(
                     f,
                     n0,
@@ -453,6 +456,17 @@ impl Prepared {
                 options.hinf = Some(h);
                 ff
             } else {
+                if config.filter == FilterKind::Hinf {
+                    // designed once per scenario (one design per instant of the orbit)
+                    match relnav_core::nav::build_filter(&config)
+                        .map_err(|e| format!("filter \"{}\": {}", f.label, e.message))?
+                    {
+                        AnyFilter::Hinf(h) => options.hinf = Some(h),
+                        _ => {
+                            return Err(format!("filter \"{}\": not an H-infinity filter", f.label))
+                        }
+                    }
+                }
                 false
             };
             filters.push(PreparedFilter {

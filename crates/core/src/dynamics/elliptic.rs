@@ -223,6 +223,18 @@ impl EllipticModel {
         }
     }
 
+    /// The target's mean anomaly at time 0 [rad].
+    pub fn mean_anomaly0(&self) -> f64 {
+        self.m0
+    }
+
+    /// The target's angular rate `nu'` at time `t` [rad/s] (`k^2 rho^2`).
+    pub fn angular_rate(&self, t: f64) -> f64 {
+        let a = self.anomaly(t);
+        let rho = 1.0 + self.e * a.cn;
+        self.k2 * rho * rho
+    }
+
     /// The target's true anomaly at time `t` [rad, in (-pi, pi]].
     pub fn true_anomaly(&self, t: f64) -> f64 {
         let a = self.anomaly(t);

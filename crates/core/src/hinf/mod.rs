@@ -545,6 +545,38 @@ impl HinfFilter {
     }
 }
 
+/// Number of instants, evenly spread in mean anomaly over one orbit, of a scheduled design
+/// ([`HinfSchedule`]).
+pub const SCHEDULE_POINTS: usize = 24;
+
+/// Observer gains designed at [`SCHEDULE_POINTS`] instants of an eccentric orbit, evenly
+/// spread in mean anomaly (`M_k = 2 pi k / N`), each for the frozen plant of the step that
+/// starts there (`A = Phi(t_k + T, t_k)`, `Gamma`, the step's process noise, the CW
+/// uncertainty structure at the local orbit rate) and certified on its own LMI. At run time
+/// the step from `t` uses the gain of the nearest instant in mean anomaly, with the step's
+/// own transition: `x <- Phi x + Gamma a + G_k (y - C x)`. What is guaranteed: each `G_k`
+/// meets the H-infinity bound for its frozen plant; switching between them along the orbit
+/// is not covered by a certificate.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HinfSchedule {
+    /// The gains `G_k`.
+    pub gains: [Mat63; SCHEDULE_POINTS],
+    /// The target's mean anomaly at time 0 [rad].
+    pub m0: f64,
+    /// Mean motion [rad/s].
+    pub n: f64,
+}
+
+impl HinfSchedule {
+    /// The gain of the instant nearest in mean anomaly to time `t`.
+    pub fn gain_at(&self, t: f64) -> &Mat63 {
+        let x = (self.m0 + self.n * t) / std::f64::consts::TAU * SCHEDULE_POINTS as f64;
+        // a finite index in 0..N for every input (NaN maps to 0)
+        let k = (x.round().rem_euclid(SCHEDULE_POINTS as f64) as usize).min(SCHEDULE_POINTS - 1);
+        &self.gains[k]
+    }
+}
+
 /// Margin of the switch from acquisition to the certified gain ([`HinfAcquisition`]): the
 /// fixed gain takes over when the covariance is below `(1 + ACQUISITION_MARGIN) X_G`.
 pub const ACQUISITION_MARGIN: f64 = 0.25;
@@ -669,6 +701,7 @@ pub struct HinfEstimator {
     acquisition: Option<HinfAcquisition>,
     nan: Mat6,
     design: Option<HinfDesignInfo>,
+    schedule: Option<HinfSchedule>,
 }
 
 impl HinfEstimator {
@@ -682,7 +715,24 @@ impl HinfEstimator {
             acquisition: None,
             nan: Mat6::from_element(f64::NAN),
             design: None,
+            schedule: None,
         })
+    }
+    /// Run the scheduled gains of an eccentric orbit ([`HinfSchedule`]; observer form, no
+    /// track initiation): each step uses the step's own transition and the gain of its
+    /// instant.
+    pub fn with_schedule(mut self, schedule: HinfSchedule) -> Result<Self, HinfError> {
+        if self.acquisition.is_some() {
+            return Err(HinfError::invalid(
+                "a scheduled design runs without track initiation".to_string(),
+            ));
+        }
+        self.schedule = Some(schedule);
+        Ok(self)
+    }
+    /// The scheduled gains, if any.
+    pub fn schedule(&self) -> Option<&HinfSchedule> {
+        self.schedule.as_ref()
     }
     /// Record the design's H2 norm (reported by [`HinfEstimator::h2_norm`]).
     pub fn with_h2_norm(mut self, h2_norm: f64) -> Self {
@@ -747,11 +797,19 @@ impl HinfEstimator {
 impl crate::estimators::Estimator for HinfEstimator {
     fn predict(
         &mut self,
-        _model: &crate::dynamics::DiscreteModel,
+        model: &crate::dynamics::DiscreteModel,
         accel: &Vec3,
     ) -> Result<(), crate::estimators::FilterError> {
         let (saved, saved_acq) = (self.filter, self.acquisition);
         match &mut self.acquisition {
+            None if self.schedule.is_some() => {
+                let x = *self.filter.state();
+                let mut next = model.phi * x + model.gamma * accel;
+                if let (Some(y), Some(s)) = (&self.pending, &self.schedule) {
+                    next += s.gain_at(model.t) * (y - x.fixed_rows::<3>(0));
+                }
+                self.filter.set_estimate(next);
+            }
             None => self.filter.step(self.pending.as_ref(), accel),
             Some(acq) => {
                 // observer form: the estimate is the state, A = A_F + B_F C, Gamma = E_F
@@ -944,6 +1002,8 @@ impl Persist for HinfEstimator {
             acquisition,
             nan: _,
             design: _,
+            // configuration: designed again, the same, by the restoring estimator
+            schedule: _,
         } = self;
         filter.save_state(w);
         w.opt_matrix(pending.as_ref());
@@ -967,6 +1027,7 @@ impl Persist for HinfEstimator {
             acquisition,
             nan: _,
             design: _,
+            schedule: _,
         } = self;
         filter.load_state(r)?;
         *pending = r.opt_matrix("H-infinity held measurement")?;

@@ -825,16 +825,12 @@ impl NavConfig {
         spec.b_vel = if spec.b_vel > 0.0 { spec.b_vel } else { 1.0 };
         spec.d = if spec.d > 0.0 { spec.d } else { 1.0 };
         spec.validate().map_err(hinf)?;
-        if self.filter == FilterKind::Hinf && self.eccentricity > 0.0 {
-            return Err(NavError {
-                kind: NavErrorKind::NotImplemented,
-                message: format!(
-                    "filter 9 (hinf): its LMI design holds for the time-invariant CW model \
-                     (eccentricity 0) only; eccentricity = {} needs a design for the periodic \
-                     system, which this build does not have (use filters 1-8 or 10)",
-                    num(self.eccentricity)
-                ),
-            });
+        if self.filter == FilterKind::Hinf && self.eccentricity > 0.0 && self.hinf_acquisition {
+            return Err(NavError::invalid(format!(
+                "filter 9 (hinf) at eccentricity = {}: the design is scheduled over the orbit \
+                 and runs without track initiation; set hinf_acquisition = false",
+                num(self.eccentricity)
+            )));
         }
         if self.filter == FilterKind::Hinf {
             self.hinf_spec()?.validate().map_err(hinf)?;
@@ -876,16 +872,7 @@ impl NavConfig {
         if self.hinf_b_pos == 0.0 && self.hinf_b_vel == 0.0 {
             positive("hinf_period", t)?;
             let qc = Mat3::identity() * self.accel_psd;
-            let mut qd = CwModel::new(self.mean_motion).van_loan_q(&qc, t);
-            let qio = State::from_row_slice(&[
-                self.q_pos[0],
-                self.q_pos[1],
-                self.q_pos[2],
-                self.q_vel[0],
-                self.q_vel[1],
-                self.q_vel[2],
-            ]) * t;
-            qd += self.frame.cov_to_canonical(&Mat6::from_diagonal(&qio));
+            let qd = self.hinf_process_noise(CwModel::new(self.mean_motion).van_loan_q(&qc, t));
             if self.hinf_design == HinfDesignKind::Mixed && qd.abs().max() == 0.0 {
                 return Err(NavError::invalid(
                     "hinf: the mixed design's process noise is derived from accel_psd, q_pos_* \
@@ -914,6 +901,21 @@ impl NavConfig {
             spec.d_matrix = Some(crate::hinf::psd_sqrt(&r));
         }
         Ok(spec)
+    }
+
+    /// The process-noise covariance of one H-infinity period `T = hinf_period` from the
+    /// model's white-acceleration part `model_q`: `model_q + T6^T diag(q_pos T, q_vel T) T6`
+    /// (the `q_*` are per I/O axis, rotated to the canonical frame).
+    pub fn hinf_process_noise(&self, model_q: Mat6) -> Mat6 {
+        let qio = State::from_row_slice(&[
+            self.q_pos[0],
+            self.q_pos[1],
+            self.q_pos[2],
+            self.q_vel[0],
+            self.q_vel[1],
+            self.q_vel[2],
+        ]) * self.hinf_period;
+        model_q + self.frame.cov_to_canonical(&Mat6::from_diagonal(&qio))
     }
 
     /// The relative dynamics the configuration describes (the one place that chooses the

@@ -56,6 +56,10 @@ fn config(code: i32, e: f64, nu0: f64, x0: &State) -> NavConfig {
     cfg.q_pos = [0.0; 3];
     cfg.q_vel = [0.0; 3];
     cfg.particles = 1000;
+    // the H-infinity filter: one design per step length, no track initiation on an
+    // eccentric orbit (its design is scheduled over the orbit)
+    cfg.hinf_period = DT;
+    cfg.hinf_acquisition = false;
     cfg
 }
 
@@ -67,6 +71,12 @@ fn rms(code: i32, e: f64, model_e: f64, nu0: f64, seed: u64) -> f64 {
     let (xs, accel) = truth(e, nu0, &rel0, steps);
     let cfg = config(code, model_e, nu0, &rel0);
     let mut nav = Navigator::new(&cfg).unwrap();
+    if let (AnyFilter::Hinf(h), true) = (nav.filter(), model_e > 0.0) {
+        let s = h.schedule().expect("a scheduled design");
+        // the gains differ along the orbit (perigee and apogee are different plants)
+        assert_ne!(s.gains[0], s.gains[crate::hinf::SCHEDULE_POINTS / 2]);
+        assert!(h.gamma().is_finite() && h.gamma() > 0.0);
+    }
     let sensor = RadioSensor::new(cfg.frame, cfg.sigma_range, cfg.sigma_angle);
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let mut sum = 0.0;
@@ -93,19 +103,27 @@ fn rms(code: i32, e: f64, model_e: f64, nu0: f64, seed: u64) -> f64 {
     (sum / count as f64).sqrt()
 }
 
-/// Every filter code but the H-infinity one, on an orbit of e = 0.1 through perigee, with
-/// a burn: the elliptic model's RMS position error stays at the measurement level
-/// (`sigma_range` 0.5 m, `range * sigma_angle` 0.17 m at 1 km: under 1 m), the CW model's
-/// is larger: tens of metres for the fixed-noise filters (its model error), 1.9x (IMM) to
-/// 3.5x (AQUKF) for the adaptive ones, whose raised process noise absorbs part of it.
+/// Every filter code on an orbit of e = 0.1 through perigee, with a burn: the elliptic
+/// model's RMS position error stays at the measurement level (`sigma_range` 0.5 m,
+/// `range * sigma_angle` 0.17 m at 1 km: under 1 m), the CW model's is larger: metres to
+/// tens of metres for the fixed-noise filters (its model error), about 2x to 3x for the
+/// adaptive ones, whose raised process noise absorbs part of it. The H-infinity filter
+/// (code 9) runs its design scheduled over the orbit.
 #[test]
 fn every_filter_tracks_an_eccentric_orbit_and_beats_its_cw_model() {
-    for code in [1, 2, 3, 4, 5, 6, 7, 8, 10] {
+    for code in [1, 2, 3, 4, 5, 6, 7, 8, 9, 10] {
         let ell = rms(code, 0.1, 0.1, -0.5, 11);
         let cw = rms(code, 0.1, 0.0, -0.5, 11);
         eprintln!("filter {code}: RMS position {ell:.3} m (elliptic model), {cw:.3} m (CW)");
-        assert!(ell < 1.0, "filter {code}: {ell} m");
-        let factor = if matches!(code, 3 | 10) { 1.5 } else { 10.0 };
+        // the H-infinity filter's designed gains weigh the measurements less than a Kalman
+        // gain does (robustness to its orbit-rate uncertainty): a few times the noise level
+        let bound = if code == 9 { 2.0 } else { 1.0 };
+        assert!(ell < bound, "filter {code}: {ell} m");
+        let factor = match code {
+            3 | 10 => 1.5,
+            9 => 2.5,
+            _ => 10.0,
+        };
         assert!(
             cw > factor * ell,
             "filter {code}: CW {cw} m vs elliptic {ell} m"
@@ -143,14 +161,16 @@ fn restore_continues_the_elliptic_model_bit_for_bit() {
     assert_ne!(c.covariance(), b.covariance());
 }
 
-/// The H-infinity filter's design is CW's: refused at e > 0 with the reason, built at 0.
+/// The H-infinity filter on an eccentric orbit runs without track initiation (refused with
+/// the reason when asked for; the scheduled design itself is checked in the tracking test
+/// above); out-of-domain eccentricities are refused by name.
 #[test]
-fn hinf_is_refused_on_an_eccentric_orbit() {
+fn hinf_track_initiation_and_bad_eccentricities_are_refused() {
     let rel0 = State::from_row_slice(&[-200.0, -1000.0, 100.0, 0.0, 0.2, 0.0]);
-    let cfg = config(9, 0.1, 0.0, &rel0);
-    let e = Navigator::new(&cfg).unwrap_err();
-    assert_eq!(e.kind, NavErrorKind::NotImplemented);
-    assert!(e.message.contains("eccentricity"), "{}", e.message);
+    let mut with_acq = config(9, 0.1, 0.0, &rel0);
+    with_acq.hinf_acquisition = true;
+    let e = Navigator::new(&with_acq).unwrap_err();
+    assert!(e.message.contains("hinf_acquisition"), "{}", e.message);
     for bad in [-0.1, 0.995, 1.0, f64::NAN] {
         let cfg = config(1, bad, 0.0, &rel0);
         let e = Navigator::new(&cfg).unwrap_err();

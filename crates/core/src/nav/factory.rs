@@ -241,6 +241,8 @@ pub fn build_filter_with(cfg: &NavConfig, opts: &FilterOptions) -> Result<AnyFil
             cfg.dynamics(),
         ))),
         #[cfg(feature = "hinf")]
+        FilterKind::Hinf if cfg.eccentricity > 0.0 => scheduled_hinf(cfg, x0),
+        #[cfg(feature = "hinf")]
         FilterKind::Hinf => {
             use crate::hinf::design::{design_open_loop, design_open_loop_mixed, DesignOptions};
             let spec = cfg.hinf_spec()?;
@@ -279,4 +281,99 @@ pub fn build_filter_with(cfg: &NavConfig, opts: &FilterOptions) -> Result<AnyFil
             message: format!("filter {} is not implemented", other.name()),
         }),
     }
+}
+
+/// The H-infinity filter of an eccentric orbit: an observer design ([`NavConfig::hinf_design`])
+/// at each of the [`crate::hinf::SCHEDULE_POINTS`] instants of
+/// [`crate::hinf::HinfSchedule`], each for the frozen plant of the step from there (the
+/// elliptic transition and input matrix, the step's own process noise when it is derived,
+/// the CW uncertainty structure at the local orbit rate), certified on its own LMI and
+/// checked by the solver-independent frequency sweep
+/// ([`crate::hinf::verify::observer_certified_norm`]); the reported `gamma` and H2 norm are
+/// the largest over the instants.
+#[cfg(feature = "hinf")]
+fn scheduled_hinf(cfg: &NavConfig, x0: crate::types::State) -> Result<AnyFilter, NavError> {
+    use crate::dynamics::{EllipticModel, RelativeDynamics};
+    use crate::hinf::design::{design_mixed, design_observer, DesignOptions};
+    use crate::hinf::{paper_ea, paper_ha, psd_sqrt, HinfPlant, HinfSchedule, SCHEDULE_POINTS};
+    use crate::types::{Mat3, Mat63};
+    let spec = cfg.hinf_spec()?;
+    let model = EllipticModel::new(cfg.mean_motion, cfg.eccentricity, cfg.true_anomaly0);
+    let t = spec.period;
+    let opts = DesignOptions::default();
+    let qc = Mat3::identity() * cfg.accel_psd;
+    let derived_b = cfg.hinf_b_pos == 0.0 && cfg.hinf_b_vel == 0.0;
+    let failed = |k: usize, e: crate::hinf::HinfError| NavError {
+        kind: NavErrorKind::InvalidArgument,
+        message: format!(
+            "hinf design ({}) failed at instant {k} of {SCHEDULE_POINTS} along the orbit: {e}",
+            cfg.hinf_design.name()
+        ),
+    };
+    let mut gains = [Mat63::zeros(); SCHEDULE_POINTS];
+    let (mut gamma, mut h2) = (0.0f64, 0.0f64);
+    let mut first = None;
+    for (k, gain) in gains.iter_mut().enumerate() {
+        let m = std::f64::consts::TAU * k as f64 / SCHEDULE_POINTS as f64;
+        let tk = (m - model.mean_anomaly0()) / model.n;
+        let step = model.step(tk, t, &qc, crate::dynamics::Discretization::Exact);
+        let w = model.angular_rate(tk);
+        let mut plant = HinfPlant::open_loop(&spec);
+        plant.a = step.phi;
+        plant.g = step.gamma;
+        plant.ha = paper_ha(w) * t;
+        plant.ea = paper_ea(w, spec.delta_bar);
+        if derived_b {
+            plant.b = psd_sqrt(&cfg.hinf_process_noise(step.q));
+        }
+        let design = design_observer(&plant, t, &opts).map_err(|e| failed(k, e))?;
+        let design = match cfg.hinf_design {
+            super::config::HinfDesignKind::GammaOptimal => design,
+            super::config::HinfDesignKind::Mixed => {
+                let start =
+                    crate::hinf::riccati::kalman_gain(&plant).unwrap_or(design.matrices.b_f);
+                design_mixed(
+                    &plant,
+                    t,
+                    cfg.hinf_gamma_factor * design.gamma,
+                    &start,
+                    &opts,
+                )
+                .map_err(|e| failed(k, e))?
+            }
+        };
+        // the solver-independent check of each instant's certificate: the frequency sweep
+        // of the channel the design bounds
+        let norm = crate::hinf::verify::observer_certified_norm(&plant, &design.matrices.b_f);
+        if !(norm <= design.gamma * (1.0 + 1e-6)) {
+            return Err(NavError {
+                kind: NavErrorKind::Numerical,
+                message: format!(
+                    "hinf design at instant {k} of {SCHEDULE_POINTS} along the orbit: its \
+                     gain's H-infinity norm {norm} exceeds the certified gamma {}",
+                    design.gamma
+                ),
+            });
+        }
+        *gain = design.matrices.b_f;
+        gamma = gamma.max(design.gamma);
+        h2 = h2.max(design.h2_norm);
+        if first.is_none() {
+            first = Some(design);
+        }
+    }
+    let first = first.ok_or_else(|| NavError::invalid("no H-infinity design".to_string()))?;
+    let invalid = |e: crate::hinf::HinfError| NavError::invalid(format!("hinf: {e}"));
+    let schedule = HinfSchedule {
+        gains,
+        m0: model.mean_anomaly0(),
+        n: model.n,
+    };
+    let f = HinfEstimator::new(first.matrices, gamma, x0)
+        .map_err(invalid)?
+        .with_h2_norm(h2)
+        .with_design_info(first.info())
+        .with_schedule(schedule)
+        .map_err(invalid)?;
+    Ok(AnyFilter::Hinf(f))
 }
