@@ -118,9 +118,9 @@ fn filters(c: &mut Criterion) {
         Imm::new(x0, p0, cfg.imm_params(), cfg.dynamics())
     });
 
-    // the navigator's EKF on the elliptic model (e = 0.1): a Kepler solve, the transition
-    // and the quadrature of the input matrix and the noise at every step (issue 34's ratio
-    // to `navigator_step_ekf`)
+    // the navigator's EKF on the elliptic model (e = 0.1): Kepler solves, the transition
+    // and the quadrature of the input matrix and the noise at every step (summarize.py
+    // prints its ratio to `navigator_step_ekf`)
     bench_navigator(
         c,
         "navigator_step_ekf_elliptic",

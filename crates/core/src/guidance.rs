@@ -179,19 +179,9 @@ impl Guidance {
         let (w, zeta) = (self.cfg.bandwidth, self.cfg.damping);
         let r = x.fixed_rows::<3>(0).into_owned();
         let v = x.fixed_rows::<3>(3).into_owned();
-        let f = match &self.model {
-            Dynamics::Cw(m) => {
-                let n = m.n;
-                Vec3::new(
-                    3.0 * n * n * x[0] + 2.0 * n * x[4],
-                    -2.0 * n * x[3],
-                    -n * n * x[2],
-                )
-            }
-            model => (model.system_matrix(t - self.t0) * x)
-                .fixed_rows::<3>(3)
-                .into_owned(),
-        };
+        let f = (self.model.system_matrix(t - self.t0) * x)
+            .fixed_rows::<3>(3)
+            .into_owned();
         -(r - self.hold) * (w * w) - v * (2.0 * zeta * w) - f
     }
 

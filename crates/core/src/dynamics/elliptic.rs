@@ -286,24 +286,19 @@ impl EllipticModel {
         let (s, c) = (rho * sn, rho * cn);
         let ir = 1.0 / rho;
         let f = 1.0 / (1.0 - e * e);
-        Matrix4::new(
-            1.0 - e * e,
-            3.0 * e * s * (ir + ir * ir),
-            -e * s * (1.0 + ir),
-            2.0 - e * c,
-            0.0,
-            -3.0 * s * (ir + e * e * ir * ir),
-            s * (1.0 + ir),
-            c - 2.0 * e,
-            0.0,
-            -3.0 * (c * ir + e),
-            c * (1.0 + ir) + e,
-            -s,
-            0.0,
-            3.0 * rho + e * e - 1.0,
-            -rho * rho,
-            e * s,
-        ) * f
+        // the last two columns are the velocity columns (of `psi^-1 P`, unpermuted)
+        let v = self.psi_inv_velocity(a);
+        Matrix4::from_columns(&[
+            nalgebra::Vector4::new(1.0 - e * e, 0.0, 0.0, 0.0) * f,
+            nalgebra::Vector4::new(
+                3.0 * e * s * (ir + ir * ir),
+                -3.0 * s * (ir + e * e * ir * ir),
+                -3.0 * (c * ir + e),
+                3.0 * rho + e * e - 1.0,
+            ) * f,
+            v.column(1).into_owned(),
+            -v.column(0),
+        ])
     }
 
     /// The two columns of `psi^-1 P` a velocity input enters by: `(-psi^-1[:, 3],
@@ -763,6 +758,9 @@ mod tests {
         let v = model.psi_inv_velocity(&a);
         assert_eq!(v.column(0), full.column(2));
         assert_eq!(v.column(1), full.column(3));
+        // and psi_inv is the inverse of psi at J = 0
+        let (pa, _) = model.psi(&a);
+        assert!((model.psi_inv(&a) * pa - Matrix4::identity()).abs().max() < 1e-14);
     }
 
     /// At e = 0 the elliptic model is the CW model, to rounding.

@@ -907,15 +907,28 @@ impl NavConfig {
     /// model's white-acceleration part `model_q`: `model_q + T6^T diag(q_pos T, q_vel T) T6`
     /// (the `q_*` are per I/O axis, rotated to the canonical frame).
     pub fn hinf_process_noise(&self, model_q: Mat6) -> Mat6 {
-        let qio = State::from_row_slice(&[
+        model_q + self.process_noise_rates() * self.hinf_period
+    }
+
+    /// The per-second process-noise variances `q_pos`, `q_vel` (per I/O axis) as a
+    /// canonical-frame covariance rate; the AQUKF's velocity part is zero (`q_vel` is its
+    /// initial adaptive density). A signed permutation of a diagonal: scaling it by a step
+    /// gives the bits of rotating the scaled diagonal.
+    pub fn process_noise_rates(&self) -> Mat6 {
+        let qv = if self.filter == FilterKind::Aqukf {
+            [0.0; 3]
+        } else {
+            self.q_vel
+        };
+        let rates = State::from_row_slice(&[
             self.q_pos[0],
             self.q_pos[1],
             self.q_pos[2],
-            self.q_vel[0],
-            self.q_vel[1],
-            self.q_vel[2],
-        ]) * self.hinf_period;
-        model_q + self.frame.cov_to_canonical(&Mat6::from_diagonal(&qio))
+            qv[0],
+            qv[1],
+            qv[2],
+        ]);
+        self.frame.cov_to_canonical(&Mat6::from_diagonal(&rates))
     }
 
     /// The relative dynamics the configuration describes (the one place that chooses the

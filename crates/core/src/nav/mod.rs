@@ -101,8 +101,7 @@ pub struct Navigator {
     scales: [f64; 3],
     filter: AnyFilter,
     step_cache: DiscreteModel,
-    /// the per-second process-noise rates `q_pos`, `q_vel` in the canonical frame (added
-    /// to a time-varying model's every step)
+    /// [`NavConfig::process_noise_rates`], added to every step's noise
     q_rates: Mat6,
     last_update: Option<UpdateInfo>,
     /// the sensors beside the radio ([`Navigator::add_sensor`]), in the order they are
@@ -151,21 +150,7 @@ impl Navigator {
             pending: Vec::new(),
             failed: false,
         };
-        // the AQUKF adapts the velocity part itself (q_vel is its initial q_vv)
-        let qv = if cfg.filter == FilterKind::Aqukf {
-            [0.0; 3]
-        } else {
-            cfg.q_vel
-        };
-        let rates = State::from_row_slice(&[
-            cfg.q_pos[0],
-            cfg.q_pos[1],
-            cfg.q_pos[2],
-            qv[0],
-            qv[1],
-            qv[2],
-        ]);
-        nav.q_rates = cfg.frame.cov_to_canonical(&Mat6::from_diagonal(&rates));
+        nav.q_rates = cfg.process_noise_rates();
         nav.discrete(1.0);
         // every field is finite, but x0 near the largest double with its uncertainty can
         // still overflow (a particle filter's initial draw x0 + L eps): refuse it here rather
@@ -196,8 +181,6 @@ impl Navigator {
         if self.step_cache.dt != dt || !self.dynamics.time_invariant() {
             let qc = Mat3::identity() * self.cfg.accel_psd;
             let mut d = self.dynamics.step(self.t, dt, &qc, self.cfg.discretization);
-            // `q_rates` is a signed permutation of a diagonal: scaling it by dt gives the
-            // bits of rotating the scaled diagonal
             d.q += self.q_rates * dt;
             self.step_cache = d;
         }
