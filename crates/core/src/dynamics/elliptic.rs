@@ -38,6 +38,16 @@
 //!   (RK4 in `E`, Richardson-extrapolated), for `e <= 0.95` and steps up to one period,
 //!   `Phi` and `Gamma` agree to 1e-11 and `Qd` to [`QUADRATURE_BOUND`] = 1e-9 of each
 //!   matrix's largest entry (tests; measured 3.6e-12, 9.2e-13 and 6.5e-10).
+//! * A short step (`n dt <= (1 - e) short_span`, its span in `E` at most `short_span =
+//!   min(0.02, 0.05 acosh(1/e))`: a navigator's usual step) costs one `sin_cos`, at `t0`'s
+//!   Kepler solve: the end's anomaly is Kepler's equation solved in the increment from `t0`
+//!   (two Halley steps from Newton's, the increment's sine and cosine by their Taylor
+//!   polynomials), and `Gamma` and `Qd` come from the four Gauss–Lobatto points in `E`,
+//!   whose two ends are free (`Phi(t1, t1) B = B`, `Phi(t1, t0) B` is the transition's
+//!   velocity columns) and whose two interior points follow from `t0` by angle addition.
+//!   Within [`SHORT_BOUND`] = 1e-8 of the six-node panels up to `e = 0.99` (tested; measured
+//!   6.5e-9 at the longest short step); a lower order does not do: Simpson's rule errs by
+//!   about `(n dt)^2 / 40` of the noise, 2e-8 at `n dt = 1e-3`.
 //! * A step of one period or more is split into `k` whole periods and a remainder: over a
 //!   whole period the in-plane transition is `I + D` with `D` the along-track drift (the
 //!   fundamental matrix is periodic but for its `J` term), so `k` periods of thrust and
@@ -49,7 +59,7 @@
 
 use super::{DiscreteModel, Discretization, RelativeDynamics};
 use crate::types::{Mat3, Mat6, Mat63, State, Vec3};
-use nalgebra::{Matrix2, Matrix4, Matrix4x2};
+use nalgebra::{Matrix2, Matrix4, Matrix4x2, SMatrix, Vector2, Vector4};
 use std::f64::consts::{PI, TAU};
 
 /// Halley iterations of [`eccentric_anomaly`] at eccentricity `e`, fixed per eccentricity
@@ -84,18 +94,20 @@ const PANEL_STRIP: f64 = 0.4;
 /// noise by less than 1e-15, and it is linear in the density to 1e-15.
 pub const QUADRATURE_BOUND: f64 = 1e-9;
 
-/// Longest step, in eccentric anomaly [rad], whose input matrix and noise come from one
-/// panel of three Gauss–Legendre nodes ([`GL3_X`]) instead of six-node panels.
+/// Longest short step, in eccentric anomaly [rad]: its end anomaly follows from the start's
+/// without a Kepler solve ([`EllipticModel::advanced`]) and its input matrix and noise come
+/// from the four Gauss–Lobatto points [`LOBATTO_X`] instead of six-node panels.
 const SHORT_SPAN: f64 = 0.02;
 /// The same as a fraction of the analytic strip's half-width `acosh(1/e)`.
 const SHORT_STRIP: f64 = 0.05;
-/// The stated bound of the three-node rule's error against the six-node panels (relative
-/// to each matrix's largest entry), tested for `e <= 0.99`.
+/// The stated bound of the short step's quadrature error against the six-node panels
+/// (relative to each matrix's largest entry), tested for `e <= 0.99`.
 pub const SHORT_BOUND: f64 = 1e-8;
 
-/// Gauss–Legendre nodes and weights on `[-1, 1]` (3 points).
-const GL3_X: [f64; 3] = [-0.774_596_669_241_483_4, 0.0, 0.774_596_669_241_483_4];
-const GL3_W: [f64; 3] = [5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0];
+/// Gauss–Lobatto nodes and weights on `[-1, 1]` (4 points: the ends and `+-1/sqrt(5)`;
+/// exact for degree 5, as three Gauss–Legendre nodes, with two of the four values free).
+const LOBATTO_X: [f64; 4] = [-1.0, -0.447_213_595_499_957_9, 0.447_213_595_499_957_9, 1.0];
+const LOBATTO_W: [f64; 4] = [1.0 / 6.0, 5.0 / 6.0, 5.0 / 6.0, 1.0 / 6.0];
 
 /// Gauss–Legendre nodes and weights on `[-1, 1]` (6 points).
 const GL_X: [f64; NODES] = [
@@ -115,36 +127,117 @@ const GL_W: [f64; NODES] = [
     0.171_324_492_379_170_3,
 ];
 
+/// Halley steps of [`EllipticModel::advanced`] after its Newton start: on a dense grid of
+/// eccentricities up to 0.99, start anomalies and increments up to the short-step bound the
+/// residual is at rounding after two (tested).
+const INCREMENT_ITERATIONS: usize = 2;
+
+/// The largest angle [`small_sin_cosm1`] takes (above `short_span`, the largest increment
+/// asked of it).
+const SMALL_ANGLE: f64 = 0.05;
+
+/// `sin x` and `cos x - 1` for `|x| <=` [`SMALL_ANGLE`] by their Taylor polynomials
+/// (through `x^9` and `x^10`): the first terms left out, `|x|^11 / 11!` and `x^12 / 12!`,
+/// are below 1e-21 of `|x|` there, far below an ulp. `cos x - 1` keeps the digits `cos x`
+/// would round away, which the differences of nearby anomalies need.
+fn small_sin_cosm1(x: f64) -> (f64, f64) {
+    debug_assert!(x.abs() <= SMALL_ANGLE || !x.is_finite());
+    let x2 = x * x;
+    let s = x
+        * (1.0
+            - x2 * (1.0 / 6.0)
+                * (1.0
+                    - x2 * (1.0 / 20.0) * (1.0 - x2 * (1.0 / 42.0) * (1.0 - x2 * (1.0 / 72.0)))));
+    let c = -0.5
+        * x2
+        * (1.0
+            - x2 * (1.0 / 12.0)
+                * (1.0
+                    - x2 * (1.0 / 30.0) * (1.0 - x2 * (1.0 / 56.0) * (1.0 - x2 * (1.0 / 90.0)))));
+    (s, c)
+}
+
 /// The eccentric anomaly `E` with `E - e sin E = m`, for any mean anomaly `m` (not reduced:
 /// the result carries `m`'s revolutions) and `0 <= e < 1`. Fixed work: the reduction of
 /// `m` to `[-pi, pi]`, Danby's starter `E0 = m + 0.85 e` (for `m >= 0`, by symmetry
 /// otherwise), [`kepler_iterations`]`(e)` Halley steps (at most [`KEPLER_ITERATIONS`]).
 pub fn eccentric_anomaly(m: f64, e: f64) -> f64 {
+    kepler(m, e).0
+}
+
+/// [`eccentric_anomaly`] with its sine and cosine: one `sin_cos` at the starter, then each
+/// Halley step's correction `d` moves them by angle addition with [`small_sin_cosm1`] when
+/// `|d| <=` [`SMALL_ANGLE`] (a new `sin_cos` otherwise; from the polynomials of `E` itself
+/// for `E <=` [`SMALL_ANGLE`]), so a converging solve costs one.
+fn kepler(m: f64, e: f64) -> (f64, f64, f64) {
     let turns = (m / TAU).round();
     let mr = m - turns * TAU;
     let (sign, ma) = if mr < 0.0 { (-1.0, -mr) } else { (1.0, mr) };
     let mut big_e = (ma + 0.85 * e).min(PI);
+    let (mut s, mut c) = big_e.sin_cos();
     for _ in 0..kepler_iterations(e) {
-        let (s, c) = big_e.sin_cos();
         let f = big_e - e * s - ma;
         let fp = 1.0 - e * c;
         let d = f / (fp - 0.5 * f * e * s / fp);
         // a non-finite m stays non-finite; a finite one never divides by zero (fp >= 1 - e)
         big_e -= d;
+        if big_e.abs() <= SMALL_ANGLE {
+            // near perigee from the polynomials of E itself: relative precision as E -> 0
+            let (se, cm) = small_sin_cosm1(big_e);
+            (s, c) = (se, 1.0 + cm);
+        } else if d.abs() <= SMALL_ANGLE {
+            let (sd, cd) = small_sin_cosm1(-d);
+            (s, c) = (s + (s * cd + c * sd), c + (c * cd - s * sd));
+        } else {
+            (s, c) = big_e.sin_cos();
+        }
     }
-    sign * big_e + turns * TAU
+    (sign * big_e + turns * TAU, sign * s, c)
 }
 
-/// Where the target is at one instant: the eccentric anomaly and the sine and cosine of
-/// the true anomaly (every matrix here needs only those: no `atan2`, one `sin_cos`).
+/// Where the target is at one instant: the eccentric anomaly with its sine and cosine, and
+/// the sine and cosine of the true anomaly (every matrix here needs only those: no `atan2`;
+/// a nearby instant follows from these by [`small_sin_cosm1`], without a `sin_cos`).
 #[derive(Debug, Clone, Copy)]
 struct Anomaly {
     /// eccentric anomaly, with its revolutions
     big_e: f64,
+    /// sin E
+    se: f64,
+    /// cos E
+    ce: f64,
     /// sin of the true anomaly
     sn: f64,
     /// cos of the true anomaly
     cn: f64,
+}
+
+/// One quadrature node of a step: where the target is, `rho = 1 + e cos nu` there, the time
+/// left to the step's end [s] and the node's weight in time [s].
+struct Node {
+    at: Anomaly,
+    rho: f64,
+    to_end: f64,
+    weight: f64,
+}
+
+/// The integrand `Phi(t1, s) B` at one node (the in-plane rows x, y, vx, vy of the x and y
+/// inputs; the normal rows z, vz of the z input) and the node's weight in time [s].
+struct Value {
+    g_in: Matrix4x2<f64>,
+    gz: Vector2<f64>,
+    weight: f64,
+}
+
+/// What the transition, the input matrix and the noise of a step share from its end
+/// ([`EllipticModel::end_factor`]).
+struct EndFactor {
+    /// `U(a1) P^T psi_a(a1)`
+    la: Matrix4<f64>,
+    /// `U(a1) P^T psi_b(a1)`: the `J` column
+    lb: Vector4<f64>,
+    /// the normal axis' unscaling at `a1`
+    unz: Matrix2<f64>,
 }
 
 /// The linearised elliptic model (Yamanaka–Ankersen) for one target orbit.
@@ -162,8 +255,14 @@ pub struct EllipticModel {
     k2: f64,
     /// longest quadrature panel [rad of eccentric anomaly]
     panel: f64,
-    /// longest step [rad of eccentric anomaly] taken by the three-node rule
+    /// longest short step [rad of eccentric anomaly]
     short_span: f64,
+    /// longest short step [rad of mean anomaly], taken from the start's anomaly by
+    /// [`EllipticModel::advanced`] and the Lobatto rule: `(1 - e) short_span`, whose
+    /// eccentric anomaly is at most `short_span` (`dM/dE = 1 - e cos E >= 1 - e`)
+    short_dm: f64,
+    /// `sqrt(1 - e^2)`
+    sq: f64,
 }
 
 /// The in-plane scaled coordinates of Yamanaka and Ankersen's frame (x along-track, z
@@ -200,6 +299,8 @@ impl EllipticModel {
             k2,
             panel,
             short_span,
+            short_dm: (1.0 - e) * short_span,
+            sq: (1.0 - e * e).sqrt(),
         }
     }
 
@@ -209,18 +310,55 @@ impl EllipticModel {
     }
 
     fn anomaly(&self, t: f64) -> Anomaly {
-        self.at_e(eccentric_anomaly(self.m0 + self.n * t, self.e))
+        let (big_e, se, ce) = kepler(self.m0 + self.n * t, self.e);
+        self.with_sin_cos(big_e, se, ce)
     }
 
     /// `cos nu = (cos E - e) / (1 - e cos E)`, `sin nu = sqrt(1 - e^2) sin E / (1 - e cos E)`.
     fn at_e(&self, big_e: f64) -> Anomaly {
         let (se, ce) = big_e.sin_cos();
+        self.with_sin_cos(big_e, se, ce)
+    }
+
+    fn with_sin_cos(&self, big_e: f64, se: f64, ce: f64) -> Anomaly {
         let d = 1.0 / (1.0 - self.e * ce);
         Anomaly {
             big_e,
-            sn: (1.0 - self.e * self.e).sqrt() * se * d,
+            se,
+            ce,
+            sn: self.sq * se * d,
             cn: (ce - self.e) * d,
         }
+    }
+
+    /// The anomaly `d` (`|d| <=` [`SMALL_ANGLE`]) of eccentric anomaly after `a`, with
+    /// `sin d` and `cos d - 1` (angle addition from `a`'s sine and cosine).
+    fn shifted(&self, a: &Anomaly, d: f64) -> (Anomaly, f64, f64) {
+        let (sd, cd) = small_sin_cosm1(d);
+        let at = self.with_sin_cos(
+            a.big_e + d,
+            a.se + (a.se * cd + a.ce * sd),
+            a.ce + (a.ce * cd - a.se * sd),
+        );
+        (at, sd, cd)
+    }
+
+    /// The anomaly `dm` of mean anomaly after `a`, for `0 <= dm <=` `short_dm` (so its
+    /// eccentric anomaly is at most `short_span` after `a`'s): Kepler's equation in the
+    /// increment `d`, `d - e (sin E0 (cos d - 1) + cos E0 sin d) = dm`, from Newton's step at
+    /// `d = 0` by [`INCREMENT_ITERATIONS`] Halley steps, the sine and cosine of `d` by
+    /// [`small_sin_cosm1`]: no `sin_cos`. Also returns `sin d` and `cos d - 1`.
+    fn advanced(&self, a: &Anomaly, dm: f64) -> (Anomaly, f64, f64) {
+        let (s0, c0, e) = (a.se, a.ce, self.e);
+        let mut d = dm / (1.0 - e * c0);
+        for _ in 0..INCREMENT_ITERATIONS {
+            let (sd, cd) = small_sin_cosm1(d);
+            let f = d - e * (s0 * cd + c0 * sd) - dm;
+            let fp = 1.0 - e * (c0 * (1.0 + cd) - s0 * sd);
+            let fpp = e * (s0 * (1.0 + cd) + c0 * sd);
+            d -= f / (fp - 0.5 * f * fpp / fp);
+        }
+        self.shifted(a, d)
     }
 
     /// The target's mean anomaly at time 0 [rad].
@@ -242,8 +380,8 @@ impl EllipticModel {
     }
 
     /// Yamanaka and Ankersen's in-plane fundamental matrix at true anomaly `nu`, split as
-    /// `Psi = psi_a + J psi_b` (only the last column depends on `J`).
-    fn psi(&self, a: &Anomaly) -> (Matrix4<f64>, Matrix4<f64>) {
+    /// `Psi = psi_a + J psi_b e_4^T` (only the last column depends on `J`): `(psi_a, psi_b)`.
+    fn psi(&self, a: &Anomaly) -> (Matrix4<f64>, Vector4<f64>) {
         let e = self.e;
         let (sn, cn) = (a.sn, a.cn);
         let rho = 1.0 + e * cn;
@@ -270,12 +408,10 @@ impl EllipticModel {
             cp,
             -3.0 * e * s * ir * ir,
         );
-        let mut b = Matrix4::zeros();
-        b[(0, 3)] = 3.0 * rho * rho;
-        b[(1, 3)] = -3.0 * e * s;
-        b[(2, 3)] = -6.0 * e * s;
-        b[(3, 3)] = -3.0 * e * sp;
-        (a, b)
+        (
+            a,
+            Vector4::new(3.0 * rho * rho, -3.0 * e * s, -6.0 * e * s, -3.0 * e * sp),
+        )
     }
 
     /// The closed-form inverse of [`EllipticModel::psi`] at `J = 0`.
@@ -289,8 +425,8 @@ impl EllipticModel {
         // the last two columns are the velocity columns (of `psi^-1 P`, unpermuted)
         let v = self.psi_inv_velocity(a);
         Matrix4::from_columns(&[
-            nalgebra::Vector4::new(1.0 - e * e, 0.0, 0.0, 0.0) * f,
-            nalgebra::Vector4::new(
+            Vector4::new(1.0 - e * e, 0.0, 0.0, 0.0) * f,
+            Vector4::new(
                 3.0 * e * s * (ir + ir * ir),
                 -3.0 * s * (ir + e * e * ir * ir),
                 -3.0 * (c * ir + e),
@@ -336,13 +472,45 @@ impl EllipticModel {
         Matrix2::new(1.0 / rho, 0.0, self.k2 * self.e * sn, self.k2 * rho)
     }
 
-    /// The in-plane scaling as a 4x4 on (x, y, vx, vy) -> (x~, y~, x~', y~').
-    fn scaling_in(&self, a: &Anomaly) -> Matrix4<f64> {
-        embed2(&self.scaling(a))
+    /// `m S` for the in-plane scaling `S` on (x, y, vx, vy) -> (x~, y~, x~', y~') at `a` (the
+    /// per-axis [`EllipticModel::scaling`] on both axes), by column operations.
+    fn scale_cols(&self, a: &Anomaly, m: &Matrix4<f64>) -> Matrix4<f64> {
+        let s = self.scaling(a);
+        let mut out = *m;
+        for axis in 0..2 {
+            let (p, v) = (m.column(axis), m.column(axis + 2));
+            out.set_column(axis, &(p * s[(0, 0)] + v * s[(1, 0)]));
+            out.set_column(axis + 2, &(v * s[(1, 1)]));
+        }
+        out
     }
 
-    fn unscaling_in(&self, a: &Anomaly) -> Matrix4<f64> {
-        embed2(&self.unscaling(a))
+    /// `U m` for the in-plane unscaling `U` at `a` ([`EllipticModel::unscaling`] on both
+    /// axes), by row operations.
+    fn unscale_rows<const C: usize>(
+        &self,
+        a: &Anomaly,
+        m: &SMatrix<f64, 4, C>,
+    ) -> SMatrix<f64, 4, C> {
+        let u = self.unscaling(a);
+        let mut out = *m;
+        for axis in 0..2 {
+            let (p, v) = (m.row(axis), m.row(axis + 2));
+            out.set_row(axis, &(p * u[(0, 0)]));
+            out.set_row(axis + 2, &(p * u[(1, 0)] + v * u[(1, 1)]));
+        }
+        out
+    }
+
+    /// The factors every matrix of a step ending at `a1` starts with: the in-plane `U(a1)
+    /// P^T psi(a1)` split as `la + J lb e_4^T`, and the normal unscaling.
+    fn end_factor(&self, a1: &Anomaly) -> EndFactor {
+        let (pa, pb) = self.psi(a1);
+        EndFactor {
+            la: self.unscale_rows(a1, &rows_pt(&pa)),
+            lb: self.unscale_rows(a1, &Vector4::new(-pb[1], pb[0], -pb[3], pb[2])),
+            unz: self.unscaling(a1),
+        }
     }
 
     /// The continuous system matrix `A(t)` (canonical frame).
@@ -369,16 +537,18 @@ impl EllipticModel {
     }
 
     /// The transition matrix `Phi(t1, t0)` between two instants given by their anomalies
-    /// (`j = k^2 (t1 - t0)`).
-    fn phi_between(&self, a0: &Anomaly, a1: &Anomaly, j: f64) -> Mat6 {
-        let (pa, pb) = self.psi(a1);
-        let inplane = self.unscaling_in(a1)
-            * rows_pt(&(pa + pb * j))
-            * cols_p(&self.psi_inv(a0))
-            * self.scaling_in(a0);
+    /// (`j = k^2 (t1 - t0)`; `end` is [`EllipticModel::end_factor`] at `a1`).
+    fn phi_with(&self, end: &EndFactor, a0: &Anomaly, a1: &Anomaly, j: f64) -> Mat6 {
+        let mut left = end.la;
+        left.set_column(3, &(end.la.column(3) + end.lb * j));
+        let inplane = left * self.scale_cols(a0, &cols_p(&self.psi_inv(a0)));
         let (sd, cd) = sin_cos_difference(a1, a0);
-        let normal = self.unscaling(a1) * Matrix2::new(cd, sd, -sd, cd) * self.scaling(a0);
+        let normal = end.unz * Matrix2::new(cd, sd, -sd, cd) * self.scaling(a0);
         assemble(&inplane, &normal)
+    }
+
+    fn phi_between(&self, a0: &Anomaly, a1: &Anomaly, j: f64) -> Mat6 {
+        self.phi_with(&self.end_factor(a1), a0, a1, j)
     }
 
     /// `Phi(t0 + dt, t0)`.
@@ -388,23 +558,10 @@ impl EllipticModel {
         self.phi_between(&a0, &a1, self.k2 * dt)
     }
 
-    /// Input matrix and (with `qc`) process noise of the step from the instant `a0` (time
-    /// `t0`) to `a1`, less than one period later (`a1.big_e >= a0.big_e`), by
-    /// Gauss–Legendre quadrature in the eccentric anomaly.
-    fn quadrature(&self, a0: &Anomaly, a1: &Anomaly, qc: Option<&Mat3>) -> (Mat63, Mat6) {
-        let e = self.e;
-        let (pa, pb) = self.psi(a1);
-        let un1 = self.unscaling_in(a1);
-        let la = un1 * rows_pt(&pa);
-        // `psi_b` has only its last column: so has `lb`
-        let lb3 = un1 * rows_pt(&pb).column(3);
-        let un1z = self.unscaling(a1);
+    /// The quadrature nodes of the step from `a0` to `a1` (less than one period later,
+    /// `a1.big_e >= a0.big_e`) by `sin_cos` at each: six-node panels.
+    fn panel_nodes<'a>(&'a self, a0: &Anomaly, a1: &'a Anomaly) -> impl Iterator<Item = Node> + 'a {
         let span = a1.big_e - a0.big_e;
-        let (xs, ws): (&[f64], &[f64]) = if span <= self.short_span {
-            (&GL3_X, &GL3_W)
-        } else {
-            (&GL_X, &GL_W)
-        };
         // ceil of a finite, non-negative number below 2 pi / PANEL_E + 1: bounded
         let panels = if span.is_finite() {
             (span / self.panel)
@@ -414,64 +571,195 @@ impl EllipticModel {
             1
         };
         let h = span / panels as f64;
-        // a diagonal density (every caller in relnav) is summed per axis and per block
+        let e0 = a0.big_e;
+        (0..panels).flat_map(move |k| {
+            let mid = e0 + (k as f64 + 0.5) * h;
+            GL_X.iter().zip(&GL_W).map(move |(x, &w)| {
+                let big_e = mid + 0.5 * h * x;
+                // (E1 - E) - e (sin E1 - sin E), without cancellation
+                let de = a1.big_e - big_e;
+                let dsin = 2.0 * (0.5 * (a1.big_e + big_e)).cos() * (0.5 * de).sin();
+                self.node(self.at_e(big_e), de - self.e * dsin, 0.5 * h * w)
+            })
+        })
+    }
+
+    /// The integrand's values of a short step from `a0` over `d` of eccentric anomaly
+    /// (`sd`, `cd`: `sin d`, `cos d - 1`; `d <= short_span`) at the Gauss–Lobatto nodes
+    /// [`LOBATTO_X`]: the two ends for free (`Phi(t1, t1) B = B`; `Phi(t1, t0) B` is the
+    /// transition's velocity columns) and the interior ones by angle addition from `a0`, no
+    /// `sin_cos`.
+    fn short_values(
+        &self,
+        end: &EndFactor,
+        a0: &Anomaly,
+        a1: &Anomaly,
+        phi: &Mat6,
+        (d, sd, cd): (f64, f64, f64),
+    ) -> [Value; LOBATTO_X.len()] {
+        let last = LOBATTO_X.len() - 1;
+        std::array::from_fn(|i| {
+            let w = 0.5 * d * LOBATTO_W[i];
+            if i == 0 {
+                let mut g_in = Matrix4x2::zeros();
+                for (r, &row) in [0, 1, 3, 4].iter().enumerate() {
+                    g_in[(r, 0)] = phi[(row, 3)];
+                    g_in[(r, 1)] = phi[(row, 4)];
+                }
+                let gz = Vector2::new(phi[(2, 5)], phi[(5, 5)]);
+                Value {
+                    g_in,
+                    gz,
+                    weight: self.weight(a0, w),
+                }
+            } else if i == last {
+                Value {
+                    g_in: Matrix4x2::new(0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0),
+                    gz: Vector2::new(0.0, 1.0),
+                    weight: self.weight(a1, w),
+                }
+            } else {
+                let off = 0.5 * d * (1.0 + LOBATTO_X[i]);
+                let (at, so, co) = self.shifted(a0, off);
+                // sin E1 - sin E, from the two increments
+                let dsin = a0.se * (cd - co) + a0.ce * (sd - so);
+                self.value(end, a1, self.node(at, (d - off) - self.e * dsin, w))
+            }
+        })
+    }
+
+    /// A quadrature weight `w` in the eccentric anomaly at `at` as a weight in time: `ds =
+    /// (1 - e cos E) / n dE`, and `1 - e cos E = (1 - e^2) / rho`.
+    fn weight(&self, at: &Anomaly, w: f64) -> f64 {
+        w * (1.0 - self.e * self.e) / ((1.0 + self.e * at.cn) * self.n)
+    }
+
+    /// A node at `at`, `dm_to_end` of mean anomaly before the step's end, with quadrature
+    /// weight `w` in the eccentric anomaly.
+    fn node(&self, at: Anomaly, dm_to_end: f64, w: f64) -> Node {
+        Node {
+            at,
+            rho: 1.0 + self.e * at.cn,
+            to_end: dm_to_end / self.n,
+            weight: self.weight(&at, w),
+        }
+    }
+
+    /// `Phi(t1, s) B` at a node (in-plane and normal blocks), with its weight.
+    fn value(&self, end: &EndFactor, a1: &Anomaly, node: Node) -> Value {
+        let Node {
+            at,
+            rho,
+            to_end,
+            weight,
+        } = node;
+        // unit accelerations along x and y enter as u~' = 1 / (k^2 rho): the velocity
+        // columns of psi^-1 P
+        let v = self.psi_inv_velocity(&at) * (1.0 / (self.k2 * rho));
+        let g_in = end.la * v + end.lb * (v.row(3) * (self.k2 * to_end));
+        let (sd, cd) = sin_cos_difference(a1, &at);
+        let gz = end.unz * Vector2::new(sd, cd) * (1.0 / (self.k2 * rho));
+        Value { g_in, gz, weight }
+    }
+
+    /// Input matrix and (with `qc`) process noise by the quadrature of the integrand's
+    /// `values`.
+    fn quadrature(values: impl Iterator<Item = Value>, qc: Option<&Mat3>) -> (Mat63, Mat6) {
+        // a diagonal density (every caller in relnav) is summed per axis and per block, in
+        // the lower triangles
         let diagonal = qc.map(|m| {
             let m = (m + m.transpose()) * 0.5;
             (m[(0, 1)] == 0.0 && m[(0, 2)] == 0.0 && m[(1, 2)] == 0.0)
                 .then(|| [m[(0, 0)], m[(1, 1)], m[(2, 2)]])
         });
-        let (mut g_in_sum, mut gz_sum) = (Matrix4x2::zeros(), nalgebra::Vector2::zeros());
-        let (mut q_in, mut q_z) = (Matrix4::zeros(), Matrix2::zeros());
+        let (mut g_in_sum, mut gz_sum) = (Matrix4x2::zeros(), Vector2::zeros());
+        let (mut q_in, mut q_z) = ([[0.0; 4]; 4], [0.0; 3]);
         let mut q_full = Mat6::zeros();
-        for k in 0..panels {
-            let mid = a0.big_e + (k as f64 + 0.5) * h;
-            for (x, &w) in xs.iter().zip(ws) {
-                let big_e = mid + 0.5 * h * x;
-                let at = self.at_e(big_e);
-                // t1 - s, without cancellation: (E1 - E) - e (sin E1 - sin E), over n
-                let de = a1.big_e - big_e;
-                let dsin = 2.0 * (0.5 * (a1.big_e + big_e)).cos() * (0.5 * de).sin();
-                let to_end = (de - e * dsin) / self.n;
-                // 1 - e cos E = (1 - e^2) / rho
-                let rho = 1.0 + e * at.cn;
-                let weight = 0.5 * h * w * (1.0 - e * e) / (rho * self.n);
-                // unit accelerations along x and y enter as u~' = 1 / (k^2 rho): the
-                // velocity columns of psi^-1 P
-                let v = self.psi_inv_velocity(&at) * (1.0 / (self.k2 * rho));
-                let g_in = la * v + lb3 * (v.row(3) * (self.k2 * to_end));
-                let (sd, cd) = sin_cos_difference(a1, &at);
-                let gz = un1z * nalgebra::Vector2::new(sd, cd) * (1.0 / (self.k2 * rho));
-                g_in_sum += g_in * weight;
-                gz_sum += gz * weight;
-                match (qc, diagonal) {
-                    (Some(_), Some(Some(d))) => {
-                        for (c, dj) in g_in.column_iter().zip(d) {
-                            q_in += c * c.transpose() * (weight * dj);
+        for Value { g_in, gz, weight } in values {
+            g_in_sum += g_in * weight;
+            gz_sum += gz * weight;
+            match (qc, diagonal) {
+                (Some(_), Some(Some(d))) => {
+                    for (c, dj) in g_in.column_iter().zip(d) {
+                        let wc = c * (weight * dj);
+                        for (j, row) in q_in.iter_mut().enumerate() {
+                            for (k, v) in row.iter_mut().enumerate().take(j + 1) {
+                                *v += wc[j] * c[k];
+                            }
                         }
-                        q_z += gz * gz.transpose() * (weight * d[2]);
                     }
-                    (Some(qc), _) => {
-                        let g = embed_g(&g_in, &gz);
-                        q_full += g * qc * g.transpose() * weight;
-                    }
-                    (None, _) => {}
+                    let wz = gz * (weight * d[2]);
+                    q_z[0] += wz[0] * gz[0];
+                    q_z[1] += wz[1] * gz[0];
+                    q_z[2] += wz[1] * gz[1];
                 }
+                (Some(qc), _) => {
+                    let g = embed_g(&g_in, &gz);
+                    q_full += g * qc * g.transpose() * weight;
+                }
+                (None, _) => {}
             }
         }
         let gamma = embed_g(&g_in_sum, &gz_sum);
-        let q = q_full + assemble(&q_in, &q_z);
-        (gamma, (q + q.transpose()) * 0.5)
+        if matches!(diagonal, Some(Some(_))) {
+            const IDX: [usize; 4] = [0, 1, 3, 4];
+            let mut q = Mat6::zeros();
+            for (j, &r) in IDX.iter().enumerate() {
+                for (k, &c) in IDX.iter().enumerate().take(j + 1) {
+                    q[(r, c)] = q_in[j][k];
+                    q[(c, r)] = q_in[j][k];
+                }
+            }
+            q[(2, 2)] = q_z[0];
+            q[(5, 2)] = q_z[1];
+            q[(2, 5)] = q_z[1];
+            q[(5, 5)] = q_z[2];
+            (gamma, q)
+        } else {
+            (gamma, (q_full + q_full.transpose()) * 0.5)
+        }
+    }
+
+    /// [`EllipticModel::quadrature`] by [`EllipticModel::panel_nodes`] from `a0` to `a1`.
+    fn panel_quadrature(&self, a0: &Anomaly, a1: &Anomaly, qc: Option<&Mat3>) -> (Mat63, Mat6) {
+        let end = self.end_factor(a1);
+        let values = self.panel_nodes(a0, a1).map(|n| self.value(&end, a1, n));
+        Self::quadrature(values, qc)
     }
 
     /// The exact step (transition, input matrix, noise) from `t0` over `dt >= 0`.
-    fn exact(&self, t0: f64, dt: f64, qc: Option<&Mat3>) -> (Mat6, Mat63, Mat6) {
+    fn exact(&self, t0: f64, dt: f64, qc: Option<&Mat3>) -> DiscreteModel {
+        let (phi, gamma, q) = self.exact_parts(t0, dt, qc);
+        DiscreteModel {
+            t: t0,
+            dt,
+            phi,
+            gamma,
+            q,
+        }
+    }
+
+    #[inline(always)]
+    fn exact_parts(&self, t0: f64, dt: f64, qc: Option<&Mat3>) -> (Mat6, Mat63, Mat6) {
+        let a0 = self.anomaly(t0);
+        let dm = self.n * dt;
+        // a short step (false for NaN): the end and the nodes from the start, no Kepler
+        // solve and no sin_cos beyond the start's
+        if dm <= self.short_dm {
+            let (a1, sd, cd) = self.advanced(&a0, dm);
+            let d = a1.big_e - a0.big_e;
+            let end = self.end_factor(&a1);
+            let phi = self.phi_with(&end, &a0, &a1, self.k2 * dt);
+            let values = self.short_values(&end, &a0, &a1, &phi, (d, sd, cd));
+            let (gamma, q) = Self::quadrature(values.into_iter(), qc);
+            return (phi, gamma, q);
+        }
         let period = self.period();
         let whole = (dt / period).floor();
-        let a0 = self.anomaly(t0);
         if whole.is_nan() || whole < 1.0 {
             let a1 = self.anomaly(t0 + dt);
             let phi = self.phi_between(&a0, &a1, self.k2 * dt);
-            let (gamma, q) = self.quadrature(&a0, &a1, qc);
+            let (gamma, q) = self.panel_quadrature(&a0, &a1, qc);
             return (phi, gamma, q);
         }
         // k whole periods from t0, then the remainder: Phi(t0 + i P, t0) = I + i D
@@ -480,7 +768,7 @@ impl EllipticModel {
             big_e: a0.big_e + TAU,
             ..a0
         };
-        let (gamma_p, q_p) = self.quadrature(&a0, &a_p, qc);
+        let (gamma_p, q_p) = self.panel_quadrature(&a0, &a_p, qc);
         let d = self.phi_between(&a0, &a0, self.k2 * period) - Mat6::identity();
         let s1 = whole * (whole - 1.0) / 2.0;
         let s2 = (whole - 1.0) * whole * (2.0 * whole - 1.0) / 6.0;
@@ -490,7 +778,7 @@ impl EllipticModel {
         let m_k = Mat6::identity() + d * whole;
         let a1 = self.anomaly(t0 + rest);
         let phi_r = self.phi_between(&a0, &a1, self.k2 * rest);
-        let (gamma_r, q_r) = self.quadrature(&a0, &a1, qc);
+        let (gamma_r, q_r) = self.panel_quadrature(&a0, &a1, qc);
         let q = phi_r * q_k * phi_r.transpose() + q_r;
         (
             phi_r * m_k,
@@ -501,13 +789,12 @@ impl EllipticModel {
 
     /// Propagate a state exactly from `t0` over `dt` with a constant acceleration.
     pub fn propagate(&self, x: &State, accel: &Vec3, t0: f64, dt: f64) -> State {
-        let (phi, gamma, _) = self.exact(t0, dt, None);
-        phi * x + gamma * accel
+        self.exact(t0, dt, None).apply(x, accel)
     }
 
     /// The zero-order-hold input matrix of the step from `t0` over `dt`.
     pub fn gamma(&self, t0: f64, dt: f64) -> Mat63 {
-        self.exact(t0, dt, None).1
+        self.exact(t0, dt, None).gamma
     }
 }
 
@@ -549,17 +836,6 @@ fn sin_cos_difference(a: &Anomaly, b: &Anomaly) -> (f64, f64) {
     (a.sn * b.cn - a.cn * b.sn, a.cn * b.cn + a.sn * b.sn)
 }
 
-/// A 2x2 per-axis map applied to both in-plane axes of (x, y, vx, vy).
-fn embed2(m: &Matrix2<f64>) -> Matrix4<f64> {
-    let mut out = Matrix4::zeros();
-    for axis in 0..2 {
-        for (i, j) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
-            out[(axis + 2 * i, axis + 2 * j)] = m[(i, j)];
-        }
-    }
-    out
-}
-
 /// The 6x6 transition from its in-plane (x, y, vx, vy) and normal (z, vz) blocks.
 fn assemble(inplane: &Matrix4<f64>, normal: &Matrix2<f64>) -> Mat6 {
     const IDX: [usize; 4] = [0, 1, 3, 4];
@@ -578,27 +854,22 @@ fn assemble(inplane: &Matrix4<f64>, normal: &Matrix2<f64>) -> Mat6 {
 
 impl RelativeDynamics for EllipticModel {
     fn step(&self, t: f64, dt: f64, qc: &Mat3, method: Discretization) -> DiscreteModel {
-        let (phi, gamma, q) = match method {
+        match method {
             Discretization::Exact => self.exact(t, dt, Some(qc)),
             Discretization::Euler => {
                 let b = super::CwModel::continuous_b();
-                (
-                    Mat6::identity() + self.continuous_a(t) * dt,
-                    b * dt,
-                    b * qc * b.transpose() * dt,
-                )
+                DiscreteModel {
+                    t,
+                    dt,
+                    phi: Mat6::identity() + self.continuous_a(t) * dt,
+                    gamma: b * dt,
+                    q: b * qc * b.transpose() * dt,
+                }
             }
-        };
-        DiscreteModel {
-            t,
-            dt,
-            phi,
-            gamma,
-            q,
         }
     }
     fn step_noise(&self, t: f64, dt: f64, qc: &Mat3) -> Mat6 {
-        self.exact(t, dt, Some(qc)).2
+        self.exact(t, dt, Some(qc)).q
     }
     fn system_matrix(&self, t: f64) -> Mat6 {
         self.continuous_a(t)
@@ -710,7 +981,7 @@ mod tests {
     /// mean anomaly, with revolutions, and agree with bisection.
     #[test]
     fn kepler_converges_to_double_precision_in_fixed_iterations() {
-        let mut worst = 0.0f64;
+        let (mut worst, mut worst_sc) = (0.0f64, 0.0f64);
         for ie in 0..=99 {
             let e = ie as f64 * 0.01;
             let small = (0..60).map(|k| 10f64.powf(-12.0 + 0.2 * k as f64));
@@ -728,6 +999,18 @@ mod tests {
                 };
                 worst = worst.max(err);
                 assert!(err <= 1.0, "e {e} m {m}: E {big_e}, Newton step {step:e}");
+                // the sine and cosine carried by angle addition are those of E, to the
+                // rounding of up to six additions
+                let (_, s, c) = kepler(m, e);
+                let (s_ref, c_ref) = big_e.sin_cos();
+                let tol = 8.0 * f64::EPSILON;
+                worst_sc = worst_sc.max((s - s_ref).abs().max((c - c_ref).abs()) / f64::EPSILON);
+                assert!(
+                    (s - s_ref).abs() <= tol && (c - c_ref).abs() <= tol,
+                    "e {e} m {m}: {} {}",
+                    s - s_ref,
+                    c - c_ref
+                );
                 for turns in [-3.0, 5.0] {
                     let shifted = eccentric_anomaly(m + turns * TAU, e);
                     assert!(
@@ -741,7 +1024,9 @@ mod tests {
                 (eccentric_anomaly(1.234, e) - b).abs() <= 4.0 * f64::EPSILON * 4.0 / (1.0 - e)
             );
         }
-        eprintln!("kepler: worst step / tolerance {worst:.3}");
+        eprintln!(
+            "kepler: worst step / tolerance {worst:.3}; sine and cosine within {worst_sc:.1} ulps"
+        );
     }
 
     /// The permutation helpers are the products with `P`, and the velocity columns are
@@ -845,38 +1130,76 @@ mod tests {
         );
     }
 
-    /// The three-node rule of short steps against the six-node panels, at the longest span
-    /// it takes, for every eccentricity up to 0.99 and start anomalies around the orbit
-    /// (perigee passes, where the integrands vary fastest, included).
+    /// The short step (its end by Kepler's equation in the increment, the Lobatto rule's
+    /// interior points by angle addition, its ends from the transition) against Kepler's equation solved afresh and the six-node panels, at the
+    /// longest step it takes and a quarter of it, for every eccentricity up to 0.99 and
+    /// start anomalies around the orbit (perigee passes, where the integrands vary fastest,
+    /// included).
     #[test]
-    fn short_steps_by_three_nodes_match_the_panels() {
+    fn short_steps_match_kepler_and_the_panels() {
         let n = TAU / 7200.0;
         let qc = Mat3::from_diagonal(&Vec3::new(1e-8, 4e-8, 2e-8));
-        let mut worst = [0.0f64; 2];
+        let mut worst = [0.0f64; 3];
         for e in [0.001, 0.005, 0.1, 0.5, 0.81, 0.95, 0.99] {
             let short = EllipticModel::new(n, e, 0.0);
-            let mut long = short;
-            long.short_span = 0.0;
-            for k in 0..24 {
-                let e0 = -PI + TAU * k as f64 / 24.0;
-                for frac in [0.25, 1.0] {
-                    let a0 = short.at_e(e0);
-                    let a1 = short.at_e(e0 + frac * short.short_span);
-                    let (g, q) = short.quadrature(&a0, &a1, Some(&qc));
-                    let (gr, qr) = long.quadrature(&a0, &a1, Some(&qc));
-                    worst[0] = worst[0].max(rel(&g, &gr));
-                    worst[1] = worst[1].max(rel(&q, &qr));
+            for k in 0..240 {
+                let e0 = -PI + TAU * k as f64 / 240.0;
+                let a0 = short.at_e(e0);
+                for frac in [0.001, 0.005, 0.01, 0.03, 0.1, 0.25, 1.0] {
+                    let dm = frac * short.short_dm;
+                    let (a1, sd, cd) = short.advanced(&a0, dm);
+                    // against the full solve of the same mean anomaly, in ulps of E scaled
+                    // by 1 / (1 - e cos E) as the Kepler test
+                    let m1 = (e0 - e * e0.sin()) + dm;
+                    let fresh = short.at_e(eccentric_anomaly(m1, e));
+                    let ulps = (a1.big_e - fresh.big_e).abs() * (1.0 - e * fresh.ce)
+                        / (f64::EPSILON * 4.0);
+                    worst[0] = worst[0].max(ulps);
+                    // sine and cosine by angle addition: within the anomaly's own difference
+                    let tol = (a1.big_e - fresh.big_e).abs() + 4.0 * f64::EPSILON;
+                    assert!(
+                        (a1.se - fresh.se).abs() <= tol && (a1.ce - fresh.ce).abs() <= tol,
+                        "{e} {e0} {dm}: {} {}",
+                        a1.se - fresh.se,
+                        a1.ce - fresh.ce
+                    );
+                    let d = a1.big_e - a0.big_e;
+                    assert!((0.0..=short.short_span).contains(&d), "{e} {e0} {d}");
+                    let end = short.end_factor(&a1);
+                    let phi = short.phi_with(&end, &a0, &a1, short.k2 * dm / n);
+                    let values = short.short_values(&end, &a0, &a1, &phi, (d, sd, cd));
+                    let (g, q) = EllipticModel::quadrature(values.into_iter(), Some(&qc));
+                    let (gr, qr) = short.panel_quadrature(&a0, &a1, Some(&qc));
+                    worst[1] = worst[1].max(rel(&g, &gr));
+                    worst[2] = worst[2].max(rel(&q, &qr));
                 }
             }
         }
         eprintln!(
-            "three nodes vs six: gamma {:.1e} q {:.1e}",
-            worst[0], worst[1]
+            "short steps: end anomaly {:.2} x 4 ulps (scaled); Lobatto vs six-node panels: gamma {:.1e} q {:.1e}",
+            worst[0], worst[1], worst[2]
         );
+        assert!(worst[0] < 2.0, "{worst:?}");
         assert!(
-            worst[0] < SHORT_BOUND && worst[1] < SHORT_BOUND,
+            worst[1] < SHORT_BOUND && worst[2] < SHORT_BOUND,
             "{worst:?}"
         );
+    }
+
+    /// The small-angle polynomials against the library's sine and cosine.
+    #[test]
+    fn small_angles() {
+        for k in -1000..=1000 {
+            let x = SMALL_ANGLE * k as f64 / 1000.0;
+            let (s, c) = small_sin_cosm1(x);
+            assert!((s - x.sin()).abs() <= f64::EPSILON * x.abs(), "{x}");
+            // cos x - 1 = -2 sin^2(x / 2), to a few ulps of itself
+            let reference = -2.0 * (0.5 * x).sin().powi(2);
+            assert!(
+                (c - reference).abs() <= 4.0 * f64::EPSILON * reference.abs(),
+                "{x}"
+            );
+        }
     }
 
     /// Steps of several periods (split into whole periods and a remainder) equal the

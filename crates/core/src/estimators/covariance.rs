@@ -1,5 +1,5 @@
 //! The Kalman covariance products the estimators share, specialised to the structure of
-//! relnav's models: the time update `P- = Phi P Phi^T + Q` with the CW transition's block
+//! relnav's models: the time update `P- = Phi P Phi^T + Q` with the transitions' block
 //! structure ([`propagate_covariance`], the dense product for any other transition) and the
 //! Joseph-form measurement update for a Jacobian `H = [H_r 0]` that measures the position
 //! ([`joseph_update`]). Estimator algebra rather than general numerics: each relies on the
@@ -12,18 +12,35 @@ use crate::numerics::symmetrize;
 use crate::types::{Mat3, Mat6, Mat63, State, Vec3};
 
 /// In-plane components of the canonical state `(x, y, vx, vy)` and out-of-plane `(z, vz)`:
-/// the CW transition never couples the two groups ([`crate::dynamics::CwModel::phi`]).
+/// no relnav transition couples the two groups ([`crate::dynamics::CwModel::phi`], the elliptic model).
 const IN_PLANE: [usize; 4] = [0, 1, 3, 4];
 const OUT_OF_PLANE: [usize; 2] = [2, 5];
 
-/// Whether `phi` has the CW structure [`propagate_covariance`] exploits: block diagonal in
-/// (in-plane) x (out-of-plane) (16 zeros) and an along-track column `e_y` (nothing depends
-/// on the along-track position `y`: `phi[(i, 1)] = 0` for `i != 1`, `phi[(1, 1)] = 1`).
-/// Both the exact and the Euler CW transitions have it. Branch-free: the bits of the 19
-/// entries that must be (signed) zero are or-ed, so the test costs a few instructions.
+/// The structure of a transition that [`propagate_covariance`] exploits.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Structure {
+    /// none: the dense product
+    Dense,
+    /// block diagonal in (in-plane) x (out-of-plane) (16 zeros): every relnav model's
+    /// transition (the elliptic model's)
+    Blocks,
+    /// and an along-track column `e_y` (nothing depends on the along-track position `y`:
+    /// `phi[(i, 1)] = 0` for `i != 1`, `phi[(1, 1)] = 1`): the exact and the Euler CW
+    /// transitions
+    Cw,
+}
+
+/// The [`Structure`] of `phi`. Branch-free tests: the bits of the entries that must be
+/// (signed) zero are or-ed, so each costs a few instructions.
 #[inline]
-fn cw_structured(phi: &Mat6) -> bool {
-    let zeros = [
+fn structure(phi: &Mat6) -> Structure {
+    // `<< 1` drops the sign bit: -0.0 counts as zero, as `== 0.0` would
+    let bits = |entries: &[(usize, usize)]| {
+        entries
+            .iter()
+            .fold(0u64, |acc, &(r, c)| acc | (phi[(r, c)].to_bits() << 1))
+    };
+    let coupling = [
         (0, 2),
         (1, 2),
         (3, 2),
@@ -40,15 +57,14 @@ fn cw_structured(phi: &Mat6) -> bool {
         (5, 1),
         (5, 3),
         (5, 4),
-        (0, 1),
-        (3, 1),
-        (4, 1),
     ];
-    // `<< 1` drops the sign bit: -0.0 counts as zero, as `== 0.0` would
-    let bits = zeros
-        .iter()
-        .fold(0u64, |acc, &(r, c)| acc | (phi[(r, c)].to_bits() << 1));
-    bits == 0 && phi[(1, 1)] == 1.0
+    if bits(&coupling) != 0 {
+        Structure::Dense
+    } else if bits(&[(0, 1), (3, 1), (4, 1)]) == 0 && phi[(1, 1)] == 1.0 {
+        Structure::Cw
+    } else {
+        Structure::Blocks
+    }
 }
 
 /// The Kalman time update through the linear discrete model of `(x, p)` in place:
@@ -74,18 +90,18 @@ pub(crate) fn time_update(
 /// The Kalman time update of the covariance, `P- = sym(Phi P Phi^T + Q)` for a symmetric
 /// `P` (`sym` as in [`symmetrize`]).
 ///
-/// CW structure: the exact and the Euler CW transitions are block diagonal in
-/// (in-plane `x, y, vx, vy`) x (out-of-plane `z, vz`) and their along-track column is
-/// `e_y` ([`cw_structured`], checked on the matrix itself at every call: the model's fields
-/// are public and callers change `q` after discretising, so a flag cached at construction
-/// could go stale). Then `Phi P Phi^T` splits into `F P_ii F^T` (4 x 4), `F P_io G^T`
-/// (4 x 2) and `G P_oo G^T` (2 x 2) with `F`, `G` the in-plane and out-of-plane blocks.
-/// `T = F P_i.` (the in-plane rows of `P`, all six columns) and then `T_i F^T`, `T_o G^T`
-/// are computed column by column as 4-vector axpys (vectorised by the compiler), skipping
-/// the `y` column of `F`; of the symmetric result only the lower triangle is kept and
-/// mirrored: 150 multiplications instead of 432 (dense) or 192 (blocks alone). `Q` enters
-/// as `sym(Q)` (the same bits as `Q` when
-/// `Q` is symmetric). Any other transition takes the dense product; the two agree to
+/// Block structure: every relnav transition (CW, exact and Euler, and the elliptic model)
+/// is block diagonal in (in-plane `x, y, vx, vy`) x (out-of-plane `z, vz`), and CW's
+/// along-track column is `e_y` ([`structure`], checked on the matrix itself at every call:
+/// the model's fields are public and callers change `q` after discretising, so a flag
+/// cached at construction could go stale). Then `Phi P Phi^T` splits into `F P_ii F^T`
+/// (4 x 4), `F P_io G^T` (4 x 2) and `G P_oo G^T` (2 x 2) with `F`, `G` the in-plane and
+/// out-of-plane blocks. `T = F P_i.` (the in-plane rows of `P`, all six columns) and then
+/// `T_i F^T`, `T_o G^T` are computed column by column as 4-vector axpys (vectorised by the
+/// compiler), skipping the `y` column of `F` when it is `e_y`; of the symmetric result only
+/// the lower triangle is kept and mirrored: 150 multiplications with CW's `e_y` column, 190
+/// without it, instead of 432 (dense). `Q` enters as `sym(Q)` (the same bits as `Q` when
+/// `Q` is symmetric). Any other transition takes the dense product; the three agree to
 /// rounding (unit test). Run through [`crate::numerics::simd::dispatch`]: the axpys in AVX2
 /// registers when the CPU has them, the same bits (no fused multiply-add on either path).
 pub(crate) fn propagate_covariance(phi: &Mat6, p: &Mat6, q: &Mat6) -> Mat6 {
@@ -98,9 +114,19 @@ pub(crate) fn propagate_covariance(phi: &Mat6, p: &Mat6, q: &Mat6) -> Mat6 {
 /// [`propagate_covariance`]'s body, inlined into its [`crate::numerics::simd::dispatch`].
 #[inline(always)]
 fn propagate_covariance_inline(phi: &Mat6, p: &Mat6, q: &Mat6) -> Mat6 {
-    if !cw_structured(phi) {
-        return symmetrize(&(phi * p * phi.transpose() + q));
+    match structure(phi) {
+        Structure::Dense => symmetrize(&(phi * p * phi.transpose() + q)),
+        Structure::Blocks => propagate_blocks::<false>(phi, p, q),
+        Structure::Cw => propagate_blocks::<true>(phi, p, q),
     }
+}
+
+/// [`propagate_covariance`] for a block-diagonal `phi`, whose along-track column is `e_y`
+/// if `EY`.
+#[inline(always)]
+fn propagate_blocks<const EY: bool>(phi: &Mat6, p: &Mat6, q: &Mat6) -> Mat6 {
+    // the columns of F the products take: all four, or without the along-track one
+    let ks: &[usize] = if EY { &[0, 2, 3] } else { &[0, 1, 2, 3] };
     let f = |r: usize, c: usize| phi[(IN_PLANE[r], IN_PLANE[c])];
     let g = |r: usize, c: usize| phi[(OUT_OF_PLANE[r], OUT_OF_PLANE[c])];
     // columns of F (in-plane 4 x 4; column 1 is e_1 and is not used) and of P's in-plane
@@ -111,20 +137,22 @@ fn propagate_covariance_inline(phi: &Mat6, p: &Mat6, q: &Mat6) -> Mat6 {
     // column j = sum over k in {0, 2, 3} of F_k P[k][j], plus P[y][j] in row 1 (F[1][1] = 1)
     let mut t = [[0.0; 4]; 6];
     for (tj, pj) in t.iter_mut().zip(pin.iter()) {
-        for k in [0, 2, 3] {
+        for &k in ks {
             axpy4(tj, &fc[k], pj[k]);
         }
-        tj[1] += pj[1];
+        if EY {
+            tj[1] += pj[1];
+        }
     }
     // in-plane block N = T_i F^T: column c = sum over k in {0, 2, 3} of T_k F[c][k] (+ T_1
     // for c = 1); coupling block T_i G^T... (rows in-plane, columns out-of-plane)
     let ti = [t[0], t[1], t[3], t[4]];
     let mut n = [[0.0; 4]; 4];
     for (c, nc) in n.iter_mut().enumerate() {
-        for k in [0, 2, 3] {
+        for &k in ks {
             axpy4(nc, &ti[k], f(c, k));
         }
-        if c == 1 {
+        if EY && c == 1 {
             for (v, w) in nc.iter_mut().zip(ti[1].iter()) {
                 *v += w;
             }
@@ -281,6 +309,7 @@ mod tests {
         assert_eq!(bits(&got), bits(&base));
         for phi in [
             m.discretize(7.0, &Mat3::zeros(), Discretization::Exact).phi,
+            crate::dynamics::EllipticModel::new(1.1e-3, 0.3, 0.5).phi(100.0, 7.0),
             full,
         ] {
             let fast = propagate_covariance(&phi, &p, &q);
@@ -289,36 +318,44 @@ mod tests {
         }
     }
 
-    /// The CW structure test accepts the exact and Euler transitions and refuses a
-    /// transition with anything in the along-track column or the in-plane/out-of-plane
-    /// coupling (then the dense product is used and still agrees with the formula).
+    /// The structure test takes the exact and Euler CW transitions as CW, a transition with
+    /// anything in the along-track column as blocks and one with anything in the
+    /// in-plane/out-of-plane coupling as dense; every path agrees with the dense formula.
     #[test]
-    fn cw_structure_is_detected_exactly() {
+    fn structure_is_detected_exactly() {
         let p = spd();
         let q = Mat6::from_diagonal(&State::from_row_slice(&[
             1e-3, 2e-3, 3e-3, 1e-6, 2e-6, 3e-6,
         ]));
         let m = CwModel::new(1.1e-3);
         let phi = m.discretize(7.0, &Mat3::zeros(), Discretization::Exact).phi;
-        assert!(cw_structured(&phi));
-        assert!(cw_structured(
-            &m.discretize(7.0, &Mat3::zeros(), Discretization::Euler).phi
-        ));
+        assert_eq!(structure(&phi), Structure::Cw);
+        assert_eq!(
+            structure(&m.discretize(7.0, &Mat3::zeros(), Discretization::Euler).phi),
+            Structure::Cw
+        );
         let mut neg_zero = phi;
         neg_zero[(0, 1)] = -0.0;
-        assert!(cw_structured(&neg_zero));
-        for (r, c, v) in [
-            (0, 1, 1e-300),
-            (3, 1, 0.5),
-            (4, 1, -2.0),
-            (1, 1, 1.0 + 1e-15),
-            (2, 0, 1e-9),
-            (3, 5, 0.1),
-            (5, 4, f64::NAN),
+        assert_eq!(structure(&neg_zero), Structure::Cw);
+        let elliptic = crate::dynamics::EllipticModel::new(1.1e-3, 0.3, 0.5);
+        let ell_phi = elliptic.phi(100.0, 7.0);
+        assert_eq!(structure(&ell_phi), Structure::Blocks);
+        let dense = symmetrize(&(ell_phi * p * ell_phi.transpose() + q));
+        let got = propagate_covariance(&ell_phi, &p, &q);
+        assert!((got - dense).norm() <= 1e-14 * dense.norm());
+        assert_eq!(got, got.transpose());
+        for (r, c, v, expected) in [
+            (0, 1, 1e-300, Structure::Blocks),
+            (3, 1, 0.5, Structure::Blocks),
+            (4, 1, -2.0, Structure::Blocks),
+            (1, 1, 1.0 + 1e-15, Structure::Blocks),
+            (2, 0, 1e-9, Structure::Dense),
+            (3, 5, 0.1, Structure::Dense),
+            (5, 4, f64::NAN, Structure::Dense),
         ] {
             let mut other = phi;
             other[(r, c)] = v;
-            assert!(!cw_structured(&other), "({r}, {c}) = {v}");
+            assert_eq!(structure(&other), expected, "({r}, {c}) = {v}");
             if v.is_finite() {
                 let dense = symmetrize(&(other * p * other.transpose() + q));
                 let got = propagate_covariance(&other, &p, &q);

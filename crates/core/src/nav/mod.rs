@@ -180,9 +180,8 @@ impl Navigator {
     fn discrete(&mut self, dt: f64) {
         if self.step_cache.dt != dt || !self.dynamics.time_invariant() {
             let qc = Mat3::identity() * self.cfg.accel_psd;
-            let mut d = self.dynamics.step(self.t, dt, &qc, self.cfg.discretization);
-            d.q += self.q_rates * dt;
-            self.step_cache = d;
+            self.step_cache = self.dynamics.step(self.t, dt, &qc, self.cfg.discretization);
+            self.step_cache.q += self.q_rates * dt;
         }
         self.step_cache.t = self.t;
     }
