@@ -327,6 +327,63 @@ fn every_filter_takes_any_sensor() {
     }
 }
 
+/// The library's camera ([`CameraSensor`], canonical frame) and relative-GNSS velocity
+/// ([`VelocitySensor`], in the configuration's frame 2, its readings rotated here) give the
+/// updates of this file's own line of sight and canonical velocity sensors on the same
+/// readings, to rounding, in the Kalman filters and the IMM over 100 steps.
+#[test]
+fn the_library_camera_and_velocity_are_the_test_sensors() {
+    use crate::sensors::{CameraSensor, VelocitySensor};
+    for code in [1, 2, 3, 10] {
+        let (cfg, mut x) = setup(code);
+        let (mut own, mut lib) = (Navigator::new(&cfg).unwrap(), Navigator::new(&cfg).unwrap());
+        own.add_sensor(Arc::new(Named::new("velocity", Velocity { sigma: 5e-4 })));
+        own.add_sensor(Arc::new(Named::new(
+            "line of sight",
+            LineOfSight { sigma: 1e-3 },
+        )));
+        lib.add_sensor(Arc::new(Named::new(
+            "gnss velocity",
+            VelocitySensor::gaussian(cfg.frame, 5e-4),
+        )));
+        lib.add_sensor(Arc::new(Named::new(
+            "camera",
+            CameraSensor::gaussian(Frame::RadialAlongNormal, 1e-3),
+        )));
+        let mut rng = ChaCha8Rng::seed_from_u64(5);
+        for k in 0..100 {
+            let z = radio(&cfg, &x, &mut rng);
+            let zv = noisy(Vec3::new(x[3], x[4], x[5]), 5e-4, &mut rng);
+            // frame 2: x along-track, y radial, z anti-normal
+            let zv_io = [zv[1], zv[0], -zv[2]];
+            let zs = noisy(los(&x).unwrap(), 1e-3, &mut rng);
+            let v = (k % 3 != 1).then_some(());
+            own.step_with(
+                &[0.0; 3],
+                Some(&z),
+                &[v.map(|_| &zv[..]), Some(&zs[..])],
+                1.0,
+            )
+            .unwrap();
+            lib.step_with(
+                &[0.0; 3],
+                Some(&z),
+                &[v.map(|_| &zv_io[..]), Some(&zs[..])],
+                1.0,
+            )
+            .unwrap();
+            x = propagate(cfg.mean_motion, &x, 1.0);
+        }
+        assert_close(&own.filter, &lib.filter, 1e-7, &format!("filter {code}"));
+        let (a, b) = (own.sensor_report(1).unwrap(), lib.sensor_report(1).unwrap());
+        assert_eq!(a.dof, b.dof);
+        assert!(
+            (a.nis - b.nis).abs() <= 1e-7 * a.nis.max(1.0),
+            "{a:?} {b:?}"
+        );
+    }
+}
+
 /// With the truth's process noise (none), the Kalman filters' velocity NIS averages its 3
 /// degrees of freedom over the 100 velocity updates of a run (chi-square: the mean of 100
 /// has standard deviation sqrt(6 / 100) = 0.24; bound 4 of those), on four seeds.

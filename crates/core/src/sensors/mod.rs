@@ -31,17 +31,21 @@
 //! ([`crate::estimators::Estimator::update_sensor`]). [`MeasurementModel`] (here) is the
 //! radio-shaped specialisation: three components of the position, with the hooks the
 //! filters' vectorised paths use ([`Modelled`] makes one a [`Sensor`]). The sensors are
-//! [`RadioSensor`] (`radio.rs`, with its vectorised residuals and unscented transforms)
-//! and [`CartesianSensor`] (`cartesian.rs`); the angle helpers ([`wrap_pi`], [`AngleTrig`],
+//! [`RadioSensor`] (`radio.rs`, with its vectorised residuals and unscented transforms),
+//! [`CartesianSensor`] (`cartesian.rs`; with a noise, relative GNSS's position), and the
+//! [`Sensor`]s [`CameraSensor`] (the line of sight alone) and [`VelocitySensor`] (relative
+//! GNSS's velocity) (`camera.rs`); the angle helpers ([`wrap_pi`], [`AngleTrig`],
 //! [`asin_small`]) are in `angles.rs`.
 
 mod angles;
+mod camera;
 mod cartesian;
 mod radio;
 mod sensor;
 
 pub(crate) use angles::ASIN_SERIES_MAX;
 pub use angles::{asin_series, asin_small, wrap_2pi, wrap_pi, AngleTrig};
+pub use camera::{CameraSensor, VelocitySensor};
 pub use cartesian::CartesianSensor;
 pub use radio::RadioSensor;
 pub use sensor::{Linearization, Modelled, Sensor, SensorNoise};
