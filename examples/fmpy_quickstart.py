@@ -19,7 +19,10 @@ meas = np.column_stack([rho, np.arctan2(y, x) % (2 * np.pi), np.arcsin(z / rho)]
 meas += np.random.default_rng(0).normal(0.0, [0.5, np.radians(0.01), np.radians(0.01)], meas.shape)
 
 names = ["thrust_x", "thrust_y", "thrust_z", "range", "azimuth", "elevation"]
-columns = [("time", float)] + [(v, float) for v in names] + [("measurement_valid", bool)]
+# the camera and relative-GNSS inputs stay zero and unflagged: the radio alone
+others = ["camera_azimuth", "camera_elevation", "gnss_x", "gnss_y", "gnss_z", "gnss_vx", "gnss_vy", "gnss_vz"]
+flags = ["measurement_valid", "camera_valid", "gnss_valid", "gnss_velocity_valid"]
+columns = [("time", float)] + [(v, float) for v in names + others] + [(f, bool) for f in flags]
 inputs = np.zeros(100, dtype=columns)
 inputs["time"] = t[:-1]  # the row of time t holds the measurement taken at t
 inputs["range"], inputs["azimuth"], inputs["elevation"] = meas.T

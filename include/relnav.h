@@ -366,6 +366,21 @@ typedef struct relnav_config {
   // Unit: rad.
   // Default: 0.
   double true_anomaly0;
+  // Camera (angles-only) azimuth and elevation noise, 1 sigma of the Gaussian (> 0): the readings camera_azimuth, camera_elevation.
+  // Unit: rad.
+  // Allowed: > 0.
+  // Default: 0.001.
+  double sigma_camera;
+  // Relative GNSS position noise per axis, 1 sigma of the Gaussian (> 0): the readings gnss_x, gnss_y, gnss_z.
+  // Unit: m.
+  // Allowed: > 0.
+  // Default: 0.05.
+  double sigma_gnss;
+  // Relative GNSS velocity noise per axis, 1 sigma of the Gaussian (> 0): the readings gnss_vx, gnss_vy, gnss_vz.
+  // Unit: m/s.
+  // Allowed: > 0.
+  // Default: 0.0005.
+  double sigma_gnss_velocity;
 } relnav_config;
 
 // How the H-infinity filter of an estimator (filter code 9) was designed
@@ -523,6 +538,40 @@ enum relnav_status relnav_estimator_step(struct relnav_estimator *estimator,
                                          const double *thrust,
                                          const double *z,
                                          double dt);
+
+// One step with the declared sensors: at time t, update with each reading that is given
+// (null: none), in this order — `z` the radio's (range [m], azimuth, elevation [rad]),
+// `camera` the line of sight (azimuth, elevation [rad]; the radio's conventions),
+// `gnss_position` (x, y, z [m]) and `gnss_velocity` (vx, vy, vz [m/s]), all in the I/O
+// frame and taken at t, with the noise `sigma_camera`, `sigma_gnss`,
+// `sigma_gnss_velocity` of the configuration — then predict over `dt` with `thrust`
+// held. Every reading is checked first (a refusal names the sensor); on error nothing
+// changes. With only `z`, the same as [`relnav_estimator_step`].
+//
+// # Safety
+// `estimator` is a live handle or null; `thrust` is null or 3 doubles; `z`,
+// `gnss_position`, `gnss_velocity` are null or 3 doubles each; `camera` is null or 2
+// doubles.
+enum relnav_status relnav_estimator_step_sensors(struct relnav_estimator *estimator,
+                                                 const double *thrust,
+                                                 const double *z,
+                                                 const double *camera,
+                                                 const double *gnss_position,
+                                                 const double *gnss_velocity,
+                                                 double dt);
+
+// Copy the last step's normalised innovation squared per declared sensor (4 doubles:
+// radio, camera, GNSS position, GNSS velocity; NaN for a sensor that gave no reading in
+// that step, for the particle and H-infinity filters, and after a restore) to `out`, and
+// the estimated range's 1-sigma [m] (the covariance along the estimated line of sight;
+// NaN for the H-infinity filter) to `range_sigma`.
+//
+// # Safety
+// `estimator` is a live handle or null; `out` is null or 4 writable doubles;
+// `range_sigma` is null or 1 writable double.
+enum relnav_status relnav_estimator_get_sensor_diagnostics(const struct relnav_estimator *estimator,
+                                                           double *out,
+                                                           double *range_sigma);
 
 // Copy the state estimate (6 doubles: x, y, z [m], vx, vy, vz [m/s]) to `out`.
 //

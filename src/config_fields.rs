@@ -303,6 +303,21 @@ pub struct relnav_config {
     /// Unit: rad.
     /// Default: 0.
     pub true_anomaly0: f64,
+    /// Camera (angles-only) azimuth and elevation noise, 1 sigma of the Gaussian (> 0): the readings camera_azimuth, camera_elevation.
+    /// Unit: rad.
+    /// Allowed: > 0.
+    /// Default: 0.001.
+    pub sigma_camera: f64,
+    /// Relative GNSS position noise per axis, 1 sigma of the Gaussian (> 0): the readings gnss_x, gnss_y, gnss_z.
+    /// Unit: m.
+    /// Allowed: > 0.
+    /// Default: 0.05.
+    pub sigma_gnss: f64,
+    /// Relative GNSS velocity noise per axis, 1 sigma of the Gaussian (> 0): the readings gnss_vx, gnss_vy, gnss_vz.
+    /// Unit: m/s.
+    /// Allowed: > 0.
+    /// Default: 0.0005.
+    pub sigma_gnss_velocity: f64,
 }
 
 impl relnav_config {
@@ -353,6 +368,9 @@ impl relnav_config {
         pf_threads: 0,
         eccentricity: 0.0,
         true_anomaly0: 0.0,
+        sigma_camera: 0.0,
+        sigma_gnss: 0.0,
+        sigma_gnss_velocity: 0.0,
     };
 
     /// Element `i` of parameter `k` (its index in the table).
@@ -403,6 +421,9 @@ impl relnav_config {
             42 => Value::Int(i64::from(self.pf_threads)),
             43 => Value::Real(self.eccentricity),
             44 => Value::Real(self.true_anomaly0),
+            45 => Value::Real(self.sigma_camera),
+            46 => Value::Real(self.sigma_gnss),
+            47 => Value::Real(self.sigma_gnss_velocity),
             _ => return None,
         })
     }
@@ -456,6 +477,9 @@ impl relnav_config {
             42 => self.pf_threads = v.as_int().map_or(i32::MAX, |x| i32::try_from(x).unwrap_or(i32::MAX)),
             43 => self.eccentricity = v.as_f64(),
             44 => self.true_anomaly0 = v.as_f64(),
+            45 => self.sigma_camera = v.as_f64(),
+            46 => self.sigma_gnss = v.as_f64(),
+            47 => self.sigma_gnss_velocity = v.as_f64(),
             _ => {}
         }
     }

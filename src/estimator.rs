@@ -154,6 +154,85 @@ pub unsafe extern "C" fn relnav_estimator_step(
     })
 }
 
+/// One step with the declared sensors: at time t, update with each reading that is given
+/// (null: none), in this order — `z` the radio's (range [m], azimuth, elevation [rad]),
+/// `camera` the line of sight (azimuth, elevation [rad]; the radio's conventions),
+/// `gnss_position` (x, y, z [m]) and `gnss_velocity` (vx, vy, vz [m/s]), all in the I/O
+/// frame and taken at t, with the noise `sigma_camera`, `sigma_gnss`,
+/// `sigma_gnss_velocity` of the configuration — then predict over `dt` with `thrust`
+/// held. Every reading is checked first (a refusal names the sensor); on error nothing
+/// changes. With only `z`, the same as [`relnav_estimator_step`].
+///
+/// # Safety
+/// `estimator` is a live handle or null; `thrust` is null or 3 doubles; `z`,
+/// `gnss_position`, `gnss_velocity` are null or 3 doubles each; `camera` is null or 2
+/// doubles.
+#[no_mangle]
+pub unsafe extern "C" fn relnav_estimator_step_sensors(
+    estimator: *mut relnav_estimator,
+    thrust: *const f64,
+    z: *const f64,
+    camera: *const f64,
+    gnss_position: *const f64,
+    gnss_velocity: *const f64,
+    dt: f64,
+) -> relnav_status {
+    const F: &str = "relnav_estimator_step_sensors";
+    boundary(F, || {
+        // SAFETY: pointer contracts are the caller's, checked for null.
+        let nav = unsafe { estimator_mut(estimator, F) }?;
+        // SAFETY: as above.
+        let u = unsafe { read_array::<3>(thrust, "thrust", F) }?;
+        // SAFETY (each): non-null pointers hold their documented number of doubles.
+        let radio = (!z.is_null())
+            .then(|| unsafe { read_array::<3>(z, "z", F) })
+            .transpose()?;
+        let camera = (!camera.is_null())
+            .then(|| unsafe { read_array::<2>(camera, "camera", F) })
+            .transpose()?;
+        let gnss_position = (!gnss_position.is_null())
+            .then(|| unsafe { read_array::<3>(gnss_position, "gnss_position", F) })
+            .transpose()?;
+        let gnss_velocity = (!gnss_velocity.is_null())
+            .then(|| unsafe { read_array::<3>(gnss_velocity, "gnss_velocity", F) })
+            .transpose()?;
+        let readings = relnav_core::nav::Readings {
+            radio,
+            camera,
+            gnss_position,
+            gnss_velocity,
+        };
+        nav.step_readings(&u, &readings, dt)?;
+        Ok(())
+    })
+}
+
+/// Copy the last step's normalised innovation squared per declared sensor (4 doubles:
+/// radio, camera, GNSS position, GNSS velocity; NaN for a sensor that gave no reading in
+/// that step, for the particle and H-infinity filters, and after a restore) to `out`, and
+/// the estimated range's 1-sigma [m] (the covariance along the estimated line of sight;
+/// NaN for the H-infinity filter) to `range_sigma`.
+///
+/// # Safety
+/// `estimator` is a live handle or null; `out` is null or 4 writable doubles;
+/// `range_sigma` is null or 1 writable double.
+#[no_mangle]
+pub unsafe extern "C" fn relnav_estimator_get_sensor_diagnostics(
+    estimator: *const relnav_estimator,
+    out: *mut f64,
+    range_sigma: *mut f64,
+) -> relnav_status {
+    const F: &str = "relnav_estimator_get_sensor_diagnostics";
+    boundary(F, || {
+        // SAFETY: pointer contracts are the caller's, checked for null.
+        let nav = unsafe { estimator_ref(estimator, F) }?;
+        // SAFETY: as above.
+        unsafe { write_array(out, &nav.step_nis(), "out", F) }?;
+        // SAFETY: as above.
+        unsafe { write_array(range_sigma, &[nav.range_sigma()], "range_sigma", F) }
+    })
+}
+
 /// Copy the state estimate (6 doubles: x, y, z [m], vx, vy, vz [m/s]) to `out`.
 ///
 /// # Safety

@@ -128,7 +128,7 @@ fn platform_strings_and_description() {
         );
     }
     assert!(model_description().contains(guid()));
-    assert_eq!(VARIABLES.len(), vr::TRUE_ANOMALY0 as usize + 1);
+    assert_eq!(VARIABLES.len(), vr::GNSS_VELOCITY_NIS as usize + 1);
 }
 
 #[test]

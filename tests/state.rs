@@ -354,7 +354,7 @@ fn bad_states_are_refused_and_change_nothing() {
         let mut c = good.clone();
         c[8..12].copy_from_slice(&(STATE_FORMAT_VERSION + 1).to_le_bytes());
         reseal(&mut c, EST_HEADER);
-        refusal(&mut target, &c, "format version 3", "version");
+        refusal(&mut target, &c, "format version 4", "version");
         // another magic
         let mut c = good.clone();
         c[0] = b'X';
@@ -483,7 +483,7 @@ fn malformed_fields_are_refused() {
 #[test]
 fn sizes_follow_the_documented_layout() {
     assert_eq!(
-        STATE_FORMAT_VERSION, 2,
+        STATE_FORMAT_VERSION, 3,
         "update docs/state-format.md and this table"
     );
     let conf = conf_len();

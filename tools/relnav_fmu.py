@@ -34,7 +34,11 @@ SIGMA_OUTPUTS = ["sigma_x", "sigma_y", "sigma_z", "sigma_vx", "sigma_vy", "sigma
 OUTPUTS = STATE_OUTPUTS + SIGMA_OUTPUTS
 REAL_INPUTS = ["thrust_x", "thrust_y", "thrust_z", "range", "azimuth", "elevation"]
 BOOL_INPUTS = ["measurement_valid"]
-INPUTS = REAL_INPUTS + BOOL_INPUTS
+# the declared camera and relative-GNSS sensors' inputs (issue 35): zero and unflagged
+# unless a test drives them
+SENSOR_REAL_INPUTS = ["camera_azimuth", "camera_elevation", "gnss_x", "gnss_y", "gnss_z", "gnss_vx", "gnss_vy", "gnss_vz"]
+SENSOR_BOOL_INPUTS = ["camera_valid", "gnss_valid", "gnss_velocity_valid"]
+INPUTS = REAL_INPUTS + BOOL_INPUTS + SENSOR_REAL_INPUTS + SENSOR_BOOL_INPUTS
 
 FILTERS = {"ekf": 1, "ukf": 2}
 # the particle filters (filter codes 4-8)
@@ -228,7 +232,11 @@ class SlaveRunner:
 def input_table(times, thrust, meas, valid) -> np.ndarray:
     """Structured input array for fmpy.simulate_fmu: one row per step start time."""
     times = np.asarray(times, dtype=float)
-    dtype = [("time", np.float64)] + [(n, np.float64) for n in REAL_INPUTS] + [(n, np.bool_) for n in BOOL_INPUTS]
+    dtype = (
+        [("time", np.float64)]
+        + [(n, np.float64) for n in REAL_INPUTS + SENSOR_REAL_INPUTS]
+        + [(n, np.bool_) for n in BOOL_INPUTS + SENSOR_BOOL_INPUTS]
+    )
     sig = np.zeros(len(times) - 1, dtype=dtype)
     sig["time"] = times[:-1]
     for i, name in enumerate(["thrust_x", "thrust_y", "thrust_z"]):

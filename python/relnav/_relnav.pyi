@@ -78,6 +78,9 @@ class Estimator:
         pf_threads: int = 0,
         eccentricity: float = 0.0,
         true_anomaly0: float = 0.0,
+        sigma_camera: float = 0.001,
+        sigma_gnss: float = 0.05,
+        sigma_gnss_velocity: float = 0.0005,
     ) -> None:
         """Keyword arguments are the FMU's parameters (names, types, defaults):
 
@@ -137,13 +140,27 @@ class Estimator:
             pf_threads: Particle filters: worker threads of the particle loops from 32768 particles on (0: one per core; 1: the calling thread; <= 1024); results do not depend on it.
             eccentricity: Eccentricity of the target's orbit (0 <= e <= 0.99): 0 the Clohessy-Wiltshire model, > 0 the linearised elliptic model of Yamanaka and Ankersen; mean_motion stays 2 pi / period.
             true_anomaly0 [rad]: True anomaly of the target at the start time (unused at eccentricity 0).
+            sigma_camera [rad]: Camera (angles-only) azimuth and elevation noise, 1 sigma of the Gaussian (> 0): the readings camera_azimuth, camera_elevation.
+            sigma_gnss [m]: Relative GNSS position noise per axis, 1 sigma of the Gaussian (> 0): the readings gnss_x, gnss_y, gnss_z.
+            sigma_gnss_velocity [m/s]: Relative GNSS velocity noise per axis, 1 sigma of the Gaussian (> 0): the readings gnss_vx, gnss_vy, gnss_vz.
         """
     # --- parameters: end ---
-    def step(self, thrust: _Vec3, measurement: Optional[_Vec3] = None, dt: float = 1.0) -> None:
+    def step(
+        self,
+        thrust: _Vec3,
+        measurement: Optional[_Vec3] = None,
+        dt: float = 1.0,
+        *,
+        camera: Optional[Sequence[float]] = None,
+        gnss_position: Optional[_Vec3] = None,
+        gnss_velocity: Optional[_Vec3] = None,
+    ) -> None:
         """Update with ``measurement`` = (range [m], azimuth [rad], elevation [rad]) taken
-        at the step's start (``None``: no measurement), then predict over ``dt`` [s] with
-        ``thrust`` (x, y, z) [N] held constant. A failed step changes nothing and raises
-        the library's error."""
+        at the step's start (``None``: no measurement), then with the declared sensors'
+        readings that are given, in this order: ``camera`` = (azimuth, elevation) [rad],
+        ``gnss_position`` = (x, y, z) [m], ``gnss_velocity`` = (vx, vy, vz) [m/s] (I/O
+        frame), then predict over ``dt`` [s] with ``thrust`` (x, y, z) [N] held constant.
+        A failed step changes nothing and raises the library's error."""
     def predict(self, thrust: _Vec3, dt: float = 1.0) -> None:
         """Time update only: predict over ``dt`` [s] with ``thrust`` [N] held."""
     def update(self, measurement: _Vec3) -> None:
@@ -171,6 +188,14 @@ class Estimator:
     @property
     def sigma(self) -> _FloatArray:
         """1-sigma per state component (NaN for the H-infinity filter)."""
+    @property
+    def range_sigma(self) -> float:
+        """1-sigma of the estimated range [m] (NaN for the H-infinity filter)."""
+    @property
+    def step_nis(self) -> _FloatArray:
+        """NIS of the last step's radio, camera, GNSS position and GNSS velocity updates
+        (NaN for a sensor that gave no reading then, for the particle and H-infinity
+        filters, and after a restore)."""
     @property
     def ess(self) -> float:
         """Effective sample size of a particle filter (NaN for the others)."""

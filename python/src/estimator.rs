@@ -7,7 +7,7 @@ use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyUnty
 use pyo3::exceptions::PyRuntimeError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyFloat, PyInt, PyList, PyTuple};
-use relnav_core::nav::{NavError, Navigator};
+use relnav_core::nav::{NavError, Navigator, Readings};
 use relnav_nav_model::N_VARS;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::sync::{Mutex, MutexGuard, TryLockError};
@@ -89,6 +89,18 @@ fn vec3(py: Python<'_>, obj: &Bound<'_, PyAny>, what: &str) -> PyResult<[f64; 3]
     Ok(out)
 }
 
+/// `N` numbers from any sequence (a declared sensor's reading).
+fn vec_n<const N: usize>(py: Python<'_>, obj: &Bound<'_, PyAny>, what: &str) -> PyResult<[f64; N]> {
+    let bad = || invalid(py, format!("{what} must be {N} numbers (got {obj})"));
+    let items: Vec<f64> = obj
+        .try_iter()
+        .map_err(|_| bad())?
+        .map(|x| x.and_then(|x| x.extract::<f64>()))
+        .collect::<PyResult<_>>()
+        .map_err(|_| bad())?;
+    items.try_into().map_err(|_| bad())
+}
+
 /// `numpy.asarray(obj, dtype=dtype)`.
 fn as_array<'py>(obj: &Bound<'py, PyAny>, dtype: &str) -> PyResult<Bound<'py, PyAny>> {
     let py = obj.py();
@@ -166,24 +178,41 @@ impl Estimator {
     }
 
     /// One step: update with ``measurement`` = (range [m], azimuth [rad], elevation
-    /// [rad]) taken at the step's start (``None``: no measurement), then predict over
-    /// ``dt`` [s] with ``thrust`` (x, y, z) [N] held constant.
-    #[pyo3(signature = (thrust, measurement = None, dt = 1.0))]
+    /// [rad]) taken at the step's start (``None``: no measurement), then with the
+    /// declared sensors' readings that are given, in this order: ``camera`` = (azimuth,
+    /// elevation) [rad] of the line of sight, ``gnss_position`` = (x, y, z) [m] and
+    /// ``gnss_velocity`` = (vx, vy, vz) [m/s] (I/O frame, taken at the step's start), then
+    /// predict over ``dt`` [s] with ``thrust`` (x, y, z) [N] held constant.
+    #[pyo3(signature = (thrust, measurement = None, dt = 1.0, *, camera = None, gnss_position = None, gnss_velocity = None))]
+    #[allow(clippy::too_many_arguments)]
     fn step(
         &self,
         py: Python<'_>,
         thrust: &Bound<'_, PyAny>,
         measurement: Option<&Bound<'_, PyAny>>,
         dt: f64,
+        camera: Option<&Bound<'_, PyAny>>,
+        gnss_position: Option<&Bound<'_, PyAny>>,
+        gnss_velocity: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<()> {
         let u = vec3(py, thrust, "thrust")?;
         let z = match measurement {
             Some(m) => Some(vec3(py, m, "measurement")?),
             None => None,
         };
+        let readings = Readings {
+            radio: z,
+            camera: camera.map(|c| vec_n::<2>(py, c, "camera")).transpose()?,
+            gnss_position: gnss_position
+                .map(|g| vec3(py, g, "gnss_position"))
+                .transpose()?,
+            gnss_velocity: gnss_velocity
+                .map(|g| vec3(py, g, "gnss_velocity"))
+                .transpose()?,
+        };
         let mut guard = self.nav()?;
         let nav = &mut *guard;
-        catch_unwind(AssertUnwindSafe(|| nav.step(&u, z.as_ref(), dt)))
+        catch_unwind(AssertUnwindSafe(|| nav.step_readings(&u, &readings, dt)))
             .map_err(|_| panic_error(py, "step"))?
             .map_err(|e| nav_error(py, e))
     }
@@ -335,6 +364,21 @@ impl Estimator {
     #[getter]
     fn sigma<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
         Ok(array1(py, &self.nav()?.sigma()))
+    }
+
+    /// 1-sigma of the estimated range [m] (the covariance along the estimated line of
+    /// sight; NaN for the H-infinity filter).
+    #[getter]
+    fn range_sigma(&self) -> PyResult<f64> {
+        Ok(self.nav()?.range_sigma())
+    }
+
+    /// The normalised innovation squared of the last step's update by the radio, the
+    /// camera, the GNSS position and the GNSS velocity (NaN for a sensor that gave no
+    /// reading in that step, for the particle and H-infinity filters, after a restore).
+    #[getter]
+    fn step_nis<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        Ok(array1(py, &self.nav()?.step_nis()))
     }
 
     /// Effective sample size of a particle filter after its last update (NaN for the

@@ -76,6 +76,19 @@ EXPECTED = {
     "pf_threads": ("parameter", "fixed", "Integer", None),
     "eccentricity": ("parameter", "fixed", "Real", None),
     "true_anomaly0": ("parameter", "fixed", "Real", "rad"),
+    # issue 35: the declared camera and relative-GNSS sensors
+    "sigma_camera": ("parameter", "fixed", "Real", "rad"),
+    "sigma_gnss": ("parameter", "fixed", "Real", "m"),
+    "sigma_gnss_velocity": ("parameter", "fixed", "Real", "m/s"),
+    "camera_azimuth": ("input", "discrete", "Real", "rad"),
+    "camera_elevation": ("input", "discrete", "Real", "rad"),
+    "camera_valid": ("input", "discrete", "Boolean", None),
+    **{f"gnss_{a}": ("input", "discrete", "Real", "m") for a in "xyz"},
+    "gnss_valid": ("input", "discrete", "Boolean", None),
+    **{f"gnss_v{a}": ("input", "discrete", "Real", "m/s") for a in "xyz"},
+    "gnss_velocity_valid": ("input", "discrete", "Boolean", None),
+    "range_sigma": ("output", "continuous", "Real", "m"),
+    **{f"{s}_nis": ("output", "continuous", "Real", None) for s in ("radio", "camera", "gnss", "gnss_velocity")},
 }
 
 # issue 12's variables, appended in this order after vr 62 (looked up by name: the
@@ -142,6 +155,10 @@ DEFAULTS = {
     # eccentric orbits: a circular orbit by default (the CW model)
     "eccentricity": 0.0,
     "true_anomaly0": 0.0,
+    # the declared sensors' noise (issue 35)
+    "sigma_camera": 1e-3,
+    "sigma_gnss": 0.05,
+    "sigma_gnss_velocity": 5e-4,
 }
 
 FMI2_CS_FUNCTIONS = [
@@ -331,7 +348,8 @@ def test_outputs_have_no_direct_feedthrough_in_model_structure(xml_root, md):
         assert variables[idx - 1].get("causality") == "output"
         assert u.get("dependencies") == "", f"output {variables[idx - 1].get('name')}: dependencies={u.get('dependencies')!r}"
     assert listed == output_indices
-    assert len(md.outputs) == 18 + 2 + 3  # issue 12: hinf_h2_norm, hinf_certified, imm_mu_1..3
+    # issue 12: hinf_h2_norm, hinf_certified, imm_mu_1..3; issue 35: range_sigma and 4 NIS
+    assert len(md.outputs) == 18 + 2 + 3 + 5
 
 
 def test_binary_exports_fmi2_cosimulation_api(unzipdir):

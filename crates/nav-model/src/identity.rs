@@ -87,6 +87,32 @@ mod io {
         "IMM: probability of mode 2 after the last step; NaN for the other filters";
         IMM_MU_3 = 81: "imm_mu_3", Output, Continuous, Real(""), 0.0,
         "IMM: probability of mode 3 after the last step; NaN with 2 modes and for the other filters";
+        CAMERA_AZIMUTH = 89: "camera_azimuth", Input, Discrete, Real("rad"), 0.0,
+        "Camera line of sight: azimuth atan2(y, x) of the relative position in the I/O frame (the radio's convention), taken at the step's start time";
+        CAMERA_ELEVATION = 90: "camera_elevation", Input, Discrete, Real("rad"), 0.0,
+        "Camera line of sight: elevation asin(z / range) in [-pi/2, pi/2], taken at the step's start time";
+        CAMERA_VALID = 91: "camera_valid", Input, Discrete, Boolean, 0.0,
+        "True when camera_azimuth/camera_elevation hold a fresh reading taken at the step's start time (applied after the radio's)";
+        GNSS_X = 92: "gnss_x", Input, Discrete, Real("m"), 0.0, "Relative GNSS: relative position x in the I/O frame, taken at the step's start time";
+        GNSS_Y = 93: "gnss_y", Input, Discrete, Real("m"), 0.0, "Relative GNSS: relative position y in the I/O frame";
+        GNSS_Z = 94: "gnss_z", Input, Discrete, Real("m"), 0.0, "Relative GNSS: relative position z in the I/O frame";
+        GNSS_VALID = 95: "gnss_valid", Input, Discrete, Boolean, 0.0,
+        "True when gnss_x/y/z hold a fresh reading taken at the step's start time (applied after the camera's)";
+        GNSS_VX = 96: "gnss_vx", Input, Discrete, Real("m/s"), 0.0, "Relative GNSS: relative velocity vx in the I/O frame, taken at the step's start time";
+        GNSS_VY = 97: "gnss_vy", Input, Discrete, Real("m/s"), 0.0, "Relative GNSS: relative velocity vy in the I/O frame";
+        GNSS_VZ = 98: "gnss_vz", Input, Discrete, Real("m/s"), 0.0, "Relative GNSS: relative velocity vz in the I/O frame";
+        GNSS_VELOCITY_VALID = 99: "gnss_velocity_valid", Input, Discrete, Boolean, 0.0,
+        "True when gnss_vx/vy/vz hold a fresh reading taken at the step's start time (applied last)";
+        RANGE_SIGMA = 100: "range_sigma", Output, Continuous, Real("m"), 0.0,
+        "1-sigma of the estimated range (the covariance along the estimated line of sight): shows when an angles-only range becomes observable; NaN for the H-infinity filter";
+        RADIO_NIS = 101: "radio_nis", Output, Continuous, Real(""), 0.0,
+        "Normalised innovation squared of the last step's radio update; NaN when the radio gave no reading in that step, and for the particle and H-infinity filters";
+        CAMERA_NIS = 102: "camera_nis", Output, Continuous, Real(""), 0.0,
+        "Normalised innovation squared of the last step's camera update; NaN when the camera gave no reading in that step, and for the particle and H-infinity filters";
+        GNSS_NIS = 103: "gnss_nis", Output, Continuous, Real(""), 0.0,
+        "Normalised innovation squared of the last step's relative-GNSS position update; NaN when it gave no reading in that step, and for the particle and H-infinity filters";
+        GNSS_VELOCITY_NIS = 104: "gnss_velocity_nis", Output, Continuous, Real(""), 0.0,
+        "Normalised innovation squared of the last step's relative-GNSS velocity update; NaN when it gave no reading in that step, and for the particle and H-infinity filters";
     }
 }
 
@@ -162,7 +188,7 @@ pub fn io_variables() -> &'static [VarDef] {
 }
 
 /// Number of variables.
-pub const N_VARS: usize = 86;
+pub const N_VARS: usize = 105;
 
 /// Every variable of relnav.fmu; the value reference is the index.
 pub static VARIABLES: LazyLock<Vec<VarDef>> =

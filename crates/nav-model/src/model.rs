@@ -8,7 +8,7 @@ use crate::params::config_of;
 use relnav_core::estimators::{AdaptiveQ, AqParams, ImmParams, MAX_MODES};
 use relnav_core::hinf::{DesignRoute, HinfDesignInfo};
 use relnav_core::nav::{
-    FilterKind, HinfDesignKind, NavConfig, NavError, Navigator, MEAN_MOTION_RANGE,
+    FilterKind, HinfDesignKind, NavConfig, NavError, Navigator, Readings, MEAN_MOTION_RANGE,
 };
 use relnav_core::types::Vec3;
 use relnav_fmi::model::{Model, ModelInfo};
@@ -128,6 +128,19 @@ fn write3(values: &mut [f64], vrs: [u32; 3], q: [f64; 3]) {
 /// reading: NaN, or `hinf_certified` 0, where the filter has none).
 fn publish(nav: &Navigator, values: &mut [f64], d: Diagnostics) {
     write_outputs(values, &nav.state().into(), &nav.sigma());
+    values[vr::RANGE_SIGMA as usize] = nav.range_sigma();
+    let nis = nav.step_nis();
+    for (r, v) in [
+        vr::RADIO_NIS,
+        vr::CAMERA_NIS,
+        vr::GNSS_NIS,
+        vr::GNSS_VELOCITY_NIS,
+    ]
+    .into_iter()
+    .zip(nis)
+    {
+        values[r as usize] = v;
+    }
     if d.ess {
         values[vr::ESS as usize] = nav.ess().unwrap_or(f64::NAN);
     }
@@ -316,9 +329,18 @@ impl Model for RelnavFmu {
         };
         let v = |r: u32| values[r as usize];
         let thrust = [vr::THRUST_X, vr::THRUST_Y, vr::THRUST_Z].map(v);
-        let z = [vr::RANGE, vr::AZIMUTH, vr::ELEVATION].map(v);
-        let valid = v(vr::MEASUREMENT_VALID) != 0.0;
-        nav.step(&thrust, valid.then_some(&z), h)
+        let flag = |r: u32| v(r) != 0.0;
+        let readings = Readings {
+            radio: flag(vr::MEASUREMENT_VALID)
+                .then(|| [vr::RANGE, vr::AZIMUTH, vr::ELEVATION].map(v)),
+            camera: flag(vr::CAMERA_VALID)
+                .then(|| [vr::CAMERA_AZIMUTH, vr::CAMERA_ELEVATION].map(v)),
+            gnss_position: flag(vr::GNSS_VALID)
+                .then(|| [vr::GNSS_X, vr::GNSS_Y, vr::GNSS_Z].map(v)),
+            gnss_velocity: flag(vr::GNSS_VELOCITY_VALID)
+                .then(|| [vr::GNSS_VX, vr::GNSS_VY, vr::GNSS_VZ].map(v)),
+        };
+        nav.step_readings(&thrust, &readings, h)
             .map_err(|e| e.message)?;
         publish(nav, values, self.diagnostics);
         Ok(())

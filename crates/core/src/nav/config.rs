@@ -597,6 +597,21 @@ crate::config! {
         rule: Rule::Finite, c: true, scenario: Some("true_anomaly0"), slot: Some(43),
         description: "True anomaly of the target at the start time (unused at eccentricity 0)",
     },
+    sigma_camera: f64 {
+        elements: [("sigma_camera", 86, "rad", 1e-3, "")],
+        rule: Rule::Positive, c: true, scenario: NO_KEY, slot: Some(44),
+        description: "Camera (angles-only) azimuth and elevation noise, 1 sigma of the Gaussian (> 0): the readings camera_azimuth, camera_elevation",
+    },
+    sigma_gnss: f64 {
+        elements: [("sigma_gnss", 87, "m", 0.05, "")],
+        rule: Rule::Positive, c: true, scenario: NO_KEY, slot: Some(45),
+        description: "Relative GNSS position noise per axis, 1 sigma of the Gaussian (> 0): the readings gnss_x, gnss_y, gnss_z",
+    },
+    sigma_gnss_velocity: f64 {
+        elements: [("sigma_gnss_velocity", 88, "m/s", 5e-4, "")],
+        rule: Rule::Positive, c: true, scenario: NO_KEY, slot: Some(46),
+        description: "Relative GNSS velocity noise per axis, 1 sigma of the Gaussian (> 0): the readings gnss_vx, gnss_vy, gnss_vz",
+    },
 }
 
 /// One setting of a [`NavConfig`] as a saved state records it.
@@ -1115,7 +1130,7 @@ mod tests {
             .into_iter()
             .map(|(n, _)| n)
             .collect();
-        assert_eq!(names.len(), 57);
+        assert_eq!(names.len(), 60);
         assert_eq!(
             &names[..8],
             [
@@ -1131,6 +1146,10 @@ mod tests {
         );
         assert_eq!(names[21], "discretization");
         assert_eq!(names[54], "pf_move");
-        assert_eq!(&names[55..], ["eccentricity", "true_anomaly0"]);
+        assert_eq!(&names[55..57], ["eccentricity", "true_anomaly0"]);
+        assert_eq!(
+            &names[57..],
+            ["sigma_camera", "sigma_gnss", "sigma_gnss_velocity"]
+        );
     }
 }

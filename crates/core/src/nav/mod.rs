@@ -110,9 +110,59 @@ pub struct Navigator {
     reports: Vec<Option<SensorReport>>,
     /// a step's new reports, committed when the step succeeds (allocated with the sensors)
     pending: Vec<Option<SensorReport>>,
+    /// the declared sensors beside the radio, from the configuration: camera, relative
+    /// GNSS position, relative GNSS velocity ([`Readings`])
+    declared: [Arc<dyn NavSensor>; 3],
+    /// the last step's NIS per declared sensor (radio, camera, GNSS position, GNSS
+    /// velocity), NaN where it gave no reading ([`Navigator::step_nis`])
+    step_nis: [f64; 4],
     /// a particle filter's prediction failed after its update in one step: refuse to go
     /// on until reset
     failed: bool,
+}
+
+/// The readings of the declared sensors at one step, in the I/O frame, SI units and
+/// radians, each applied when given, in this order: the radio's `(range, azimuth,
+/// elevation)`, the camera's `(azimuth, elevation)` (the radio's angle conventions),
+/// relative GNSS's position `(x, y, z)` and velocity `(vx, vy, vz)`
+/// ([`Navigator::step_readings`]).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Readings {
+    /// Range [m], azimuth, elevation [rad] (the radio or lidar).
+    pub radio: Option<[f64; 3]>,
+    /// Azimuth, elevation [rad] of the line of sight (the camera).
+    pub camera: Option<[f64; 2]>,
+    /// Relative position [m] (relative GNSS).
+    pub gnss_position: Option<[f64; 3]>,
+    /// Relative velocity [m/s] (relative GNSS).
+    pub gnss_velocity: Option<[f64; 3]>,
+}
+
+/// The declared sensors beside the radio, from the configuration (Gaussian noise of
+/// `sigma_camera`, `sigma_gnss`, `sigma_gnss_velocity`, in the I/O frame).
+fn declared_sensors(cfg: &NavConfig) -> [Arc<dyn NavSensor>; 3] {
+    use crate::sensors::{CameraSensor, CartesianSensor, Modelled, SensorNoise, VelocitySensor};
+    let f = cfg.frame;
+    [
+        Arc::new(Named::new(
+            "camera",
+            CameraSensor::gaussian(f, cfg.sigma_camera),
+        )),
+        Arc::new(Named::new(
+            "GNSS position",
+            Modelled {
+                model: CartesianSensor {
+                    frame: f,
+                    sigma: cfg.sigma_gnss,
+                },
+                noise: SensorNoise::gaussian([cfg.sigma_gnss; 3]),
+            },
+        )),
+        Arc::new(Named::new(
+            "GNSS velocity",
+            VelocitySensor::gaussian(f, cfg.sigma_gnss_velocity),
+        )),
+    ]
 }
 
 impl Navigator {
@@ -148,6 +198,8 @@ impl Navigator {
             sensors: Vec::new(),
             reports: Vec::new(),
             pending: Vec::new(),
+            declared: declared_sensors(cfg),
+            step_nis: [f64::NAN; 4],
             failed: false,
         };
         nav.q_rates = cfg.process_noise_rates();
@@ -346,6 +398,24 @@ impl Navigator {
         measurement: Option<&[f64; 3]>,
         dt: f64,
     ) -> Result<(), NavError> {
+        let r = self.step_radio(thrust, measurement, dt);
+        if r.is_ok() {
+            let nis = measurement
+                .and(self.last_update)
+                .map_or(f64::NAN, |u| u.nis);
+            self.step_nis = [nis, f64::NAN, f64::NAN, f64::NAN];
+        }
+        r
+    }
+
+    /// [`Navigator::step`] but for its diagnostics.
+    #[inline(always)]
+    fn step_radio(
+        &mut self,
+        thrust: &[f64; 3],
+        measurement: Option<&[f64; 3]>,
+        dt: f64,
+    ) -> Result<(), NavError> {
         self.check_step(thrust, measurement, dt)?;
         self.check_not_failed()?;
         // the EKF's update and prediction commit together (no snapshot to copy); the
@@ -429,6 +499,68 @@ impl Navigator {
         readings: &[Option<&[f64]>],
         dt: f64,
     ) -> Result<(), NavError> {
+        self.step_all(thrust, measurement, [None; 3], readings, dt)
+    }
+
+    /// One step with the declared sensors' `readings` ([`Readings`]: the radio, then the
+    /// camera, relative GNSS's position and its velocity, each applied when given, all
+    /// taken at the step's start), then the prediction over `dt` with `thrust` held. Every
+    /// reading is checked before anything changes (a refusal names the sensor); a failed
+    /// step leaves the estimate as it was, as [`Navigator::step_with`].
+    pub fn step_readings(
+        &mut self,
+        thrust: &[f64; 3],
+        readings: &Readings,
+        dt: f64,
+    ) -> Result<(), NavError> {
+        let declared = [
+            readings.camera.as_ref().map(|z| &z[..]),
+            readings.gnss_position.as_ref().map(|z| &z[..]),
+            readings.gnss_velocity.as_ref().map(|z| &z[..]),
+        ];
+        let empty: Vec<Option<&[f64]>> = vec![None; self.sensors.len()];
+        self.step_all(thrust, readings.radio.as_ref(), declared, &empty, dt)
+    }
+
+    /// The normalised innovation squared of the last step's update by each declared sensor
+    /// (radio, camera, GNSS position, GNSS velocity; NaN for a sensor that gave no reading
+    /// in that step, for the particle and H-infinity filters, and after a restore).
+    pub fn step_nis(&self) -> [f64; 4] {
+        self.step_nis
+    }
+
+    /// 1-sigma of the estimated range: `sqrt(u^T P_rr u)` with `u` the estimated line of
+    /// sight (NaN at zero range and for the H-infinity filter, which carries no
+    /// covariance). Shows when an angles-only range becomes observable.
+    pub fn range_sigma(&self) -> f64 {
+        let x = self.filter.state();
+        let r = Vec3::new(x[0], x[1], x[2]);
+        let n = r.norm();
+        if !(n > 0.0) {
+            return f64::NAN;
+        }
+        let u = r / n;
+        let p = self
+            .filter
+            .covariance()
+            .fixed_view::<3, 3>(0, 0)
+            .into_owned();
+        let v = u.dot(&(p * u));
+        if v >= 0.0 {
+            v.sqrt()
+        } else {
+            f64::NAN
+        }
+    }
+
+    fn step_all(
+        &mut self,
+        thrust: &[f64; 3],
+        measurement: Option<&[f64; 3]>,
+        declared: [Option<&[f64]>; 3],
+        readings: &[Option<&[f64]>],
+        dt: f64,
+    ) -> Result<(), NavError> {
         if readings.len() != self.sensors.len() {
             return Err(NavError::invalid(format!(
                 "{} readings given for {} added sensors",
@@ -436,10 +568,15 @@ impl Navigator {
                 self.sensors.len()
             )));
         }
-        if readings.iter().all(Option::is_none) {
+        if readings.iter().chain(&declared).all(Option::is_none) {
             return self.step(thrust, measurement, dt);
         }
         self.check_step(thrust, measurement, dt)?;
+        for (s, z) in self.declared.iter().zip(&declared) {
+            if let Some(z) = z {
+                s.check(z).map_err(NavError::invalid)?;
+            }
+        }
         for (s, z) in self.sensors.iter().zip(readings) {
             if let Some(z) = z {
                 s.check(z).map_err(NavError::invalid)?;
@@ -455,11 +592,30 @@ impl Navigator {
         };
         let last = self.last_update;
         self.pending.iter_mut().for_each(|r| *r = None);
+        let mut nis = [f64::NAN; 4];
         let mut updated = false;
         let mut result = match measurement {
-            Some(z) => self.update_checked(z).map(|_| updated = true),
+            Some(z) => self.update_checked(z).map(|u| {
+                nis[0] = u.nis;
+                updated = true;
+            }),
             None => Ok(()),
         };
+        for (i, z) in declared.iter().enumerate() {
+            if result.is_err() {
+                break;
+            }
+            if let Some(z) = z {
+                result = match self.declared[i].apply(&mut self.filter, z) {
+                    Ok(r) => {
+                        nis[i + 1] = r.nis;
+                        updated = true;
+                        Ok(())
+                    }
+                    Err(e) => Err(NavError::from(e)),
+                };
+            }
+        }
         for (i, z) in readings.iter().enumerate() {
             if result.is_err() {
                 break;
@@ -483,6 +639,7 @@ impl Navigator {
                         *r = *p;
                     }
                 }
+                self.step_nis = nis;
             }
             (Err(_), Some(f)) => {
                 self.filter = f;
@@ -506,6 +663,7 @@ impl Navigator {
         }
         self.last_update = None;
         self.reports.iter_mut().for_each(|r| *r = None);
+        self.step_nis = [f64::NAN; 4];
         self.failed = false;
         self.t = 0.0;
     }

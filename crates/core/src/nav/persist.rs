@@ -32,6 +32,10 @@ impl Navigator {
             sensors: _,
             reports: _,
             pending: _,
+            // configuration (from `cfg`), and the last step's diagnostics (cleared by a
+            // restore)
+            declared: _,
+            step_nis: _,
             failed,
         } = self;
         w.tag(b"CONF");
@@ -170,6 +174,7 @@ impl Navigator {
         self.filter = filter;
         self.last_update = last_update;
         self.reports.iter_mut().for_each(|r| *r = None);
+        self.step_nis = [f64::NAN; 4];
         self.failed = failed;
         self.t = t;
         Ok(())
@@ -179,7 +184,7 @@ impl Navigator {
 /// Format version of [`Navigator::save_state`]'s bytes. Bump it whenever the layout
 /// changes (a field added to a filter's `Persist`, a new setting); a state of another
 /// version is refused, never misread.
-pub const STATE_FORMAT_VERSION: u32 = 2;
+pub const STATE_FORMAT_VERSION: u32 = 3;
 
 /// Length of the identity block of an estimator state's header (filter code, fingerprint).
 const STATE_IDENT_LEN: usize = 8;

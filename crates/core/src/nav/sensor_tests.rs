@@ -560,3 +560,89 @@ fn the_generic_path_is_thread_count_independent() {
     };
     assert_eq!(run(1), run(2));
 }
+
+/// The declared sensors (`Navigator::step_readings`): relative GNSS alone (position and
+/// velocity, I/O frame 2, readings formed here) brings every filter but the H-infinity
+/// one to the GNSS's level; the per-step NIS is reported for the sensors that gave a
+/// reading (NaN for the others); a bad camera reading is refused naming the camera, with
+/// the estimate unchanged; `range_sigma` is the covariance along the estimated line of
+/// sight.
+#[test]
+fn declared_sensors_through_step_readings() {
+    for code in [1, 2, 3, 10, 4, 5, 6, 7, 8] {
+        let (cfg, mut x) = setup(code);
+        let mut nav = Navigator::new(&cfg).unwrap();
+        let mut rng = ChaCha8Rng::seed_from_u64(3);
+        let (mut sq, mut n) = (0.0, 0);
+        for k in 0..200 {
+            let p = noisy(Vec3::new(x[1], x[0], -x[2]), cfg.sigma_gnss, &mut rng);
+            let v = noisy(
+                Vec3::new(x[4], x[3], -x[5]),
+                cfg.sigma_gnss_velocity,
+                &mut rng,
+            );
+            let r = Readings {
+                gnss_position: Some(p),
+                gnss_velocity: (k % 2 == 0).then_some(v),
+                ..Default::default()
+            };
+            nav.step_readings(&[0.0; 3], &r, 1.0)
+                .unwrap_or_else(|e| panic!("filter {code}, step {k}: {e}"));
+            let nis = nav.step_nis();
+            assert!(nis[0].is_nan() && nis[1].is_nan(), "{nis:?}");
+            let kalman = matches!(code, 1 | 2 | 3 | 10);
+            assert_eq!(nis[2].is_finite(), kalman, "filter {code}: {nis:?}");
+            assert_eq!(
+                nis[3].is_finite(),
+                kalman && k % 2 == 0,
+                "filter {code}: {nis:?}"
+            );
+            x = propagate(cfg.mean_motion, &x, 1.0);
+            if k >= 100 {
+                let est = cfg.frame.state_to_canonical(&nav.state());
+                sq += (est.fixed_rows::<3>(0) - x.fixed_rows::<3>(0)).norm_squared();
+                n += 1;
+            }
+        }
+        let rms = (sq / n as f64).sqrt();
+        eprintln!("filter {code}: GNSS only, RMS position {rms:.4} m");
+        // well inside the single fix's 3-axis error (sqrt(3) sigma_gnss): the filter
+        // averages the fixes
+        assert!(rms < 3f64.sqrt() * cfg.sigma_gnss, "filter {code}: {rms}");
+        // a bad camera reading: refused, naming the camera, nothing changed
+        let before = (nav.state(), nav.covariance());
+        let bad = Readings {
+            camera: Some([0.1, 2.0]),
+            ..Default::default()
+        };
+        let e = nav.step_readings(&[0.0; 3], &bad, 1.0).unwrap_err();
+        assert!(e.message.contains("camera"), "{}", e.message);
+        assert_eq!((nav.state(), nav.covariance()), before);
+        // the range's 1-sigma along the estimated line of sight
+        let xs = nav.filter.state();
+        let u = Vec3::new(xs[0], xs[1], xs[2]).normalize();
+        let pr = nav
+            .filter
+            .covariance()
+            .fixed_view::<3, 3>(0, 0)
+            .into_owned();
+        let want = (u.transpose() * pr * u)[0].sqrt();
+        assert!((nav.range_sigma() - want).abs() <= 1e-12 * want);
+    }
+    // the radio and the camera in one step: both NIS reported
+    let (cfg, x) = setup(1);
+    let mut nav = Navigator::new(&cfg).unwrap();
+    let mut rng = ChaCha8Rng::seed_from_u64(4);
+    let z = radio(&cfg, &x, &mut rng);
+    let r = Readings {
+        radio: Some(z),
+        camera: Some([z[1], z[2]]),
+        ..Default::default()
+    };
+    nav.step_readings(&[0.0; 3], &r, 1.0).unwrap();
+    let nis = nav.step_nis();
+    assert!(nis[0].is_finite() && nis[1].is_finite() && nis[2].is_nan() && nis[3].is_nan());
+    // a plain step reports the radio alone
+    nav.step(&[0.0; 3], None, 1.0).unwrap();
+    assert!(nav.step_nis().iter().all(|v| v.is_nan()));
+}
