@@ -466,3 +466,51 @@ fn steps_with_added_sensors_do_not_allocate() {
         assert!(nav.sensor_report(0).is_some());
     }
 }
+
+/// The declared sensors' steps (`Navigator::step_readings`: the radio, the camera and
+/// relative GNSS together) allocate nothing either, an added sensor present or not.
+#[test]
+fn declared_sensor_steps_do_not_allocate() {
+    use relnav_core::nav::{Named, Readings};
+    use relnav_core::sensors::VelocitySensor;
+    use std::sync::Arc;
+    for filter in FilterKind::ALL {
+        if filter == FilterKind::Hinf {
+            continue;
+        }
+        let cfg = NavConfig {
+            filter,
+            particles: 300,
+            accel_psd: 1e-9,
+            ..Default::default()
+        };
+        let mut nav = Navigator::new(&cfg).unwrap();
+        nav.add_sensor(Arc::new(Named::new(
+            "velocity",
+            VelocitySensor::gaussian(cfg.frame, 1e-3),
+        )));
+        let readings = |k: usize| {
+            let [rho, az, el] = measurement(k);
+            Readings {
+                radio: Some([rho, az, el]),
+                camera: Some([az, el]),
+                gnss_position: k.is_multiple_of(2).then(|| {
+                    [
+                        rho * el.cos() * az.cos(),
+                        rho * el.cos() * az.sin(),
+                        rho * el.sin(),
+                    ]
+                }),
+                gnss_velocity: None,
+            }
+        };
+        nav.step_readings(&[0.0; 3], &readings(0), 1.0).unwrap();
+        let n = allocations(|| {
+            for k in 1..60 {
+                nav.step_readings(&[0.1, 0.0, -0.1], &readings(k), 1.0)
+                    .unwrap();
+            }
+        });
+        assert_eq!(n, 0, "{filter:?}: {n} allocations in declared-sensor steps");
+    }
+}

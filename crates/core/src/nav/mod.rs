@@ -499,6 +499,13 @@ impl Navigator {
         readings: &[Option<&[f64]>],
         dt: f64,
     ) -> Result<(), NavError> {
+        if readings.len() != self.sensors.len() {
+            return Err(NavError::invalid(format!(
+                "{} readings given for {} added sensors",
+                readings.len(),
+                self.sensors.len()
+            )));
+        }
         self.step_all(thrust, measurement, [None; 3], readings, dt)
     }
 
@@ -518,8 +525,8 @@ impl Navigator {
             readings.gnss_position.as_ref().map(|z| &z[..]),
             readings.gnss_velocity.as_ref().map(|z| &z[..]),
         ];
-        let empty: Vec<Option<&[f64]>> = vec![None; self.sensors.len()];
-        self.step_all(thrust, readings.radio.as_ref(), declared, &empty, dt)
+        // no reading for the added sensors (`step_all` takes the first `readings.len()`)
+        self.step_all(thrust, readings.radio.as_ref(), declared, &[], dt)
     }
 
     /// The normalised innovation squared of the last step's update by each declared sensor
@@ -553,6 +560,8 @@ impl Navigator {
         }
     }
 
+    /// The step of [`Navigator::step_with`] and [`Navigator::step_readings`]: `readings`
+    /// for the first `readings.len()` added sensors (none for the others); no heap.
     fn step_all(
         &mut self,
         thrust: &[f64; 3],
@@ -561,13 +570,6 @@ impl Navigator {
         readings: &[Option<&[f64]>],
         dt: f64,
     ) -> Result<(), NavError> {
-        if readings.len() != self.sensors.len() {
-            return Err(NavError::invalid(format!(
-                "{} readings given for {} added sensors",
-                readings.len(),
-                self.sensors.len()
-            )));
-        }
         if readings.iter().chain(&declared).all(Option::is_none) {
             return self.step(thrust, measurement, dt);
         }
