@@ -412,6 +412,17 @@ fn particle_filter_steps_do_not_allocate() {
     }
 }
 
+/// The configuration of the sensor-step tests: `filter` with 300 particles and a white
+/// acceleration that keeps every covariance positive definite.
+fn sensor_config(filter: FilterKind) -> NavConfig {
+    NavConfig {
+        filter,
+        particles: 300,
+        accel_psd: 1e-9,
+        ..Default::default()
+    }
+}
+
 /// Steps with a sensor added beside the radio (the generic path, `Navigator::step_with`)
 /// allocate nothing either, in every filter but the H-infinity one (whose test above
 /// covers it with the radio).
@@ -424,12 +435,7 @@ fn steps_with_added_sensors_do_not_allocate() {
         if filter == FilterKind::Hinf {
             continue;
         }
-        let cfg = NavConfig {
-            filter,
-            particles: 300,
-            accel_psd: 1e-9,
-            ..Default::default()
-        };
+        let cfg = sensor_config(filter);
         let mut nav = Navigator::new(&cfg).unwrap();
         let fix = Modelled {
             model: CartesianSensor {
@@ -478,12 +484,7 @@ fn declared_sensor_steps_do_not_allocate() {
         if filter == FilterKind::Hinf {
             continue;
         }
-        let cfg = NavConfig {
-            filter,
-            particles: 300,
-            accel_psd: 1e-9,
-            ..Default::default()
-        };
+        let cfg = sensor_config(filter);
         let mut nav = Navigator::new(&cfg).unwrap();
         nav.add_sensor(Arc::new(Named::new(
             "velocity",

@@ -34,8 +34,8 @@ SIGMA_OUTPUTS = ["sigma_x", "sigma_y", "sigma_z", "sigma_vx", "sigma_vy", "sigma
 OUTPUTS = STATE_OUTPUTS + SIGMA_OUTPUTS
 REAL_INPUTS = ["thrust_x", "thrust_y", "thrust_z", "range", "azimuth", "elevation"]
 BOOL_INPUTS = ["measurement_valid"]
-# the declared camera and relative-GNSS sensors' inputs (issue 35): zero and unflagged
-# unless a test drives them
+# the declared camera and relative-GNSS sensors' inputs: zero and unflagged unless a test
+# drives them
 SENSOR_REAL_INPUTS = ["camera_azimuth", "camera_elevation", "gnss_x", "gnss_y", "gnss_z", "gnss_vx", "gnss_vy", "gnss_vz"]
 SENSOR_BOOL_INPUTS = ["camera_valid", "gnss_valid", "gnss_velocity_valid"]
 INPUTS = REAL_INPUTS + BOOL_INPUTS + SENSOR_REAL_INPUTS + SENSOR_BOOL_INPUTS

@@ -78,18 +78,12 @@ fn vec3(py: Python<'_>, obj: &Bound<'_, PyAny>, what: &str) -> PyResult<[f64; 3]
             *o = a.get_owned([i]).ok_or_else(bad)?;
         }
     } else {
-        let items: Vec<f64> = obj
-            .try_iter()
-            .map_err(|_| bad())?
-            .map(|x| x.and_then(|x| x.extract::<f64>()))
-            .collect::<PyResult<_>>()
-            .map_err(|_| bad())?;
-        out = items.try_into().map_err(|_| bad())?;
+        out = vec_n::<3>(py, obj, what)?;
     }
     Ok(out)
 }
 
-/// `N` numbers from any sequence (a declared sensor's reading).
+/// `N` numbers from any sequence (a declared sensor's reading; [`vec3`]'s general case).
 fn vec_n<const N: usize>(py: Python<'_>, obj: &Bound<'_, PyAny>, what: &str) -> PyResult<[f64; N]> {
     let bad = || invalid(py, format!("{what} must be {N} numbers (got {obj})"));
     let items: Vec<f64> = obj

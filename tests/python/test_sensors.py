@@ -55,21 +55,24 @@ def schedule(k):
     return True, k % 2 == 0, k % 3 == 0
 
 
+def feed(s, k, cam, pos, vel, flags):
+    """Step k's readings and flags (camera, GNSS position, GNSS velocity) into slave s."""
+    c, g, v = flags
+    s.set("camera_azimuth", cam[k, 0])
+    s.set("camera_elevation", cam[k, 1])
+    s.set("camera_valid", c)
+    for name, val in zip(["gnss_x", "gnss_y", "gnss_z", "gnss_vx", "gnss_vy", "gnss_vz"], [*pos[k], *vel[k]]):
+        s.set(name, val)
+    s.set("gnss_valid", g)
+    s.set("gnss_velocity_valid", v)
+
+
 def fmu_run(unzipdir, code, steps=STEPS, slave=None):
     x_io, cam, pos, vel = readings()
     s = slave or Slave(unzipdir).start({"filter": code, **SIG, **QUIET})
     rows, nis = [], []
     for k in range(steps):
-        c, g, v = schedule(k)
-        s.set("camera_azimuth", cam[k, 0])
-        s.set("camera_elevation", cam[k, 1])
-        s.set("camera_valid", c)
-        for name, val in zip(["gnss_x", "gnss_y", "gnss_z"], pos[k]):
-            s.set(name, val)
-        s.set("gnss_valid", g)
-        for name, val in zip(["gnss_vx", "gnss_vy", "gnss_vz"], vel[k]):
-            s.set(name, val)
-        s.set("gnss_velocity_valid", v)
+        feed(s, k, cam, pos, vel, schedule(k))
         s.fmu.doStep(float(k), 1.0)
         rows.append(s.real(OUTS))
         nis.append(s.real(NIS))
@@ -149,14 +152,8 @@ def test_state_round_trip_with_the_new_inputs(unzipdir):
     x_io, cam, pos, vel = readings()
     for t in (s, s2):
         for k in range(40, 60):
-            c, g, v = schedule(k)
-            t.set("camera_azimuth", cam[k, 0])
-            t.set("camera_elevation", cam[k, 1])
-            t.set("camera_valid", c)
-            for name, val in zip(["gnss_x", "gnss_y", "gnss_z"], pos[k]):
-                t.set(name, val)
-            t.set("gnss_valid", g)
-            t.set("gnss_velocity_valid", False)
+            c, g, _ = schedule(k)
+            feed(t, k, cam, pos, vel, (c, g, False))
             t.fmu.doStep(float(k), 1.0)
     assert s.real(OUTS + NIS + ["range_sigma"]).tobytes() == s2.real(OUTS + NIS + ["range_sigma"]).tobytes()
     s.free()

@@ -1,4 +1,4 @@
-//! Sensors of the camera and relative GNSS (issue 35's declared sensors, in the core):
+//! Sensors of the camera and relative GNSS, the navigator's declared sensors beside the radio:
 //! [`CameraSensor`], the line of sight alone (azimuth and elevation with the radio's
 //! conventions, in the chosen frame), and [`VelocitySensor`], the relative velocity in the
 //! chosen frame. Relative GNSS's position is the Cartesian position sensor,
