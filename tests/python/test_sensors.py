@@ -158,3 +158,92 @@ def test_state_round_trip_with_the_new_inputs(unzipdir):
     assert s.real(OUTS + NIS + ["range_sigma"]).tobytes() == s2.real(OUTS + NIS + ["range_sigma"]).tobytes()
     s.free()
     s2.free()
+
+
+def _numeric_jacobian(f, x, eps=1e-6):
+    """Central differences of f at x (numpy; independent of relnav's analytic Jacobians)."""
+    cols = []
+    for i in range(len(x)):
+        d = np.zeros(len(x))
+        d[i] = eps * max(1.0, abs(x[i]))
+        cols.append((f(x + d) - f(x - d)) / (2 * d[i]))
+    return np.array(cols).T
+
+
+def test_multi_sensor_pcrlb_is_the_sum_of_each_sensors_information():
+    """The evaluation engine's PCRLB with four sensors at their own rates (a camera every
+    second, GNSS position every 5 s, GNSS velocity every 3 s outside a dropout, a radio
+    only inside 300 m) equals Tichavsky's recursion computed here with numpy: the exact CW
+    transition (``cwtruth``), each sensor's information ``H^T R^-1 H`` from numerical
+    derivatives of its measurement in the I/O frame, added where it measured."""
+    x0 = [-300.0, 60.0, 20.0, 0.1, 0.0, 0.05]
+    sc = {
+        "name": "multi_pcrlb",
+        "title": "multi-sensor PCRLB",
+        "frame": "along_radial_antinormal",
+        "orbit": {"period": 5400.0},
+        "truth": {"initial_state": x0, "chaser_mass": 100.0},
+        "sensors": [
+            {"kind": "camera", "sigma_angle_deg": 0.05, "period": 1.0},
+            {"kind": "gnss", "sigma_position": 0.3, "period": 5.0},
+            {
+                "kind": "gnss_velocity",
+                "sigma_velocity": 0.002,
+                "period": 3.0,
+                "dropouts": [{"start": 30.0, "stop": 60.0}],
+            },
+            {
+                "kind": "radio",
+                "sigma_range": 0.5,
+                "sigma_angle_deg": 0.1,
+                "period": 2.0,
+                "max_range": 300.0,
+            },
+        ],
+        "simulation": {
+            "duration": 200.0,
+            "step": 1.0,
+            "runs": 1,
+            "seed": 1,
+            "convergence_time": 10.0,
+            "convergence_threshold": [1.0, 0.1],
+        },
+        "filter": [
+            {"label": "EKF", "kind": "ekf", "initial_state": x0, "sigma_pos0": 10.0, "sigma_vel0": 0.1}
+        ],
+    }
+    res = relnav.campaign(sc, progress=False, threads=1)
+    bound = np.asarray(res.pcrlb)
+    frame, n = 2, 2 * math.pi / 5400.0
+    times = np.arange(201.0)
+    # the truth (no process noise: deterministic), in the I/O frame
+    x_io = np.array([cw.state_to_frame(x, frame) for x in cw.truth_trajectory(n, cw.state_to_canonical(np.array(x0), frame), times)])
+    phi_c = cw.expm(cw.cw_a(n) * 1.0)
+    t6 = np.array([cw.state_to_frame(e, frame) for e in np.eye(6)]).T  # canonical -> I/O
+    phi = t6 @ phi_c @ t6.T
+
+    def angles(p):
+        return np.array([math.atan2(p[1], p[0]), math.atan2(p[2], math.hypot(p[0], p[1]))])
+
+    def rae(p):
+        return np.r_[np.linalg.norm(p[:3]), angles(p)]
+
+    sa, sr = math.radians(0.05), math.radians(0.1)
+    sensors = [
+        (lambda x: angles(x[:3]), np.array([sa, sa]), lambda k, x: True),
+        (lambda x: x[:3], np.full(3, 0.3), lambda k, x: k % 5 == 0),
+        (lambda x: x[3:], np.full(3, 0.002), lambda k, x: k % 3 == 0 and not 30 <= k < 60),
+        (lambda x: rae(x[:3]), np.array([0.5, sr, sr]), lambda k, x: k % 2 == 0 and np.linalg.norm(x[:3]) < 300.0),
+    ]
+    j = np.diag(1 / np.r_[np.full(3, 10.0**2), np.full(3, 0.1**2)])
+    ranges = np.linalg.norm(x_io[:, :3], axis=1)
+    assert ranges.min() < 300.0 < ranges.max(), "the radio's range gate opens and closes"
+    for k in range(len(times)):
+        if k > 0:
+            j = np.linalg.inv(phi @ np.linalg.inv(j) @ phi.T)
+        for h_of, sig, on in sensors:
+            if on(k, x_io[k]):
+                h = _numeric_jacobian(h_of, x_io[k])
+                j = j + h.T @ np.diag(1 / sig**2) @ h
+        want = np.diag(np.linalg.inv(j))
+        np.testing.assert_allclose(bound[k], want, rtol=1e-6, err_msg=f"t = {k} s")

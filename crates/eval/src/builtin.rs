@@ -2,7 +2,8 @@
 //! `scenarios/*.toml`; `relnav scenarios` lists them, `--show NAME` prints one).
 
 /// (paper, scenario name, TOML text), in reproduction order; `"eccentric"` groups issue
-/// 34's eccentric-orbit scenarios (no paper: the elliptic model against CW and the PCRLB).
+/// 34's eccentric-orbit scenarios (no paper: the elliptic model against CW and the PCRLB),
+/// `"sensors"` issue 35's multi-sensor ones (camera, relative GNSS, radio and lidar).
 pub const BUILTIN: &[(&str, &str, &str)] = &[
     (
         "000",
@@ -88,6 +89,26 @@ pub const BUILTIN: &[(&str, &str, &str)] = &[
         "eccentric",
         "eccentric_proba3",
         include_str!("../../../scenarios/eccentric_proba3.toml"),
+    ),
+    (
+        "sensors",
+        "sensors_gnss_leo",
+        include_str!("../../../scenarios/sensors_gnss_leo.toml"),
+    ),
+    (
+        "sensors",
+        "sensors_gnss_camera_leo",
+        include_str!("../../../scenarios/sensors_gnss_camera_leo.toml"),
+    ),
+    (
+        "sensors",
+        "sensors_handover",
+        include_str!("../../../scenarios/sensors_handover.toml"),
+    ),
+    (
+        "sensors",
+        "sensors_angles_only",
+        include_str!("../../../scenarios/sensors_angles_only.toml"),
     ),
 ];
 

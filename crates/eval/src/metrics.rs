@@ -329,7 +329,7 @@ fn summarize_filter(
             .filter_map(|&k| f.nees.get(k).map(|v| (*v, m))),
     );
     let nis = consistency(
-        3,
+        r.nis_dof,
         window.iter().filter_map(|&k| {
             let v = f.nis.get(k)?;
             let c = f.nis_count.get(k)?;
@@ -466,6 +466,7 @@ mod tests {
 
     fn result(t: Vec<f64>, filters: Vec<FilterStats>) -> McResult {
         McResult {
+            nis_dof: 3,
             scenario: "test".to_string(),
             title: "Test".to_string(),
             t,

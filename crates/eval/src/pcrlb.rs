@@ -9,7 +9,8 @@
 //! ```
 //!
 //! `F` is the truth's (linear) transition — closed loop with feedback thrust — `Q` the
-//! truth's process noise; for a two-body truth without J2 (`two_body_j2` with `j2 = false`,
+//! truth's process noise; the measurement term sums the information of every sensor that
+//! measured at that time (`[sensor]` and each `[[sensors]]` entry, independent noises); for a two-body truth without J2 (`two_body_j2` with `j2 = false`,
 //! any eccentricity) `F_k` is the transition of the relative motion linearised about the
 //! target's Keplerian orbit from `t_k` (CW or Yamanaka–Ankersen: time-varying when
 //! eccentric) and `Q_k = Gamma_k (q / h) Gamma_k^T` that of the truth's random
@@ -26,16 +27,27 @@
 //! run (the transition itself is then uncertain).
 
 use crate::scenario::OrbitRateError;
-use crate::sim::Prepared;
+use crate::sim::{Prepared, PreparedSensor};
 use relnav_core::dynamics::{CwModel, Discretization, Dynamics, RelativeDynamics};
 use relnav_core::types::{Mat3, Mat6, State};
 
 /// Why the bound is undefined for this scenario, or `None` when it is defined.
 pub fn undefined_reason(prep: &Prepared) -> Option<String> {
-    if prep.noise.fisher_factor().is_none() {
+    if prep.truth_sensor.is_some() && prep.noise.fisher_factor().is_none() {
         return Some(format!(
             "undefined: the {:?} measurement noise has no finite Fisher information",
             prep.noise
+        ));
+    }
+    if let Some(s) = prep
+        .sensors
+        .iter()
+        .find(|s| s.spec.noise.fisher_factor().is_none())
+    {
+        return Some(format!(
+            "undefined: the {:?} noise of sensor \"{}\" has no finite Fisher information",
+            s.spec.noise,
+            s.spec.label()
         ));
     }
     if let crate::scenario::TruthDynamics::TwoBodyJ2 { j2: true, .. } = prep.scenario.truth.dynamics
@@ -54,7 +66,10 @@ pub fn measurement_information(prep: &Prepared, x: &State) -> Mat6 {
     use relnav_core::sensors::MeasurementModel;
     let f = prep.noise.fisher_factor().unwrap_or(0.0);
     let r = x.fixed_rows::<3>(0).into_owned();
-    match prep.truth_sensor.linearize(&r) {
+    let Some(sensor) = &prep.truth_sensor else {
+        return Mat6::zeros();
+    };
+    match sensor.linearize(&r) {
         Ok(g) => {
             let iv = nalgebra::SMatrix::<f64, 3, 3>::from_diagonal(&nalgebra::Vector3::from_fn(
                 |i, _| f / (prep.noise_sigma[i] * prep.noise_sigma[i]),
@@ -63,6 +78,13 @@ pub fn measurement_information(prep: &Prepared, x: &State) -> Mat6 {
         }
         Err(_) => Mat6::zeros(),
     }
+}
+
+/// The information `H^T I_v H` of a `[[sensors]]` entry's reading at a true state
+/// (canonical): each sensor's information adds, as its noise is independent of the others'.
+pub fn sensor_information(s: &PreparedSensor, x: &State) -> Mat6 {
+    let f = s.spec.noise.fisher_factor().unwrap_or(0.0);
+    s.geometry.information(x, &s.scales, f)
 }
 
 /// Run the recursion given the Monte Carlo mean of `H^T I_v H` at each time (zero where

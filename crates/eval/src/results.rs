@@ -14,8 +14,8 @@ pub struct FilterStats {
     pub mse: Vec<[f64; 6]>,
     /// Mean over runs of the NEES `e^T P^-1 e` (6 dof when consistent).
     pub nees: Vec<f64>,
-    /// Mean over runs of the NIS at measurement times (3 dof when consistent); NaN where
-    /// no measurement was processed.
+    /// Mean over runs of the NIS at measurement times ([`McResult::nis_dof`] dof when
+    /// consistent); NaN where no measurement was processed.
     pub nis: Vec<f64>,
     /// Number of runs that contributed a NIS value at each time.
     pub nis_count: Vec<u32>,
@@ -46,6 +46,9 @@ pub struct McResult {
     pub interrupted: bool,
     /// One entry per filter, in scenario order.
     pub filters: Vec<FilterStats>,
+    /// Components of the scored NIS (its chi-square degrees of freedom when consistent):
+    /// 3 for `[sensor]`, else the first `[[sensors]]` entry's.
+    pub nis_dof: u32,
     /// Posterior Cramér–Rao lower bound: diagonal of `J^-1` per time (variances, I/O
     /// frame), or `None` where it is not defined for the scenario (with the reason).
     pub pcrlb: Result<Vec<[f64; 6]>, String>,

@@ -156,18 +156,23 @@ fn run_chunk(
             break;
         }
         let mut rng = ChaCha8Rng::seed_from_u64(run_seed(base, i));
-        let (truth, meas) = prep.simulate_truth(&mut rng);
+        let run = prep.simulate_truth(&mut rng);
         if want_info {
-            for (k, x) in truth.iter().enumerate() {
-                if prep.measured[k] {
+            for (k, x) in run.states.iter().enumerate() {
+                if prep.primary_measures(k, x) {
                     c.info[k] += pcrlb::measurement_information(prep, x);
+                }
+                for (i, s) in prep.sensors.iter().enumerate() {
+                    if run.extra[i][k].is_some() {
+                        c.info[k] += pcrlb::sensor_information(s, x);
+                    }
                 }
             }
         }
         for (fi, f) in prep.filters.iter().enumerate() {
             let t0 = Instant::now();
             let filter_seed = run_seed(base ^ 0x5046_5F53_4545_4453, i * 64 + fi as u64);
-            let r = run_filter(prep, f, &truth, &meas, filter_seed, &mut scores);
+            let r = run_filter(prep, f, &run, filter_seed, &mut scores);
             c.filters[fi].nanos += t0.elapsed().as_nanos();
             match r {
                 Ok(()) => c.filters[fi].add_run(&scores),
@@ -582,6 +587,7 @@ fn summarize_total(prep: &Prepared, runs: u64, want_info: bool, total: &Chunk) -
         })
         .collect();
     McResult {
+        nis_dof: prep.nis_dof() as u32,
         scenario: scenario.name.clone(),
         title: scenario.title.clone(),
         t: prep.times(),

@@ -38,8 +38,14 @@ pub struct Scenario {
     /// The chaser's thrust.
     #[serde(default)]
     pub thrust: Thrust,
-    /// The sensor and its noise.
-    pub sensor: Sensor,
+    /// The scenario's first sensor (radio, lidar or Cartesian position): the one the
+    /// papers use, scored by the NIS and used in the H-infinity design.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sensor: Option<Sensor>,
+    /// Further sensors of any kind (`[[sensors]]`), each at its own rate, applied after
+    /// `sensor` in file order at every time they measure.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub sensors: Vec<Sensor>,
     /// Campaign settings.
     pub simulation: Simulation,
     /// Filters to compare, in table order.
@@ -219,26 +225,39 @@ pub struct Burn {
     pub force: [f64; 3],
 }
 
-/// The sensor.
+/// A sensor.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Sensor {
     /// Measurement type.
     pub kind: SensorKind,
+    /// Name in messages and tables (default: the kind's).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub name: Option<String>,
     /// Range noise scale [m] (radio, lidar).
     #[serde(default)]
     pub sigma_range: f64,
     /// Angle noise scale [deg] (radio, lidar; degrees in the file, radians inside).
     #[serde(default)]
     pub sigma_angle_deg: f64,
-    /// Position noise scale per axis [m] (cartesian).
+    /// Position noise scale per axis [m] (cartesian, gnss).
     #[serde(default)]
     pub sigma_position: f64,
+    /// Velocity noise scale per axis [m/s] (gnss_velocity).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub sigma_velocity: f64,
     /// Sample period [s] (a multiple of `simulation.step`).
     pub period: f64,
     /// Windows without measurements.
     #[serde(default)]
     pub dropouts: Vec<Window>,
+    /// The sensor measures only while the true range is at least this [m].
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub min_range: f64,
+    /// The sensor measures only while the true range is below this [m] (default: no
+    /// limit).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_range: Option<f64>,
     /// Noise density of the truth's measurements (the Kalman filters assume a Gaussian
     /// of the same variance).
     #[serde(default)]
@@ -255,6 +274,91 @@ pub enum SensorKind {
     Lidar,
     /// Indirect Cartesian position (paper 002).
     Cartesian,
+    /// Camera: the line of sight alone (azimuth and elevation as the radio's).
+    Camera,
+    /// Relative GNSS position (Cartesian, `sigma_position`).
+    Gnss,
+    /// Relative GNSS velocity (`sigma_velocity`).
+    GnssVelocity,
+}
+
+impl SensorKind {
+    /// The name in scenario files.
+    pub fn name(self) -> &'static str {
+        match self {
+            SensorKind::Radio => "radio",
+            SensorKind::Lidar => "lidar",
+            SensorKind::Cartesian => "cartesian",
+            SensorKind::Camera => "camera",
+            SensorKind::Gnss => "gnss",
+            SensorKind::GnssVelocity => "gnss_velocity",
+        }
+    }
+}
+
+impl Sensor {
+    /// Its name (the kind's unless named).
+    pub fn label(&self) -> String {
+        self.name
+            .clone()
+            .unwrap_or_else(|| self.kind.name().to_string())
+    }
+
+    /// Whether it measures at the true canonical relative position `r` (range limits).
+    pub fn in_range(&self, r: f64) -> bool {
+        r >= self.min_range && self.max_range.is_none_or(|m| r < m)
+    }
+
+    /// The noise scales of its components, SI units (radians for angles), and their number.
+    pub fn scales(&self) -> ([f64; 3], usize) {
+        let a = self.sigma_angle_deg.to_radians();
+        match self.kind {
+            SensorKind::Radio | SensorKind::Lidar => ([self.sigma_range, a, a], 3),
+            SensorKind::Cartesian | SensorKind::Gnss => ([self.sigma_position; 3], 3),
+            SensorKind::Camera => ([a, a, 0.0], 2),
+            SensorKind::GnssVelocity => ([self.sigma_velocity; 3], 3),
+        }
+    }
+
+    /// Check the values that parse but make no sense; `key` prefixes the messages.
+    fn validate(&self, key: &str, step: f64) -> Result<(), String> {
+        let pos = |k: &str, v: f64| {
+            if v.is_finite() && v > 0.0 {
+                Ok(())
+            } else {
+                Err(format!("{key}.{k} must be finite and > 0 (got {v})"))
+            }
+        };
+        pos("period", self.period)?;
+        let ratio = self.period / step;
+        if (ratio - ratio.round()).abs() > 1e-9 || ratio.round() < 1.0 {
+            return Err(format!(
+                "{key}.period ({}) must be a whole multiple of simulation.step ({step})",
+                self.period
+            ));
+        }
+        match self.kind {
+            SensorKind::Radio | SensorKind::Lidar => {
+                pos("sigma_range", self.sigma_range)?;
+                pos("sigma_angle_deg", self.sigma_angle_deg)?;
+            }
+            SensorKind::Camera => pos("sigma_angle_deg", self.sigma_angle_deg)?,
+            SensorKind::Cartesian | SensorKind::Gnss => pos("sigma_position", self.sigma_position)?,
+            SensorKind::GnssVelocity => pos("sigma_velocity", self.sigma_velocity)?,
+        }
+        if !(self.min_range.is_finite() && self.min_range >= 0.0) {
+            return Err(format!("{key}.min_range must be finite and >= 0"));
+        }
+        if let Some(m) = self.max_range {
+            if !(m > self.min_range) {
+                return Err(format!(
+                    "{key}.max_range ({m}) must exceed min_range ({})",
+                    self.min_range
+                ));
+            }
+        }
+        self.noise.validate().map_err(|e| format!("{key}.{e}"))
+    }
 }
 
 /// A time window `[start, stop)`.
@@ -690,28 +794,29 @@ impl Scenario {
         pos("truth.chaser_mass", self.truth.chaser_mass)?;
         pos("simulation.duration", self.simulation.duration)?;
         pos("simulation.step", self.simulation.step)?;
-        pos("sensor.period", self.sensor.period)?;
-        let ratio = self.sensor.period / self.simulation.step;
-        if (ratio - ratio.round()).abs() > 1e-9 || ratio.round() < 1.0 {
-            return Err(format!(
-                "sensor.period ({}) must be a whole multiple of simulation.step ({})",
-                self.sensor.period, self.simulation.step
-            ));
+        let step = self.simulation.step;
+        if let Some(p) = &self.sensor {
+            if !matches!(
+                p.kind,
+                SensorKind::Radio | SensorKind::Lidar | SensorKind::Cartesian
+            ) {
+                return Err(format!(
+                    "sensor.kind = \"{}\": the first sensor is a radio, lidar or cartesian \
+                     one; give others as [[sensors]]",
+                    p.kind.name()
+                ));
+            }
+            p.validate("sensor", step)?;
+        }
+        for (i, x) in self.sensors.iter().enumerate() {
+            x.validate(&format!("sensors[{i}]"), step)?;
+        }
+        if self.sensor.is_none() && self.sensors.is_empty() {
+            return Err("give a [sensor] or at least one [[sensors]]".into());
         }
         if self.simulation.runs == 0 {
             return Err("simulation.runs must be >= 1".into());
         }
-        match self.sensor.kind {
-            SensorKind::Radio | SensorKind::Lidar => {
-                pos("sensor.sigma_range", self.sensor.sigma_range)?;
-                pos("sensor.sigma_angle_deg", self.sensor.sigma_angle_deg)?;
-            }
-            SensorKind::Cartesian => pos("sensor.sigma_position", self.sensor.sigma_position)?,
-        }
-        self.sensor
-            .noise
-            .validate()
-            .map_err(|e| format!("sensor.{e}"))?;
         if self
             .truth
             .process_noise
@@ -790,21 +895,15 @@ impl Scenario {
         }
     }
 
-    /// Sensor noise scales as (range [m], angle [rad]) or position [m].
-    pub fn sigma_angle(&self) -> f64 {
-        self.sensor.sigma_angle_deg.to_radians()
-    }
-
-    /// The filters' assumed measurement covariance diagonal (variance-matched to the
-    /// truth's noise model).
+    /// The filters' assumed measurement covariance diagonal of `[sensor]` (variance-matched
+    /// to the truth's noise model); zeros without one.
     pub fn filter_r_diag(&self) -> [f64; 3] {
-        let vf = self.sensor.noise.variance_factor();
-        match self.sensor.kind {
-            SensorKind::Cartesian => [self.sensor.sigma_position.powi(2) * vf; 3],
-            _ => {
-                let a = self.sigma_angle().powi(2) * vf;
-                [self.sensor.sigma_range.powi(2) * vf, a, a]
+        match &self.sensor {
+            Some(p) => {
+                let vf = p.noise.variance_factor();
+                p.scales().0.map(|s| s * s * vf)
             }
+            None => [0.0; 3],
         }
     }
 }
@@ -848,7 +947,10 @@ sigma_vel0 = 0.1
         let back = Scenario::from_toml(&s.to_toml().unwrap()).unwrap();
         assert_eq!(s, back);
         assert_eq!(s.thrust, Thrust::None);
-        assert_eq!(s.sensor.noise, NoiseModel::Gaussian);
+        assert_eq!(
+            s.sensor.as_ref().map(|p| p.noise),
+            Some(NoiseModel::Gaussian)
+        );
     }
 
     #[test]
@@ -869,5 +971,51 @@ sigma_vel0 = 0.1
         let bad = MINIMAL.replace("kind = \"ekf\"", "kind = \"pf\"\nparticles = 0");
         let e = Scenario::from_toml(&bad).unwrap_err();
         assert!(e.contains("particles"), "{e}");
+    }
+
+    #[test]
+    fn sensor_sets() {
+        const CAMERA: &str =
+            "[[sensors]]\nkind = \"camera\"\nsigma_angle_deg = 0.05\nperiod = 2.0\n";
+        let with = |extra: &str| MINIMAL.replace("[simulation]", &format!("{extra}[simulation]"));
+        // further sensors round-trip; a scenario may have them alone
+        let s = Scenario::from_toml(&with(CAMERA)).unwrap();
+        assert_eq!(s.sensors.len(), 1);
+        let (scales, n) = s.sensors[0].scales();
+        assert_eq!(
+            (scales[0], scales[1], n),
+            (0.05f64.to_radians(), 0.05f64.to_radians(), 2)
+        );
+        assert_eq!(Scenario::from_toml(&s.to_toml().unwrap()).unwrap(), s);
+        let radio =
+            "[sensor]\nkind = \"radio\"\nsigma_range = 0.5\nsigma_angle_deg = 0.01\nperiod = 1.0\n";
+        let alone = with(CAMERA).replace(radio, "");
+        assert!(Scenario::from_toml(&alone).unwrap().sensor.is_none());
+        let e = Scenario::from_toml(&MINIMAL.replace(radio, "")).unwrap_err();
+        assert!(e.contains("[[sensors]]"), "{e}");
+        // the first sensor is the papers' kind; values that make no sense are named
+        let e = Scenario::from_toml(&MINIMAL.replace("kind = \"radio\"", "kind = \"camera\""))
+            .unwrap_err();
+        assert!(
+            e.contains("sensor.kind") && e.contains("[[sensors]]"),
+            "{e}"
+        );
+        let e = Scenario::from_toml(&with(&CAMERA.replace("sigma_angle_deg = 0.05\n", "")))
+            .unwrap_err();
+        assert!(e.contains("sensors[0].sigma_angle_deg"), "{e}");
+        let e = Scenario::from_toml(&with(&CAMERA.replace("period = 2.0", "period = 2.5")))
+            .unwrap_err();
+        assert!(e.contains("sensors[0].period"), "{e}");
+        let e = Scenario::from_toml(&with(&format!(
+            "{CAMERA}min_range = 10.0\nmax_range = 5.0\n"
+        )))
+        .unwrap_err();
+        assert!(e.contains("sensors[0].max_range"), "{e}");
+        let gated = Scenario::from_toml(&with(&format!(
+            "{CAMERA}min_range = 10.0\nmax_range = 50.0\n"
+        )))
+        .unwrap();
+        let c = &gated.sensors[0];
+        assert!(!c.in_range(9.9) && c.in_range(10.0) && c.in_range(49.9) && !c.in_range(50.0));
     }
 }

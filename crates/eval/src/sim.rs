@@ -5,23 +5,30 @@
 //! * truth: `x_(k+1) = Phi_true x_k + Gamma_true a_k + w_k`, `w_k ~ N(0, Q_true)` with
 //!   `a_k` the thrust acceleration held over `[t_k, t_(k+1))` (burns, or the feedback
 //!   `K x_k / m` on the true state — a sampled-data controller);
-//! * a measurement is taken at `t_k` when `t_k` is a multiple of `sensor.period` and not
-//!   in a dropout window, drawn from the scenario's noise model;
-//! * each filter, at `t_k`, applies the measurement (if any), is **scored** there (the a
-//!   posteriori estimate; the prediction when there was no measurement), then predicts to
-//!   `t_(k+1)` with the thrust it is told about.
+//! * each sensor (`[sensor]`, then the `[[sensors]]` in file order) measures at `t_k` when
+//!   `t_k` is a multiple of its period, not in one of its dropout windows and the true
+//!   range is within its limits, drawn from its noise model;
+//! * each filter, at `t_k`, applies the measurements (if any) in that order, is **scored**
+//!   there (the a posteriori estimate; the prediction when there was no measurement), then
+//!   predicts to `t_(k+1)` with the thrust it is told about.
 
-use crate::scenario::{Scenario, SensorKind, Thrust, TruthDynamics};
+use crate::scenario::{Scenario, Sensor as SensorSpec, SensorKind, Thrust, TruthDynamics};
 use nalgebra::SMatrix;
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::StandardNormal;
 use relnav_core::dynamics::{CwModel, DiscreteModel, Discretization, Dynamics, RelativeDynamics};
 use relnav_core::estimators::Estimator;
-use relnav_core::nav::{build_filter_with, AnyFilter, FilterKind, FilterOptions, NavConfig};
+use relnav_core::nav::{
+    build_filter_with, AnyFilter, FilterKind, FilterOptions, Named, NavConfig, NavSensor,
+};
 use relnav_core::noise::NoiseModel;
-use relnav_core::sensors::{AngleTrig, CartesianSensor, Geometry, MeasurementModel, RadioSensor};
+use relnav_core::sensors::{
+    wrap_2pi, AngleTrig, CameraSensor, CartesianSensor, Geometry, MeasurementModel, Modelled,
+    RadioSensor, Sensor, SensorNoise, VelocitySensor,
+};
 use relnav_core::types::{Mat3, Mat6, State, Vec3};
+use std::sync::Arc;
 
 /// A sensor of either kind.
 #[derive(Debug, Clone, Copy)]
@@ -139,8 +146,9 @@ pub struct PreparedFilter {
     pub control: Option<SMatrix<f64, 3, 6>>,
     /// Whether it is told the burns' thrust.
     pub told_thrust: bool,
-    /// Its measurement model (variance-matched Gaussian).
-    pub sensor: AnySensor,
+    /// Its measurement model of `[sensor]` (variance-matched Gaussian), if the scenario
+    /// has one.
+    pub sensor: Option<AnySensor>,
     /// Its configuration (the filter factory's input; the seed is each run's).
     pub config: NavConfig,
     /// What the configuration does not hold: the particle filters' research settings and,
@@ -193,7 +201,8 @@ pub struct Prepared {
     pub dt: f64,
     /// Number of steps (times are `0..=steps`).
     pub steps: usize,
-    /// Whether a measurement is taken at each time.
+    /// Whether `[sensor]` is scheduled to measure at each time (its period and dropouts;
+    /// all false without one).
     pub measured: Vec<bool>,
     /// Burn acceleration (canonical) held over `[t_k, t_(k+1))`.
     pub burn_accel: Vec<Vec3>,
@@ -204,14 +213,203 @@ pub struct Prepared {
     pub truth_q_sqrt: Mat6,
     /// Truth's process noise covariance for the nominal rate.
     pub truth_q: Mat6,
-    /// The truth's measurement noise model.
+    /// The truth's measurement noise model of `[sensor]`.
     pub noise: NoiseModel,
-    /// Noise scales per measurement component.
+    /// Noise scales per measurement component of `[sensor]`.
     pub noise_sigma: [f64; 3],
-    /// The noise-free sensor geometry of the truth.
-    pub truth_sensor: AnySensor,
+    /// The noise-free geometry of `[sensor]` in the truth, if the scenario has one.
+    pub truth_sensor: Option<AnySensor>,
+    /// The `[[sensors]]`, in file order.
+    pub sensors: Vec<PreparedSensor>,
     /// Filters.
     pub filters: Vec<PreparedFilter>,
+}
+
+/// The noise-free geometry of a `[[sensors]]` entry (canonical state in, I/O-frame
+/// reading out).
+#[derive(Debug, Clone, Copy)]
+pub enum SensorGeometry {
+    /// Range, azimuth, elevation (radio, lidar).
+    Radio(RadioSensor),
+    /// Azimuth, elevation (camera).
+    Camera(CameraSensor),
+    /// Position (relative GNSS).
+    Position(CartesianSensor),
+    /// Velocity (relative GNSS).
+    Velocity(VelocitySensor),
+}
+
+fn position(x: &State) -> Vec3 {
+    x.fixed_rows::<3>(0).into_owned()
+}
+
+impl SensorGeometry {
+    /// A reading of the true canonical state `x` with noise of density `noise` and scales
+    /// `s` (`ar`: the AR(1) model's previous samples); azimuths wrapped to `[0, 2 pi)`,
+    /// elevations clamped to `[-pi/2, pi/2]`, ranges to `>= 0`. `None` at zero range.
+    fn measure(
+        &self,
+        x: &State,
+        noise: &NoiseModel,
+        s: &[f64; 3],
+        ar: &mut [f64; 3],
+        rng: &mut ChaCha8Rng,
+    ) -> Option<[f64; 3]> {
+        let mut add = |z: [f64; 3], n: usize| -> [f64; 3] {
+            let mut z = z;
+            for i in 0..n {
+                z[i] += noise.sample(s[i], &mut ar[i], rng);
+            }
+            z
+        };
+        match self {
+            SensorGeometry::Radio(m) => m
+                .measure_with(&position(x), noise, ar, rng)
+                .map(|z| [z.x, z.y, z.z]),
+            SensorGeometry::Camera(m) => m.measure(x).map(|z| {
+                let z = add([z[0], z[1], 0.0], 2);
+                [
+                    wrap_2pi(z[0]),
+                    z[1].clamp(-std::f64::consts::FRAC_PI_2, std::f64::consts::FRAC_PI_2),
+                    0.0,
+                ]
+            }),
+            SensorGeometry::Position(m) => m.predict(&position(x)).map(|z| add([z.x, z.y, z.z], 3)),
+            SensorGeometry::Velocity(m) => m.measure(x).map(|z| add([z.x, z.y, z.z], 3)),
+        }
+    }
+
+    /// `H^T diag(f / s_i^2) H` at the true canonical state `x` (zero where the geometry
+    /// is singular): the Fisher information of one reading with noise scales `s` and the
+    /// density's Fisher factor `f`.
+    pub fn information(&self, x: &State, s: &[f64; 3], f: f64) -> Mat6 {
+        fn info<const D: usize>(h: &SMatrix<f64, D, 6>, s: &[f64; 3], f: f64) -> Mat6 {
+            let mut j = Mat6::zeros();
+            for (i, si) in s.iter().enumerate().take(D) {
+                let row = h.row(i);
+                j += row.transpose() * row * (f / (si * si));
+            }
+            j
+        }
+        match self {
+            SensorGeometry::Radio(m) => m
+                .linearize(&position(x))
+                .map(|g| info(&g.h, s, f))
+                .unwrap_or_else(|_| Mat6::zeros()),
+            SensorGeometry::Camera(m) => m
+                .linearize(x)
+                .map(|g| info(&g.h, s, f))
+                .unwrap_or_else(|_| Mat6::zeros()),
+            SensorGeometry::Position(m) => m
+                .linearize(&position(x))
+                .map(|g| info(&g.h, s, f))
+                .unwrap_or_else(|_| Mat6::zeros()),
+            SensorGeometry::Velocity(m) => m
+                .linearize(x)
+                .map(|g| info(&g.h, s, f))
+                .unwrap_or_else(|_| Mat6::zeros()),
+        }
+    }
+}
+
+/// A `[[sensors]]` entry, prepared: its schedule, its truth and the filters' update.
+#[derive(Debug, Clone)]
+pub struct PreparedSensor {
+    /// The scenario's entry.
+    pub spec: SensorSpec,
+    /// Whether it is scheduled to measure at each time (period, dropouts; the range
+    /// limits are checked on each run's truth).
+    pub measured: Vec<bool>,
+    /// The truth's noise-free geometry.
+    pub geometry: SensorGeometry,
+    /// Noise scales per component (SI units, radians).
+    pub scales: [f64; 3],
+    /// The filters' update with a reading (every filter through the generic sensor path;
+    /// the Kalman filters assume the Gaussian of the noise's variance, the particle
+    /// filters weigh with the density itself).
+    pub nav: Arc<dyn NavSensor>,
+}
+
+impl PreparedSensor {
+    fn new(spec: &SensorSpec, frame: relnav_core::frames::Frame, measured: Vec<bool>) -> Self {
+        let (scales, _) = spec.scales();
+        let name = spec.label();
+        let noise = spec.noise;
+        let n3 = SensorNoise {
+            model: noise,
+            scales,
+        };
+        let (geometry, nav): (SensorGeometry, Arc<dyn NavSensor>) = match spec.kind {
+            SensorKind::Radio | SensorKind::Lidar => {
+                let m = RadioSensor::new(frame, scales[0], scales[1]);
+                (
+                    SensorGeometry::Radio(m),
+                    Arc::new(Named::<_, 3>::new(
+                        name,
+                        Modelled {
+                            model: m,
+                            noise: n3,
+                        },
+                    )),
+                )
+            }
+            SensorKind::Camera => {
+                let m = CameraSensor {
+                    frame,
+                    noise: SensorNoise {
+                        model: noise,
+                        scales: [scales[0], scales[1]],
+                    },
+                };
+                (
+                    SensorGeometry::Camera(m),
+                    Arc::new(Named::<_, 2>::new(name, m)),
+                )
+            }
+            SensorKind::Cartesian | SensorKind::Gnss => {
+                let m = CartesianSensor {
+                    frame,
+                    sigma: scales[0],
+                };
+                (
+                    SensorGeometry::Position(m),
+                    Arc::new(Named::<_, 3>::new(
+                        name,
+                        Modelled {
+                            model: m,
+                            noise: n3,
+                        },
+                    )),
+                )
+            }
+            SensorKind::GnssVelocity => {
+                let m = VelocitySensor { frame, noise: n3 };
+                (
+                    SensorGeometry::Velocity(m),
+                    Arc::new(Named::<_, 3>::new(name, m)),
+                )
+            }
+        };
+        Self {
+            spec: spec.clone(),
+            measured,
+            geometry,
+            scales,
+            nav,
+        }
+    }
+}
+
+/// One run's truth: the states and every sensor's readings (I/O frame, SI units).
+#[derive(Debug, Clone, Default)]
+pub struct RunTruth {
+    /// True canonical states at `t_k`.
+    pub states: Vec<State>,
+    /// `[sensor]`'s readings (`None` where it did not measure).
+    pub meas: Vec<Option<Vec3>>,
+    /// Each `[[sensors]]` entry's readings, `[sensor][k]` (components beyond the sensor's
+    /// dimension are 0).
+    pub extra: Vec<Vec<Option<[f64; 3]>>>,
 }
 
 /// The H-infinity filter of a scenario's `[[filter]]` with `kind = "hinf"` (designed once
@@ -228,8 +426,12 @@ fn prepare_hinf(
     x0: State,
     p0: Mat6,
     qd: &Mat6,
-    sensor: &AnySensor,
+    sensor: Option<&AnySensor>,
 ) -> Result<(relnav_core::hinf::HinfEstimator, bool), String> {
+    let sensor = sensor.ok_or(
+        "the H-infinity filter needs a [sensor] (radio, lidar or cartesian): its design and \
+         its runtime take that measurement",
+    )?;
     use relnav_core::hinf::{psd_sqrt, HinfEstimator, HinfMatrices, HinfSpec};
     let sc = f.hinf_scalings.unwrap_or([0.05, 0.001, 0.1]);
     let d_matrix = if sc[2] == 0.0 {
@@ -342,19 +544,26 @@ impl Prepared {
         let n0 = s.orbit.mean_motion()?;
         let dt = s.simulation.step;
         let steps = (s.simulation.duration / dt).round() as usize;
-        let every = (s.sensor.period / dt).round() as usize;
         let times: Vec<f64> = (0..=steps).map(|k| k as f64 * dt).collect();
-        let measured = times
+        let schedule = |p: &SensorSpec| -> Vec<bool> {
+            let every = (p.period / dt).round() as usize;
+            times
+                .iter()
+                .enumerate()
+                .map(|(k, t)| {
+                    k % every.max(1) == 0
+                        && !p.dropouts.iter().any(|w| *t >= w.start && *t < w.stop)
+                })
+                .collect()
+        };
+        let measured = match &s.sensor {
+            Some(p) => schedule(p),
+            None => vec![false; steps + 1],
+        };
+        let sensors = s
+            .sensors
             .iter()
-            .enumerate()
-            .map(|(k, t)| {
-                k % every.max(1) == 0
-                    && !s
-                        .sensor
-                        .dropouts
-                        .iter()
-                        .any(|w| *t >= w.start && *t < w.stop)
-            })
+            .map(|p| PreparedSensor::new(p, frame, schedule(p)))
             .collect();
         let burn_accel = times
             .iter()
@@ -378,34 +587,35 @@ impl Prepared {
                 .discretize(dt, &qc, Discretization::Exact)
                 .q,
         );
-        let noise = s.sensor.noise;
-        let (noise_sigma, truth_sensor, filter_sensor) = match s.sensor.kind {
-            SensorKind::Radio | SensorKind::Lidar => {
-                let r = s.filter_r_diag();
-                (
-                    [s.sensor.sigma_range, s.sigma_angle(), s.sigma_angle()],
-                    AnySensor::Radio(RadioSensor::new(
-                        frame,
-                        s.sensor.sigma_range,
-                        s.sigma_angle(),
-                    )),
-                    AnySensor::Radio(RadioSensor::new(frame, r[0].sqrt(), r[1].sqrt())),
-                )
+        let noise = s.sensor.as_ref().map_or(NoiseModel::Gaussian, |p| p.noise);
+        let r = s.filter_r_diag();
+        let (noise_sigma, truth_sensor, filter_sensor) = match &s.sensor {
+            Some(p) => {
+                let (sc, _) = p.scales();
+                match p.kind {
+                    SensorKind::Cartesian => (
+                        sc,
+                        Some(AnySensor::Cartesian(CartesianSensor {
+                            frame,
+                            sigma: sc[0],
+                        })),
+                        Some(AnySensor::Cartesian(CartesianSensor {
+                            frame,
+                            sigma: r[0].sqrt(),
+                        })),
+                    ),
+                    _ => (
+                        sc,
+                        Some(AnySensor::Radio(RadioSensor::new(frame, sc[0], sc[1]))),
+                        Some(AnySensor::Radio(RadioSensor::new(
+                            frame,
+                            r[0].sqrt(),
+                            r[1].sqrt(),
+                        ))),
+                    ),
+                }
             }
-            SensorKind::Cartesian => {
-                let r = s.filter_r_diag();
-                (
-                    [s.sensor.sigma_position; 3],
-                    AnySensor::Cartesian(CartesianSensor {
-                        frame,
-                        sigma: s.sensor.sigma_position,
-                    }),
-                    AnySensor::Cartesian(CartesianSensor {
-                        frame,
-                        sigma: r[0].sqrt(),
-                    }),
-                )
-            }
+            None => ([1.0; 3], None, None),
         };
         let told_thrust = match &s.thrust {
             Thrust::Burns { reported, .. } => *reported,
@@ -450,7 +660,7 @@ impl Prepared {
                     x0,
                     p0,
                     &model.q,
-                    &filter_sensor,
+                    filter_sensor.as_ref(),
                 )
                 .map_err(|e| format!("filter \"{}\": {e}", f.label))?;
                 options.hinf = Some(h);
@@ -499,6 +709,7 @@ impl Prepared {
             noise,
             noise_sigma,
             truth_sensor,
+            sensors,
             filters,
         })
     }
@@ -518,8 +729,8 @@ impl Prepared {
         }
     }
 
-    /// Truth states (canonical) and measurements of one run.
-    pub fn simulate_truth(&self, rng: &mut ChaCha8Rng) -> (Vec<State>, Vec<Option<Vec3>>) {
+    /// Truth states (canonical) and every sensor's readings of one run.
+    pub fn simulate_truth(&self, rng: &mut ChaCha8Rng) -> RunTruth {
         let s = &self.scenario;
         let frame = s.io_frame();
         let delta = self.delta(rng);
@@ -538,20 +749,11 @@ impl Prepared {
         {
             return self.simulate_two_body(x, inclination_deg.to_radians(), substep, j2, rng);
         }
-        let mut states = Vec::with_capacity(self.steps + 1);
-        let mut meas = Vec::with_capacity(self.steps + 1);
-        let mut ar = [0.0; 3];
-        for (i, a) in ar.iter_mut().enumerate() {
-            *a = self.noise.initial_state(self.noise_sigma[i], rng);
-        }
+        let mut run = self.new_run();
+        let mut ar = self.initial_noise(rng);
         for k in 0..=self.steps {
-            states.push(x);
-            if self.measured[k] {
-                meas.push(self.measure(&x, &mut ar, rng));
-            } else {
-                // (coloured noise advances at the measurement rate only)
-                meas.push(None);
-            }
+            // (coloured noise advances at the measurement rate only)
+            self.measure_all(k, &x, &mut ar, &mut run, rng);
             if k < self.steps {
                 let mut a = self.burn_accel[k];
                 if let Some(kg) = &self.feedback {
@@ -562,15 +764,85 @@ impl Prepared {
                 x = phi * x + gamma * a + w;
             }
         }
-        (states, meas)
+        run
+    }
+
+    fn new_run(&self) -> RunTruth {
+        let n = self.steps + 1;
+        RunTruth {
+            states: Vec::with_capacity(n),
+            meas: Vec::with_capacity(n),
+            extra: vec![Vec::with_capacity(n); self.sensors.len()],
+        }
+    }
+
+    /// The AR(1) states of every sensor's noise (`[sensor]` first) at the start of a run.
+    fn initial_noise(&self, rng: &mut ChaCha8Rng) -> Vec<[f64; 3]> {
+        let mut ar = vec![[0.0; 3]; 1 + self.sensors.len()];
+        for (i, a) in ar[0].iter_mut().enumerate() {
+            *a = self.noise.initial_state(self.noise_sigma[i], rng);
+        }
+        for (s, a) in self.sensors.iter().zip(&mut ar[1..]) {
+            let n = s.spec.scales().1;
+            for (ai, si) in a.iter_mut().zip(&s.scales).take(n) {
+                *ai = s.spec.noise.initial_state(*si, rng);
+            }
+        }
+        ar
+    }
+
+    /// Whether `[sensor]` measures at time `k` with the true canonical state `x`.
+    pub fn primary_measures(&self, k: usize, x: &State) -> bool {
+        self.measured[k]
+            && self
+                .scenario
+                .sensor
+                .as_ref()
+                .is_some_and(|p| p.in_range(position(x).norm()))
+    }
+
+    /// Record `x` and every sensor's reading of it at time `k`.
+    fn measure_all(
+        &self,
+        k: usize,
+        x: &State,
+        ar: &mut [[f64; 3]],
+        run: &mut RunTruth,
+        rng: &mut ChaCha8Rng,
+    ) {
+        run.states.push(*x);
+        run.meas.push(if self.primary_measures(k, x) {
+            self.measure(x, &mut ar[0], rng)
+        } else {
+            None
+        });
+        let range = position(x).norm();
+        for (i, s) in self.sensors.iter().enumerate() {
+            let z = if s.measured[k] && s.spec.in_range(range) {
+                s.geometry
+                    .measure(x, &s.spec.noise, &s.scales, &mut ar[i + 1], rng)
+            } else {
+                None
+            };
+            run.extra[i].push(z);
+        }
     }
 }
 
 impl Prepared {
+    /// Components of the NIS scored ([`run_filter`]): `[sensor]`'s, else the first
+    /// `[[sensors]]` entry's.
+    pub fn nis_dof(&self) -> usize {
+        match (&self.truth_sensor, self.sensors.first()) {
+            (None, Some(s)) => s.nav.dim(),
+            _ => 3,
+        }
+    }
+
     /// Noisy measurement of a true canonical state (or `None` at zero range).
     fn measure(&self, x: &State, ar: &mut [f64; 3], rng: &mut ChaCha8Rng) -> Option<Vec3> {
         let r = x.fixed_rows::<3>(0).into_owned();
-        match &self.truth_sensor {
+        match self.truth_sensor.as_ref()? {
             // scales: noise_sigma = the sensor's (sigma_range, sigma_angle, sigma_angle)
             AnySensor::Radio(s) => s.measure_with(&r, &self.noise, ar, rng),
             AnySensor::Cartesian(s) => s.predict(&r).map(|z0| {
@@ -596,7 +868,7 @@ impl Prepared {
         substep: f64,
         j2: bool,
         rng: &mut ChaCha8Rng,
-    ) -> (Vec<State>, Vec<Option<Vec3>>) {
+    ) -> RunTruth {
         let o = &self.scenario.orbit;
         let mut truth = relnav_core::orbit::TwoBodyJ2::keplerian(
             self.n0,
@@ -608,20 +880,11 @@ impl Prepared {
         );
         truth.j2 = j2;
         let sigma_a = (self.scenario.truth.accel_psd / self.dt).sqrt();
-        let mut states = Vec::with_capacity(self.steps + 1);
-        let mut meas = Vec::with_capacity(self.steps + 1);
-        let mut ar = [0.0; 3];
-        for (i, a) in ar.iter_mut().enumerate() {
-            *a = self.noise.initial_state(self.noise_sigma[i], rng);
-        }
+        let mut run = self.new_run();
+        let mut ar = self.initial_noise(rng);
         for k in 0..=self.steps {
             let x = truth.relative();
-            states.push(x);
-            meas.push(if self.measured[k] {
-                self.measure(&x, &mut ar, rng)
-            } else {
-                None
-            });
+            self.measure_all(k, &x, &mut ar, &mut run, rng);
             if k < self.steps {
                 let mut a = self.burn_accel[k];
                 if sigma_a > 0.0 {
@@ -630,7 +893,7 @@ impl Prepared {
                 truth.step(&a, k as f64 * self.dt, self.dt);
             }
         }
-        (states, meas)
+        run
     }
 }
 
@@ -639,31 +902,46 @@ impl Prepared {
 pub type Score = [f64; 10];
 
 /// Run one filter over a run's truth and measurements. `Err` when the filter fails
-/// numerically (the run is then excluded from its statistics and counted).
+/// numerically (the run is then excluded from its statistics and counted). The NIS scored
+/// is that of `[sensor]`, or of the first `[[sensors]]` entry without one
+/// ([`Prepared::nis_dof`] components).
 pub fn run_filter(
     prep: &Prepared,
     f: &PreparedFilter,
-    truth: &[State],
-    meas: &[Option<Vec3>],
+    run: &RunTruth,
     seed: u64,
     out: &mut Vec<Score>,
 ) -> Result<(), String> {
+    let (truth, meas) = (&run.states, &run.meas);
     let frame = prep.scenario.io_frame();
     let t6 = frame.rotation6();
     let mut est = f.instantiate(seed)?;
     out.clear();
     for k in 0..=prep.steps {
         let mut nis = f64::NAN;
-        if let Some(z) = &meas[k] {
+        if let (Some(z), Some(truth_sensor), Some(sensor)) =
+            (&meas[k], &prep.truth_sensor, &f.sensor)
+        {
             let info = match &mut est {
                 // particle filters weigh with the true noise density (heavy tails included)
                 AnyFilter::Pf(pf) => {
-                    pf.update_with(&prep.truth_sensor, z, &prep.noise, &prep.noise_sigma)
+                    pf.update_with(truth_sensor, z, &prep.noise, &prep.noise_sigma)
                 }
-                other => other.update(&f.sensor, z),
+                other => other.update(sensor, z),
             }
             .map_err(|e| format!("t = {}: {e}", k as f64 * prep.dt))?;
             nis = info.nis;
+        }
+        for (i, s) in prep.sensors.iter().enumerate() {
+            if let Some(z) = &run.extra[i][k] {
+                let r = s
+                    .nav
+                    .apply(&mut est, &z[..s.nav.dim()])
+                    .map_err(|e| format!("t = {}: {}: {e}", k as f64 * prep.dt, s.nav.name()))?;
+                if i == 0 && prep.truth_sensor.is_none() {
+                    nis = r.nis;
+                }
+            }
         }
         let e = est.state() - truth[k];
         let p = est.covariance();

@@ -1,7 +1,7 @@
 //! `relnav` — the evaluation engine's command line.
 //!
-//! * `relnav reproduce [--paper 000|001|002|003|eccentric|all] [--runs M] [--out DIR]` runs
-//!   the papers' numerical examples and the eccentric-orbit scenarios (built-in scenario files) and prints, per scenario, a Markdown
+//! * `relnav reproduce [--paper 000|001|002|003|eccentric|sensors|all] [--runs M] [--out DIR]` runs
+//!   the papers' numerical examples and the eccentric-orbit and multi-sensor scenarios (built-in scenario files) and prints, per scenario, a Markdown
 //!   table of the paper's published figures beside ours; writes CSV time series and PNG
 //!   plots under `DIR/<scenario>/`. Paper 001 also runs its Mars approach
 //!   ([`relnav_eval::mars`]): Tables 3-5 beside the paper's, in `DIR/paper001_mars/tables.md`.
@@ -33,8 +33,8 @@ struct Cli {
 enum Command {
     /// Reproduce the papers' numerical examples.
     Reproduce {
-        /// Which paper: 000, 001, 002, 003, eccentric (the eccentric-orbit scenarios) or all.
-        #[arg(long, default_value = "all", value_parser = ["000", "001", "002", "003", "eccentric", "all"])]
+        /// Which paper: 000, 001, 002, 003, eccentric (the eccentric-orbit scenarios), sensors (the multi-sensor ones) or all.
+        #[arg(long, default_value = "all", value_parser = ["000", "001", "002", "003", "eccentric", "sensors", "all"])]
         paper: String,
         /// Monte Carlo runs per scenario (default: the scenario's own count).
         #[arg(long)]

@@ -74,6 +74,7 @@ fn campaign(n: usize) -> McResult {
     }
     ukf.failed_runs = 2;
     McResult {
+        nis_dof: 3,
         scenario: "paper000".to_string(),
         title: "Paper 000: radio, 7200 s orbit".to_string(),
         t: (0..n).map(|k| k as f64).collect(),
