@@ -57,6 +57,16 @@ def main():
                 i1, _ = callgrind([kp, mode, str(n1)])
                 i2, _ = callgrind([kp, mode, str(n2)])
                 out["instructions"][name] = ((i2 - gen[n2]) - (i1 - gen[n1])) / (n2 - n1)
+        # one declared sensor's update per step through the navigator, less the prediction
+        # alone (issue 35: the camera's and GNSS's update against the radio's)
+        for f in ("ekf", "ukf"):
+            per = {}
+            for s in ("none", "radio", "camera", "gnss", "velocity"):
+                i1, _ = callgrind([kp, f"sensor-{s}-{f}", str(n1)])
+                i2, _ = callgrind([kp, f"sensor-{s}-{f}", str(n2)])
+                per[s] = (i2 - i1) / (n2 - n1)
+            for s in ("radio", "camera", "gnss", "velocity"):
+                out["instructions"][f"update_{s}_{f}"] = per[s] - per["none"]
         # the navigator's EKF on the elliptic model (e = 0.1)
         i1, _ = callgrind([kp, "ecc-ekf", str(n1)])
         i2, _ = callgrind([kp, "ecc-ekf", str(n2)])

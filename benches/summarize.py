@@ -68,6 +68,15 @@ ri = ""
 if ell in icount and "navigator_step_ekf" in icount:
     ri = f"{icount[ell] / icount['navigator_step_ekf']:.2f}x"
 print(f"| ratio elliptic / CW navigator EKF step (same run) | {m[ell] / m['navigator_step_ekf']:.2f}x | {ri} | <= 1.5x |")
+# issue 35: one declared sensor's update through the navigator (its step less the prediction
+# alone) against the radio's, instruction counts of the same run
+for k in ("ekf", "ukf"):
+    radio = icount.get(f"update_radio_{k}")
+    for s in ("camera", "gnss", "velocity"):
+        v = icount.get(f"update_{s}_{k}")
+        if radio and v is not None:
+            print(f"| ratio {s} / radio update, navigator {k.upper()} (instructions, same run) | "
+                  f"| {v:.0f} / {radio:.0f} = {v / radio:.2f}x | <= 1x |")
 paired = json.loads(sys.argv[5]) if len(sys.argv) > 5 and sys.argv[5] else {}
 for k in ("ekf", "ukf"):
     di = ""

@@ -9,6 +9,11 @@
 //! the three measurements, `fmi2DoStep`, `fmi2GetReal` of the 12 estimate outputs: the
 //! `fmu_cycle_*` criterion bench); their counts less the bare filter's are the layers'
 //! overheads.
+//! `sensor-<s>-ekf` (and `-ukf`; `s` = `radio`, `camera`, `gnss`, `velocity` or `none`)
+//! run navigator steps (`Navigator::step_readings`) with that one sensor's reading at every
+//! step, all four readings generated in every mode: less `sensor-none-*` (the prediction
+//! alone), the count per step is that sensor's update (issue 35's speed target: a camera or
+//! GNSS update costs no more than the radio's).
 //! `time-ekf` / `time-ukf` (second argument: the number of batches) are the wall-clock
 //! companion: the bare step, the navigator's step and the FMU cycle, 600 steps each, timed
 //! **interleaved** batch by batch so that a busy machine slows all three alike; the minimum,
@@ -303,7 +308,63 @@ fn print_timing(kind: FilterKind, t: &Timing) {
     );
 }
 
+/// `steps` navigator steps with one sensor's reading per step (see the module docs); the
+/// estimate and sigma in the user frame.
+fn run_sensor(sensor: &str, kind: FilterKind, steps: usize) -> Option<Vec<f64>> {
+    use relnav_core::nav::Readings;
+    let cfg = NavConfig {
+        filter: kind,
+        ..Default::default()
+    };
+    let fr = cfg.frame;
+    let model = CwModel::new(cfg.mean_motion);
+    let x0 = fr.state_to_canonical(&State::from_row_slice(&[
+        400.0, 500.0, 200.0, 0.0, 0.0, 0.0,
+    ]));
+    let zs = measurement_vecs(steps);
+    let mut nav = Navigator::new(&cfg).unwrap();
+    for (k, z) in zs.iter().enumerate() {
+        let x = fr.state_from_canonical(&(model.phi(k as f64) * x0));
+        // the radio's noisy angles for the camera; GNSS a few sigma off the truth
+        let (radio, camera) = ([z.x, z.y, z.z], [z.y, z.z]);
+        let pos = [x[0] + 0.01, x[1] - 0.02, x[2] + 0.03];
+        let vel = [x[3] + 1e-4, x[4], x[5] - 1e-4];
+        let r = match sensor {
+            "radio" => Readings {
+                radio: Some(radio),
+                ..Default::default()
+            },
+            "camera" => Readings {
+                camera: Some(camera),
+                ..Default::default()
+            },
+            "gnss" => Readings {
+                gnss_position: Some(pos),
+                ..Default::default()
+            },
+            "velocity" => Readings {
+                gnss_velocity: Some(vel),
+                ..Default::default()
+            },
+            "none" => Readings::default(),
+            _ => return None,
+        };
+        nav.step_readings(&[0.0; 3], black_box(&r), 1.0).unwrap();
+    }
+    let x: [f64; 6] = nav.state().into();
+    Some(x.iter().chain(nav.sigma().iter()).copied().collect())
+}
+
 fn layered(which: &str, steps: usize) -> Option<Vec<f64>> {
+    if let Some(rest) = which.strip_prefix("sensor-") {
+        let (sensor, f) = rest.rsplit_once('-')?;
+        let kind = match f {
+            "ekf" => FilterKind::Ekf,
+            "ukf" => FilterKind::Ukf,
+            _ => return None,
+        };
+        return run_sensor(sensor, kind, steps);
+    }
     let (layer, f) = which.split_once('-')?;
     let kind = match f {
         "ekf" => FilterKind::Ekf,

@@ -352,3 +352,57 @@ fn no_estimate_jumps_at_a_sensor_handover() {
         }
     }
 }
+
+/// The bound along each run's own truth: with one run it is the PCRLB itself; with
+/// several it is at or above it (Jensen's inequality), and with angles only, before any
+/// burn, it keeps the range as unknown as the prior (the range is unobservable under linear
+/// dynamics), while the PCRLB, which averages the information of runs whose lines of sight
+/// differ, claims it known to a few metres.
+#[test]
+fn the_run_wise_bound_keeps_angles_only_range_unobservable() {
+    let text = builtin::for_paper("sensors")
+        .into_iter()
+        .find(|(n, _)| *n == "sensors_angles_only")
+        .unwrap()
+        .1;
+    let mut s = Scenario::from_toml(text).unwrap();
+    s.simulation.duration = 300.0; // before the first burn (600 s)
+    s.filters.truncate(1);
+    let one = run(
+        &s,
+        &Options {
+            runs: Some(1),
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    assert_eq!(one.pcrlb_runs, one.pcrlb);
+    let many = run(
+        &s,
+        &Options {
+            runs: Some(8),
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let (b, w) = (many.pcrlb.unwrap(), many.pcrlb_runs.unwrap());
+    for (k, (bk, wk)) in b.iter().zip(&w).enumerate() {
+        for i in 0..6 {
+            assert!(
+                wk[i] >= bk[i] * (1.0 - 1e-9),
+                "t = {k}, axis {i}: {} < {}",
+                wk[i],
+                bk[i]
+            );
+        }
+    }
+    // the along-track (range) axis at 300 s: the prior's 600 m projected on the lines of
+    // sight, against the PCRLB's few metres
+    let (bound_y, runs_y) = (b[300][1].sqrt(), w[300][1].sqrt());
+    println!("along-track bound at 300 s, 8 runs: PCRLB {bound_y:.2} m, run-wise {runs_y:.1} m");
+    assert!(runs_y > 400.0, "run-wise range bound {runs_y} m");
+    assert!(
+        bound_y < runs_y / 10.0,
+        "PCRLB {bound_y} m vs run-wise {runs_y} m"
+    );
+}

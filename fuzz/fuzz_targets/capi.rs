@@ -1,17 +1,17 @@
 //! Fuzz target `capi`: the C ABI (`include/relnav.h`) under arbitrary configurations and
-//! arbitrary sequences of step / predict / update / reset / save / restore with arbitrary
-//! numbers (restoring saved states intact, truncated, corrupted, rewritten behind a valid
-//! checksum, or arbitrary bytes), and the runtime H-infinity filter
-//! (`relnav_hinf_filter_*`) with arbitrary matrices.
+//! arbitrary sequences of step (with or without the declared sensors) / predict / update /
+//! reset / save / restore with arbitrary numbers (restoring saved states intact, truncated,
+//! corrupted, rewritten behind a valid checksum, or arbitrary bytes), and the runtime
+//! H-infinity filter (`relnav_hinf_filter_*`) with arbitrary matrices.
 //!
 //! Besides crashes, hangs (run with `-timeout=1`) and panics (libfuzzer-sys aborts on any
 //! panic, also one the C boundary would catch), every call is checked against the C ABI's
 //! contract:
 //! * no call returns `RELNAV_ERROR_PANIC`;
 //! * a failing call leaves a non-empty `relnav_last_error()` message;
-//! * a failing predict / update, or a failing step of a Kalman-type filter, leaves the
-//!   state and covariance bit for bit as they were (a particle filter's step may commit its
-//!   update before the prediction fails: documented, see `Navigator`);
+//! * a failing predict / update, or a failing step (also `step_sensors`) of a Kalman-type
+//!   filter, leaves the state and covariance bit for bit as they were (a particle filter's
+//!   step may commit its update before the prediction fails: documented, see `Navigator`);
 //! * after a successful call the state estimate is finite;
 //! * `relnav_estimator_get_config` returns the configuration the estimator was made from;
 //! * the state size (`relnav_estimator_save` with a null buffer) never changes for one
@@ -80,6 +80,17 @@ enum Op {
     /// `relnav_estimator_restore` of the last saved state after `damage`.
     Restore {
         damage: Damage,
+    },
+    /// `relnav_estimator_step_sensors`: the radio's, camera's and relative GNSS's readings,
+    /// each given or not; the camera's and GNSS's are the current estimate's plus fuzzed
+    /// offsets (default 0).
+    StepSensors {
+        thrust: [Num; 3],
+        z: Meas,
+        camera: Option<[Num; 2]>,
+        gnss_position: Option<[Num; 3]>,
+        gnss_velocity: Option<[Num; 3]>,
+        dt: Num,
     },
 }
 
@@ -413,6 +424,42 @@ fn run_estimator(config: &Config, ops: &[Op]) {
                 // SAFETY: live handle; arrays of 3 doubles or null.
                 let st = unsafe { relnav_estimator_step(est, u.as_ptr(), zp, dt.value(1.0)) };
                 (st, !(particle && zm.is_some()), "step")
+            }
+            Op::StepSensors {
+                thrust,
+                z,
+                camera,
+                gnss_position,
+                gnss_velocity,
+                dt,
+            } => {
+                let u = values3(thrust, [0.0; 3]);
+                let zm = measurement(z, &x);
+                let los = measure(&x);
+                let cam = camera
+                    .as_ref()
+                    .map(|c| [c[0].value(0.0) + los[1], c[1].value(0.0) + los[2]]);
+                let near = |g: &[Num; 3], at: usize| -> [f64; 3] {
+                    std::array::from_fn(|i| g[i].value(0.0) + x[at + i])
+                };
+                let gp = gnss_position.as_ref().map(|g| near(g, 0));
+                let gv = gnss_velocity.as_ref().map(|g| near(g, 3));
+                let p3 = |v: &Option<[f64; 3]>| v.as_ref().map_or(std::ptr::null(), |v| v.as_ptr());
+                let pc = cam.as_ref().map_or(std::ptr::null(), |v| v.as_ptr());
+                // SAFETY: live handle; arrays of 3 doubles (the camera's: 2) or null.
+                let st = unsafe {
+                    relnav_estimator_step_sensors(
+                        est,
+                        u.as_ptr(),
+                        p3(&zm),
+                        pc,
+                        p3(&gp),
+                        p3(&gv),
+                        dt.value(1.0),
+                    )
+                };
+                let any = zm.is_some() || cam.is_some() || gp.is_some() || gv.is_some();
+                (st, !(particle && any), "step_sensors")
             }
             Op::Predict { thrust, dt } => {
                 let u = values3(thrust, [0.0; 3]);

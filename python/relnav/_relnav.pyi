@@ -238,6 +238,11 @@ class CampaignResult:
     def pcrlb(self) -> Optional[_FloatArray]:
         """The PCRLB's diagonal (K x 6 variances) or None where undefined."""
     @property
+    def pcrlb_runs(self) -> Optional[_FloatArray]:
+        """The bound along each run's own truth (the same recursion, each run's own
+        information; its inverse's diagonal averaged over the runs, K x 6 variances) or None
+        where the PCRLB is undefined."""
+    @property
     def pcrlb_reason(self) -> Optional[str]: ...
     def markdown(self) -> str:
         """The CLI's Markdown table."""

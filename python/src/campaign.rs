@@ -281,17 +281,15 @@ impl CampaignResult {
     /// scenario (``pcrlb_reason`` says why).
     #[getter]
     fn pcrlb<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyAny>>> {
-        match &self.result.pcrlb {
-            Ok(v) => {
-                let flat: Vec<f64> = v.iter().flatten().copied().collect();
-                Ok(Some(
-                    PyArray1::from_vec(py, flat)
-                        .reshape([v.len(), 6])?
-                        .into_any(),
-                ))
-            }
-            Err(_) => Ok(None),
-        }
+        diagonals(py, &self.result.pcrlb)
+    }
+
+    /// The bound along each run's own truth (the same recursion with each run's
+    /// information, its inverse's diagonal averaged over the runs; variances, K x 6), or
+    /// None where the PCRLB is undefined.
+    #[getter]
+    fn pcrlb_runs<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyAny>>> {
+        diagonals(py, &self.result.pcrlb_runs)
     }
 
     /// Why the PCRLB is undefined (None when it is defined).
@@ -329,5 +327,23 @@ impl CampaignResult {
                 ""
             }
         )
+    }
+}
+
+/// A bound's per-time diagonals as a K x 6 array (None when undefined).
+fn diagonals<'py>(
+    py: Python<'py>,
+    bound: &Result<Vec<[f64; 6]>, String>,
+) -> PyResult<Option<Bound<'py, PyAny>>> {
+    match bound {
+        Ok(v) => {
+            let flat: Vec<f64> = v.iter().flatten().copied().collect();
+            Ok(Some(
+                PyArray1::from_vec(py, flat)
+                    .reshape([v.len(), 6])?
+                    .into_any(),
+            ))
+        }
+        Err(_) => Ok(None),
     }
 }

@@ -247,3 +247,5 @@ def test_multi_sensor_pcrlb_is_the_sum_of_each_sensors_information():
                 j = j + h.T @ np.diag(1 / sig**2) @ h
         want = np.diag(np.linalg.inv(j))
         np.testing.assert_allclose(bound[k], want, rtol=1e-6, err_msg=f"t = {k} s")
+    # one run: the bound along its own truth is the same recursion
+    np.testing.assert_array_equal(np.asarray(res.pcrlb_runs), bound)

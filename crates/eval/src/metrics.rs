@@ -49,7 +49,8 @@
 //!   `t[k]`; velocity likewise. For any unbiased estimator it is `>= 1` up to Monte Carlo
 //!   noise (1 = efficient). `None` when the PCRLB is not defined (`Err`), its length
 //!   differs from the number of times, `A` is empty or the averaged bound is not positive
-//!   and finite.
+//!   and finite. [`Summary::efficiency_runs_pos`] and [`Summary::efficiency_runs_vel`] are
+//!   the same ratios to the bound along each run's own truth ([`McResult::pcrlb_runs`]).
 //! - **Cost and failures**: [`Summary::us_per_step`] and [`Summary::failed_runs`] are
 //!   copied from [`FilterStats`].
 //!
@@ -126,12 +127,18 @@ pub struct Summary {
     pub convergence_time: Option<f64>,
     /// Averaged NEES check (6 dof); `None` when no run or no time contributes.
     pub nees: Option<Consistency>,
-    /// Averaged NIS check (3 dof); `None` when no measurement was processed in the window.
+    /// Averaged NIS check ([`McResult::nis_dof`] dof); `None` when no measurement was
+    /// processed in the window.
     pub nis: Option<Consistency>,
     /// Time-averaged position RMSE over the PCRLB's; `None` when the bound is undefined.
     pub efficiency_pos: Option<f64>,
     /// Time-averaged velocity RMSE over the PCRLB's; `None` when the bound is undefined.
     pub efficiency_vel: Option<f64>,
+    /// Time-averaged position RMSE over the bound along each run's truth
+    /// ([`McResult::pcrlb_runs`]); `None` when it is undefined.
+    pub efficiency_runs_pos: Option<f64>,
+    /// The same for the velocity.
+    pub efficiency_runs_vel: Option<f64>,
     /// Mean wall-clock time of one step \[µs\] (copied).
     pub us_per_step: f64,
     /// Failed or diverged runs (copied).
@@ -281,7 +288,16 @@ pub fn averaging_window(r: &McResult) -> Vec<usize> {
 /// `(sqrt(mean(Jxx + Jyy + Jzz)), sqrt(mean(Jvxvx + Jvyvy + Jvzvz)))` [m, m/s], or the
 /// reason it is not available (undefined for the scenario, wrong length, empty window).
 pub fn pcrlb_averaged(r: &McResult) -> Result<(f64, f64), String> {
-    let j = r.pcrlb.as_ref().map_err(Clone::clone)?;
+    bound_averaged(r, &r.pcrlb)
+}
+
+/// [`pcrlb_averaged`] of the bound along each run's truth ([`McResult::pcrlb_runs`]).
+pub fn run_bound_averaged(r: &McResult) -> Result<(f64, f64), String> {
+    bound_averaged(r, &r.pcrlb_runs)
+}
+
+fn bound_averaged(r: &McResult, j: &Result<Vec<[f64; 6]>, String>) -> Result<(f64, f64), String> {
+    let j = j.as_ref().map_err(Clone::clone)?;
     if j.len() != r.t.len() {
         return Err(format!(
             "the PCRLB has {} times, the results {}",
@@ -302,9 +318,10 @@ pub fn pcrlb_averaged(r: &McResult) -> Result<(f64, f64), String> {
 pub fn summarize(r: &McResult) -> Vec<Summary> {
     let window = averaging_window(r);
     let bound = pcrlb_averaged(r).ok();
+    let runs = run_bound_averaged(r).ok();
     r.filters
         .iter()
-        .map(|f| summarize_filter(r, f, &window, bound))
+        .map(|f| summarize_filter(r, f, &window, bound, runs))
         .collect()
 }
 
@@ -313,6 +330,7 @@ fn summarize_filter(
     f: &FilterStats,
     window: &[usize],
     bound: Option<(f64, f64)>,
+    runs: Option<(f64, f64)>,
 ) -> Summary {
     let rmse_pos = mean_over(window, &f.mse, pos_sq).sqrt();
     let rmse_vel = mean_over(window, &f.mse, vel_sq).sqrt();
@@ -356,6 +374,8 @@ fn summarize_filter(
         nis,
         efficiency_pos: bound.and_then(|(b, _)| ratio(rmse_pos, b)),
         efficiency_vel: bound.and_then(|(_, b)| ratio(rmse_vel, b)),
+        efficiency_runs_pos: runs.and_then(|(b, _)| ratio(rmse_pos, b)),
+        efficiency_runs_vel: runs.and_then(|(_, b)| ratio(rmse_vel, b)),
         us_per_step: f.us_per_step,
         failed_runs: f.failed_runs,
         recovery: recovery_times(&r.t, &f.mse, r.convergence_threshold.0, &r.unreported_burns),
@@ -474,6 +494,7 @@ mod tests {
             interrupted: false,
             filters,
             pcrlb: Err("not computed".to_string()),
+            pcrlb_runs: Err("not computed".to_string()),
             convergence_time: 0.0,
             convergence_threshold: (1.0, 0.1),
             published: vec![],

@@ -52,6 +52,13 @@ pub struct McResult {
     /// Posterior Cramér–Rao lower bound: diagonal of `J^-1` per time (variances, I/O
     /// frame), or `None` where it is not defined for the scenario (with the reason).
     pub pcrlb: Result<Vec<[f64; 6]>, String>,
+    /// The same recursion along each run's own truth (its own geometry and sensor
+    /// availability in the information terms), the diagonal of each run's `J^-1` averaged
+    /// over the runs (I/O frame). By Jensen's inequality it is at or above
+    /// [`McResult::pcrlb`]: much above where the runs' geometries differ (angles only, whose
+    /// unobservable direction is each run's own line of sight) or where a range-gated
+    /// sensor is present in some runs and not in others.
+    pub pcrlb_runs: Result<Vec<[f64; 6]>, String>,
     /// Time after which errors are averaged [s].
     pub convergence_time: f64,
     /// Per-axis thresholds (position [m], velocity [m/s]) for the convergence time.

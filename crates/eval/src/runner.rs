@@ -111,11 +111,14 @@ impl Acc {
     }
 }
 
-/// Sums of one chunk: per filter, plus the PCRLB's measurement information.
+/// Sums of one chunk: per filter, plus the PCRLB's measurement information and the sum of
+/// the runs' own bounds (diagonal, I/O frame) with the number of runs in it.
 #[derive(Clone)]
 struct Chunk {
     filters: Vec<Acc>,
     info: Vec<Mat6>,
+    run_bound: Vec<[f64; 6]>,
+    bound_runs: u32,
     runs: u32,
 }
 
@@ -128,6 +131,12 @@ impl Chunk {
         for (a, b) in self.info.iter_mut().zip(&o.info) {
             *a += b;
         }
+        for (a, b) in self.run_bound.iter_mut().zip(&o.run_bound) {
+            for (x, y) in a.iter_mut().zip(b) {
+                *x += y;
+            }
+        }
+        self.bound_runs += o.bound_runs;
         self.runs += o.runs;
     }
 }
@@ -148,8 +157,15 @@ fn run_chunk(
         } else {
             Vec::new()
         },
+        run_bound: if want_info {
+            vec![[0.0; 6]; n]
+        } else {
+            Vec::new()
+        },
+        bound_runs: 0,
         runs: 0,
     };
+    let mut run_info = Vec::with_capacity(if want_info { n } else { 0 });
     let mut scores = Vec::with_capacity(n);
     for i in runs {
         if cancel.load(Ordering::Relaxed) {
@@ -158,15 +174,28 @@ fn run_chunk(
         let mut rng = ChaCha8Rng::seed_from_u64(run_seed(base, i));
         let run = prep.simulate_truth(&mut rng);
         if want_info {
+            run_info.clear();
             for (k, x) in run.states.iter().enumerate() {
+                let mut info = Mat6::zeros();
                 if prep.primary_measures(k, x) {
-                    c.info[k] += pcrlb::measurement_information(prep, x);
+                    info += pcrlb::measurement_information(prep, x);
                 }
                 for (i, s) in prep.sensors.iter().enumerate() {
                     if run.extra[i][k].is_some() {
-                        c.info[k] += pcrlb::sensor_information(s, x);
+                        info += pcrlb::sensor_information(s, x);
                     }
                 }
+                c.info[k] += info;
+                run_info.push(info);
+            }
+            // (a run whose own recursion fails numerically is left out of the mean)
+            if let Ok(b) = pcrlb::recursion(prep, &run_info) {
+                for (a, v) in c.run_bound.iter_mut().zip(&b) {
+                    for (x, y) in a.iter_mut().zip(v) {
+                        *x += y;
+                    }
+                }
+                c.bound_runs += 1;
             }
         }
         for (fi, f) in prep.filters.iter().enumerate() {
@@ -268,6 +297,8 @@ impl Campaign {
             total: Chunk {
                 filters: vec![Acc::new(n); self.prep.filters.len()],
                 info: vec![Mat6::zeros(); if self.want_info { n } else { 0 }],
+                run_bound: vec![[0.0; 6]; if self.want_info { n } else { 0 }],
+                bound_runs: 0,
                 runs: 0,
             },
             next: 0,
@@ -340,7 +371,7 @@ pub struct Partial {
 }
 
 /// First bytes of [`Partial::to_bytes`] (format name and version).
-const PARTIAL_MAGIC: &[u8; 8] = b"RNPART01";
+const PARTIAL_MAGIC: &[u8; 8] = b"RNPART02";
 
 impl Partial {
     /// Index of the chunk.
@@ -368,6 +399,7 @@ impl Partial {
             n as u32,
             c.filters.len() as u32,
             c.info.len() as u32,
+            c.bound_runs,
         ] {
             w.extend_from_slice(&v.to_le_bytes());
         }
@@ -397,6 +429,7 @@ impl Partial {
         for m in &c.info {
             f64s(&mut w, &mut m.iter().copied());
         }
+        f64s(&mut w, &mut c.run_bound.iter().flatten().copied());
         w
     }
 
@@ -408,6 +441,7 @@ impl Partial {
         }
         let (index, start, end, base) = (r.u64()?, r.u64()?, r.u64()?, r.u64()?);
         let (runs, n, nf, ni) = (r.u32()?, r.u32()? as usize, r.u32()?, r.u32()? as usize);
+        let bound_runs = r.u32()?;
         if ni != 0 && ni != n {
             return Err(format!(
                 "partial sums: {ni} information matrices for {n} times"
@@ -455,6 +489,10 @@ impl Partial {
             }
             info.push(m);
         }
+        let mut run_bound = vec![[0.0; 6]; ni];
+        for x in run_bound.iter_mut().flatten() {
+            *x = r.f64()?;
+        }
         if r.pos != bytes.len() {
             return Err(format!(
                 "partial sums: {} trailing bytes",
@@ -468,6 +506,8 @@ impl Partial {
             chunk: Chunk {
                 filters,
                 info,
+                run_bound,
+                bound_runs,
                 runs,
             },
         })
@@ -560,6 +600,14 @@ fn summarize_total(prep: &Prepared, runs: u64, want_info: bool, total: &Chunk) -
     } else {
         Err(pcrlb::undefined_reason(prep).unwrap_or_default())
     };
+    let pcrlb_runs = match (&pcrlb, total.bound_runs) {
+        (Err(e), _) => Err(e.clone()),
+        (Ok(_), 0) => Err("no run's own recursion succeeded".into()),
+        (Ok(_), b) => {
+            let b = f64::from(b);
+            Ok(total.run_bound.iter().map(|v| v.map(|x| x / b)).collect())
+        }
+    };
     let filters = prep
         .filters
         .iter()
@@ -595,6 +643,7 @@ fn summarize_total(prep: &Prepared, runs: u64, want_info: bool, total: &Chunk) -
         interrupted: u64::from(total.runs) < runs,
         filters,
         pcrlb,
+        pcrlb_runs,
         convergence_time: scenario.simulation.convergence_time,
         convergence_threshold: (
             scenario.simulation.convergence_threshold[0],

@@ -48,8 +48,11 @@ pub(crate) fn linearised_update<const D: usize, S: Sensor<D> + ?Sized>(
     // K^T = S^-1 (H P)
     let k = chol.solve(&ph.transpose()).transpose();
     let xn = x + k * nu;
-    let ikh = Mat6::identity() - k * h;
-    let pn = symmetrize(&(ikh * p * ikh.transpose() + k * r * k.transpose()));
+    // Joseph's form (I - K H) P (I - K H)^T + K R K^T, factored as the radio's update
+    // (`joseph_update`) is: A = P - K (H P), then A - (A H^T - K R) K^T; products of a D-wide
+    // factor only, not of two 6 x 6 matrices
+    let a = p - k * ph.transpose();
+    let pn = symmetrize(&(a - (a * h.transpose() - k * r) * k.transpose()));
     finite(&xn, "updated state")?;
     finite(&pn, "updated covariance")?;
     let nis = nu.dot(&chol.solve(&nu));

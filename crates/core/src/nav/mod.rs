@@ -586,12 +586,10 @@ impl Navigator {
         }
         self.check_not_failed()?;
         self.discrete(dt);
-        // several updates: the whole filter to restore (no heap: the Kalman-type filters
-        // are fixed-size); the particle filters' updates are each transactional
-        let saved = match &self.filter {
-            AnyFilter::Pf(_) => None,
-            f => Some(f.clone()),
-        };
+        // several updates: the step's small snapshot to restore (not a copy of the whole
+        // filter, as large as the AQUKF's window); the particle filters' updates are each
+        // transactional
+        let saved = self.filter.snapshot();
         let last = self.last_update;
         self.pending.iter_mut().for_each(|r| *r = None);
         let mut nis = [f64::NAN; 4];
@@ -643,11 +641,11 @@ impl Navigator {
                 }
                 self.step_nis = nis;
             }
-            (Err(_), Some(f)) => {
-                self.filter = f;
+            (Err(_), Snapshot::None) => self.failed |= updated,
+            (Err(_), s) => {
+                self.filter.restore(&s);
                 self.last_update = last;
             }
-            (Err(_), None) => self.failed |= updated,
         }
         result
     }

@@ -46,8 +46,19 @@ const PCRLB_COLUMNS: [&str; 8] = [
     "pcrlb_vel",
 ];
 
+const RUN_BOUND_COLUMNS: [&str; 8] = [
+    "run_bound_x",
+    "run_bound_y",
+    "run_bound_z",
+    "run_bound_vx",
+    "run_bound_vy",
+    "run_bound_vz",
+    "run_bound_pos",
+    "run_bound_vel",
+];
+
 /// Columns of `summary.csv`.
-pub const SUMMARY_COLUMNS: [&str; 35] = [
+pub const SUMMARY_COLUMNS: [&str; 39] = [
     "label",
     "kind",
     "runs_used",
@@ -79,9 +90,13 @@ pub const SUMMARY_COLUMNS: [&str; 35] = [
     "nis_in_band",
     "efficiency_pos",
     "efficiency_vel",
+    "efficiency_runs_pos",
+    "efficiency_runs_vel",
     "us_per_step",
     "pcrlb_pos_m",
     "pcrlb_vel_mps",
+    "run_bound_pos_m",
+    "run_bound_vel_mps",
     "published",
 ];
 
@@ -123,6 +138,7 @@ fn consistency_fields(c: Option<&Consistency>) -> [Field; 6] {
 /// [`summarize`](crate::metrics::summarize)`(r)`.
 pub fn summary_fields(r: &McResult, s: &[Summary]) -> Vec<Vec<Field>> {
     let bound = pcrlb_averaged(r).ok();
+    let runs = crate::metrics::run_bound_averaged(r).ok();
     s.iter()
         .map(|x| {
             let mut row = vec![
@@ -143,9 +159,13 @@ pub fn summary_fields(r: &McResult, s: &[Summary]) -> Vec<Vec<Field>> {
             row.extend(consistency_fields(x.nis.as_ref()));
             row.push(Field::opt(x.efficiency_pos));
             row.push(Field::opt(x.efficiency_vel));
+            row.push(Field::opt(x.efficiency_runs_pos));
+            row.push(Field::opt(x.efficiency_runs_vel));
             row.push(Field::Num(x.us_per_step));
             row.push(Field::opt(bound.map(|b| b.0)));
             row.push(Field::opt(bound.map(|b| b.1)));
+            row.push(Field::opt(runs.map(|b| b.0)));
+            row.push(Field::opt(runs.map(|b| b.1)));
             row.push(Field::Text(published_for(r, &x.label).unwrap_or_default()));
             row
         })
@@ -199,6 +219,11 @@ pub fn timeseries_columns(r: &McResult) -> Vec<(String, Vec<f64>)> {
         r.pcrlb.as_ref().ok().map(Vec::as_slice),
         &PCRLB_COLUMNS,
     ));
+    cols.extend(rmse(
+        "",
+        r.pcrlb_runs.as_ref().ok().map(Vec::as_slice),
+        &RUN_BOUND_COLUMNS,
+    ));
     cols
 }
 
@@ -218,7 +243,8 @@ fn write_records(path: &Path, rows: impl Iterator<Item = Vec<String>>) -> Result
 /// `<label>_rmse_x`, `_rmse_y`, `_rmse_z` \[m\], `_rmse_vx`, `_rmse_vy`, `_rmse_vz` \[m/s\],
 /// `_rmse_pos` \[m\], `_rmse_vel` \[m/s\], `_nees`, `_nis` (empty where no measurement),
 /// `_max_pos_err` \[m\], `_max_vel_err` \[m/s\]; then `pcrlb_x` .. `pcrlb_vz`, `pcrlb_pos`,
-/// `pcrlb_vel`: square roots of the PCRLB (empty cells when it is undefined).
+/// `pcrlb_vel`: square roots of the PCRLB (empty cells when it is undefined); then
+/// `run_bound_x` .. `run_bound_vel`, those of the bound along each run's truth.
 /// ([`timeseries_columns`] gives the same columns as numbers.)
 ///
 /// `summary.csv`: a header row, then one row per filter with the [`Summary`] numbers,

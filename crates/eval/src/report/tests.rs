@@ -87,6 +87,7 @@ fn campaign(n: usize) -> McResult {
                 [p, p, p, p * 1e-4, p * 1e-4, p * 1e-4]
             })
             .collect()),
+        pcrlb_runs: Err("not computed".to_string()),
         convergence_time: 10.0,
         convergence_threshold: (1.0, 0.1),
         published: vec![
@@ -194,13 +195,15 @@ fn csv_files_have_headers_and_rows() {
 
     let mut rd = ::csv::Reader::from_path(dir.join("timeseries.csv")).unwrap();
     let header = rd.headers().unwrap().clone();
-    assert_eq!(header.len(), 1 + 2 * 12 + 8);
+    assert_eq!(header.len(), 1 + 2 * 12 + 8 + 8);
     assert_eq!(header.get(0), Some("t"));
     assert_eq!(header.get(1), Some("EKF_rmse_x"));
     assert_eq!(header.get(7), Some("EKF_rmse_pos"));
     assert_eq!(header.get(13), Some("UKF_rmse_x"));
     assert_eq!(header.get(25), Some("pcrlb_x"));
     assert_eq!(header.get(32), Some("pcrlb_vel"));
+    assert_eq!(header.get(33), Some("run_bound_x"));
+    assert_eq!(header.get(40), Some("run_bound_vel"));
     let rows: Vec<::csv::StringRecord> = rd.records().map(Result::unwrap).collect();
     assert_eq!(rows.len(), n);
     assert!(rows.iter().all(|row| row.len() == header.len()));
@@ -224,7 +227,7 @@ fn csv_files_have_headers_and_rows() {
     assert_eq!(rows[0].get(0), Some("EKF"));
     assert_eq!(rows[1].get(0), Some("UKF"));
     assert_eq!(rows[1].get(2), Some("18"));
-    assert_eq!(rows[0].get(34), Some("0.52 m RMSE (Table 2)"));
+    assert_eq!(rows[0].get(38), Some("0.52 m RMSE (Table 2)"));
 
     // Undefined PCRLB: empty bound cells, same shape.
     let mut r = r;
@@ -234,7 +237,7 @@ fn csv_files_have_headers_and_rows() {
     let rows: Vec<::csv::StringRecord> = rd.records().map(Result::unwrap).collect();
     assert_eq!(rows.len(), n);
     assert_eq!(rows[0].get(25), Some(""));
-    assert_eq!(rows[0].len(), 33);
+    assert_eq!(rows[0].len(), 41);
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
