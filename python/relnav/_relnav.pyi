@@ -173,12 +173,21 @@ class Estimator:
         measurements: Optional[npt.ArrayLike] = None,
         valid: Optional[npt.ArrayLike] = None,
         dt: Union[float, npt.ArrayLike, None] = None,
+        *,
+        camera: Optional[npt.ArrayLike] = None,
+        camera_valid: Optional[npt.ArrayLike] = None,
+        gnss_position: Optional[npt.ArrayLike] = None,
+        gnss_valid: Optional[npt.ArrayLike] = None,
+        gnss_velocity: Optional[npt.ArrayLike] = None,
+        gnss_velocity_valid: Optional[npt.ArrayLike] = None,
     ) -> Tuple[_FloatArray, _FloatArray]:
         """K steps in one call without the GIL: thrust K x 3 [N], measurements K x 3 or
         None, valid K booleans (default: every row when measurements are given), dt one
         number or K numbers (default 1 s). Row k is ``step(thrust[k], measurements[k] if
         valid[k] else None, dt[k])``; returns (estimates, sigmas), each K x 6, row k after
-        step k."""
+        step k. The declared sensors the same way, each with its flags: camera K x 2 with
+        camera_valid, gnss_position K x 3 with gnss_valid, gnss_velocity K x 3 with
+        gnss_velocity_valid."""
     @property
     def state(self) -> _FloatArray:
         """The estimate (x, y, z [m], vx, vy, vz [m/s]) in the configured frame."""

@@ -123,6 +123,62 @@ fn matrix(obj: &Bound<'_, PyAny>, what: &str, cols: usize) -> PyResult<(usize, V
     Ok((shape[0], arr.as_array().iter().copied().collect()))
 }
 
+/// One sensor's readings for [`Estimator::run`]: K rows of `cols` numbers (`names.0`) and
+/// their K flags (`names.1`; default: every row when the readings are given), or `None`
+/// when no reading is given.
+fn rows(
+    py: Python<'_>,
+    data: Option<&Bound<'_, PyAny>>,
+    valid: Option<&Bound<'_, PyAny>>,
+    names: (&str, &str),
+    cols: usize,
+    k: usize,
+) -> PyResult<Option<(Vec<f64>, Vec<bool>)>> {
+    let (what, flags) = names;
+    let z = match data {
+        Some(m) => {
+            let (km, z) = matrix(m, what, cols)?;
+            if km != k {
+                return Err(invalid(py, format!("{what} has {km} rows, thrust {k}")));
+            }
+            Some(z)
+        }
+        None => None,
+    };
+    let v: Vec<bool> = match (valid, &z) {
+        (Some(v), _) => {
+            let a = as_array(v, "bool")
+                .and_then(|a| a.extract::<PyReadonlyArray1<'_, bool>>())
+                .map_err(|_| invalid(py, format!("{flags} must be K booleans")))?;
+            if a.len() != k {
+                return Err(invalid(
+                    py,
+                    format!("{flags} has {} entries for K = {k} steps", a.len()),
+                ));
+            }
+            let v: Vec<bool> = a.as_array().iter().copied().collect();
+            if z.is_none() && v.iter().any(|b| *b) {
+                return Err(invalid(
+                    py,
+                    format!("{flags} marks {what} but {what} is None"),
+                ));
+            }
+            v
+        }
+        (None, Some(_)) => vec![true; k],
+        (None, None) => vec![false; k],
+    };
+    Ok(z.map(|z| (z, v)))
+}
+
+/// Row `i` of [`rows`]' readings when it is flagged.
+fn row<const N: usize>(r: &Option<(Vec<f64>, Vec<bool>)>, i: usize) -> Option<[f64; N]> {
+    match r {
+        Some((z, v)) if v[i] => Some(std::array::from_fn(|j| z[N * i + j])),
+        _ => None,
+    }
+}
+
 /// A length-`k` vector (any array-like); a scalar is repeated when `scalar_ok`.
 fn vector(obj: &Bound<'_, PyAny>, what: &str, k: usize) -> PyResult<Vec<f64>> {
     let py = obj.py();
@@ -249,7 +305,14 @@ impl Estimator {
     /// is the estimate and its 1-sigma after step ``k`` (the prior at ``t_k + dt``). If a
     /// step fails, the error names it (attribute ``step``) and the estimator stays after
     /// the previous step.
-    #[pyo3(signature = (thrust, measurements = None, valid = None, dt = None))]
+    ///
+    /// The declared sensors the same way, each with its flags (default: every row when the
+    /// readings are given): ``camera`` K x 2 (azimuth, elevation) with ``camera_valid``,
+    /// ``gnss_position`` K x 3 with ``gnss_valid``, ``gnss_velocity`` K x 3 with
+    /// ``gnss_velocity_valid``; row ``k`` is then ``step(...)`` with those of its readings
+    /// that are flagged.
+    #[pyo3(signature = (thrust, measurements = None, valid = None, dt = None, *, camera = None, camera_valid = None, gnss_position = None, gnss_valid = None, gnss_velocity = None, gnss_velocity_valid = None))]
+    #[allow(clippy::too_many_arguments)]
     fn run<'py>(
         &self,
         py: Python<'py>,
@@ -257,44 +320,32 @@ impl Estimator {
         measurements: Option<&Bound<'py, PyAny>>,
         valid: Option<&Bound<'py, PyAny>>,
         dt: Option<&Bound<'py, PyAny>>,
+        camera: Option<&Bound<'py, PyAny>>,
+        camera_valid: Option<&Bound<'py, PyAny>>,
+        gnss_position: Option<&Bound<'py, PyAny>>,
+        gnss_valid: Option<&Bound<'py, PyAny>>,
+        gnss_velocity: Option<&Bound<'py, PyAny>>,
+        gnss_velocity_valid: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
         let (k, u) = matrix(thrust, "thrust", 3)?;
-        let z = match measurements {
-            Some(m) => {
-                let (km, z) = matrix(m, "measurements", 3)?;
-                if km != k {
-                    return Err(invalid(
-                        py,
-                        format!("measurements has {km} rows, thrust {k}"),
-                    ));
-                }
-                Some(z)
-            }
-            None => None,
-        };
-        let valid: Vec<bool> = match (valid, &z) {
-            (Some(v), _) => {
-                let a = as_array(v, "bool")
-                    .and_then(|a| a.extract::<PyReadonlyArray1<'_, bool>>())
-                    .map_err(|_| invalid(py, "valid must be K booleans"))?;
-                if a.len() != k {
-                    return Err(invalid(
-                        py,
-                        format!("valid has {} entries for K = {k} steps", a.len()),
-                    ));
-                }
-                let v: Vec<bool> = a.as_array().iter().copied().collect();
-                if z.is_none() && v.iter().any(|b| *b) {
-                    return Err(invalid(
-                        py,
-                        "valid marks measurements but measurements is None",
-                    ));
-                }
-                v
-            }
-            (None, Some(_)) => vec![true; k],
-            (None, None) => vec![false; k],
-        };
+        let radio = rows(py, measurements, valid, ("measurements", "valid"), 3, k)?;
+        let camera = rows(py, camera, camera_valid, ("camera", "camera_valid"), 2, k)?;
+        let gnss_p = rows(
+            py,
+            gnss_position,
+            gnss_valid,
+            ("gnss_position", "gnss_valid"),
+            3,
+            k,
+        )?;
+        let gnss_v = rows(
+            py,
+            gnss_velocity,
+            gnss_velocity_valid,
+            ("gnss_velocity", "gnss_velocity_valid"),
+            3,
+            k,
+        )?;
         let dt = match dt {
             Some(d) => vector(d, "dt", k)?,
             None => vec![1.0; k],
@@ -307,11 +358,13 @@ impl Estimator {
                 let mut sig = vec![0.0; 6 * k];
                 for i in 0..k {
                     let ui: [f64; 3] = std::array::from_fn(|j| u[3 * i + j]);
-                    let zi: Option<[f64; 3]> = match &z {
-                        Some(z) if valid[i] => Some(std::array::from_fn(|j| z[3 * i + j])),
-                        _ => None,
+                    let readings = Readings {
+                        radio: row(&radio, i),
+                        camera: row(&camera, i),
+                        gnss_position: row(&gnss_p, i),
+                        gnss_velocity: row(&gnss_v, i),
                     };
-                    nav.step(&ui, zi.as_ref(), dt[i])
+                    nav.step_readings(&ui, &readings, dt[i])
                         .map_err(|e: NavError| (i, e))?;
                     est[6 * i..6 * i + 6].copy_from_slice(nav.state().as_slice());
                     sig[6 * i..6 * i + 6].copy_from_slice(&nav.sigma());

@@ -119,6 +119,37 @@ def test_fmu_and_package_agree_bit_for_bit(unzipdir, code):
     assert est.range_sigma == pytest.approx(want, rel=1e-12)
 
 
+@pytest.mark.parametrize("code", [1, 2, 10])
+def test_batch_run_with_sensors_equals_the_steps(code):
+    """``Estimator.run`` with the declared sensors' K-row readings and flags gives the
+    estimates and sigmas of the step-by-step loop bit for bit; unflagged rows are ignored
+    whatever they hold; a flag without readings is refused with its name."""
+    _, cam, pos, vel = readings()
+    flags = np.array([schedule(k) for k in range(STEPS)])
+    kw = dict(filter=["ekf", "ukf"][code - 1] if code < 3 else "imm", **SIG, **QUIET)
+    one = relnav.Estimator(**kw)
+    want_x, want_s = [], []
+    for k in range(STEPS):
+        c, g, v = flags[k]
+        one.step([0, 0, 0], None, 1.0, camera=cam[k] if c else None,
+                 gnss_position=pos[k] if g else None, gnss_velocity=vel[k] if v else None)
+        want_x.append(one.state)
+        want_s.append(one.sigma)
+    # rows that are not flagged hold garbage: they must not be read
+    bad_pos = np.where(flags[:, 1:2], pos[:STEPS], np.nan)
+    bad_vel = np.where(flags[:, 2:3], vel[:STEPS], np.inf)
+    batch = relnav.Estimator(**kw)
+    x, sig = batch.run(np.zeros((STEPS, 3)), camera=cam[:STEPS], camera_valid=flags[:, 0],
+                       gnss_position=bad_pos, gnss_valid=flags[:, 1],
+                       gnss_velocity=bad_vel, gnss_velocity_valid=flags[:, 2])
+    assert x.tobytes() == np.array(want_x).tobytes()
+    assert sig.tobytes() == np.array(want_s).tobytes()
+    with pytest.raises(relnav.InvalidArgumentError, match="gnss_valid marks gnss_position but gnss_position is None"):
+        relnav.Estimator(**kw).run(np.zeros((STEPS, 3)), gnss_valid=np.ones(STEPS, bool))
+    with pytest.raises(relnav.InvalidArgumentError, match=r"camera must have shape \(K, 2\)"):
+        relnav.Estimator(**kw).run(np.zeros((STEPS, 3)), camera=np.zeros((STEPS, 3)))
+
+
 def test_bad_readings_are_refused_and_unflagged_ones_ignored(unzipdir):
     s = Slave(unzipdir).start({"filter": 1, **SIG, **QUIET})
     before = s.real(OUTS)
