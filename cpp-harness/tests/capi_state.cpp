@@ -184,7 +184,9 @@ void one_filter(int filter, const Paper000& p, const std::vector<Vec3>& z) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    // --quick (the valgrind run): one filter of each family (EKF, AQUKF, RPF, H-infinity)
+    // --quick (the valgrind run): one filter of each family (EKF, AQUKF, RPF, IMM), not the
+    // H-infinity one, whose LMI design took most of the 34 s this test ran under valgrind
+    // (5 s without it); the plain and the ASan+UBSan runs cover every filter
     bool quick = false;
     for (int i = 1; i < argc; ++i) quick = quick || std::strcmp(argv[i], "--quick") == 0;
     Paper000 p = paper000_with_burn();
@@ -198,8 +200,7 @@ int main(int argc, char** argv) {
                 kSteps);
     for (int filter = RELNAV_FILTER_EKF; filter <= RELNAV_FILTER_IMM; ++filter) {
         const bool family = filter == RELNAV_FILTER_EKF || filter == RELNAV_FILTER_AQUKF ||
-                            filter == RELNAV_FILTER_RPF || filter == RELNAV_FILTER_HINF ||
-                            filter == RELNAV_FILTER_IMM;
+                            filter == RELNAV_FILTER_RPF || filter == RELNAV_FILTER_IMM;
         if (!quick || family) one_filter(filter, p, z);
     }
 
