@@ -58,7 +58,7 @@ def main():
                 i2, _ = callgrind([kp, mode, str(n2)])
                 out["instructions"][name] = ((i2 - gen[n2]) - (i1 - gen[n1])) / (n2 - n1)
         # one declared sensor's update per step through the navigator, less the prediction
-        # alone (issue 35: the camera's and GNSS's update against the radio's)
+        # alone (the camera's and GNSS's update against the radio's)
         for f in ("ekf", "ukf"):
             per = {}
             for s in ("none", "radio", "camera", "gnss", "velocity"):

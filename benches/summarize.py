@@ -68,7 +68,7 @@ ri = ""
 if ell in icount and "navigator_step_ekf" in icount:
     ri = f"{icount[ell] / icount['navigator_step_ekf']:.2f}x"
 print(f"| ratio elliptic / CW navigator EKF step (same run) | {m[ell] / m['navigator_step_ekf']:.2f}x | {ri} | <= 1.5x |")
-# issue 35: one declared sensor's update through the navigator (its step less the prediction
+# one declared sensor's update through the navigator (its step less the prediction
 # alone) against the radio's, instruction counts of the same run
 for k in ("ekf", "ukf"):
     radio = icount.get(f"update_radio_{k}")

@@ -12,8 +12,8 @@
 //! `sensor-<s>-ekf` (and `-ukf`; `s` = `radio`, `camera`, `gnss`, `velocity` or `none`)
 //! run navigator steps (`Navigator::step_readings`) with that one sensor's reading at every
 //! step, all four readings generated in every mode: less `sensor-none-*` (the prediction
-//! alone), the count per step is that sensor's update (issue 35's speed target: a camera or
-//! GNSS update costs no more than the radio's).
+//! alone), the count per step is that sensor's update (`benches/summarize.py` prints its
+//! ratio to the radio's).
 //! `time-ekf` / `time-ukf` (second argument: the number of batches) are the wall-clock
 //! companion: the bare step, the navigator's step and the FMU cycle, 600 steps each, timed
 //! **interleaved** batch by batch so that a busy machine slows all three alike; the minimum,

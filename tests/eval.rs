@@ -267,15 +267,11 @@ fn every_builtin_scenario_runs() {
 }
 
 /// Relative GNSS position and velocity are linear: the Kalman filters are the Bayes filter
-/// there, and each is within 1.1x of the multi-sensor PCRLB (issue 35's target; the Monte
-/// Carlo RMSE of 10 runs over 1,100 correlated times is within a few per cent of its mean).
+/// there, and each is within 1.1x of the multi-sensor PCRLB (the Monte Carlo RMSE of 10
+/// runs over 1,100 correlated times is within a few per cent of its mean).
 #[test]
 fn kalman_filters_reach_the_pcrlb_on_relative_gnss() {
-    let text = builtin::for_paper("sensors")
-        .into_iter()
-        .find(|(n, _)| *n == "sensors_gnss_leo")
-        .unwrap()
-        .1;
+    let text = builtin::by_name("sensors_gnss_leo").unwrap();
     let mut s = Scenario::from_toml(text).unwrap();
     s.filters
         .retain(|f| f.kind() != relnav_core::nav::FilterKind::Rpf);
@@ -300,11 +296,7 @@ fn kalman_filters_reach_the_pcrlb_on_relative_gnss() {
 #[test]
 fn no_estimate_jumps_at_a_sensor_handover() {
     use rand::SeedableRng;
-    let text = builtin::for_paper("sensors")
-        .into_iter()
-        .find(|(n, _)| *n == "sensors_handover")
-        .unwrap()
-        .1;
+    let text = builtin::by_name("sensors_handover").unwrap();
     let s = Scenario::from_toml(text).unwrap();
     let prep = Prepared::new(&s).unwrap();
     for run_index in 0..2u64 {
@@ -360,11 +352,7 @@ fn no_estimate_jumps_at_a_sensor_handover() {
 /// differ, claims it known to a few metres.
 #[test]
 fn the_run_wise_bound_keeps_angles_only_range_unobservable() {
-    let text = builtin::for_paper("sensors")
-        .into_iter()
-        .find(|(n, _)| *n == "sensors_angles_only")
-        .unwrap()
-        .1;
+    let text = builtin::by_name("sensors_angles_only").unwrap();
     let mut s = Scenario::from_toml(text).unwrap();
     s.simulation.duration = 300.0; // before the first burn (600 s)
     s.filters.truncate(1);

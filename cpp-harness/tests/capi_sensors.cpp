@@ -1,4 +1,4 @@
-// Issue 35: the declared camera and relative-GNSS sensors through the C ABI
+// The declared camera and relative-GNSS sensors through the C ABI
 // (`relnav_estimator_step_sensors`) against this harness's own truth: the CW closed form
 // written here (canonical frame), the GNSS readings and the camera's line of sight formed
 // and perturbed here. With GNSS (position every step, velocity every second step) and

@@ -185,8 +185,8 @@ void one_filter(int filter, const Paper000& p, const std::vector<Vec3>& z) {
 
 int main(int argc, char** argv) {
     // --quick (the valgrind run): one filter of each family (EKF, AQUKF, RPF, IMM), not the
-    // H-infinity one, whose LMI design took most of the 34 s this test ran under valgrind
-    // (5 s without it); the plain and the ASan+UBSan runs cover every filter
+    // H-infinity one, whose LMI design dominates the run time under valgrind; the plain and
+    // the ASan+UBSan runs cover every filter
     bool quick = false;
     for (int i = 1; i < argc; ++i) quick = quick || std::strcmp(argv[i], "--quick") == 0;
     Paper000 p = paper000_with_burn();

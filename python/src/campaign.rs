@@ -56,10 +56,7 @@ pub fn scenario_toml(py: Python<'_>, source: &Bound<'_, PyAny>) -> PyResult<Stri
 /// The text of a built-in scenario (`relnav scenarios`), if `name` is one.
 #[pyfunction]
 pub fn builtin_scenario(name: &str) -> Option<&'static str> {
-    relnav_eval::builtin::BUILTIN
-        .iter()
-        .find(|(_, n, _)| *n == name)
-        .map(|(_, _, t)| *t)
+    relnav_eval::builtin::by_name(name)
 }
 
 /// Names of the built-in scenarios.

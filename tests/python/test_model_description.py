@@ -76,7 +76,7 @@ EXPECTED = {
     "pf_threads": ("parameter", "fixed", "Integer", None),
     "eccentricity": ("parameter", "fixed", "Real", None),
     "true_anomaly0": ("parameter", "fixed", "Real", "rad"),
-    # issue 35: the declared camera and relative-GNSS sensors
+    # the declared camera and relative-GNSS sensors
     "sigma_camera": ("parameter", "fixed", "Real", "rad"),
     "sigma_gnss": ("parameter", "fixed", "Real", "m"),
     "sigma_gnss_velocity": ("parameter", "fixed", "Real", "m/s"),
@@ -155,7 +155,7 @@ DEFAULTS = {
     # eccentric orbits: a circular orbit by default (the CW model)
     "eccentricity": 0.0,
     "true_anomaly0": 0.0,
-    # the declared sensors' noise (issue 35)
+    # the declared sensors' noise
     "sigma_camera": 1e-3,
     "sigma_gnss": 0.05,
     "sigma_gnss_velocity": 5e-4,
@@ -348,7 +348,7 @@ def test_outputs_have_no_direct_feedthrough_in_model_structure(xml_root, md):
         assert variables[idx - 1].get("causality") == "output"
         assert u.get("dependencies") == "", f"output {variables[idx - 1].get('name')}: dependencies={u.get('dependencies')!r}"
     assert listed == output_indices
-    # issue 12: hinf_h2_norm, hinf_certified, imm_mu_1..3; issue 35: range_sigma and 4 NIS
+    # hinf_h2_norm, hinf_certified, imm_mu_1..3; range_sigma and 4 NIS
     assert len(md.outputs) == 18 + 2 + 3 + 5
 
 

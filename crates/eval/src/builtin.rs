@@ -3,7 +3,7 @@
 
 /// (paper, scenario name, TOML text), in reproduction order; `"eccentric"` groups issue
 /// 34's eccentric-orbit scenarios (no paper: the elliptic model against CW and the PCRLB),
-/// `"sensors"` issue 35's multi-sensor ones (camera, relative GNSS, radio and lidar).
+/// `"sensors"` the multi-sensor ones (camera, relative GNSS, radio and lidar).
 pub const BUILTIN: &[(&str, &str, &str)] = &[
     (
         "000",
@@ -123,6 +123,14 @@ pub const MARS: &[(&str, &str, &str)] = &[(
 /// Parse a Mars-approach file (strict keys).
 pub fn parse_mars(text: &str) -> Result<crate::mars::MarsScenario, String> {
     toml::from_str(text).map_err(|e| e.to_string())
+}
+
+/// The text of the built-in scenario `name`, if there is one.
+pub fn by_name(name: &str) -> Option<&'static str> {
+    BUILTIN
+        .iter()
+        .find(|(_, n, _)| *n == name)
+        .map(|(_, _, t)| *t)
 }
 
 /// The built-in scenarios of one paper (`"all"` for every paper).

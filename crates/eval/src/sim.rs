@@ -284,31 +284,17 @@ impl SensorGeometry {
     /// density's Fisher factor `f`.
     pub fn information(&self, x: &State, s: &[f64; 3], f: f64) -> Mat6 {
         fn info<const D: usize>(h: &SMatrix<f64, D, 6>, s: &[f64; 3], f: f64) -> Mat6 {
-            let mut j = Mat6::zeros();
-            for (i, si) in s.iter().enumerate().take(D) {
-                let row = h.row(i);
-                j += row.transpose() * row * (f / (si * si));
-            }
-            j
+            let iv =
+                SMatrix::<f64, D, D>::from_fn(|i, j| if i == j { f / (s[i] * s[i]) } else { 0.0 });
+            h.transpose() * iv * h
         }
-        match self {
-            SensorGeometry::Radio(m) => m
-                .linearize(&position(x))
-                .map(|g| info(&g.h, s, f))
-                .unwrap_or_else(|_| Mat6::zeros()),
-            SensorGeometry::Camera(m) => m
-                .linearize(x)
-                .map(|g| info(&g.h, s, f))
-                .unwrap_or_else(|_| Mat6::zeros()),
-            SensorGeometry::Position(m) => m
-                .linearize(&position(x))
-                .map(|g| info(&g.h, s, f))
-                .unwrap_or_else(|_| Mat6::zeros()),
-            SensorGeometry::Velocity(m) => m
-                .linearize(x)
-                .map(|g| info(&g.h, s, f))
-                .unwrap_or_else(|_| Mat6::zeros()),
-        }
+        let j = match self {
+            SensorGeometry::Radio(m) => m.linearize(&position(x)).map(|g| info(&g.h, s, f)),
+            SensorGeometry::Camera(m) => m.linearize(x).map(|g| info(&g.h, s, f)),
+            SensorGeometry::Position(m) => m.linearize(&position(x)).map(|g| info(&g.h, s, f)),
+            SensorGeometry::Velocity(m) => m.linearize(x).map(|g| info(&g.h, s, f)),
+        };
+        j.unwrap_or_else(|_| Mat6::zeros())
     }
 }
 
@@ -841,18 +827,13 @@ impl Prepared {
 
     /// Noisy measurement of a true canonical state (or `None` at zero range).
     fn measure(&self, x: &State, ar: &mut [f64; 3], rng: &mut ChaCha8Rng) -> Option<Vec3> {
-        let r = x.fixed_rows::<3>(0).into_owned();
-        match self.truth_sensor.as_ref()? {
-            // scales: noise_sigma = the sensor's (sigma_range, sigma_angle, sigma_angle)
-            AnySensor::Radio(s) => s.measure_with(&r, &self.noise, ar, rng),
-            AnySensor::Cartesian(s) => s.predict(&r).map(|z0| {
-                let mut z = z0;
-                for i in 0..3 {
-                    z[i] += self.noise.sample(self.noise_sigma[i], &mut ar[i], rng);
-                }
-                z
-            }),
-        }
+        // the `[[sensors]]`' truth geometry, with `[sensor]`'s noise and scales
+        let g = match self.truth_sensor.as_ref()? {
+            AnySensor::Radio(s) => SensorGeometry::Radio(*s),
+            AnySensor::Cartesian(s) => SensorGeometry::Position(*s),
+        };
+        g.measure(x, &self.noise, &self.noise_sigma, ar, rng)
+            .map(Vec3::from)
     }
 
     /// The truth of a `two_body_j2` scenario: target and chaser around the Earth (point
