@@ -49,7 +49,12 @@ NS = {
 }
 
 # variant name -> SSD file in the archive
-VARIANTS = {"paper000": "SystemStructure.ssd", "lidar": "LidarHeavyTail.ssd", "proba3": "EccentricProba3.ssd"}
+VARIANTS = {
+    "paper000": "SystemStructure.ssd",
+    "lidar": "LidarHeavyTail.ssd",
+    "proba3": "EccentricProba3.ssd",
+    "sensors": "MultiSensorHandover.ssd",
+}
 
 # what every master records after each step: (component, variable)
 TRUTH = ["true_x", "true_y", "true_z", "true_vx", "true_vy", "true_vz"]

@@ -139,10 +139,11 @@ def test_identity_and_no_feedthrough(fmu, ident):
 
 
 def test_ssds_are_valid_and_agree_with_the_fmus():
-    """Both variants validate against the SSP 1.0 schema (fmpy ships it), follow what
+    """Every variant validates against the SSP 1.0 schema (fmpy ships it), follows what
     libcosim and Ecos accept (ssp-notes.md: literal prefixes, version 1.0, a type on every
-    connector, one binding per component, one set name, start time 0, the OSP step), name
-    only variables the FMUs have, with their types, and differ only in their parameters."""
+    connector, one binding per component, one set name, start time 0, the OSP step), names
+    only variables the FMUs have, with their types; the radio-only ones differ only in their
+    parameters, and the multi-sensor one connects the camera and GNSS readings besides."""
     import os
     import xml.etree.ElementTree as ET
 
@@ -180,9 +181,13 @@ def test_ssds_are_valid_and_agree_with_the_fmus():
             assert sysm.components[b].connectors[bc][0] == "input"
         # every input of relnav, the plant and the guidance is connected exactly once
         ends = [(b, bc) for _, _, b, bc in sysm.connections]
-        assert len(ends) == len(set(ends)) == 16
+        assert len(ends) == len(set(ends)) == (27 if variant == "sensors" else 16)
         structure[variant] = ({k: c.connectors for k, c in sysm.components.items()}, sysm.connections)
     assert structure["paper000"] == structure["lidar"] == structure["proba3"]
+    extra = {c for _, c, _, _ in structure["sensors"][1]} - {c for _, c, _, _ in structure["paper000"][1]}
+    assert extra == {f"camera_{v}" for v in ("azimuth", "elevation", "valid")} | {
+        f"gnss_{v}" for v in ("x", "y", "z", "vx", "vy", "vz", "valid", "velocity_valid")
+    }
 
 
 # ---------------------------------------------------------------- plant: truth
@@ -378,6 +383,80 @@ def test_plant_measurement_schedule_and_dropouts(plant_dir):
     n = candidates.sum()
     assert abs(frac - (1 - p)) < 5 * math.sqrt(p * (1 - p) / n), frac
     assert np.array_equal(z1[v1], z0[v1])
+
+
+def sensor_run(plant_dir, params, times, thrust):
+    """The plant's truth, radio, camera and GNSS outputs and their flags at every
+    communication point."""
+    outs = rs.TRUTH + ["range", "azimuth", "elevation", "camera_azimuth", "camera_elevation"]
+    outs += ["gnss_x", "gnss_y", "gnss_z", "gnss_vx", "gnss_vy", "gnss_vz"]
+    flags = ["measurement_valid", "camera_valid", "gnss_valid", "gnss_velocity_valid"]
+    s = Slave(plant_dir).start(params)
+    rows, valid = [s.real(outs)], [[s.boolean(f) for f in flags]]
+    for k in range(len(times) - 1):
+        for axis, f in zip("xyz", thrust[k]):
+            s.set(f"thrust_{axis}", f)
+        s.fmu.doStep(currentCommunicationPoint=float(times[k]), communicationStepSize=float(times[k + 1] - times[k]))
+        rows.append(s.real(outs))
+        valid.append([s.boolean(f) for f in flags])
+    s.free()
+    return np.array(rows), np.array(valid)
+
+
+def test_plant_camera_and_gnss_readings(plant_dir):
+    """The camera gives the line of sight of the plant's own true position (numpy: azimuth
+    atan2(y, x) in [0, 2 pi), elevation asin(z / range)) and GNSS the true position and
+    velocity, each plus Gaussian noise of the configured sigma (moments within their
+    sampling tolerances), on its own period (camera 2 s, GNSS 3 s, stepped by 1 s), the
+    camera only inside [camera_min_range, camera_max_range), the radio only inside its own
+    range interval, GNSS lost in its outage window; and neither sensor's settings move the
+    radio's noise sequence (its own stream)."""
+    frame, steps = 3, 6000
+    times = np.arange(steps + 1, dtype=float)
+    # a 1 N along-track burn drifts the chaser from 1.3 km to below 100 m: every range
+    # interval is crossed
+    x0 = cw.state_to_frame(np.array([0.0, 1300.0, 80.0, 0.0, 0.0, 0.0]), frame)
+    thrust = np.zeros((steps, 3))
+    thrust[:60] = cw.vec_to_frame(np.array([0.0, 1.0, 0.0]), frame)
+    sc, sg, sv = 2e-3, 0.05, 5e-4
+    params = {
+        **truth_params(frame, x0),
+        "seed": 11,
+        "camera_period": 2.0,
+        "sigma_camera": sc,
+        "camera_min_range": 600.0,
+        "camera_max_range": 1200.0,
+        "gnss_period": 3.0,
+        "sigma_gnss": sg,
+        "sigma_gnss_velocity": sv,
+        "gnss_outage_start": 1000.0,
+        "gnss_outage_stop": 2000.0,
+        "radio_max_range": 1000.0,
+    }
+    out, valid = sensor_run(plant_dir, params, times, thrust)
+    truth, radio, cam, gnss = out[:, :6], out[:, 6:9], out[:, 9:11], out[:, 11:17]
+    rho = np.linalg.norm(truth[:, :3], axis=1)
+    assert rho.max() > 1250 and rho.min() < 550  # the intervals are crossed
+    cam_due = np.isclose(times % 2.0, 0.0)
+    gnss_due = np.isclose(times % 3.0, 0.0)
+    assert np.array_equal(valid[:, 1], cam_due & (rho >= 600.0) & (rho < 1200.0))
+    assert np.array_equal(valid[:, 2], gnss_due & ~((times >= 1000.0) & (times < 2000.0)))
+    assert np.array_equal(valid[:, 2], valid[:, 3])
+    assert np.array_equal(valid[:, 0], rho < 1000.0)
+    z = cw.measure(truth[:, :3])
+    d = cam[cam_due] - z[cam_due, 1:]
+    d[:, 0] = (d[:, 0] + np.pi) % (2 * np.pi) - np.pi
+    for i in range(2):
+        check_moments(d[:, i], sc, 1.0, 3.0, f"camera {i}")
+    assert np.all((cam[:, 0] >= 0) & (cam[:, 0] < 2 * np.pi)) and np.all(np.abs(cam[:, 1]) <= np.pi / 2)
+    e = gnss[gnss_due] - truth[gnss_due]
+    for i in range(6):
+        check_moments(e[:, i], sg if i < 3 else sv, 1.0, 3.0, f"gnss {i}")
+    # the radio's noise: the same doubles whatever the camera's and GNSS's settings
+    other = {**params, "camera_period": 0.5, "sigma_camera": 1e-2, "gnss_period": 1.0, "radio_max_range": 1e9}
+    out2, valid2 = sensor_run(plant_dir, other, times, thrust)
+    assert np.array_equal(out2[:, 6:9].view(np.uint64), radio.view(np.uint64))
+    assert valid2[:, 0].all()
 
 
 # ---------------------------------------------------------------- FMU state

@@ -20,12 +20,23 @@
 //! or Student-t) scaled by `sigma_range` and `sigma_angle`. A measurement is due every
 //! `measurement_period` from the start time, taken at the first communication point at or
 //! after the due time; it is lost (`valid = false`) inside the dropout window
-//! `[dropout_start, dropout_stop)` and with probability `dropout_probability`.
+//! `[dropout_start, dropout_stop)`, with probability `dropout_probability`, and while the
+//! true range is outside `[radio_min_range, radio_max_range)`.
 //!
-//! **Random draws** (ChaCha8, seeded by `seed`): per due measurement one uniform for the
-//! dropout, then the three noise samples (range, azimuth, elevation) — always, whether the
-//! measurement is then dropped or not, so the noise sequence does not depend on the dropout
-//! settings.
+//! **Camera and relative GNSS** (relnav's declared sensors beside the radio): each on its
+//! own schedule (`camera_period`, `gnss_period`, from the start time, taken as the radio's).
+//! The camera gives the line of sight ([`CameraSensor::measure_with`]: azimuth and
+//! elevation with the radio's conventions, Gaussian noise of `sigma_camera`), valid while
+//! the true range is in `[camera_min_range, camera_max_range)`; GNSS the relative position
+//! and velocity in the I/O frame with Gaussian noise of `sigma_gnss` and
+//! `sigma_gnss_velocity`, lost inside `[gnss_outage_start, gnss_outage_stop)`.
+//!
+//! **Random draws** (ChaCha8, seeded by `seed`): the radio on stream 0, per due measurement
+//! one uniform for the dropout, then the three noise samples (range, azimuth, elevation) —
+//! always, whether the measurement is then dropped or not, so the noise sequence does not
+//! depend on the dropout settings; the camera on stream 1 (two samples per reading) and
+//! GNSS on stream 2 (six, position first), likewise always, so no sensor's settings move
+//! another's noise.
 
 use crate::dynamics::{Discretization, Dynamics, RelativeDynamics};
 use crate::frames::Frame;
@@ -35,7 +46,7 @@ use crate::noise::NoiseModel;
 use crate::numerics::state::{refuse, Reader, StateError, Writer};
 use crate::orbit::{TwoBodyJ2, R_EARTH};
 use crate::params::{closed, Rule};
-use crate::sensors::RadioSensor;
+use crate::sensors::{add_noise, CameraSensor, RadioSensor};
 use crate::types::{Mat3, Mat6, Mat63, State, Vec3};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -174,6 +185,61 @@ crate::config! {
         rule: Rule::Finite, c: false, scenario: None, slot: None,
         description: "True anomaly of the target at the start time (unused at eccentricity 0)",
     },
+    radio_min_range: f64 {
+        elements: [("radio_min_range", 39, "m", 0.0, "")],
+        rule: Rule::NonNegative, c: false, scenario: None, slot: None,
+        description: "The radio or lidar measures while the true range is at least this (>= 0)",
+    },
+    radio_max_range: f64 {
+        elements: [("radio_max_range", 40, "m", 1e9, "")],
+        rule: Rule::Positive, c: false, scenario: None, slot: None,
+        description: "... and below this (> radio_min_range; the default 1e9 m is no limit)",
+    },
+    camera_period: f64 {
+        elements: [("camera_period", 41, "s", 1.0, "")],
+        rule: Rule::Positive, c: false, scenario: None, slot: None,
+        description: "Time between camera readings from the start time, each taken at the first communication point at or after its due time (> 0)",
+    },
+    sigma_camera: f64 {
+        elements: [("sigma_camera", 42, "rad", 1e-3, "")],
+        rule: Rule::Positive, c: false, scenario: None, slot: None,
+        description: "Camera azimuth and elevation noise, 1 sigma of the Gaussian (> 0)",
+    },
+    camera_min_range: f64 {
+        elements: [("camera_min_range", 43, "m", 0.0, "")],
+        rule: Rule::NonNegative, c: false, scenario: None, slot: None,
+        description: "The camera measures while the true range is at least this (>= 0)",
+    },
+    camera_max_range: f64 {
+        elements: [("camera_max_range", 44, "m", 1e9, "")],
+        rule: Rule::Positive, c: false, scenario: None, slot: None,
+        description: "... and below this (> camera_min_range; the default 1e9 m is no limit)",
+    },
+    gnss_period: f64 {
+        elements: [("gnss_period", 45, "s", 1.0, "")],
+        rule: Rule::Positive, c: false, scenario: None, slot: None,
+        description: "Time between relative GNSS readings (position and velocity together) from the start time, each taken at the first communication point at or after its due time (> 0)",
+    },
+    sigma_gnss: f64 {
+        elements: [("sigma_gnss", 46, "m", 0.05, "")],
+        rule: Rule::Positive, c: false, scenario: None, slot: None,
+        description: "Relative GNSS position noise per axis, 1 sigma of the Gaussian (> 0)",
+    },
+    sigma_gnss_velocity: f64 {
+        elements: [("sigma_gnss_velocity", 47, "m/s", 5e-4, "")],
+        rule: Rule::Positive, c: false, scenario: None, slot: None,
+        description: "Relative GNSS velocity noise per axis, 1 sigma of the Gaussian (> 0)",
+    },
+    gnss_outage_start: f64 {
+        elements: [("gnss_outage_start", 48, "s", 0.0, "")],
+        rule: Rule::Finite, c: false, scenario: None, slot: None,
+        description: "Start of a window in which every GNSS reading is lost (none when gnss_outage_stop <= gnss_outage_start)",
+    },
+    gnss_outage_stop: f64 {
+        elements: [("gnss_outage_stop", 49, "s", 0.0, "")],
+        rule: Rule::Finite, c: false, scenario: None, slot: None,
+        description: "End of the GNSS outage window (excluded)",
+    },
 }
 
 impl PlantConfig {
@@ -181,6 +247,16 @@ impl PlantConfig {
     pub fn validate(&self) -> Result<(), String> {
         for p in PLANT_PARAMS {
             p.check(self)?;
+        }
+        for (name, lo, hi) in [
+            ("radio", self.radio_min_range, self.radio_max_range),
+            ("camera", self.camera_min_range, self.camera_max_range),
+        ] {
+            if !(hi > lo) {
+                return Err(format!(
+                    "{name}_max_range ({hi} m) must exceed {name}_min_range ({lo} m)"
+                ));
+            }
         }
         if matches!(
             self.truth_model,
@@ -235,7 +311,57 @@ pub struct Sample {
     pub valid: bool,
 }
 
-/// The plant: truth, sensor schedule, random generator.
+/// One camera reading due at a communication point.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CameraSample {
+    /// `(azimuth, elevation)` [rad] with noise; `None` at zero range.
+    pub z: Option<[f64; 2]>,
+    /// Whether the camera saw the target (true range in its interval, not at zero range).
+    pub valid: bool,
+}
+
+/// One relative GNSS reading due at a communication point.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GnssSample {
+    /// Relative position [m] and velocity [m/s] with noise, I/O frame.
+    pub position: [f64; 3],
+    /// See `position`.
+    pub velocity: [f64; 3],
+    /// Whether it reached the navigation (not in the outage window).
+    pub valid: bool,
+}
+
+/// The schedule of one sensor: readings due every `period` from `t0`, each taken at the
+/// first communication point at or after its due time.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Schedule {
+    period: f64,
+    /// Index `m` of the next due reading, at `t0 + m * period`.
+    next: u64,
+}
+
+impl Schedule {
+    /// Whether a reading is due at `t` (and if so, the next one scheduled after `t`: a long
+    /// step may skip several).
+    fn due(&mut self, t0: f64, t: f64) -> bool {
+        let tol = 1e-9 * self.period.max(t.abs());
+        if t < t0 + self.next as f64 * self.period - tol {
+            return false;
+        }
+        self.next = ((t - t0 + tol) / self.period).floor().max(0.0) as u64 + 1;
+        true
+    }
+}
+
+/// A generator of the plant's seed on its own stream (0: the radio's; the camera's and the
+/// GNSS's draws do not move the radio's noise sequence).
+fn stream(seed: u64, stream: u64) -> ChaCha8Rng {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    rng.set_stream(stream);
+    rng
+}
+
+/// The plant: truth, sensor schedules, random generators.
 #[derive(Debug, Clone)]
 pub struct Plant {
     cfg: PlantConfig,
@@ -243,8 +369,11 @@ pub struct Plant {
     truth: Truth,
     rng: ChaCha8Rng,
     t0: f64,
-    /// Index `m` of the next due measurement, at `t0 + m * measurement_period`.
-    next_sample: u64,
+    radio: Schedule,
+    camera: Schedule,
+    camera_rng: ChaCha8Rng,
+    gnss: Schedule,
+    gnss_rng: ChaCha8Rng,
 }
 
 impl Plant {
@@ -282,7 +411,20 @@ impl Plant {
             truth,
             rng: ChaCha8Rng::seed_from_u64(cfg.seed),
             t0,
-            next_sample: 0,
+            radio: Schedule {
+                period: cfg.measurement_period,
+                next: 0,
+            },
+            camera: Schedule {
+                period: cfg.camera_period,
+                next: 0,
+            },
+            camera_rng: stream(cfg.seed, 1),
+            gnss: Schedule {
+                period: cfg.gnss_period,
+                next: 0,
+            },
+            gnss_rng: stream(cfg.seed, 2),
         })
     }
 
@@ -339,14 +481,9 @@ impl Plant {
     /// The measurement due at communication point `t`, if one is (drawn now, from the
     /// current truth); `None` if no measurement is due at `t`.
     pub fn sample(&mut self, t: f64) -> Option<Sample> {
-        let period = self.cfg.measurement_period;
-        let tol = 1e-9 * period.max(t.abs());
-        let due = self.t0 + self.next_sample as f64 * period;
-        if t < due - tol {
+        if !self.radio.due(self.t0, t) {
             return None;
         }
-        // the next due time after `t` (a long step may skip several)
-        self.next_sample = ((t - self.t0 + tol) / period).floor().max(0.0) as u64 + 1;
         let u: f64 = self.rng.random();
         let mut ar = [0.0; 3];
         let r = self.truth_canonical().fixed_rows::<3>(0).into_owned();
@@ -354,8 +491,70 @@ impl Plant {
             .sensor
             .measure_with(&r, &self.cfg.noise(), &mut ar, &mut self.rng);
         let in_window = t >= self.cfg.dropout_start && t < self.cfg.dropout_stop;
-        let valid = z.is_some() && !in_window && u >= self.cfg.dropout_probability;
+        let rho = r.norm();
+        let in_range = rho >= self.cfg.radio_min_range && rho < self.cfg.radio_max_range;
+        let valid = z.is_some() && !in_window && in_range && u >= self.cfg.dropout_probability;
         Some(Sample { z, valid })
+    }
+
+    /// The camera reading due at communication point `t`, if one is: the line of sight
+    /// of the current truth ([`CameraSensor::measure_with`], two Gaussian draws of
+    /// `sigma_camera` on its own stream, always, so the sequence does not depend on the
+    /// range limits); valid while the true range is in `[camera_min_range,
+    /// camera_max_range)`.
+    pub fn sample_camera(&mut self, t: f64) -> Option<CameraSample> {
+        if !self.camera.due(self.t0, t) {
+            return None;
+        }
+        let x = self.truth_canonical();
+        let cam = CameraSensor::gaussian(self.cfg.frame, self.cfg.sigma_camera);
+        let s = self.cfg.sigma_camera;
+        let z = cam.measure_with(
+            &x,
+            &NoiseModel::Gaussian,
+            &[s, s],
+            &mut [0.0; 2],
+            &mut self.camera_rng,
+        );
+        let rho = x.fixed_rows::<3>(0).norm();
+        let in_range = rho >= self.cfg.camera_min_range && rho < self.cfg.camera_max_range;
+        Some(CameraSample {
+            z,
+            valid: z.is_some() && in_range,
+        })
+    }
+
+    /// The relative GNSS reading due at communication point `t`, if one is: the true
+    /// position and velocity in the I/O frame plus Gaussian noise of `sigma_gnss` and
+    /// `sigma_gnss_velocity` (six draws on its own stream, position first); lost inside
+    /// `[gnss_outage_start, gnss_outage_stop)`.
+    pub fn sample_gnss(&mut self, t: f64) -> Option<GnssSample> {
+        if !self.gnss.due(self.t0, t) {
+            return None;
+        }
+        let x = self.truth();
+        let (sp, sv) = (self.cfg.sigma_gnss, self.cfg.sigma_gnss_velocity);
+        let g = NoiseModel::Gaussian;
+        let position = add_noise(
+            &x.fixed_rows::<3>(0).into_owned(),
+            &g,
+            &[sp; 3],
+            &mut [0.0; 3],
+            &mut self.gnss_rng,
+        );
+        let velocity = add_noise(
+            &x.fixed_rows::<3>(3).into_owned(),
+            &g,
+            &[sv; 3],
+            &mut [0.0; 3],
+            &mut self.gnss_rng,
+        );
+        let outage = t >= self.cfg.gnss_outage_start && t < self.cfg.gnss_outage_stop;
+        Some(GnssSample {
+            position,
+            velocity,
+            valid: !outage,
+        })
     }
 
     /// Bytes of the plant's dynamic state (truth, generator, schedule); the configuration
@@ -379,7 +578,16 @@ impl Plant {
         w.u64(pos as u64);
         w.u64((pos >> 64) as u64);
         w.f64(self.t0);
-        w.u64(self.next_sample);
+        w.u64(self.radio.next);
+        for (sched, rng) in [
+            (&self.camera, &self.camera_rng),
+            (&self.gnss, &self.gnss_rng),
+        ] {
+            w.u64(sched.next);
+            let pos = rng.get_word_pos();
+            w.u64(pos as u64);
+            w.u64((pos >> 64) as u64);
+        }
     }
 
     /// Read what [`Plant::save`] wrote into this plant (same configuration); on error
@@ -411,10 +619,27 @@ impl Plant {
         let mut rng = ChaCha8Rng::from_seed(seed);
         rng.set_stream(stream);
         rng.set_word_pos(u128::from(lo) | (u128::from(hi) << 64));
+        // the camera's and GNSS's schedules and generator positions (their seed and stream
+        // are the configuration's)
+        let mut others = [
+            (self.camera, self.camera_rng.clone()),
+            (self.gnss, self.gnss_rng.clone()),
+        ];
+        for (sched, g) in others.iter_mut() {
+            sched.next = r.u64("next reading index")?;
+            let lo = r.u64("generator position (low)")?;
+            let hi = r.u64("generator position (high)")?;
+            g.set_word_pos(u128::from(lo) | (u128::from(hi) << 64));
+        }
+        let [(camera, camera_rng), (gnss, gnss_rng)] = others;
         self.truth = truth;
         self.rng = rng;
         self.t0 = t0;
-        self.next_sample = next;
+        self.radio.next = next;
+        self.camera = camera;
+        self.camera_rng = camera_rng;
+        self.gnss = gnss;
+        self.gnss_rng = gnss_rng;
         Ok(())
     }
 }

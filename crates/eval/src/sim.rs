@@ -24,7 +24,7 @@ use relnav_core::nav::{
 };
 use relnav_core::noise::NoiseModel;
 use relnav_core::sensors::{
-    wrap_2pi, AngleTrig, CameraSensor, CartesianSensor, Geometry, MeasurementModel, Modelled,
+    add_noise, AngleTrig, CameraSensor, CartesianSensor, Geometry, MeasurementModel, Modelled,
     RadioSensor, Sensor, SensorNoise, VelocitySensor,
 };
 use relnav_core::types::{Mat3, Mat6, State, Vec3};
@@ -255,27 +255,21 @@ impl SensorGeometry {
         ar: &mut [f64; 3],
         rng: &mut ChaCha8Rng,
     ) -> Option<[f64; 3]> {
-        let mut add = |z: [f64; 3], n: usize| -> [f64; 3] {
-            let mut z = z;
-            for i in 0..n {
-                z[i] += noise.sample(s[i], &mut ar[i], rng);
-            }
-            z
-        };
+        let s3 = [s[0], s[1], s[2]];
         match self {
             SensorGeometry::Radio(m) => m
                 .measure_with(&position(x), noise, ar, rng)
                 .map(|z| [z.x, z.y, z.z]),
-            SensorGeometry::Camera(m) => m.measure(x).map(|z| {
-                let z = add([z[0], z[1], 0.0], 2);
-                [
-                    wrap_2pi(z[0]),
-                    z[1].clamp(-std::f64::consts::FRAC_PI_2, std::f64::consts::FRAC_PI_2),
-                    0.0,
-                ]
-            }),
-            SensorGeometry::Position(m) => m.predict(&position(x)).map(|z| add([z.x, z.y, z.z], 3)),
-            SensorGeometry::Velocity(m) => m.measure(x).map(|z| add([z.x, z.y, z.z], 3)),
+            SensorGeometry::Camera(m) => {
+                let mut ar2 = [ar[0], ar[1]];
+                let z = m.measure_with(x, noise, &[s[0], s[1]], &mut ar2, rng);
+                (ar[0], ar[1]) = (ar2[0], ar2[1]);
+                z.map(|z| [z[0], z[1], 0.0])
+            }
+            SensorGeometry::Position(m) => m
+                .predict(&position(x))
+                .map(|z| add_noise(&z, noise, &s3, ar, rng)),
+            SensorGeometry::Velocity(m) => m.measure(x).map(|z| add_noise(&z, noise, &s3, ar, rng)),
         }
     }
 

@@ -9,8 +9,8 @@
 //! table) and `binaries/linux64/<id>.so` (the cdylib built next to this executable —
 //! `librelnav_fmu.so` (fmu/relnav), `librelnav_plant.so`, `librelnav_guidance.so` — renamed).
 //! `relnav_system.ssp` holds the SSDs of `fmu/ssp/` (`SystemStructure.ssd`: paper 000's
-//! example; `LidarHeavyTail.ssd`: the heavy-tailed lidar variant) with the three FMUs under
-//! `resources/` (stored: an FMU is a zip already).
+//! example, the default; the other variants beside it, `docs/kit.md`) with the three FMUs
+//! under `resources/` (stored: an FMU is a zip already).
 
 use relnav_fmi::fmi2::description::{model_description_of, variables_markdown_of};
 use relnav_fmi::model::ModelInfo;

@@ -224,36 +224,71 @@ pub(crate) fn joseph_update(p: &Mat6, k: &Mat63, h_r: &Mat3, r: &Mat3) -> Mat6 {
 /// [`joseph_update`]'s body, inlined into its [`crate::numerics::simd::dispatch`].
 #[inline(always)]
 fn joseph_update_inline(p: &Mat6, k: &Mat63, h_r: &Mat3, r: &Mat3) -> Mat6 {
+    joseph_block_inline::<3, 0>(p, &k.data.0, &h_r.data.0, &r.data.0)
+}
+
+/// [`joseph_update`] for a measurement of `D` components whose Jacobian's only nonzero
+/// columns are the three from `OFF` (the position, `OFF = 0`, or the velocity, `OFF = 3`):
+/// `k` the gain's `D` columns, `h` the `D x 3` block's three columns, `r` the noise's `D`
+/// columns. The same algebra (`M = K H_b`, `A = P - M P_b`, `A - A_b M^T + K R K^T`, lower
+/// triangle mirrored), the same bits as [`joseph_update`] for `D = 3`, `OFF = 0`.
+pub(crate) fn joseph_block<const D: usize, const OFF: usize>(
+    p: &Mat6,
+    k: &[[f64; 6]; D],
+    h: &[[f64; D]; 3],
+    r: &[[f64; D]; D],
+) -> Mat6 {
+    crate::numerics::simd::dispatch(
+        #[inline(always)]
+        || joseph_block_inline::<D, OFF>(p, k, h, r),
+    )
+}
+
+/// [`joseph_block`]'s body (and [`joseph_update`]'s), inlined into its
+/// [`crate::numerics::simd::dispatch`].
+#[inline(always)]
+fn joseph_block_inline<const D: usize, const OFF: usize>(
+    p: &Mat6,
+    kc: &[[f64; 6]; D],
+    hc: &[[f64; D]; 3],
+    rc: &[[f64; D]; D],
+) -> Mat6 {
     // columns, as plain arrays (nalgebra stores column by column): the column operations
     // below are 6-vector axpys the compiler vectorises
-    let kc = k.data.0;
     let pc = p.data.0;
-    let hr = h_r.data.0;
-    let rc = r.data.0;
-    // M = K H_r and K R, column by column
+    // M = K H_b (three columns) and K R (D columns), column by column
     let mut m = [[0.0; 6]; 3];
-    let mut kr = [[0.0; 6]; 3];
-    for (j, (mj, krj)) in m.iter_mut().zip(kr.iter_mut()).enumerate() {
-        for (l, kl) in kc.iter().enumerate() {
-            axpy6(mj, kl, hr[j][l]);
-            axpy6(krj, kl, rc[j][l]);
+    for (mj, hj) in m.iter_mut().zip(hc.iter()) {
+        for (kl, hlj) in kc.iter().zip(hj.iter()) {
+            axpy6(mj, kl, *hlj);
         }
     }
-    // A = P - M P_r (P_r the position rows of P): column j = P_j - sum_l M_l P[l][j]
+    let mut kr = [[0.0; 6]; D];
+    for (krj, rj) in kr.iter_mut().zip(rc.iter()) {
+        for (kl, rlj) in kc.iter().zip(rj.iter()) {
+            axpy6(krj, kl, *rlj);
+        }
+    }
+    // A = P - M P_b (P_b the block's rows of P): column j = P_j - sum_l M_l P[OFF + l][j]
     let mut a = pc;
     for (aj, pj) in a.iter_mut().zip(pc.iter()) {
-        for (ml, pl) in m.iter().zip(pj.iter()) {
-            axpy6(aj, ml, -pl);
+        for (l, ml) in m.iter().enumerate() {
+            axpy6(aj, ml, -pj[OFF + l]);
         }
     }
-    // B = A - A_c M^T (A_c the position columns of A), plus K R K^T:
-    // column j = A_j - sum_l A_l M[j][l] + sum_l (K R)_l K[j][l]
+    // B = A - A_b M^T (A_b the block's columns of A), plus K R K^T:
+    // column j = A_j - sum_l A_(OFF + l) M[j][l] + sum_l (K R)_l K[j][l]
     let mut out = [[0.0; 6]; 6];
     for (j, oj) in out.iter_mut().enumerate() {
         let mut c = a[j];
-        for ((al, ml), (krl, kl)) in a.iter().zip(m.iter()).zip(kr.iter().zip(kc.iter())) {
-            axpy6(&mut c, al, -ml[j]);
-            axpy6(&mut c, krl, kl[j]);
+        for l in 0..3 {
+            axpy6(&mut c, &a[OFF + l], -m[l][j]);
+            if l < D {
+                axpy6(&mut c, &kr[l], kc[l][j]);
+            }
+        }
+        for l in 3..D {
+            axpy6(&mut c, &kr[l], kc[l][j]);
         }
         *oj = c;
     }

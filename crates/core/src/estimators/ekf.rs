@@ -17,20 +17,22 @@
 //! the in-plane and out-of-plane components and `H = [H_r 0]` has zero velocity columns
 //! (`propagate_covariance`, `joseph_update` in the module `estimators::covariance`).
 
-use super::covariance::{joseph_update, propagate_covariance, time_update};
+use super::covariance::{joseph_block, joseph_update, propagate_covariance, time_update};
 use super::{finite, Estimator, FilterError, SensorUpdate, UpdateInfo};
 use crate::dynamics::DiscreteModel;
-use crate::numerics::cholesky::chol3;
+use crate::numerics::cholesky::{chol3, chol_small};
 use crate::numerics::state::{Persist, Reader, StateError, Writer};
 use crate::numerics::symmetrize;
-use crate::sensors::{MeasurementModel, Sensor};
+use crate::sensors::{MeasurementModel, Sensor, Support};
 use crate::types::{Mat3, Mat6, Mat63, State, Vec3};
 use nalgebra::{SMatrix, SVector};
 
 /// The linearised (EKF) measurement update of `(x, P)` with any sensor, not committed:
 /// the updated state and covariance (Joseph form, full `H`: the generic path), the
 /// update's diagnostics and the innovation covariance `S`. Components the sensor marks
-/// unused are dropped ([`Sensor::innovation`]).
+/// unused are dropped ([`Sensor::innovation`]). Inlined into its callers: its results
+/// would otherwise be copied out through each call's return.
+#[inline(always)]
 pub(crate) fn linearised_update<const D: usize, S: Sensor<D> + ?Sized>(
     x: &State,
     p: &Mat6,
@@ -38,8 +40,40 @@ pub(crate) fn linearised_update<const D: usize, S: Sensor<D> + ?Sized>(
     z: &SVector<f64, D>,
 ) -> Result<(State, Mat6, SensorUpdate<D>, SMatrix<f64, D, D>), FilterError> {
     let (lin, nu) = sensor.innovation(x, z)?;
-    let h = lin.h;
     let r = sensor.noise().cov();
+    let (xn, pn, s, nis) = match sensor.support() {
+        Support::Position => block_update::<D, 0>(x, p, &lin.h, &nu, &r)?,
+        Support::Velocity => block_update::<D, 3>(x, p, &lin.h, &nu, &r)?,
+        Support::Full => full_update(x, p, &lin.h, &nu, &r)?,
+    };
+    finite(&xn, "updated state")?;
+    finite(&pn, "updated covariance")?;
+    let dof = lin.used.iter().filter(|u| **u).count();
+    Ok((
+        xn,
+        pn,
+        SensorUpdate {
+            innovation: nu,
+            nis,
+            dof,
+        },
+        s,
+    ))
+}
+
+/// The updated state and covariance, `S` and the NIS, of [`linearised_update`] with a full
+/// Jacobian `h`.
+type Updated<const D: usize> = (State, Mat6, SMatrix<f64, D, D>, f64);
+
+/// [`linearised_update`]'s algebra for any `h` (`D x 6`).
+#[inline(always)]
+fn full_update<const D: usize>(
+    x: &State,
+    p: &Mat6,
+    h: &SMatrix<f64, D, 6>,
+    nu: &SVector<f64, D>,
+    r: &SMatrix<f64, D, D>,
+) -> Result<Updated<D>, FilterError> {
     let ph = p * h.transpose();
     let s = h * ph + r;
     let chol = s
@@ -53,20 +87,45 @@ pub(crate) fn linearised_update<const D: usize, S: Sensor<D> + ?Sized>(
     // factor only, not of two 6 x 6 matrices
     let a = p - k * ph.transpose();
     let pn = symmetrize(&(a - (a * h.transpose() - k * r) * k.transpose()));
-    finite(&xn, "updated state")?;
-    finite(&pn, "updated covariance")?;
-    let nis = nu.dot(&chol.solve(&nu));
-    let dof = lin.used.iter().filter(|u| **u).count();
-    Ok((
-        xn,
-        pn,
-        SensorUpdate {
-            innovation: nu,
-            nis,
-            dof,
-        },
-        s,
-    ))
+    let nis = nu.dot(&chol.solve(nu));
+    Ok((xn, pn, s, nis))
+}
+
+/// [`full_update`] for a Jacobian whose only nonzero columns are the three from `OFF` (the
+/// position, `OFF = 0`, or the velocity, `OFF = 3`; [`Support`]): the same formulas with
+/// the `D x 3` block, as the radio's update computes them (`P H^T` from the block's
+/// columns of `P`, a closed-form factor of `S` on the stack, the gain row by row,
+/// [`joseph_block`]'s column axpys), without the full `H`'s zero products.
+#[inline(always)]
+fn block_update<const D: usize, const OFF: usize>(
+    x: &State,
+    p: &Mat6,
+    h: &SMatrix<f64, D, 6>,
+    nu: &SVector<f64, D>,
+    r: &SMatrix<f64, D, D>,
+) -> Result<Updated<D>, FilterError> {
+    let hb: SMatrix<f64, D, 3> = h.fixed_columns::<3>(OFF).into_owned();
+    let ph: SMatrix<f64, 6, D> = p.fixed_columns::<3>(OFF) * hb.transpose();
+    let s = hb * ph.fixed_rows::<3>(OFF) + r;
+    let chol = chol_small(&s).ok_or(FilterError::NotPositiveDefinite("innovation covariance S"))?;
+    // K = P H^T S^-1  <=>  K^T = S^-1 (H P): one solve per row of P H^T
+    let mut k = [[0.0; 6]; D];
+    for i in 0..6 {
+        let ki = chol.solve(&std::array::from_fn(|c| ph[(i, c)]));
+        for (kc, v) in k.iter_mut().zip(ki) {
+            kc[i] = v;
+        }
+    }
+    let km = SMatrix::<f64, 6, D>::from_data(nalgebra::ArrayStorage(k));
+    let xn = x + km * nu;
+    let pn = joseph_block::<D, OFF>(p, &k, &hb.data.0, &r.data.0);
+    // nu^T S^-1 nu = |L^-1 nu|^2
+    let nis = chol
+        .forward(&std::array::from_fn(|c| nu[c]))
+        .iter()
+        .map(|v| v * v)
+        .sum();
+    Ok((xn, pn, s, nis))
 }
 
 /// Extended Kalman filter with a Joseph-form update.
@@ -99,6 +158,7 @@ impl Ekf {
 
     /// [`Estimator::update_sensor`], returning also the innovation covariance `S` (the
     /// interacting multiple-model filter's mode likelihood).
+    #[inline(always)]
     pub fn update_sensor_with_s<const D: usize, S: Sensor<D> + ?Sized>(
         &mut self,
         sensor: &S,
@@ -125,6 +185,27 @@ impl Ekf {
         // the time update of `Estimator::predict`, from the uncommitted update
         // written out rather than through `time_update`: its in-place form costs an extra
         // copy of the state and covariance here
+        let x = model.apply(&x, accel);
+        let p = propagate_covariance(&model.phi, &p, &model.q);
+        finite(&x, "predicted state")?;
+        finite(&p, "predicted covariance")?;
+        self.x = x;
+        self.p = p;
+        Ok(info)
+    }
+
+    /// [`Ekf::update_predict`] with any sensor: the update of [`Estimator::update_sensor`],
+    /// then the time update, committed only when both succeed (the same bits as the two in
+    /// turn; the navigator's step with one reading needs no snapshot).
+    #[inline(always)]
+    pub fn update_sensor_predict<const D: usize, S: Sensor<D> + ?Sized>(
+        &mut self,
+        sensor: &S,
+        z: &SVector<f64, D>,
+        model: &DiscreteModel,
+        accel: &Vec3,
+    ) -> Result<SensorUpdate<D>, FilterError> {
+        let (x, p, info, _) = linearised_update(&self.x, &self.p, sensor, z)?;
         let x = model.apply(&x, accel);
         let p = propagate_covariance(&model.phi, &p, &model.q);
         finite(&x, "predicted state")?;
@@ -238,6 +319,38 @@ impl Persist for Ekf {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The block products of a position or velocity measurement ([`block_update`]) give
+    /// the full-Jacobian update ([`full_update`]) to rounding.
+    #[test]
+    fn block_updates_equal_the_full_update() {
+        let p = Mat6::from_fn(|i, j| {
+            if i == j {
+                10.0 + i as f64
+            } else {
+                0.3 * (i + j) as f64
+            }
+        });
+        let x = State::from_row_slice(&[500.0, -300.0, 20.0, 0.1, -0.2, 0.05]);
+        let h = SMatrix::<f64, 2, 3>::new(1e-3, -2e-3, 5e-4, 3e-4, 1e-3, -1e-3);
+        let nu = SVector::<f64, 2>::new(1e-3, -2e-3);
+        let r = SMatrix::<f64, 2, 2>::identity() * 1e-6;
+        for (off, hf) in [
+            (0, h.insert_fixed_columns::<3>(3, 0.0)),
+            (3, h.insert_fixed_columns::<3>(0, 0.0)),
+        ] {
+            let (xa, pa, sa, na) = full_update(&x, &p, &hf, &nu, &r).unwrap();
+            let (xb, pb, sb, nb) = if off == 0 {
+                block_update::<2, 0>(&x, &p, &hf, &nu, &r).unwrap()
+            } else {
+                block_update::<2, 3>(&x, &p, &hf, &nu, &r).unwrap()
+            };
+            assert!((xa - xb).amax() <= 1e-12 * xa.amax());
+            assert!((pa - pb).amax() <= 1e-12 * pa.amax());
+            assert!((sa - sb).amax() <= 1e-12 * sa.amax());
+            assert!((na - nb).abs() <= 1e-12 * na);
+        }
+    }
 
     /// `update_predict` is `update` then `predict` bit for bit, and a prediction that fails
     /// after the update leaves the filter as it was.

@@ -35,7 +35,7 @@ use crate::dynamics::DiscreteModel;
 use crate::numerics::cholesky::{self, chol3_lane, dot3, forward_lane, lower6, outer6};
 use crate::numerics::state::{Persist, Reader, StateError, Writer};
 use crate::numerics::symmetrize;
-use crate::sensors::{AngleTrig, GeometryError, MeasurementModel, Sensor, SevenBlock};
+use crate::sensors::{AngleTrig, GeometryError, MeasurementModel, Sensor, SevenBlock, Support};
 use crate::types::{Mat3, Mat6, Mat63, State, Vec3};
 use nalgebra::{SMatrix, SVector};
 
@@ -297,6 +297,13 @@ impl Ukf {
     /// angles), `Pzz = sum Wc dz dz^T + R` with the noise's Gaussian `R`, `Pxz`, the gain
     /// by a Cholesky solve. Components the sensor marks unused at `x` are dropped (zero
     /// deviations and residual).
+    ///
+    /// Two sensors need less ([`Sensor::support`], [`Sensor::linear`]): the unscented
+    /// transform of a linear measurement is exact (`z_hat = H x`, `Pzz = H P H^T + R`,
+    /// `Pxz = P H^T` for these weights, `2 W gamma^2 = 1`), so its update is the Kalman
+    /// update, computed in closed form ([`super::ekf`]'s, in Joseph's form); a measurement of
+    /// the position alone takes the seven distinct positions of the sigma points
+    /// ([`Ukf::position_update`]).
     pub fn sensor_update<const D: usize, S: Sensor<D> + ?Sized>(
         &self,
         x: &State,
@@ -304,21 +311,90 @@ impl Ukf {
         sensor: &S,
         z: &SVector<f64, D>,
     ) -> Result<(State, Mat6, SensorUpdate<D>), FilterError> {
-        let used = sensor.linearize(x)?.used;
-        let m = Measurement {
-            h: |x: &State| sensor.measure(x),
-            mean: |wm: &[f64], zs: &[SVector<f64, D>]| sensor.mean(wm, zs),
-            residual: |a: &SVector<f64, D>, b: &SVector<f64, D>| sensor.residual(a, b),
-            r: sensor.noise().cov(),
-            used,
+        if sensor.linear() {
+            let (xn, pn, info, _) = super::ekf::linearised_update(x, p, sensor, z)?;
+            return Ok((xn, pn, info));
+        }
+        let used = sensor.used(x)?;
+        let (xn, pn, nu, nis) = if sensor.support() == Support::Position {
+            self.position_update(x, p, sensor, used, z)?
+        } else {
+            let m = Measurement {
+                h: |x: &State| sensor.measure(x),
+                mean: |wm: &[f64], zs: &[SVector<f64, D>]| sensor.mean(wm, zs),
+                residual: |a: &SVector<f64, D>, b: &SVector<f64, D>| sensor.residual(a, b),
+                r: sensor.noise().cov(),
+                used,
+            };
+            self.unscented_update(x, p, &m, z)?
         };
-        let (xn, pn, nu, nis) = self.unscented_update(x, p, &m, z)?;
         let info = SensorUpdate {
             innovation: nu,
             nis,
             dof: used.iter().filter(|u| **u).count(),
         };
         Ok((xn, pn, info))
+    }
+
+    /// [`Ukf::sensor_update`] for a sensor of the position alone: `L` is lower triangular,
+    /// so the six sigma points of its velocity columns share the centre's position and
+    /// measurement. Seven measurements, the centre's with the weights of all seven centre
+    /// points; those six points' state deviations cancel in pairs in `Pxz`, so
+    /// `Pxz = sum_(j<3) W gamma L_j (dZ_(+j) - dZ_(-j))^T`. The same update as the
+    /// thirteen-point form, to rounding (unit test).
+    fn position_update<const D: usize, S: Sensor<D> + ?Sized>(
+        &self,
+        x: &State,
+        p: &Mat6,
+        sensor: &S,
+        used: [bool; D],
+        z: &SVector<f64, D>,
+    ) -> Result<(State, Mat6, SVector<f64, D>, f64), FilterError> {
+        let l = cholesky::chol6(p).ok_or(FilterError::NotPositiveDefinite("state covariance P"))?;
+        // the outer points share one weight (`Ukf::new`)
+        let (wm, wc) = (self.wm[1], self.wc[1]);
+        let wm7 = [self.wm[0] + 6.0 * wm, wm, wm, wm, wm, wm, wm];
+        let d: [State; 3] = std::array::from_fn(|j| l.column(j) * self.gamma);
+        let mut zs = [SVector::<f64, D>::zeros(); 7];
+        for (i, zi) in zs.iter_mut().enumerate() {
+            let xi = match i {
+                0 => *x,
+                1..=3 => x + d[i - 1],
+                _ => x - d[i - 4],
+            };
+            *zi = sensor
+                .measure(&xi)
+                .ok_or(FilterError::Geometry(GeometryError::ZeroRange))?;
+        }
+        let z_hat = sensor.mean(&wm7, &zs);
+        let drop = |mut v: SVector<f64, D>| {
+            for (k, u) in used.iter().enumerate() {
+                if !u {
+                    v[k] = 0.0;
+                }
+            }
+            v
+        };
+        let dz: [SVector<f64, D>; 7] =
+            std::array::from_fn(|i| drop(sensor.residual(&zs[i], &z_hat)));
+        let mut pzz = sensor.noise().cov() + dz[0] * dz[0].transpose() * (self.wc[0] + 6.0 * wc);
+        let mut pxz = SMatrix::<f64, N, D>::zeros();
+        for j in 0..3 {
+            let (a, b) = (dz[1 + j], dz[4 + j]);
+            pzz += (a * a.transpose() + b * b.transpose()) * wc;
+            pxz += d[j] * ((a - b) * wc).transpose();
+        }
+        let chol = pzz.cholesky().ok_or(FilterError::NotPositiveDefinite(
+            "innovation covariance Pzz",
+        ))?;
+        let k = chol.solve(&pxz.transpose()).transpose();
+        let nu = drop(sensor.residual(z, &z_hat));
+        let xn = x + k * nu;
+        let pn = symmetrize(&(p - k * pzz * k.transpose()));
+        finite(&xn, "updated state")?;
+        finite(&pn, "updated covariance")?;
+        let nis = nu.dot(&chol.solve(&nu));
+        Ok((xn, pn, nu, nis))
     }
 
     /// The unscented measurement update of `(x, P)` with measurement `m`, not committed:
@@ -728,6 +804,26 @@ impl Ukf {
         self.p = p;
         Ok(info)
     }
+
+    /// [`Ukf::update_predict`] with any sensor ([`Ukf::sensor_update`], then the time
+    /// update), committed only when both succeed.
+    #[inline(always)]
+    pub fn update_sensor_predict<const D: usize, S: Sensor<D> + ?Sized>(
+        &mut self,
+        sensor: &S,
+        z: &SVector<f64, D>,
+        model: &DiscreteModel,
+        accel: &Vec3,
+    ) -> Result<SensorUpdate<D>, FilterError> {
+        let (x, p, info) = self.sensor_update(&self.x, &self.p, sensor, z)?;
+        let x = model.apply(&x, accel);
+        let p = propagate_covariance(&model.phi, &p, &model.q);
+        finite(&x, "predicted state")?;
+        finite(&p, "predicted covariance")?;
+        self.x = x;
+        self.p = p;
+        Ok(info)
+    }
 }
 
 impl Estimator for Ukf {
@@ -828,6 +924,88 @@ mod tests {
     /// `max |a - b| / max |b|` over the entries.
     fn rel<const R: usize, const C: usize>(a: &SMatrix<f64, R, C>, b: &SMatrix<f64, R, C>) -> f64 {
         (a - b).amax() / b.amax().max(f64::MIN_POSITIVE)
+    }
+
+    /// The seven-point update of a position measurement ([`Ukf::position_update`]) and the
+    /// closed-form update of a linear one equal the thirteen-point unscented update to
+    /// rounding (of the prior's covariance and spread): the camera (both angles, and at a
+    /// pole where its azimuth is dropped), the GNSS position and velocity, in every frame,
+    /// from random priors.
+    #[test]
+    fn reduced_sensor_updates_equal_the_thirteen_point_update() {
+        use crate::sensors::{
+            CameraSensor, CartesianSensor, Modelled, SensorNoise, VelocitySensor,
+        };
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(5);
+        let f = Ukf::new(State::zeros(), Mat6::identity(), UkfParams::default());
+        fn full<const D: usize, S: Sensor<D>>(
+            f: &Ukf,
+            x: &State,
+            p: &Mat6,
+            s: &S,
+            z: &SVector<f64, D>,
+        ) -> (State, Mat6, f64) {
+            let used = s.used(x).unwrap();
+            let m = Measurement {
+                h: |x: &State| s.measure(x),
+                mean: |wm: &[f64], zs: &[SVector<f64, D>]| s.mean(wm, zs),
+                residual: |a: &SVector<f64, D>, b: &SVector<f64, D>| s.residual(a, b),
+                r: s.noise().cov(),
+                used,
+            };
+            let (x, p, _, nis) = f.unscented_update(x, p, &m, z).unwrap();
+            (x, p, nis)
+        }
+        // rounding of the covariance is relative to the prior's (the 13-point form subtracts
+        // `K Pzz K^T` from it), of the state to the prior's spread
+        let close = |a: (&State, &Mat6), b: (&State, &Mat6), p: &Mat6| {
+            let (dx, dp) = ((a.0 - b.0).amax(), (a.1 - b.1).amax());
+            dx <= 1e-9 * p.amax().sqrt() && dp <= 1e-12 * p.amax()
+        };
+        let mut checked = 0;
+        for frame in Frame::ALL {
+            for k in 0..20 {
+                let mut x = State::from_fn(|i, _| {
+                    if i < 3 {
+                        rng.random_range(-2000.0..2000.0)
+                    } else {
+                        rng.random_range(-1.0..1.0)
+                    }
+                });
+                if k == 0 {
+                    // on the sensor frame's pole: the camera's azimuth is dropped
+                    let up = frame.vec_to_canonical(&Vec3::new(0.0, 0.0, 800.0));
+                    x.fixed_rows_mut::<3>(0).copy_from(&up);
+                }
+                let a = Mat6::from_fn(|_, _| rng.random_range(-1.0..1.0));
+                let scale = State::from_row_slice(&[30.0, 30.0, 30.0, 0.05, 0.05, 0.05]);
+                let p = Mat6::from_diagonal(&scale)
+                    * (a * a.transpose() + Mat6::identity())
+                    * Mat6::from_diagonal(&scale);
+                let cam = CameraSensor::gaussian(frame, 1e-3);
+                let z = cam.measure(&x).unwrap() + SVector::<f64, 2>::new(2e-3, -1e-3);
+                let (xr, pr, info) = f.sensor_update(&x, &p, &cam, &z).unwrap();
+                let (xf, pf, nis) = full(&f, &x, &p, &cam, &z);
+                assert!(close((&xr, &pr), (&xf, &pf), &p), "camera {frame:?}");
+                assert!((info.nis - nis).abs() <= 1e-9 * nis.max(1.0));
+                assert_eq!(info.dof, if k == 0 { 1 } else { 2 });
+                let gnss = Modelled {
+                    model: CartesianSensor { frame, sigma: 0.05 },
+                    noise: SensorNoise::gaussian([0.05; 3]),
+                };
+                let z = gnss.measure(&x).unwrap() + Vec3::new(0.1, -0.03, 0.02);
+                let (xr, pr, _) = f.sensor_update(&x, &p, &gnss, &z).unwrap();
+                let (xf, pf, _) = full(&f, &x, &p, &gnss, &z);
+                assert!(close((&xr, &pr), (&xf, &pf), &p), "GNSS {frame:?}");
+                let vel = VelocitySensor::gaussian(frame, 5e-4);
+                let z = vel.measure(&x).unwrap() + Vec3::new(1e-3, 0.0, -5e-4);
+                let (xr, pr, _) = f.sensor_update(&x, &p, &vel, &z).unwrap();
+                let (xf, pf, _) = full(&f, &x, &p, &vel, &z);
+                assert!(close((&xr, &pr), (&xf, &pf), &p), "velocity {frame:?}");
+                checked += 1;
+            }
+        }
+        assert_eq!(checked, 20 * Frame::ALL.len());
     }
 
     /// The shared-factor update ([`SharedPrior`]) equals [`Ukf::measurement_update_factored`]

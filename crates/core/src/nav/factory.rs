@@ -113,6 +113,26 @@ impl Persist for AnyFilter {
     }
 }
 
+impl AnyFilter {
+    /// The update with `sensor`'s reading `z`, then the time update, committed together
+    /// (the EKF and the UKF: `update_sensor_predict`, no snapshot); `None` for the other
+    /// filters, whose callers take a snapshot and the two steps.
+    #[inline(always)]
+    pub(crate) fn update_sensor_predict<const D: usize, S: Sensor<D> + ?Sized>(
+        &mut self,
+        sensor: &S,
+        z: &SVector<f64, D>,
+        model: &DiscreteModel,
+        accel: &Vec3,
+    ) -> Option<Result<SensorUpdate<D>, FilterError>> {
+        match self {
+            AnyFilter::Ekf(f) => Some(f.update_sensor_predict(sensor, z, model, accel)),
+            AnyFilter::Ukf(f) => Some(f.update_sensor_predict(sensor, z, model, accel)),
+            _ => None,
+        }
+    }
+}
+
 impl Estimator for AnyFilter {
     fn predict(&mut self, model: &DiscreteModel, accel: &Vec3) -> Result<(), FilterError> {
         match self {

@@ -586,6 +586,11 @@ impl Navigator {
         }
         self.check_not_failed()?;
         self.discrete(dt);
+        // one reading: the EKF's and UKF's update and prediction commit together, as the
+        // radio's step does (no snapshot)
+        if measurement.is_none() && self.step_one(thrust, &declared, readings, dt)? {
+            return Ok(());
+        }
         // several updates: the step's small snapshot to restore (not a copy of the whole
         // filter, as large as the AQUKF's window); the particle filters' updates are each
         // transactional
@@ -648,6 +653,53 @@ impl Navigator {
             }
         }
         result
+    }
+
+    /// [`Navigator::step_all`] with exactly one reading (of a declared or an added sensor)
+    /// and a filter with a fused update and prediction: the step done, `Ok(true)`;
+    /// otherwise `Ok(false)` and nothing changed. On error nothing changed either.
+    #[inline(always)]
+    fn step_one(
+        &mut self,
+        thrust: &[f64; 3],
+        declared: &[Option<&[f64]>; 3],
+        readings: &[Option<&[f64]>],
+        dt: f64,
+    ) -> Result<bool, NavError> {
+        let mut given = declared
+            .iter()
+            .enumerate()
+            .filter_map(|(i, z)| z.map(|z| (Some(i), None, z)))
+            .chain(
+                readings
+                    .iter()
+                    .take(self.sensors.len())
+                    .enumerate()
+                    .filter_map(|(i, z)| z.map(|z| (None, Some(i), z))),
+            );
+        let (Some((declared_i, added_i, z)), None) = (given.next(), given.next()) else {
+            return Ok(false);
+        };
+        let sensor = match (declared_i, added_i) {
+            (Some(i), _) => &self.declared[i],
+            (_, Some(i)) => &self.sensors[i],
+            _ => return Ok(false),
+        };
+        let accel = canonical_accel(&self.cfg, thrust);
+        let Some(r) = sensor.apply_predict(&mut self.filter, z, &self.step_cache, &accel) else {
+            return Ok(false);
+        };
+        let report = r?;
+        self.t += dt;
+        let mut nis = [f64::NAN; 4];
+        if let Some(i) = declared_i {
+            nis[i + 1] = report.nis;
+        }
+        if let Some(i) = added_i {
+            self.reports[i] = Some(report);
+        }
+        self.step_nis = nis;
+        Ok(true)
     }
 
     /// Back to the initial estimate. A particle filter is rebuilt from its settings (new

@@ -5,8 +5,10 @@
 //! dimensions; [`Named`] makes any [`Sensor`] one.
 
 use super::factory::AnyFilter;
+use crate::dynamics::DiscreteModel;
 use crate::estimators::{Estimator, FilterError};
 use crate::sensors::Sensor;
+use crate::types::Vec3;
 use nalgebra::SVector;
 
 /// What an update by one of the navigator's sensors reports.
@@ -30,6 +32,16 @@ pub trait NavSensor: Send + Sync + std::fmt::Debug {
     /// The update of `filter` with the reading `z` (checked) through the generic path
     /// ([`Estimator::update_sensor`]).
     fn apply(&self, filter: &mut AnyFilter, z: &[f64]) -> Result<SensorReport, FilterError>;
+    /// [`NavSensor::apply`] then the time update through `model` with `accel`, committed
+    /// together, for the filters that have that fused step (the EKF and the UKF); `None`
+    /// for the others (nothing done).
+    fn apply_predict(
+        &self,
+        filter: &mut AnyFilter,
+        z: &[f64],
+        model: &DiscreteModel,
+        accel: &Vec3,
+    ) -> Option<Result<SensorReport, FilterError>>;
 }
 
 /// A [`Sensor`] of `D` components with a name: a [`NavSensor`].
@@ -79,5 +91,22 @@ impl<const D: usize, S: Sensor<D> + Send + std::fmt::Debug> NavSensor for Named<
             nis: info.nis,
             dof: info.dof,
         })
+    }
+    fn apply_predict(
+        &self,
+        filter: &mut AnyFilter,
+        z: &[f64],
+        model: &DiscreteModel,
+        accel: &Vec3,
+    ) -> Option<Result<SensorReport, FilterError>> {
+        if z.len() != D {
+            return Some(Err(FilterError::Unsupported("reading of the wrong length")));
+        }
+        let z = SVector::from_column_slice(z);
+        let r = filter.update_sensor_predict(&self.sensor, &z, model, accel)?;
+        Some(r.map(|info| SensorReport {
+            nis: info.nis,
+            dof: info.dof,
+        }))
     }
 }

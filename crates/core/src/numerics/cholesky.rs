@@ -85,6 +85,76 @@ pub(crate) fn chol3(s: &Mat3) -> Option<Chol3> {
     })
 }
 
+/// Lower Cholesky factor of a symmetric `D x D` matrix (`D` small: a sensor's innovation
+/// covariance) from its lower triangle, with the reciprocals of its diagonal, on the stack;
+/// `None` for a zero, negative or NaN pivot (as [`chol3`]). The loops have constant bounds
+/// and unroll.
+#[inline(always)]
+#[allow(clippy::needless_range_loop)] // triangular loops, written as the formulas
+pub(crate) fn chol_small<const D: usize>(s: &nalgebra::SMatrix<f64, D, D>) -> Option<CholSmall<D>> {
+    let mut l = [[0.0; D]; D];
+    let mut inv = [0.0; D];
+    for j in 0..D {
+        let mut d = s[(j, j)];
+        for k in 0..j {
+            d -= l[j][k] * l[j][k];
+        }
+        if !(d > 0.0) {
+            return None;
+        }
+        let root = d.sqrt();
+        l[j][j] = root;
+        inv[j] = 1.0 / root;
+        for i in j + 1..D {
+            let mut v = s[(i, j)];
+            for k in 0..j {
+                v -= l[i][k] * l[j][k];
+            }
+            l[i][j] = v * inv[j];
+        }
+    }
+    Some(CholSmall { l, inv })
+}
+
+/// A factor from [`chol_small`]: `l[i][j]` row `i`, column `j` (lower), and the reciprocals
+/// of the diagonal.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct CholSmall<const D: usize> {
+    l: [[f64; D]; D],
+    inv: [f64; D],
+}
+
+#[allow(clippy::needless_range_loop)] // triangular loops, written as the formulas
+impl<const D: usize> CholSmall<D> {
+    /// `y = L^-1 b` (forward substitution).
+    #[inline(always)]
+    pub(crate) fn forward(&self, b: &[f64; D]) -> [f64; D] {
+        let mut y = [0.0; D];
+        for i in 0..D {
+            let mut v = b[i];
+            for k in 0..i {
+                v -= self.l[i][k] * y[k];
+            }
+            y[i] = v * self.inv[i];
+        }
+        y
+    }
+
+    /// `S^-1 b`: forward, then back substitution (`x = L^-T y`).
+    #[inline(always)]
+    pub(crate) fn solve(&self, b: &[f64; D]) -> [f64; D] {
+        let mut x = self.forward(b);
+        for i in (0..D).rev() {
+            let mut v = x[i];
+            for k in i + 1..D {
+                v -= self.l[k][i] * x[k];
+            }
+            x[i] = v * self.inv[i];
+        }
+        x
+    }
+}
+
 /// A 3 x 3 Cholesky factor from [`chol3`]: the strictly lower entries and the reciprocals
 /// of the diagonal.
 #[derive(Debug, Clone, Copy)]

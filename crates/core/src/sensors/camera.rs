@@ -5,8 +5,12 @@
 //! `Modelled<CartesianSensor>` ([`super::CartesianSensor`] with a [`SensorNoise`]), which
 //! fixes the position.
 
-use super::{wrap_2pi, wrap_pi, GeometryError, Linearization, RadioSensor, Sensor, SensorNoise};
+use super::{
+    wrap_2pi, wrap_pi, GeometryError, Linearization, MeasurementModel, RadioSensor, Sensor,
+    SensorNoise, Support,
+};
 use crate::frames::Frame;
+use crate::noise::NoiseModel;
 use crate::types::{State, Vec3};
 use nalgebra::{SMatrix, SVector};
 use std::f64::consts::FRAC_PI_2;
@@ -31,6 +35,25 @@ impl CameraSensor {
             frame,
             noise: SensorNoise::gaussian([sigma; 2]),
         }
+    }
+
+    /// A reading of the canonical state `x` with additive noise from the density `noise`,
+    /// scaled by `sigma[i]` (azimuth, then elevation, drawn in that order; `ar` the AR(1)
+    /// model's previous samples), the azimuth wrapped to `[0, 2 pi)` and the elevation
+    /// clamped to `[-pi/2, pi/2]` as the radio's ([`RadioSensor::measure_with`]). `None` at
+    /// zero range (nothing drawn). The truth of the evaluation engine and of the plant FMU.
+    pub fn measure_with<R: rand::Rng + ?Sized>(
+        &self,
+        x: &State,
+        noise: &NoiseModel,
+        sigma: &[f64; 2],
+        ar: &mut [f64; 2],
+        rng: &mut R,
+    ) -> Option<[f64; 2]> {
+        let z = self.measure(x)?;
+        let az = z[0] + noise.sample(sigma[0], &mut ar[0], rng);
+        let el = z[1] + noise.sample(sigma[1], &mut ar[1], rng);
+        Some([wrap_2pi(az), el.clamp(-FRAC_PI_2, FRAC_PI_2)])
     }
 
     /// The radio whose angles these are (its range noise is not used).
@@ -79,6 +102,12 @@ impl Sensor<2> for CameraSensor {
     fn noise(&self) -> SensorNoise<2> {
         self.noise
     }
+    fn support(&self) -> Support {
+        Support::Position
+    }
+    fn used(&self, x: &State) -> Result<[bool; 2], GeometryError> {
+        Ok([self.radio().azimuth_usable(&position(x))?, true])
+    }
     fn check(&self, z: &SVector<f64, 2>) -> Result<(), String> {
         if !(z[0].is_finite() && z[1].is_finite()) {
             return Err(format!(
@@ -115,6 +144,20 @@ impl VelocitySensor {
     }
 }
 
+/// `v + n` with `n_i` drawn from the density `noise` scaled by `sigma[i]`, in component
+/// order (`ar`: the AR(1) model's previous samples): a noisy reading of a linear sensor
+/// (relative GNSS's position and velocity, in the truth of the evaluation engine and of the
+/// plant FMU).
+pub fn add_noise<R: rand::Rng + ?Sized>(
+    v: &Vec3,
+    noise: &NoiseModel,
+    sigma: &[f64; 3],
+    ar: &mut [f64; 3],
+    rng: &mut R,
+) -> [f64; 3] {
+    std::array::from_fn(|i| v[i] + noise.sample(sigma[i], &mut ar[i], rng))
+}
+
 impl Sensor<3> for VelocitySensor {
     fn measure(&self, x: &State) -> Option<Vec3> {
         Some(self.frame.vec_from_canonical(&Vec3::new(x[3], x[4], x[5])))
@@ -131,6 +174,12 @@ impl Sensor<3> for VelocitySensor {
     }
     fn noise(&self) -> SensorNoise<3> {
         self.noise
+    }
+    fn support(&self) -> Support {
+        Support::Velocity
+    }
+    fn linear(&self) -> bool {
+        true
     }
 }
 

@@ -40,6 +40,9 @@ impl MeasurementModel for CartesianSensor {
     fn noise_cov(&self) -> Mat3 {
         Mat3::identity() * (self.sigma * self.sigma)
     }
+    fn linear(&self) -> bool {
+        true
+    }
     fn invert(&self, z: &Vec3) -> Option<Vec3> {
         Some(self.frame.vec_to_canonical(z))
     }

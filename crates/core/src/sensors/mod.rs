@@ -45,10 +45,10 @@ mod sensor;
 
 pub(crate) use angles::ASIN_SERIES_MAX;
 pub use angles::{asin_series, asin_small, wrap_2pi, wrap_pi, AngleTrig};
-pub use camera::{CameraSensor, VelocitySensor};
+pub use camera::{add_noise, CameraSensor, VelocitySensor};
 pub use cartesian::CartesianSensor;
 pub use radio::RadioSensor;
-pub use sensor::{Linearization, Modelled, Sensor, SensorNoise};
+pub use sensor::{Linearization, Modelled, Sensor, SensorNoise, Support};
 
 use crate::types::{Mat3, Mat36, Vec3};
 
@@ -175,6 +175,11 @@ pub trait MeasurementModel: Sync {
             *di = self.diff(di, &z_hat);
         }
         Some(z_hat)
+    }
+    /// Whether the model is linear in the position, `z = H r` with a constant `H` (default:
+    /// false; the Cartesian position sensor).
+    fn linear(&self) -> bool {
+        false
     }
     /// [`Geometry::azimuth_usable`] at `r` without the Jacobian (default: from
     /// [`MeasurementModel::linearize`]).

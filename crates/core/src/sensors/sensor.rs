@@ -68,6 +68,20 @@ impl<const D: usize> SensorNoise<D> {
     }
 }
 
+/// The part of the canonical state a measurement depends on. A Kalman update multiplies
+/// only the Jacobian's columns of that part (the others are zero), and the unscented
+/// update of a position measurement measures only the sigma points whose positions differ
+/// from the centre's.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Support {
+    /// Position and velocity (no structure assumed).
+    Full,
+    /// The position alone (`h(x)` depends on `x[0..3]`).
+    Position,
+    /// The velocity alone (`h(x)` depends on `x[3..6]`).
+    Velocity,
+}
+
 /// A measurement linearised at a state.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Linearization<const D: usize> {
@@ -101,6 +115,23 @@ pub trait Sensor<const D: usize>: Sync {
     }
     /// The measurement noise.
     fn noise(&self) -> SensorNoise<D>;
+    /// The part of the state `h` depends on (default: [`Support::Full`]). A sensor that
+    /// declares [`Support::Position`] or [`Support::Velocity`] must have zero Jacobian
+    /// columns outside it.
+    fn support(&self) -> Support {
+        Support::Full
+    }
+    /// Whether `h` is linear, `h(x) = H x` with a constant `H` (default: false). The
+    /// unscented update of a linear measurement is the Kalman update, which the UKF then
+    /// computes in closed form.
+    fn linear(&self) -> bool {
+        false
+    }
+    /// The components that carry information at `x` ([`Linearization::used`]; default:
+    /// through [`Sensor::linearize`]), for the updates that need no Jacobian.
+    fn used(&self, x: &State) -> Result<[bool; D], GeometryError> {
+        self.linearize(x).map(|l| l.used)
+    }
     /// The linearisation at `x` and the innovation `z - h(x)`, with the components not
     /// used dropped (zero row of `H`, zero residual: their gain column vanishes), as every
     /// linearised update takes them.
@@ -188,6 +219,16 @@ impl<M: MeasurementModel> Sensor<3> for Modelled<M> {
     }
     fn noise(&self) -> SensorNoise<3> {
         self.noise
+    }
+    fn support(&self) -> Support {
+        Support::Position
+    }
+    fn linear(&self) -> bool {
+        self.model.linear()
+    }
+    fn used(&self, x: &State) -> Result<[bool; 3], GeometryError> {
+        let usable = self.model.azimuth_usable(&position(x))?;
+        Ok([true, usable, true])
     }
     fn position_fix(&self, z: &Vec3) -> Option<Vec3> {
         self.model.invert(z)

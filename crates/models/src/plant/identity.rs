@@ -33,6 +33,22 @@ mod io {
         TRUE_VZ = 35: "true_vz", Output, Continuous, Real("m/s"), 0.0, "True relative velocity vz";
         FMI_STATUS = 36: "fmi_status", Output, Discrete, Integer, 0.0,
         "Worst fmi2Status this instance has returned since fmi2Instantiate or fmi2Reset: 0 fmi2OK, 3 fmi2Error, 4 fmi2Fatal (the reason is logged under logStatusError)";
+        CAMERA_AZIMUTH = 50: "camera_azimuth", Output, Discrete, Real("rad"), 0.0,
+        "Camera line-of-sight azimuth atan2(y, x) in [0, 2 pi) at the last camera time (with noise; connect to relnav's camera_azimuth)";
+        CAMERA_ELEVATION = 51: "camera_elevation", Output, Discrete, Real("rad"), 0.0,
+        "Camera line-of-sight elevation in [-pi/2, pi/2] at the last camera time (with noise)";
+        CAMERA_VALID = 52: "camera_valid", Output, Discrete, Boolean, 0.0,
+        "True when camera_azimuth/camera_elevation hold a reading taken at this communication point with the true range inside [camera_min_range, camera_max_range) (connect to relnav's camera_valid)";
+        GNSS_X = 53: "gnss_x", Output, Discrete, Real("m"), 0.0, "Relative GNSS position x at the last GNSS time (with noise)";
+        GNSS_Y = 54: "gnss_y", Output, Discrete, Real("m"), 0.0, "Relative GNSS position y at the last GNSS time (with noise)";
+        GNSS_Z = 55: "gnss_z", Output, Discrete, Real("m"), 0.0, "Relative GNSS position z at the last GNSS time (with noise)";
+        GNSS_VX = 56: "gnss_vx", Output, Discrete, Real("m/s"), 0.0, "Relative GNSS velocity vx at the last GNSS time (with noise)";
+        GNSS_VY = 57: "gnss_vy", Output, Discrete, Real("m/s"), 0.0, "Relative GNSS velocity vy at the last GNSS time (with noise)";
+        GNSS_VZ = 58: "gnss_vz", Output, Discrete, Real("m/s"), 0.0, "Relative GNSS velocity vz at the last GNSS time (with noise)";
+        GNSS_VALID = 59: "gnss_valid", Output, Discrete, Boolean, 0.0,
+        "True when gnss_x/y/z hold a reading taken at this communication point outside the GNSS outage (connect to relnav's gnss_valid)";
+        GNSS_VELOCITY_VALID = 60: "gnss_velocity_valid", Output, Discrete, Boolean, 0.0,
+        "True when gnss_vx/vy/vz hold such a reading (equal to gnss_valid: position and velocity come together; connect to relnav's gnss_velocity_valid)";
     }
 }
 
@@ -68,6 +84,17 @@ pub mod vr {
         SEED = "seed",
         ECCENTRICITY = "eccentricity",
         TRUE_ANOMALY0 = "true_anomaly0",
+        RADIO_MIN_RANGE = "radio_min_range",
+        RADIO_MAX_RANGE = "radio_max_range",
+        CAMERA_PERIOD = "camera_period",
+        SIGMA_CAMERA = "sigma_camera",
+        CAMERA_MIN_RANGE = "camera_min_range",
+        CAMERA_MAX_RANGE = "camera_max_range",
+        GNSS_PERIOD = "gnss_period",
+        SIGMA_GNSS = "sigma_gnss",
+        SIGMA_GNSS_VELOCITY = "sigma_gnss_velocity",
+        GNSS_OUTAGE_START = "gnss_outage_start",
+        GNSS_OUTAGE_STOP = "gnss_outage_stop",
     }
 }
 
@@ -77,7 +104,7 @@ pub fn io_variables() -> &'static [VarDef] {
 }
 
 /// Number of variables.
-pub const N_VARS: usize = 39;
+pub const N_VARS: usize = 61;
 
 /// Every variable; the value reference is the index.
 pub static VARIABLES: LazyLock<Vec<VarDef>> =
@@ -90,7 +117,9 @@ pub static INFO: LazyLock<ModelInfo> = LazyLock::new(|| ModelInfo {
 target on a circular orbit (exact Clohessy-Wiltshire, or two-body + J2 of both spacecraft) \
 driven by its thrust, and a radio or lidar sensor measuring range, azimuth and elevation \
 every measurement_period with Gaussian, contaminated-Gaussian or Student-t noise and \
-dropouts; outputs the measurement for relnav.fmu and the true state",
+dropouts, a camera (line of sight) and relative GNSS (position and velocity) each at its own \
+period with Gaussian noise, each sensor available over its range interval or outside its \
+outage; outputs the readings for relnav.fmu and the true state",
     variables: VARIABLES.as_slice(),
     default_experiment: DefaultExperiment {
         start: 0.0,

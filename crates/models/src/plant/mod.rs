@@ -5,7 +5,8 @@
 //! over `[t, t + h)`; afterwards `true_*` is the true state at `t + h` and, when a measurement
 //! was due at `t + h`, `range`/`azimuth`/`elevation` hold it and `measurement_valid` says
 //! whether it reached the navigation (they keep the last measurement otherwise, with
-//! `measurement_valid` false). At initialisation the outputs describe the start time (a
+//! `measurement_valid` false); the camera's (`camera_*`) and the GNSS's (`gnss_*`) readings
+//! the same way on their own schedules. At initialisation the outputs describe the start time (a
 //! measurement is due there). No output depends on the inputs of the same communication
 //! point (no direct feedthrough).
 
@@ -60,7 +61,53 @@ fn publish(plant: &mut Plant, values: &mut [f64], t: f64) {
         None => false,
     };
     values[vr::MEASUREMENT_VALID as usize] = f64::from(u8::from(valid));
+    let valid = match plant.sample_camera(t) {
+        Some(s) => {
+            if let Some(z) = s.z {
+                values[vr::CAMERA_AZIMUTH as usize] = z[0];
+                values[vr::CAMERA_ELEVATION as usize] = z[1];
+            }
+            s.valid
+        }
+        None => false,
+    };
+    values[vr::CAMERA_VALID as usize] = f64::from(u8::from(valid));
+    let valid = match plant.sample_gnss(t) {
+        Some(s) => {
+            for (r, v) in GNSS_OUT.iter().zip(s.position.iter().chain(&s.velocity)) {
+                values[*r as usize] = *v;
+            }
+            s.valid
+        }
+        None => false,
+    };
+    values[vr::GNSS_VALID as usize] = f64::from(u8::from(valid));
+    values[vr::GNSS_VELOCITY_VALID as usize] = f64::from(u8::from(valid));
 }
+
+const GNSS_OUT: [u32; 6] = [
+    vr::GNSS_X,
+    vr::GNSS_Y,
+    vr::GNSS_Z,
+    vr::GNSS_VX,
+    vr::GNSS_VY,
+    vr::GNSS_VZ,
+];
+
+/// The readings' outputs (NaN while the parameters are invalid) and their flags.
+const READINGS: [u32; 11] = [
+    vr::RANGE,
+    vr::AZIMUTH,
+    vr::ELEVATION,
+    vr::CAMERA_AZIMUTH,
+    vr::CAMERA_ELEVATION,
+    vr::GNSS_X,
+    vr::GNSS_Y,
+    vr::GNSS_Z,
+    vr::GNSS_VX,
+    vr::GNSS_VY,
+    vr::GNSS_VZ,
+];
 
 impl Model for PlantFmu {
     fn info() -> &'static ModelInfo {
@@ -98,10 +145,17 @@ impl Model for PlantFmu {
                 for (r, xi) in TRUE_OUT.iter().zip(x0) {
                     values[*r as usize] = xi;
                 }
-                for r in [vr::RANGE, vr::AZIMUTH, vr::ELEVATION] {
+                for r in READINGS {
                     values[r as usize] = f64::NAN;
                 }
-                values[vr::MEASUREMENT_VALID as usize] = 0.0;
+                for r in [
+                    vr::MEASUREMENT_VALID,
+                    vr::CAMERA_VALID,
+                    vr::GNSS_VALID,
+                    vr::GNSS_VELOCITY_VALID,
+                ] {
+                    values[r as usize] = 0.0;
+                }
             }
         }
     }
