@@ -25,7 +25,8 @@ VENV="$ROOT/.venv"
 REQ="$ROOT/scripts/requirements.txt"
 PYTHON="${PYTHON:-python3}"
 
-log() { printf '[setup] %s\n' "$*"; }
+# each line with the seconds since the set-up started (where its time goes, for the CI budget)
+log() { printf '[setup %4ds] %s\n' "$SECONDS" "$*"; }
 
 # ---------------------------------------------------------------- system packages
 SUDO=()
