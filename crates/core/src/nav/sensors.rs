@@ -6,7 +6,7 @@
 
 use super::factory::AnyFilter;
 use crate::dynamics::DiscreteModel;
-use crate::estimators::{Estimator, FilterError};
+use crate::estimators::{Estimator, FilterError, SensorUpdate};
 use crate::sensors::Sensor;
 use crate::types::Vec3;
 use nalgebra::SVector;
@@ -18,6 +18,15 @@ pub struct SensorReport {
     pub nis: f64,
     /// Components used (its degrees of freedom).
     pub dof: usize,
+}
+
+impl<const D: usize> From<SensorUpdate<D>> for SensorReport {
+    fn from(u: SensorUpdate<D>) -> Self {
+        Self {
+            nis: u.nis,
+            dof: u.dof,
+        }
+    }
 }
 
 /// A sensor as the navigator holds it: its name (in messages), its dimension, the check of
@@ -86,11 +95,9 @@ impl<const D: usize, S: Sensor<D> + Send + std::fmt::Debug> NavSensor for Named<
         if z.len() != D {
             return Err(FilterError::Unsupported("reading of the wrong length"));
         }
-        let info = filter.update_sensor(&self.sensor, &SVector::from_column_slice(z))?;
-        Ok(SensorReport {
-            nis: info.nis,
-            dof: info.dof,
-        })
+        filter
+            .update_sensor(&self.sensor, &SVector::from_column_slice(z))
+            .map(SensorReport::from)
     }
     fn apply_predict(
         &self,
@@ -104,9 +111,6 @@ impl<const D: usize, S: Sensor<D> + Send + std::fmt::Debug> NavSensor for Named<
         }
         let z = SVector::from_column_slice(z);
         let r = filter.update_sensor_predict(&self.sensor, &z, model, accel)?;
-        Some(r.map(|info| SensorReport {
-            nis: info.nis,
-            dof: info.dof,
-        }))
+        Some(r.map(SensorReport::from))
     }
 }
