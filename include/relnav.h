@@ -196,7 +196,7 @@ typedef struct relnav_config {
   // Allowed: > 0.
   // Default: 0.00017453292519943296.
   double sigma_angle;
-  // Initial estimate (x, y, z [m], vx, vy, vz [m/s]) in the I/O frame; |x0_i| + 100 sigma (of its group, sigma_pos0 or sigma_vel0) must not exceed 1e150.
+  // Initial estimate (x, y, z [m], vx, vy, vz [m/s]) in the I/O frame; |x0_i| + 100 sigma (of its group: the larger of sigma_pos0 and sigma_range0, or sigma_vel0) must not exceed 1e150.
   // `[0]` x0 [m]
   // `[1]` y0 [m]
   // `[2]` z0 [m]
@@ -381,6 +381,15 @@ typedef struct relnav_config {
   // Allowed: > 0.
   // Default: 0.0005.
   double sigma_gnss_velocity;
+  // Kalman-type filters (codes 1-3, 10): number of members of a range-parameterised bank (1: the filter alone; 2..9: the prior split along its line of sight into a Gaussian sum, one filter per term, weighted by its measurements; for angles-only acquisition, where one filter's range collapses early).
+  // Allowed: 1..=9.
+  // Default: 1.
+  int32_t range_bank;
+  // Initial position uncertainty along the line of sight of x0 (the range), 1 sigma (>= 0; 0: sigma_pos0, the same on every axis); sigma_pos0 is then the uncertainty across it.
+  // Unit: m.
+  // Allowed: >= 0.
+  // Default: 0.
+  double sigma_range0;
 } relnav_config;
 
 // How the H-infinity filter of an estimator (filter code 9) was designed

@@ -133,7 +133,7 @@ pub struct relnav_config {
     /// Allowed: > 0.
     /// Default: 0.00017453292519943296.
     pub sigma_angle: f64,
-    /// Initial estimate (x, y, z [m], vx, vy, vz [m/s]) in the I/O frame; |x0_i| + 100 sigma (of its group, sigma_pos0 or sigma_vel0) must not exceed 1e150.
+    /// Initial estimate (x, y, z [m], vx, vy, vz [m/s]) in the I/O frame; |x0_i| + 100 sigma (of its group: the larger of sigma_pos0 and sigma_range0, or sigma_vel0) must not exceed 1e150.
     /// `[0]` x0 [m]
     /// `[1]` y0 [m]
     /// `[2]` z0 [m]
@@ -318,6 +318,15 @@ pub struct relnav_config {
     /// Allowed: > 0.
     /// Default: 0.0005.
     pub sigma_gnss_velocity: f64,
+    /// Kalman-type filters (codes 1-3, 10): number of members of a range-parameterised bank (1: the filter alone; 2..9: the prior split along its line of sight into a Gaussian sum, one filter per term, weighted by its measurements; for angles-only acquisition, where one filter's range collapses early).
+    /// Allowed: 1..=9.
+    /// Default: 1.
+    pub range_bank: i32,
+    /// Initial position uncertainty along the line of sight of x0 (the range), 1 sigma (>= 0; 0: sigma_pos0, the same on every axis); sigma_pos0 is then the uncertainty across it.
+    /// Unit: m.
+    /// Allowed: >= 0.
+    /// Default: 0.
+    pub sigma_range0: f64,
 }
 
 impl relnav_config {
@@ -371,6 +380,8 @@ impl relnav_config {
         sigma_camera: 0.0,
         sigma_gnss: 0.0,
         sigma_gnss_velocity: 0.0,
+        range_bank: 0,
+        sigma_range0: 0.0,
     };
 
     /// Element `i` of parameter `k` (its index in the table).
@@ -424,6 +435,8 @@ impl relnav_config {
             45 => Value::Real(self.sigma_camera),
             46 => Value::Real(self.sigma_gnss),
             47 => Value::Real(self.sigma_gnss_velocity),
+            48 => Value::Int(i64::from(self.range_bank)),
+            49 => Value::Real(self.sigma_range0),
             _ => return None,
         })
     }
@@ -480,6 +493,8 @@ impl relnav_config {
             45 => self.sigma_camera = v.as_f64(),
             46 => self.sigma_gnss = v.as_f64(),
             47 => self.sigma_gnss_velocity = v.as_f64(),
+            48 => self.range_bank = v.as_int().map_or(i32::MAX, |x| i32::try_from(x).unwrap_or(i32::MAX)),
+            49 => self.sigma_range0 = v.as_f64(),
             _ => {}
         }
     }

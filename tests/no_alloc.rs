@@ -65,18 +65,23 @@ fn library_and_c_abi_steps_do_not_allocate() {
         allocations(|| drop(std::hint::black_box(Box::new(1u64)))),
         1
     );
-    // the AQUKF with both laws, the IMM
-    for (filter, law) in [
-        (FilterKind::Ekf, AdaptationLaw::Gated),
-        (FilterKind::Ukf, AdaptationLaw::Gated),
-        (FilterKind::Aqukf, AdaptationLaw::Gated),
-        (FilterKind::Aqukf, AdaptationLaw::Window),
-        (FilterKind::Imm, AdaptationLaw::Gated),
+    // the AQUKF with both laws, the IMM, range-parameterised banks
+    for (filter, law, bank) in [
+        (FilterKind::Ekf, AdaptationLaw::Gated, 1),
+        (FilterKind::Ukf, AdaptationLaw::Gated, 1),
+        (FilterKind::Aqukf, AdaptationLaw::Gated, 1),
+        (FilterKind::Aqukf, AdaptationLaw::Window, 1),
+        (FilterKind::Imm, AdaptationLaw::Gated, 1),
+        (FilterKind::Ekf, AdaptationLaw::Gated, 5),
+        (FilterKind::Ukf, AdaptationLaw::Gated, 3),
+        (FilterKind::Aqukf, AdaptationLaw::Gated, 2),
+        (FilterKind::Imm, AdaptationLaw::Gated, 3),
     ] {
         let cfg = NavConfig {
             filter,
             aq_law: law,
             accel_psd: 1e-9,
+            range_bank: bank,
             ..Default::default()
         };
         let mut nav = Navigator::new(&cfg).unwrap();
@@ -90,11 +95,15 @@ fn library_and_c_abi_steps_do_not_allocate() {
             nav.step(&[0.0; 3], None, 0.5).unwrap();
             nav.predict(&[0.0; 3], 2.0).unwrap();
         });
-        assert_eq!(n, 0, "{filter:?}: {n} allocations in library steps");
+        assert_eq!(
+            n, 0,
+            "{filter:?} (bank {bank}): {n} allocations in library steps"
+        );
 
         let mut c = ffi::relnav_config_default();
         c.filter = filter as i32;
         c.aq_law = law as i32;
+        c.range_bank = bank as _;
         let mut est = std::ptr::null_mut();
         // SAFETY: valid pointers.
         unsafe { ffi::relnav_estimator_new(&c, &mut est) };
@@ -120,7 +129,10 @@ fn library_and_c_abi_steps_do_not_allocate() {
         });
         // SAFETY: live handle, freed once.
         unsafe { ffi::relnav_estimator_free(est) };
-        assert_eq!(n, 0, "{filter:?}: {n} allocations in C-ABI steps");
+        assert_eq!(
+            n, 0,
+            "{filter:?} (bank {bank}): {n} allocations in C-ABI steps"
+        );
         if filter == FilterKind::Imm {
             assert!((mu.iter().sum::<f64>() - 1.0).abs() < 1e-12, "{mu:?}");
         }
@@ -480,11 +492,16 @@ fn declared_sensor_steps_do_not_allocate() {
     use relnav_core::nav::{Named, Readings};
     use relnav_core::sensors::VelocitySensor;
     use std::sync::Arc;
-    for filter in FilterKind::ALL {
+    let banks = [FilterKind::Ekf, FilterKind::Ukf, FilterKind::Imm].map(|f| (f, 3));
+    let singles = FilterKind::ALL.map(|f| (f, 1));
+    for (filter, bank) in singles.into_iter().chain(banks) {
         if filter == FilterKind::Hinf {
             continue;
         }
-        let cfg = sensor_config(filter);
+        let cfg = NavConfig {
+            range_bank: bank,
+            ..sensor_config(filter)
+        };
         let mut nav = Navigator::new(&cfg).unwrap();
         nav.add_sensor(Arc::new(Named::new(
             "velocity",
@@ -512,6 +529,9 @@ fn declared_sensor_steps_do_not_allocate() {
                     .unwrap();
             }
         });
-        assert_eq!(n, 0, "{filter:?}: {n} allocations in declared-sensor steps");
+        assert_eq!(
+            n, 0,
+            "{filter:?} (bank {bank}): {n} allocations in declared-sensor steps"
+        );
     }
 }

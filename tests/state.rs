@@ -94,6 +94,29 @@ fn config(kind: FilterKind) -> NavConfig {
     }
 }
 
+/// Every filter code alone, then the Kalman-type ones as range-parameterised banks.
+fn configs() -> Vec<(String, NavConfig)> {
+    let mut out: Vec<(String, NavConfig)> = FilterKind::ALL
+        .iter()
+        .map(|k| (format!("{k:?}"), config(*k)))
+        .collect();
+    for (kind, n) in [
+        (FilterKind::Ekf, 3),
+        (FilterKind::Ukf, 4),
+        (FilterKind::Aqukf, 2),
+        (FilterKind::Imm, 3),
+    ] {
+        out.push((
+            format!("{kind:?} bank of {n}"),
+            NavConfig {
+                range_bank: n,
+                ..config(kind)
+            },
+        ));
+    }
+    out
+}
+
 /// Every output of a navigator after a step, as bits (NaN-safe exact comparison).
 fn outputs(nav: &Navigator) -> Vec<u64> {
     let mut o: Vec<f64> = nav.state().iter().copied().collect();
@@ -123,8 +146,7 @@ fn step(nav: &mut Navigator, i: &Input) {
 /// the continuation is bit-identical, and a restored navigator saves the same bytes.
 #[test]
 fn every_filter_continues_bit_for_bit_after_a_restore() {
-    for kind in FilterKind::ALL {
-        let cfg = config(kind);
+    for (kind, cfg) in configs() {
         let inputs = scenario(&cfg);
         let mut nav = Navigator::new(&cfg).unwrap();
         let mut saved = Vec::new();
@@ -354,7 +376,7 @@ fn bad_states_are_refused_and_change_nothing() {
         let mut c = good.clone();
         c[8..12].copy_from_slice(&(STATE_FORMAT_VERSION + 1).to_le_bytes());
         reseal(&mut c, EST_HEADER);
-        refusal(&mut target, &c, "format version 4", "version");
+        refusal(&mut target, &c, "format version 5", "version");
         // another magic
         let mut c = good.clone();
         c[0] = b'X';
@@ -483,7 +505,7 @@ fn malformed_fields_are_refused() {
 #[test]
 fn sizes_follow_the_documented_layout() {
     assert_eq!(
-        STATE_FORMAT_VERSION, 3,
+        STATE_FORMAT_VERSION, 4,
         "update docs/state-format.md and this table"
     );
     let conf = conf_len();
@@ -493,10 +515,10 @@ fn sizes_follow_the_documented_layout() {
     let m6 = 36 * 8;
     let v6 = 6 * 8;
     let kalman = v6 + m6;
-    for kind in FilterKind::ALL {
-        let cfg = config(kind);
+    for (label, cfg) in configs() {
+        let kind = cfg.filter;
         let n = cfg.particles;
-        let filter = 4 + match kind {
+        let single = match kind {
             FilterKind::Ekf | FilterKind::Ukf => kalman,
             // q_vv, window position/fill/width and entries, then the gated law's NIS ring
             // (position/fill/width and (NIS, dof) entries), gate flag and inflation
@@ -512,13 +534,14 @@ fn sizes_follow_the_documented_layout() {
             // mode count, each mode's EKF, the mode probabilities, the combined estimate
             FilterKind::Imm => 8 + cfg.imm_modes * (kalman + 8) + kalman,
         };
+        // a bank: member count, each member's log-weight and tagged section, the mixture
+        let filter = 4 + if cfg.range_bank > 1 {
+            8 + cfg.range_bank * (8 + 4 + single) + kalman
+        } else {
+            single
+        };
         let mut nav = Navigator::new(&cfg).unwrap();
-        println!(
-            "filter {} {:6}: {} bytes",
-            kind as i32,
-            kind.name(),
-            nav.state_len()
-        );
+        println!("{label:18}: {} bytes", nav.state_len());
         assert_eq!(
             nav.state_len(),
             EST_HEADER + conf + navg + filter,
@@ -865,11 +888,11 @@ impl Drop for Fmu {
 /// same parameters: every continuation is bit-identical (every Real variable and the time).
 #[test]
 fn fmu_state_round_trip_for_every_filter() {
-    for kind in FilterKind::ALL {
-        let cfg = config(kind);
+    for (kind, cfg) in configs() {
         let inputs = scenario(&cfg);
         let a = Fmu::new();
-        assert_eq!(a.set_int(vr::FILTER, kind as i32), FOK);
+        assert_eq!(a.set_int(vr::FILTER, cfg.filter as i32), FOK);
+        assert_eq!(a.set_int(vr::RANGE_BANK, cfg.range_bank as i32), FOK);
         a.init();
         let k0 = 9;
         for (k, i) in inputs[..k0].iter().enumerate() {
@@ -903,7 +926,8 @@ fn fmu_state_round_trip_for_every_filter() {
         assert_eq!(b.serialize(b.get_state()), a.serialize(a.get_state()));
         // an instance initialised with the same parameters
         let c = Fmu::new();
-        assert_eq!(c.set_int(vr::FILTER, kind as i32), FOK);
+        assert_eq!(c.set_int(vr::FILTER, cfg.filter as i32), FOK);
+        assert_eq!(c.set_int(vr::RANGE_BANK, cfg.range_bank as i32), FOK);
         c.init();
         assert_eq!(c.step(0, &inputs[0]), FOK);
         let sc = c.deserialize(&bytes).unwrap();

@@ -81,6 +81,8 @@ class Estimator:
         sigma_camera: float = 0.001,
         sigma_gnss: float = 0.05,
         sigma_gnss_velocity: float = 0.0005,
+        range_bank: int = 1,
+        sigma_range0: float = 0.0,
     ) -> None:
         """Keyword arguments are the FMU's parameters (names, types, defaults):
 
@@ -143,6 +145,8 @@ class Estimator:
             sigma_camera [rad]: Camera (angles-only) azimuth and elevation noise, 1 sigma of the Gaussian (> 0): the readings camera_azimuth, camera_elevation.
             sigma_gnss [m]: Relative GNSS position noise per axis, 1 sigma of the Gaussian (> 0): the readings gnss_x, gnss_y, gnss_z.
             sigma_gnss_velocity [m/s]: Relative GNSS velocity noise per axis, 1 sigma of the Gaussian (> 0): the readings gnss_vx, gnss_vy, gnss_vz.
+            range_bank: Kalman-type filters (codes 1-3, 10): number of members of a range-parameterised bank (1: the filter alone; 2..9: the prior split along its line of sight into a Gaussian sum, one filter per term, weighted by its measurements; for angles-only acquisition, where one filter's range collapses early).
+            sigma_range0 [m]: Initial position uncertainty along the line of sight of x0 (the range), 1 sigma (>= 0; 0: sigma_pos0, the same on every axis); sigma_pos0 is then the uncertainty across it.
         """
     # --- parameters: end ---
     def step(

@@ -80,6 +80,9 @@ EXPECTED = {
     "sigma_camera": ("parameter", "fixed", "Real", "rad"),
     "sigma_gnss": ("parameter", "fixed", "Real", "m"),
     "sigma_gnss_velocity": ("parameter", "fixed", "Real", "m/s"),
+    # angles-only acquisition: a range-parameterised bank, the prior's range spread
+    "range_bank": ("parameter", "fixed", "Integer", None),
+    "sigma_range0": ("parameter", "fixed", "Real", "m"),
     "camera_azimuth": ("input", "discrete", "Real", "rad"),
     "camera_elevation": ("input", "discrete", "Real", "rad"),
     "camera_valid": ("input", "discrete", "Boolean", None),
@@ -159,6 +162,9 @@ DEFAULTS = {
     "sigma_camera": 1e-3,
     "sigma_gnss": 0.05,
     "sigma_gnss_velocity": 5e-4,
+    # one filter, the prior the same on every axis
+    "range_bank": 1,
+    "sigma_range0": 0.0,
 }
 
 FMI2_CS_FUNCTIONS = [

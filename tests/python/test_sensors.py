@@ -280,3 +280,43 @@ def test_multi_sensor_pcrlb_is_the_sum_of_each_sensors_information():
         np.testing.assert_allclose(bound[k], want, rtol=1e-6, err_msg=f"t = {k} s")
     # one run: the bound along its own truth is the same recursion
     np.testing.assert_array_equal(np.asarray(res.pcrlb_runs), bound)
+
+
+def test_range_bank_on_angles_only_acquisition(unzipdir):
+    """A camera alone on a V-bar hold 2 km behind, the range 300 m off its prior (600 m,
+    ``sigma_range0``), two known burns; truth propagated here (numpy's exact CW, no process
+    noise). relnav.fmu with ``range_bank`` = 7 and the Python package give the same bits;
+    before the burns the bank's ``range_sigma`` stays near the prior's (the range is
+    unobservable from angles), after them it falls below 10 % of it and the position error
+    lies within 3 of it."""
+    frame, steps, mass = 1, 2400, 100.0
+    times = np.arange(steps + 1.0)
+    force = cw.burn_thrust(times, 600.0, 660.0, [0.05, 0.0, 0.0]) + cw.burn_thrust(times, 1800.0, 1860.0, [-0.03, 0.05, 0.0])
+    x_true = cw.truth_trajectory(N, [2.0, -1700.0, -3.0, 0.0, 0.0, 0.0], times, force / mass)
+    rng = np.random.default_rng(35)
+    cam = cw.measure(x_true[:, :3])[:, 1:] + 1e-3 * rng.standard_normal((steps + 1, 2))
+    params = {"filter": 1, "frame": frame, "mean_motion": N, "chaser_mass": mass,
+              "x0": 0.0, "y0": -2000.0, "z0": 0.0, "vx0": 0.0, "vy0": 0.0, "vz0": 0.0,
+              "sigma_pos0": 20.0, "sigma_range0": 600.0, "sigma_vel0": 0.01, "sigma_camera": 1e-3,
+              "range_bank": 7, **QUIET}
+    s = Slave(unzipdir).start(params)
+    est = relnav.Estimator(**params)
+    rsig = []
+    for k in range(steps):
+        for name, v in zip(["thrust_x", "thrust_y", "thrust_z"], force[k]):
+            s.set(name, v)
+        s.set("camera_azimuth", cam[k, 0])
+        s.set("camera_elevation", cam[k, 1])
+        s.set("camera_valid", True)
+        s.fmu.doStep(float(k), 1.0)
+        est.step(force[k], None, 1.0, camera=cam[k])
+        row = s.real(OUTS)
+        assert est.state.tobytes() == row.tobytes(), k
+        rsig.append(s.real(["range_sigma"])[0])
+        if k == steps - 1:
+            err = np.linalg.norm(row[:3] - x_true[k + 1, :3])
+    s.free()
+    print("range sigma before the burns", rsig[590], "at the end", rsig[-1], "error", err)
+    assert 450.0 < rsig[590] < 650.0, rsig[590]
+    assert rsig[-1] < 60.0, rsig[-1]
+    assert err < 3.0 * rsig[-1], (err, rsig[-1])

@@ -22,7 +22,7 @@ STEPS = 40
 SAVE_AT = 15
 CODES = list(range(1, 11))
 # documented sizes with the default parameters (1500 particles, window 10)
-FMU_STATE_BYTES = {1: 1867, 2: 1867, 3: 2356, 4: 118111, 5: 118111, 6: 622111, 7: 118111, 8: 622111, 9: 3118, 10: 2907}
+FMU_STATE_BYTES = {1: 1899, 2: 1899, 3: 2388, 4: 118143, 5: 118143, 6: 622143, 7: 118143, 8: 622143, 9: 3150, 10: 2939}
 FMU_HEADER = 70
 EST_HEADER = 32
 
@@ -89,12 +89,12 @@ def parse_fmu_state(b: bytes, guid: str) -> dict:
 
 def parse_estimator_state(e: bytes) -> dict:
     magic, version, code, fingerprint, length, crc = struct.unpack_from("<8sIiIQI", e, 0)
-    assert magic == b"RELNAVES" and version == 3
+    assert magic == b"RELNAVES" and version == 4
     assert length == len(e) - EST_HEADER
     assert crc == zlib.crc32(e[:28] + e[EST_HEADER:])
     assert e[32:36] == b"CONF"
     (count,) = struct.unpack_from("<I", e, 36)
-    assert count == 60
+    assert count == 62
     conf = e[36 : 40 + 8 * count]
     assert fingerprint == zlib.crc32(conf)
     settings = e[40 : 40 + 8 * count]

@@ -179,6 +179,8 @@ pub mod vr {
         PF_THREADS = "pf_threads",
         ECCENTRICITY = "eccentricity",
         TRUE_ANOMALY0 = "true_anomaly0",
+        RANGE_BANK = "range_bank",
+        SIGMA_RANGE0 = "sigma_range0",
     }
 }
 
@@ -188,7 +190,7 @@ pub fn io_variables() -> &'static [VarDef] {
 }
 
 /// Number of variables.
-pub const N_VARS: usize = 105;
+pub const N_VARS: usize = 107;
 
 /// Every variable of relnav.fmu; the value reference is the index.
 pub static VARIABLES: LazyLock<Vec<VarDef>> =

@@ -16,6 +16,7 @@ use crate::types::{Mat6, State, Vec3};
 use nalgebra::SVector;
 
 pub mod aqukf;
+pub mod bank;
 mod covariance;
 pub mod ekf;
 pub mod imm;
@@ -25,6 +26,7 @@ pub mod ukf;
 pub use aqukf::{
     AdaptationLaw, AdaptiveQ, AdaptiveUkf, AqParams, Aqukf, MAX_GATE_WINDOW, MAX_WINDOW,
 };
+pub use bank::{Bank, Member, MAX_BANK};
 pub use ekf::Ekf;
 pub use imm::{Imm, ImmParams, MAX_MODES};
 pub use ukf::{Ukf, UkfParams};

@@ -31,7 +31,7 @@ use crate::dynamics::{CwModel, Discretization, MAX_ECCENTRICITY};
 use crate::estimators::pf::resample::Resampler;
 use crate::estimators::pf::{PfKind, PfParams, MAX_PARTICLES, MAX_THREADS};
 use crate::estimators::{
-    AdaptationLaw, AqParams, ImmParams, UkfParams, MAX_GATE_WINDOW, MAX_MODES, MAX_WINDOW,
+    AdaptationLaw, AqParams, ImmParams, UkfParams, MAX_BANK, MAX_GATE_WINDOW, MAX_MODES, MAX_WINDOW,
 };
 use crate::frames::Frame;
 use crate::noise::NoiseModel;
@@ -375,7 +375,7 @@ crate::config! {
             ("vz0", 12, "m/s", 0.1, "Initial estimate of vz"),
         ],
         rule: Rule::Finite, c: true, scenario: Some("initial_state"), slot: Some(6),
-        description: "Initial estimate (x, y, z [m], vx, vy, vz [m/s]) in the I/O frame; |x0_i| + 100 sigma (of its group, sigma_pos0 or sigma_vel0) must not exceed 1e150",
+        description: "Initial estimate (x, y, z [m], vx, vy, vz [m/s]) in the I/O frame; |x0_i| + 100 sigma (of its group: the larger of sigma_pos0 and sigma_range0, or sigma_vel0) must not exceed 1e150",
     },
     sigma_pos0: f64 {
         elements: [("sigma_pos0", 13, "m", 50.0, "")],
@@ -612,6 +612,16 @@ crate::config! {
         rule: Rule::Positive, c: true, scenario: NO_KEY, slot: Some(46),
         description: "Relative GNSS velocity noise per axis, 1 sigma of the Gaussian (> 0): the readings gnss_vx, gnss_vy, gnss_vz",
     },
+    range_bank: usize {
+        elements: [("range_bank", 105, "", 1, "")],
+        rule: Rule::Count { lo: 1, hi: MAX_BANK as i64 }, c: true, scenario: Some("range_bank"), slot: Some(47),
+        description: "Kalman-type filters (codes 1-3, 10): number of members of a range-parameterised bank (1: the filter alone; 2..9: the prior split along its line of sight into a Gaussian sum, one filter per term, weighted by its measurements; for angles-only acquisition, where one filter's range collapses early)",
+    },
+    sigma_range0: f64 {
+        elements: [("sigma_range0", 106, "m", 0.0, "")],
+        rule: Rule::NonNegative, c: true, scenario: Some("sigma_range0"), slot: Some(48),
+        description: "Initial position uncertainty along the line of sight of x0 (the range), 1 sigma (>= 0; 0: sigma_pos0, the same on every axis); sigma_pos0 is then the uncertainty across it",
+    },
 }
 
 /// One setting of a [`NavConfig`] as a saved state records it.
@@ -732,12 +742,49 @@ impl NavConfig {
             } else {
                 self.sigma_vel0
             };
+            let sigma = if i < 3 {
+                sigma.max(self.sigma_range0)
+            } else {
+                sigma
+            };
             if !(self.x0[i].abs() + 100.0 * sigma <= MAX_INITIAL_MAGNITUDE) {
                 return Err(NavError::invalid(format!(
                     "|{n}| + 100 sigma must not exceed {MAX_INITIAL_MAGNITUDE:e} (got {n} = {}, \
                      sigma {}): the initial estimate would overflow double precision",
                     num(self.x0[i]),
                     num(sigma)
+                )));
+            }
+        }
+        if self.sigma_range0 > 0.0 && self.x0[..3].iter().all(|v| *v == 0.0) {
+            return Err(NavError::invalid(format!(
+                "sigma_range0 = {} is the uncertainty along x0's line of sight: x0, y0, z0 \
+                 must not all be 0 (the target)",
+                num(self.sigma_range0)
+            )));
+        }
+        if self.range_bank > 1 {
+            let kalman = [
+                FilterKind::Ekf,
+                FilterKind::Ukf,
+                FilterKind::Aqukf,
+                FilterKind::Imm,
+            ];
+            if !kalman.contains(&self.filter) {
+                return Err(NavError::invalid(format!(
+                    "range_bank = {} needs a Kalman-type filter (1 ekf, 2 ukf, 3 aqukf, 10 imm; \
+                     got {} {}): the particle filters carry a non-Gaussian prior themselves \
+                     and the H-infinity filter's guarantee is for one estimator",
+                    self.range_bank,
+                    self.filter as i32,
+                    self.filter.name()
+                )));
+            }
+            if self.x0[..3].iter().all(|v| *v == 0.0) {
+                return Err(NavError::invalid(format!(
+                    "range_bank = {} splits the prior along its line of sight: x0, y0, z0 \
+                     must not all be 0 (the target)",
+                    self.range_bank
                 )));
             }
         }
@@ -1019,10 +1066,22 @@ impl NavConfig {
             .state_to_canonical(&State::from_row_slice(&self.x0))
     }
 
-    /// Initial covariance `diag(sigma_pos0^2 I3, sigma_vel0^2 I3)` (frame-independent).
+    /// Initial covariance in the canonical frame: `diag(sigma_pos0^2 I3, sigma_vel0^2 I3)`
+    /// (frame-independent), and with `sigma_range0 > 0` the position block
+    /// `sigma_pos0^2 I3 + (sigma_range0^2 - sigma_pos0^2) u u^T`, `u` the unit vector of
+    /// `x0`'s position (its line of sight from the target).
     pub fn initial_covariance(&self) -> Mat6 {
         let (p, v) = (self.sigma_pos0.powi(2), self.sigma_vel0.powi(2));
-        Mat6::from_diagonal(&State::from_row_slice(&[p, p, p, v, v, v]))
+        let mut c = Mat6::from_diagonal(&State::from_row_slice(&[p, p, p, v, v, v]));
+        let x = self.initial_state();
+        let r = Vec3::new(x[0], x[1], x[2]);
+        if self.sigma_range0 > 0.0 && r.norm() > 0.0 {
+            let u = r / r.norm();
+            let along = u * u.transpose() * (self.sigma_range0.powi(2) - p);
+            let mut block = c.fixed_view_mut::<3, 3>(0, 0);
+            block += along;
+        }
+        c
     }
 }
 
@@ -1130,7 +1189,7 @@ mod tests {
             .into_iter()
             .map(|(n, _)| n)
             .collect();
-        assert_eq!(names.len(), 60);
+        assert_eq!(names.len(), 62);
         assert_eq!(
             &names[..8],
             [
@@ -1149,7 +1208,13 @@ mod tests {
         assert_eq!(&names[55..57], ["eccentricity", "true_anomaly0"]);
         assert_eq!(
             &names[57..],
-            ["sigma_camera", "sigma_gnss", "sigma_gnss_velocity"]
+            [
+                "sigma_camera",
+                "sigma_gnss",
+                "sigma_gnss_velocity",
+                "range_bank",
+                "sigma_range0"
+            ]
         );
     }
 }

@@ -8,7 +8,9 @@ use super::error::{NavError, NavErrorKind};
 use crate::dynamics::DiscreteModel;
 use crate::estimators::aqukf::AqukfSnapshot;
 use crate::estimators::pf::{Kernel, ParticleFilter, PfInit};
-use crate::estimators::{Aqukf, Ekf, Estimator, FilterError, Imm, SensorUpdate, Ukf, UpdateInfo};
+use crate::estimators::{
+    Aqukf, Bank, Ekf, Estimator, FilterError, Imm, Member, SensorUpdate, Ukf, UpdateInfo,
+};
 use crate::hinf::HinfEstimator;
 use crate::numerics::state::{Persist, Reader, StateError, Writer};
 use crate::sensors::{MeasurementModel, Sensor};
@@ -30,31 +32,47 @@ pub enum AnyFilter {
     Hinf(HinfEstimator),
     /// Interacting multiple-model filter (code 10).
     Imm(Imm),
+    /// A range-parameterised bank of one of the Kalman-type filters above (`range_bank`
+    /// members; [`crate::estimators::bank`]). Boxed: its members are allocated at
+    /// construction.
+    Bank(Box<Bank<AnyFilter>>),
 }
 
 /// What a step of a Kalman-type filter can change, to restore after a failed step. Small
 /// on purpose: `AnyFilter` itself is as large as its largest variant (the AQUKF's window),
 /// and copying that on every step cost a quarter of an EKF step.
 #[derive(Debug, Clone)]
-pub(super) enum Snapshot {
+#[doc(hidden)]
+pub enum Snapshot {
     Ekf(Ekf),
     Ukf(Ukf),
     Aqukf(AqukfSnapshot),
     Hinf(HinfEstimator),
     Imm(Imm),
+    /// the bank keeps its checkpoint itself ([`Bank::checkpoint`])
+    Bank,
     /// particle filters are transactional themselves (see [`Navigator`])
     None,
 }
 
 impl AnyFilter {
-    pub(super) fn snapshot(&self) -> Snapshot {
+    /// A snapshot to [`AnyFilter::restore`] (a bank checkpoints itself, no allocation).
+    pub(super) fn snapshot(&mut self) -> Snapshot {
+        if let AnyFilter::Bank(b) = self {
+            b.checkpoint();
+            return Snapshot::Bank;
+        }
+        self.member_snapshot()
+    }
+
+    fn member_snapshot(&self) -> Snapshot {
         match self {
             AnyFilter::Ekf(f) => Snapshot::Ekf(f.clone()),
             AnyFilter::Ukf(f) => Snapshot::Ukf(f.clone()),
             AnyFilter::Aqukf(f) => Snapshot::Aqukf(f.snapshot()),
             AnyFilter::Hinf(f) => Snapshot::Hinf(*f),
             AnyFilter::Imm(f) => Snapshot::Imm(f.clone()),
-            AnyFilter::Pf(_) => Snapshot::None,
+            AnyFilter::Pf(_) | AnyFilter::Bank(_) => Snapshot::None,
         }
     }
 
@@ -66,6 +84,7 @@ impl AnyFilter {
             (AnyFilter::Aqukf(f), Snapshot::Aqukf(g)) => f.restore(g),
             (AnyFilter::Hinf(f), Snapshot::Hinf(g)) => *f = *g,
             (AnyFilter::Imm(f), Snapshot::Imm(g)) => f.clone_from(g),
+            (AnyFilter::Bank(f), Snapshot::Bank) => f.rollback(),
             _ => {}
         }
     }
@@ -81,6 +100,7 @@ impl AnyFilter {
             AnyFilter::Pf(_) => b"PART",
             AnyFilter::Hinf(_) => b"HINF",
             AnyFilter::Imm(_) => b"IMM ",
+            AnyFilter::Bank(_) => b"BANK",
         }
     }
 }
@@ -97,6 +117,7 @@ impl Persist for AnyFilter {
             AnyFilter::Pf(f) => f.save_state(w),
             AnyFilter::Hinf(f) => f.save_state(w),
             AnyFilter::Imm(f) => f.save_state(w),
+            AnyFilter::Bank(f) => f.save_state(w),
         }
     }
 
@@ -109,6 +130,7 @@ impl Persist for AnyFilter {
             AnyFilter::Pf(f) => f.load_state(r),
             AnyFilter::Hinf(f) => f.load_state(r),
             AnyFilter::Imm(f) => f.load_state(r),
+            AnyFilter::Bank(f) => f.load_state(r),
         }
     }
 }
@@ -133,6 +155,30 @@ impl AnyFilter {
     }
 }
 
+/// A bank's members: any Kalman-type filter (the factory never puts a particle, H-infinity
+/// or bank filter in a bank).
+impl Member for AnyFilter {
+    type Saved = Snapshot;
+
+    fn save(&self) -> Snapshot {
+        self.member_snapshot()
+    }
+
+    fn restore(&mut self, s: &Snapshot) {
+        AnyFilter::restore(self, s);
+    }
+
+    fn reset(&mut self, x: State, p: Mat6) {
+        match self {
+            AnyFilter::Pf(pf) => *pf = ParticleFilter::new(x, p, *pf.params()),
+            AnyFilter::Aqukf(f) => f.reset(x, p),
+            AnyFilter::Imm(f) => f.reset(x, p),
+            AnyFilter::Bank(f) => f.reset(x, p),
+            other => other.set_estimate(x, p),
+        }
+    }
+}
+
 impl Estimator for AnyFilter {
     fn predict(&mut self, model: &DiscreteModel, accel: &Vec3) -> Result<(), FilterError> {
         match self {
@@ -142,6 +188,7 @@ impl Estimator for AnyFilter {
             AnyFilter::Pf(f) => f.predict(model, accel),
             AnyFilter::Hinf(f) => f.predict(model, accel),
             AnyFilter::Imm(f) => f.predict(model, accel),
+            AnyFilter::Bank(f) => f.predict(model, accel),
         }
     }
     fn update<M: MeasurementModel>(
@@ -156,6 +203,7 @@ impl Estimator for AnyFilter {
             AnyFilter::Pf(f) => f.update(sensor, z),
             AnyFilter::Hinf(f) => f.update(sensor, z),
             AnyFilter::Imm(f) => f.update(sensor, z),
+            AnyFilter::Bank(f) => f.update(sensor, z),
         }
     }
     fn update_sensor<const D: usize, S: Sensor<D> + ?Sized>(
@@ -170,6 +218,7 @@ impl Estimator for AnyFilter {
             AnyFilter::Pf(f) => f.update_sensor(sensor, z),
             AnyFilter::Hinf(f) => f.update_sensor(sensor, z),
             AnyFilter::Imm(f) => f.update_sensor(sensor, z),
+            AnyFilter::Bank(f) => f.update_sensor(sensor, z),
         }
     }
     fn state(&self) -> &State {
@@ -180,6 +229,7 @@ impl Estimator for AnyFilter {
             AnyFilter::Pf(f) => f.state(),
             AnyFilter::Hinf(f) => f.state(),
             AnyFilter::Imm(f) => f.state(),
+            AnyFilter::Bank(f) => f.state(),
         }
     }
     fn covariance(&self) -> &Mat6 {
@@ -190,6 +240,7 @@ impl Estimator for AnyFilter {
             AnyFilter::Pf(f) => f.covariance(),
             AnyFilter::Hinf(f) => f.covariance(),
             AnyFilter::Imm(f) => f.covariance(),
+            AnyFilter::Bank(f) => f.covariance(),
         }
     }
     fn set_estimate(&mut self, x: State, p: Mat6) {
@@ -200,6 +251,7 @@ impl Estimator for AnyFilter {
             AnyFilter::Pf(f) => f.set_estimate(x, p),
             AnyFilter::Hinf(f) => f.set_estimate(x, p),
             AnyFilter::Imm(f) => f.set_estimate(x, p),
+            AnyFilter::Bank(f) => f.set_estimate(x, p),
         }
     }
 }
@@ -231,6 +283,28 @@ pub struct FilterOptions {
 
 /// [`build_filter`] with the settings a configuration does not hold ([`FilterOptions`]).
 pub fn build_filter_with(cfg: &NavConfig, opts: &FilterOptions) -> Result<AnyFilter, NavError> {
+    let single = build_single(cfg, opts)?;
+    if cfg.range_bank < 2 {
+        return Ok(single);
+    }
+    Bank::new(
+        single,
+        cfg.initial_state(),
+        cfg.initial_covariance(),
+        cfg.range_bank,
+    )
+    .map(|b| AnyFilter::Bank(Box::new(b)))
+    .ok_or_else(|| {
+        NavError::invalid(
+            "range_bank > 1 splits the prior along its line of sight: x0's position must be \
+             away from the target and the initial covariance must spread it along it"
+                .to_string(),
+        )
+    })
+}
+
+/// The filter of `cfg`'s code alone (no bank).
+fn build_single(cfg: &NavConfig, opts: &FilterOptions) -> Result<AnyFilter, NavError> {
     let x0 = cfg.initial_state();
     let p0 = cfg.initial_covariance();
     if let Some(mut params) = cfg.pf_params() {

@@ -18,6 +18,8 @@
 //! [`Navigator::q_vv`] reports the AQUKF's adaptive density, [`Navigator::mode_probabilities`]
 //! the IMM's mode probabilities.
 
+#[cfg(test)]
+mod bank_tests;
 pub mod config;
 #[cfg(test)]
 mod elliptic_tests;
@@ -38,8 +40,7 @@ pub use persist::STATE_FORMAT_VERSION;
 pub use sensors::{Named, NavSensor, SensorReport};
 
 use crate::dynamics::{DiscreteModel, Dynamics, RelativeDynamics};
-use crate::estimators::pf::ParticleFilter;
-use crate::estimators::{Estimator, UpdateInfo, MAX_MODES};
+use crate::estimators::{Estimator, Member, UpdateInfo, MAX_MODES};
 use crate::noise::NoiseModel;
 use crate::numerics::num;
 use crate::sensors::RadioSensor;
@@ -707,12 +708,7 @@ impl Navigator {
     /// bit for bit; a failed particle filter works again.
     pub fn reset(&mut self) {
         let (x0, p0) = (self.cfg.initial_state(), self.cfg.initial_covariance());
-        match &mut self.filter {
-            AnyFilter::Pf(pf) => *pf = ParticleFilter::new(x0, p0, *pf.params()),
-            AnyFilter::Aqukf(f) => f.reset(x0, p0),
-            AnyFilter::Imm(f) => f.reset(x0, p0),
-            other => other.set_estimate(x0, p0),
-        }
+        Member::reset(&mut self.filter, x0, p0);
         self.last_update = None;
         self.reports.iter_mut().for_each(|r| *r = None);
         self.step_nis = [f64::NAN; 4];
@@ -771,9 +767,16 @@ impl Navigator {
     /// permutation, so the rotated matrix is diagonal again and this is exact (entries
     /// permuted). `None` for the other filters.
     pub fn q_vv(&self) -> Option<[f64; 3]> {
-        match &self.filter {
-            AnyFilter::Aqukf(f) => {
-                let q = f.q_vv();
+        fn canonical(f: &AnyFilter) -> Option<Vec3> {
+            match f {
+                AnyFilter::Aqukf(f) => Some(f.q_vv()),
+                // the members' weighted mean
+                AnyFilter::Bank(b) => b.weighted().map(|(w, m)| canonical(m).map(|q| q * w)).sum(),
+                _ => None,
+            }
+        }
+        match canonical(&self.filter) {
+            Some(q) => {
                 let c =
                     Mat6::from_diagonal(&State::from_row_slice(&[0.0, 0.0, 0.0, q[0], q[1], q[2]]));
                 let io = self.cfg.frame.cov_from_canonical(&c);
@@ -786,20 +789,29 @@ impl Navigator {
     /// The IMM's (filter code 10) mode probabilities after the last step, NaN past
     /// `imm_modes`; `None` for the other filters.
     pub fn mode_probabilities(&self) -> Option<[f64; MAX_MODES]> {
-        match &self.filter {
-            AnyFilter::Imm(f) => {
-                let mu = f.mode_probabilities();
-                let r = f.params().modes;
-                Some(std::array::from_fn(
-                    |j| {
-                        if j < r {
-                            mu[j]
-                        } else {
-                            f64::NAN
-                        }
-                    },
-                ))
+        fn canonical(f: &AnyFilter) -> Option<([f64; MAX_MODES], usize)> {
+            match f {
+                AnyFilter::Imm(f) => Some((f.mode_probabilities(), f.params().modes)),
+                // a bank of IMMs: each mode's probability over the members
+                AnyFilter::Bank(b) => {
+                    b.weighted().try_fold(([0.0; MAX_MODES], 0), |acc, (w, m)| {
+                        let (mu, r) = canonical(m)?;
+                        Some((std::array::from_fn(|j| acc.0[j] + w * mu[j]), r))
+                    })
+                }
+                _ => None,
             }
+        }
+        match canonical(&self.filter) {
+            Some((mu, r)) => Some(std::array::from_fn(
+                |j| {
+                    if j < r {
+                        mu[j]
+                    } else {
+                        f64::NAN
+                    }
+                },
+            )),
             _ => None,
         }
     }
