@@ -366,17 +366,17 @@ typedef struct relnav_config {
   // Unit: rad.
   // Default: 0.
   double true_anomaly0;
-  // Camera (angles-only) azimuth and elevation noise, 1 sigma of the Gaussian (> 0): the readings camera_azimuth, camera_elevation.
+  // Camera (angles-only) azimuth and elevation noise, 1 sigma of the Gaussian (nominal sigma of the other noise models; > 0): the readings camera_azimuth, camera_elevation.
   // Unit: rad.
   // Allowed: > 0.
   // Default: 0.001.
   double sigma_camera;
-  // Relative GNSS position noise per axis, 1 sigma of the Gaussian (> 0): the readings gnss_x, gnss_y, gnss_z.
+  // Relative GNSS position noise per axis, 1 sigma of the Gaussian (nominal sigma of the other noise models; > 0): the readings gnss_x, gnss_y, gnss_z.
   // Unit: m.
   // Allowed: > 0.
   // Default: 0.05.
   double sigma_gnss;
-  // Relative GNSS velocity noise per axis, 1 sigma of the Gaussian (> 0): the readings gnss_vx, gnss_vy, gnss_vz.
+  // Relative GNSS velocity noise per axis, 1 sigma of the Gaussian (nominal sigma of the other noise models; > 0): the readings gnss_vx, gnss_vy, gnss_vz.
   // Unit: m/s.
   // Allowed: > 0.
   // Default: 0.0005.
@@ -390,6 +390,38 @@ typedef struct relnav_config {
   // Allowed: >= 0.
   // Default: 0.
   double sigma_range0;
+  // Camera: density of the angle noise scaled by sigma_camera (the particle filters weigh with it, the Kalman filters assume the Gaussian of its variance).
+  // A `relnav_noise_model` code: 1 gaussian, 2 mixture, 3 student_t.
+  // Default: 1 (gaussian).
+  int32_t camera_noise_model;
+  // Camera, mixture noise: weight of the wide component (in [0, 1)).
+  // Allowed: in [0, 1).
+  // Default: 0.2.
+  double camera_noise_zeta;
+  // Camera, mixture noise: sigma of the wide component over sigma_camera (>= 1).
+  // Allowed: >= 1.
+  // Default: 10.
+  double camera_noise_scale;
+  // Camera, Student-t noise: degrees of freedom (> 2).
+  // Allowed: > 2.
+  // Default: 4.
+  double camera_noise_dof;
+  // Relative GNSS: density of the position and velocity noise scaled by sigma_gnss and sigma_gnss_velocity (the particle filters weigh with it, the Kalman filters assume the Gaussian of its variance).
+  // A `relnav_noise_model` code: 1 gaussian, 2 mixture, 3 student_t.
+  // Default: 1 (gaussian).
+  int32_t gnss_noise_model;
+  // Relative GNSS, mixture noise: weight of the wide component (in [0, 1)).
+  // Allowed: in [0, 1).
+  // Default: 0.2.
+  double gnss_noise_zeta;
+  // Relative GNSS, mixture noise: sigma of the wide component over the nominal sigma (>= 1).
+  // Allowed: >= 1.
+  // Default: 10.
+  double gnss_noise_scale;
+  // Relative GNSS, Student-t noise: degrees of freedom (> 2).
+  // Allowed: > 2.
+  // Default: 4.
+  double gnss_noise_dof;
 } relnav_config;
 
 // How the H-infinity filter of an estimator (filter code 9) was designed

@@ -303,17 +303,17 @@ pub struct relnav_config {
     /// Unit: rad.
     /// Default: 0.
     pub true_anomaly0: f64,
-    /// Camera (angles-only) azimuth and elevation noise, 1 sigma of the Gaussian (> 0): the readings camera_azimuth, camera_elevation.
+    /// Camera (angles-only) azimuth and elevation noise, 1 sigma of the Gaussian (nominal sigma of the other noise models; > 0): the readings camera_azimuth, camera_elevation.
     /// Unit: rad.
     /// Allowed: > 0.
     /// Default: 0.001.
     pub sigma_camera: f64,
-    /// Relative GNSS position noise per axis, 1 sigma of the Gaussian (> 0): the readings gnss_x, gnss_y, gnss_z.
+    /// Relative GNSS position noise per axis, 1 sigma of the Gaussian (nominal sigma of the other noise models; > 0): the readings gnss_x, gnss_y, gnss_z.
     /// Unit: m.
     /// Allowed: > 0.
     /// Default: 0.05.
     pub sigma_gnss: f64,
-    /// Relative GNSS velocity noise per axis, 1 sigma of the Gaussian (> 0): the readings gnss_vx, gnss_vy, gnss_vz.
+    /// Relative GNSS velocity noise per axis, 1 sigma of the Gaussian (nominal sigma of the other noise models; > 0): the readings gnss_vx, gnss_vy, gnss_vz.
     /// Unit: m/s.
     /// Allowed: > 0.
     /// Default: 0.0005.
@@ -327,6 +327,38 @@ pub struct relnav_config {
     /// Allowed: >= 0.
     /// Default: 0.
     pub sigma_range0: f64,
+    /// Camera: density of the angle noise scaled by sigma_camera (the particle filters weigh with it, the Kalman filters assume the Gaussian of its variance).
+    /// A `relnav_noise_model` code: 1 gaussian, 2 mixture, 3 student_t.
+    /// Default: 1 (gaussian).
+    pub camera_noise_model: i32,
+    /// Camera, mixture noise: weight of the wide component (in [0, 1)).
+    /// Allowed: in [0, 1).
+    /// Default: 0.2.
+    pub camera_noise_zeta: f64,
+    /// Camera, mixture noise: sigma of the wide component over sigma_camera (>= 1).
+    /// Allowed: >= 1.
+    /// Default: 10.
+    pub camera_noise_scale: f64,
+    /// Camera, Student-t noise: degrees of freedom (> 2).
+    /// Allowed: > 2.
+    /// Default: 4.
+    pub camera_noise_dof: f64,
+    /// Relative GNSS: density of the position and velocity noise scaled by sigma_gnss and sigma_gnss_velocity (the particle filters weigh with it, the Kalman filters assume the Gaussian of its variance).
+    /// A `relnav_noise_model` code: 1 gaussian, 2 mixture, 3 student_t.
+    /// Default: 1 (gaussian).
+    pub gnss_noise_model: i32,
+    /// Relative GNSS, mixture noise: weight of the wide component (in [0, 1)).
+    /// Allowed: in [0, 1).
+    /// Default: 0.2.
+    pub gnss_noise_zeta: f64,
+    /// Relative GNSS, mixture noise: sigma of the wide component over the nominal sigma (>= 1).
+    /// Allowed: >= 1.
+    /// Default: 10.
+    pub gnss_noise_scale: f64,
+    /// Relative GNSS, Student-t noise: degrees of freedom (> 2).
+    /// Allowed: > 2.
+    /// Default: 4.
+    pub gnss_noise_dof: f64,
 }
 
 impl relnav_config {
@@ -382,6 +414,14 @@ impl relnav_config {
         sigma_gnss_velocity: 0.0,
         range_bank: 0,
         sigma_range0: 0.0,
+        camera_noise_model: 0,
+        camera_noise_zeta: 0.0,
+        camera_noise_scale: 0.0,
+        camera_noise_dof: 0.0,
+        gnss_noise_model: 0,
+        gnss_noise_zeta: 0.0,
+        gnss_noise_scale: 0.0,
+        gnss_noise_dof: 0.0,
     };
 
     /// Element `i` of parameter `k` (its index in the table).
@@ -437,6 +477,14 @@ impl relnav_config {
             47 => Value::Real(self.sigma_gnss_velocity),
             48 => Value::Int(i64::from(self.range_bank)),
             49 => Value::Real(self.sigma_range0),
+            50 => Value::Int(i64::from(self.camera_noise_model)),
+            51 => Value::Real(self.camera_noise_zeta),
+            52 => Value::Real(self.camera_noise_scale),
+            53 => Value::Real(self.camera_noise_dof),
+            54 => Value::Int(i64::from(self.gnss_noise_model)),
+            55 => Value::Real(self.gnss_noise_zeta),
+            56 => Value::Real(self.gnss_noise_scale),
+            57 => Value::Real(self.gnss_noise_dof),
             _ => return None,
         })
     }
@@ -495,6 +543,14 @@ impl relnav_config {
             47 => self.sigma_gnss_velocity = v.as_f64(),
             48 => self.range_bank = v.as_int().map_or(i32::MAX, |x| i32::try_from(x).unwrap_or(i32::MAX)),
             49 => self.sigma_range0 = v.as_f64(),
+            50 => self.camera_noise_model = v.as_int().map_or(i32::MAX, |x| i32::try_from(x).unwrap_or(i32::MAX)),
+            51 => self.camera_noise_zeta = v.as_f64(),
+            52 => self.camera_noise_scale = v.as_f64(),
+            53 => self.camera_noise_dof = v.as_f64(),
+            54 => self.gnss_noise_model = v.as_int().map_or(i32::MAX, |x| i32::try_from(x).unwrap_or(i32::MAX)),
+            55 => self.gnss_noise_zeta = v.as_f64(),
+            56 => self.gnss_noise_scale = v.as_f64(),
+            57 => self.gnss_noise_dof = v.as_f64(),
             _ => {}
         }
     }

@@ -83,6 +83,14 @@ class Estimator:
         sigma_gnss_velocity: float = 0.0005,
         range_bank: int = 1,
         sigma_range0: float = 0.0,
+        camera_noise_model: Union[int, str] = 'gaussian',
+        camera_noise_zeta: float = 0.2,
+        camera_noise_scale: float = 10.0,
+        camera_noise_dof: float = 4.0,
+        gnss_noise_model: Union[int, str] = 'gaussian',
+        gnss_noise_zeta: float = 0.2,
+        gnss_noise_scale: float = 10.0,
+        gnss_noise_dof: float = 4.0,
     ) -> None:
         """Keyword arguments are the FMU's parameters (names, types, defaults):
 
@@ -142,11 +150,19 @@ class Estimator:
             pf_threads: Particle filters: worker threads of the particle loops from 32768 particles on (0: one per core; 1: the calling thread; <= 1024); results do not depend on it.
             eccentricity: Eccentricity of the target's orbit (0 <= e <= 0.99): 0 the Clohessy-Wiltshire model, > 0 the linearised elliptic model of Yamanaka and Ankersen; mean_motion stays 2 pi / period.
             true_anomaly0 [rad]: True anomaly of the target at the start time (unused at eccentricity 0).
-            sigma_camera [rad]: Camera (angles-only) azimuth and elevation noise, 1 sigma of the Gaussian (> 0): the readings camera_azimuth, camera_elevation.
-            sigma_gnss [m]: Relative GNSS position noise per axis, 1 sigma of the Gaussian (> 0): the readings gnss_x, gnss_y, gnss_z.
-            sigma_gnss_velocity [m/s]: Relative GNSS velocity noise per axis, 1 sigma of the Gaussian (> 0): the readings gnss_vx, gnss_vy, gnss_vz.
+            sigma_camera [rad]: Camera (angles-only) azimuth and elevation noise, 1 sigma of the Gaussian (nominal sigma of the other noise models; > 0): the readings camera_azimuth, camera_elevation.
+            sigma_gnss [m]: Relative GNSS position noise per axis, 1 sigma of the Gaussian (nominal sigma of the other noise models; > 0): the readings gnss_x, gnss_y, gnss_z.
+            sigma_gnss_velocity [m/s]: Relative GNSS velocity noise per axis, 1 sigma of the Gaussian (nominal sigma of the other noise models; > 0): the readings gnss_vx, gnss_vy, gnss_vz.
             range_bank: Kalman-type filters (codes 1-3, 10): number of members of a range-parameterised bank (1: the filter alone; 2..9: the prior split along its line of sight into a Gaussian sum, one filter per term, weighted by its measurements; for angles-only acquisition, where one filter's range collapses early).
             sigma_range0 [m]: Initial position uncertainty along the line of sight of x0 (the range), 1 sigma (>= 0; 0: sigma_pos0, the same on every axis); sigma_pos0 is then the uncertainty across it.
+            camera_noise_model: Camera: density of the angle noise scaled by sigma_camera (the particle filters weigh with it, the Kalman filters assume the Gaussian of its variance). One of: 1 gaussian, 2 mixture, 3 student_t.
+            camera_noise_zeta: Camera, mixture noise: weight of the wide component (in [0, 1)).
+            camera_noise_scale: Camera, mixture noise: sigma of the wide component over sigma_camera (>= 1).
+            camera_noise_dof: Camera, Student-t noise: degrees of freedom (> 2).
+            gnss_noise_model: Relative GNSS: density of the position and velocity noise scaled by sigma_gnss and sigma_gnss_velocity (the particle filters weigh with it, the Kalman filters assume the Gaussian of its variance). One of: 1 gaussian, 2 mixture, 3 student_t.
+            gnss_noise_zeta: Relative GNSS, mixture noise: weight of the wide component (in [0, 1)).
+            gnss_noise_scale: Relative GNSS, mixture noise: sigma of the wide component over the nominal sigma (>= 1).
+            gnss_noise_dof: Relative GNSS, Student-t noise: degrees of freedom (> 2).
         """
     # --- parameters: end ---
     def step(

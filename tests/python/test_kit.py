@@ -459,6 +459,51 @@ def test_plant_camera_and_gnss_readings(plant_dir):
     assert valid2[:, 0].all()
 
 
+def test_plant_camera_and_gnss_noise_models(plant_dir):
+    """The camera's and GNSS's own noise densities (``camera_noise_*``, ``gnss_noise_*``):
+    a contaminated Gaussian on the camera (zeta 0.2, scale 10) and a Student-t of 5 degrees
+    of freedom on GNSS (position and velocity): each reading's error has the density's
+    variance (sigma^2 (1 - zeta + zeta c^2); sigma^2 dof / (dof - 2)) within its sampling
+    tolerance, and the mixture's fraction beyond 3 sigma is the mixture's, not a
+    Gaussian's (within 5 binomial standard deviations)."""
+    frame, steps = 1, 6000
+    times = np.arange(steps + 1, dtype=float)
+    x0 = np.array([0.0, -1500.0, 30.0, 0.0, 0.0, 0.0])
+    thrust = np.zeros((steps, 3))
+    sc, sg, sv, zeta, c, dof = 1e-3, 0.05, 5e-4, 0.2, 10.0, 5.0
+    params = {
+        **truth_params(frame, x0),
+        "seed": 12,
+        "sigma_camera": sc,
+        "camera_noise_model": 2,
+        "camera_noise_zeta": zeta,
+        "camera_noise_scale": c,
+        "sigma_gnss": sg,
+        "sigma_gnss_velocity": sv,
+        "gnss_noise_model": 3,
+        "gnss_noise_dof": dof,
+    }
+    out, valid = sensor_run(plant_dir, params, times, thrust)
+    truth, cam, gnss = out[:, :6], out[:, 9:11], out[:, 11:17]
+    assert valid[:, 1].all() and valid[:, 2].all()
+    z = cw.measure(truth[:, :3])
+    d = cam - z[:, 1:]
+    d[:, 0] = (d[:, 0] + np.pi) % (2 * np.pi) - np.pi
+    mix_var = 1 - zeta + zeta * c * c
+    mix_kurt = 3 * (1 - zeta + zeta * c**4) / mix_var**2
+    tail = (1 - zeta) * math.erfc(3 / math.sqrt(2)) + zeta * math.erfc(3 / c / math.sqrt(2))
+    n = len(d)
+    for i in range(2):
+        check_moments(d[:, i], sc, mix_var, mix_kurt, f"camera {i}")
+        frac = np.mean(np.abs(d[:, i]) > 3 * sc)
+        assert abs(frac - tail) < 5 * math.sqrt(tail * (1 - tail) / n), (i, frac, tail)
+    e = gnss - truth
+    t_var = dof / (dof - 2)
+    t_kurt = 3 + 6 / (dof - 4)
+    for i in range(6):
+        check_moments(e[:, i], sg if i < 3 else sv, t_var, t_kurt, f"gnss {i}")
+
+
 # ---------------------------------------------------------------- FMU state
 @pytest.mark.parametrize("which", ["plant", "guidance"])
 def test_fmu_state_continues_bit_for_bit(which, plant_dir, guidance_dir):

@@ -83,6 +83,9 @@ EXPECTED = {
     # angles-only acquisition: a range-parameterised bank, the prior's range spread
     "range_bank": ("parameter", "fixed", "Integer", None),
     "sigma_range0": ("parameter", "fixed", "Real", "m"),
+    # the camera's and GNSS's own noise densities
+    **{f"{k}_noise_model": ("parameter", "fixed", "Integer", None) for k in ("camera", "gnss")},
+    **{f"{k}_noise_{p}": ("parameter", "fixed", "Real", None) for k in ("camera", "gnss") for p in ("zeta", "scale", "dof")},
     "camera_azimuth": ("input", "discrete", "Real", "rad"),
     "camera_elevation": ("input", "discrete", "Real", "rad"),
     "camera_valid": ("input", "discrete", "Boolean", None),
@@ -165,6 +168,9 @@ DEFAULTS = {
     # one filter, the prior the same on every axis
     "range_bank": 1,
     "sigma_range0": 0.0,
+    # Gaussian unless told otherwise, with the radio's defaults for the other densities
+    **{f"{k}_noise_model": 1 for k in ("camera", "gnss")},
+    **{f"{k}_noise_{p}": v for k in ("camera", "gnss") for p, v in (("zeta", 0.2), ("scale", 10.0), ("dof", 4.0))},
 }
 
 FMI2_CS_FUNCTIONS = [

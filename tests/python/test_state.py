@@ -22,7 +22,7 @@ STEPS = 40
 SAVE_AT = 15
 CODES = list(range(1, 11))
 # documented sizes with the default parameters (1500 particles, window 10)
-FMU_STATE_BYTES = {1: 1899, 2: 1899, 3: 2388, 4: 118143, 5: 118143, 6: 622143, 7: 118143, 8: 622143, 9: 3150, 10: 2939}
+FMU_STATE_BYTES = {1: 2027, 2: 2027, 3: 2516, 4: 118271, 5: 118271, 6: 622271, 7: 118271, 8: 622271, 9: 3278, 10: 3067}
 FMU_HEADER = 70
 EST_HEADER = 32
 
@@ -94,7 +94,7 @@ def parse_estimator_state(e: bytes) -> dict:
     assert crc == zlib.crc32(e[:28] + e[EST_HEADER:])
     assert e[32:36] == b"CONF"
     (count,) = struct.unpack_from("<I", e, 36)
-    assert count == 62
+    assert count == 70
     conf = e[36 : 40 + 8 * count]
     assert fingerprint == zlib.crc32(conf)
     settings = e[40 : 40 + 8 * count]

@@ -26,10 +26,11 @@
 //! **Camera and relative GNSS** (relnav's declared sensors beside the radio): each on its
 //! own schedule (`camera_period`, `gnss_period`, from the start time, taken as the radio's).
 //! The camera gives the line of sight ([`CameraSensor::measure_with`]: azimuth and
-//! elevation with the radio's conventions, Gaussian noise of `sigma_camera`), valid while
-//! the true range is in `[camera_min_range, camera_max_range)`; GNSS the relative position
-//! and velocity in the I/O frame with Gaussian noise of `sigma_gnss` and
-//! `sigma_gnss_velocity`, lost inside `[gnss_outage_start, gnss_outage_stop)`.
+//! elevation with the radio's conventions, noise of the `camera_noise_*` density scaled by
+//! `sigma_camera`), valid while the true range is in `[camera_min_range,
+//! camera_max_range)`; GNSS the relative position and velocity in the I/O frame with noise
+//! of the `gnss_noise_*` density scaled by `sigma_gnss` and `sigma_gnss_velocity`, lost
+//! inside `[gnss_outage_start, gnss_outage_stop)`.
 //!
 //! **Random draws** (ChaCha8, seeded by `seed`): the radio on stream 0, per due measurement
 //! one uniform for the dropout, then the three noise samples (range, azimuth, elevation) —
@@ -203,7 +204,7 @@ crate::config! {
     sigma_camera: f64 {
         elements: [("sigma_camera", 42, "rad", 1e-3, "")],
         rule: Rule::Positive, c: false, scenario: None, slot: None,
-        description: "Camera azimuth and elevation noise, 1 sigma of the Gaussian (> 0)",
+        description: "Camera azimuth and elevation noise, 1 sigma of the Gaussian (nominal sigma of the other noise models; > 0)",
     },
     camera_min_range: f64 {
         elements: [("camera_min_range", 43, "m", 0.0, "")],
@@ -223,12 +224,12 @@ crate::config! {
     sigma_gnss: f64 {
         elements: [("sigma_gnss", 46, "m", 0.05, "")],
         rule: Rule::Positive, c: false, scenario: None, slot: None,
-        description: "Relative GNSS position noise per axis, 1 sigma of the Gaussian (> 0)",
+        description: "Relative GNSS position noise per axis, 1 sigma of the Gaussian (nominal sigma of the other noise models; > 0)",
     },
     sigma_gnss_velocity: f64 {
         elements: [("sigma_gnss_velocity", 47, "m/s", 5e-4, "")],
         rule: Rule::Positive, c: false, scenario: None, slot: None,
-        description: "Relative GNSS velocity noise per axis, 1 sigma of the Gaussian (> 0)",
+        description: "Relative GNSS velocity noise per axis, 1 sigma of the Gaussian (nominal sigma of the other noise models; > 0)",
     },
     gnss_outage_start: f64 {
         elements: [("gnss_outage_start", 48, "s", 0.0, "")],
@@ -239,6 +240,51 @@ crate::config! {
         elements: [("gnss_outage_stop", 49, "s", 0.0, "")],
         rule: Rule::Finite, c: false, scenario: None, slot: None,
         description: "End of the GNSS outage window (excluded)",
+    },    camera_noise_model: NoiseKind {
+        elements: [("camera_noise_model", 61, "", 1, "")],
+        rule: Rule::Any, c: false, scenario: None, slot: None,
+        description: "Camera: density of the reading's noise scaled by sigma_camera (as relnav's camera_noise_model)",
+    },
+    camera_noise_zeta: f64 {
+        elements: [("camera_noise_zeta", 62, "", 0.2, "")],
+        rule: NOISE_ZETA_RULE,
+        c: false, scenario: None, slot: None,
+        description: "Camera, mixture noise: weight of the wide component (in [0, 1))",
+    },
+    camera_noise_scale: f64 {
+        elements: [("camera_noise_scale", 63, "", 10.0, "")],
+        rule: NOISE_SCALE_RULE,
+        c: false, scenario: None, slot: None,
+        description: "Camera, mixture noise: sigma of the wide component over the nominal sigma (>= 1)",
+    },
+    camera_noise_dof: f64 {
+        elements: [("camera_noise_dof", 64, "", 4.0, "")],
+        rule: NOISE_DOF_RULE,
+        c: false, scenario: None, slot: None,
+        description: "Camera, Student-t noise: degrees of freedom (> 2)",
+    },
+    gnss_noise_model: NoiseKind {
+        elements: [("gnss_noise_model", 65, "", 1, "")],
+        rule: Rule::Any, c: false, scenario: None, slot: None,
+        description: "Relative GNSS: density of the reading's noise scaled by sigma_gnss and sigma_gnss_velocity (as relnav's gnss_noise_model)",
+    },
+    gnss_noise_zeta: f64 {
+        elements: [("gnss_noise_zeta", 66, "", 0.2, "")],
+        rule: NOISE_ZETA_RULE,
+        c: false, scenario: None, slot: None,
+        description: "Relative GNSS, mixture noise: weight of the wide component (in [0, 1))",
+    },
+    gnss_noise_scale: f64 {
+        elements: [("gnss_noise_scale", 67, "", 10.0, "")],
+        rule: NOISE_SCALE_RULE,
+        c: false, scenario: None, slot: None,
+        description: "Relative GNSS, mixture noise: sigma of the wide component over the nominal sigma (>= 1)",
+    },
+    gnss_noise_dof: f64 {
+        elements: [("gnss_noise_dof", 68, "", 4.0, "")],
+        rule: NOISE_DOF_RULE,
+        c: false, scenario: None, slot: None,
+        description: "Relative GNSS, Student-t noise: degrees of freedom (> 2)",
     },
 }
 
@@ -281,6 +327,24 @@ impl PlantConfig {
     pub fn noise(&self) -> NoiseModel {
         self.noise_model
             .model(self.noise_zeta, self.noise_scale, self.noise_dof)
+    }
+
+    /// The camera's angle-noise density (scale `sigma_camera`).
+    pub fn camera_noise(&self) -> NoiseModel {
+        self.camera_noise_model.model(
+            self.camera_noise_zeta,
+            self.camera_noise_scale,
+            self.camera_noise_dof,
+        )
+    }
+
+    /// Relative GNSS's noise density (scales `sigma_gnss`, `sigma_gnss_velocity`).
+    pub fn gnss_noise(&self) -> NoiseModel {
+        self.gnss_noise_model.model(
+            self.gnss_noise_zeta,
+            self.gnss_noise_scale,
+            self.gnss_noise_dof,
+        )
     }
 
     fn sensor(&self) -> RadioSensor {
@@ -498,10 +562,10 @@ impl Plant {
     }
 
     /// The camera reading due at communication point `t`, if one is: the line of sight
-    /// of the current truth ([`CameraSensor::measure_with`], two Gaussian draws of
-    /// `sigma_camera` on its own stream, always, so the sequence does not depend on the
-    /// range limits); valid while the true range is in `[camera_min_range,
-    /// camera_max_range)`.
+    /// of the current truth ([`CameraSensor::measure_with`], two draws of the
+    /// `camera_noise_*` density scaled by `sigma_camera` on its own stream, always, so the
+    /// sequence does not depend on the range limits); valid while the true range is in
+    /// `[camera_min_range, camera_max_range)`.
     pub fn sample_camera(&mut self, t: f64) -> Option<CameraSample> {
         if !self.camera.due(self.t0, t) {
             return None;
@@ -511,7 +575,7 @@ impl Plant {
         let s = self.cfg.sigma_camera;
         let z = cam.measure_with(
             &x,
-            &NoiseModel::Gaussian,
+            &self.cfg.camera_noise(),
             &[s, s],
             &mut [0.0; 2],
             &mut self.camera_rng,
@@ -525,8 +589,9 @@ impl Plant {
     }
 
     /// The relative GNSS reading due at communication point `t`, if one is: the true
-    /// position and velocity in the I/O frame plus Gaussian noise of `sigma_gnss` and
-    /// `sigma_gnss_velocity` (six draws on its own stream, position first); lost inside
+    /// position and velocity in the I/O frame plus noise of the `gnss_noise_*` density
+    /// scaled by `sigma_gnss` and `sigma_gnss_velocity` (six draws on its own stream,
+    /// position first); lost inside
     /// `[gnss_outage_start, gnss_outage_stop)`.
     pub fn sample_gnss(&mut self, t: f64) -> Option<GnssSample> {
         if !self.gnss.due(self.t0, t) {
@@ -534,7 +599,7 @@ impl Plant {
         }
         let x = self.truth();
         let (sp, sv) = (self.cfg.sigma_gnss, self.cfg.sigma_gnss_velocity);
-        let g = NoiseModel::Gaussian;
+        let g = self.cfg.gnss_noise();
         let position = add_noise(
             &x.fixed_rows::<3>(0).into_owned(),
             &g,

@@ -600,17 +600,17 @@ crate::config! {
     sigma_camera: f64 {
         elements: [("sigma_camera", 86, "rad", 1e-3, "")],
         rule: Rule::Positive, c: true, scenario: NO_KEY, slot: Some(44),
-        description: "Camera (angles-only) azimuth and elevation noise, 1 sigma of the Gaussian (> 0): the readings camera_azimuth, camera_elevation",
+        description: "Camera (angles-only) azimuth and elevation noise, 1 sigma of the Gaussian (nominal sigma of the other noise models; > 0): the readings camera_azimuth, camera_elevation",
     },
     sigma_gnss: f64 {
         elements: [("sigma_gnss", 87, "m", 0.05, "")],
         rule: Rule::Positive, c: true, scenario: NO_KEY, slot: Some(45),
-        description: "Relative GNSS position noise per axis, 1 sigma of the Gaussian (> 0): the readings gnss_x, gnss_y, gnss_z",
+        description: "Relative GNSS position noise per axis, 1 sigma of the Gaussian (nominal sigma of the other noise models; > 0): the readings gnss_x, gnss_y, gnss_z",
     },
     sigma_gnss_velocity: f64 {
         elements: [("sigma_gnss_velocity", 88, "m/s", 5e-4, "")],
         rule: Rule::Positive, c: true, scenario: NO_KEY, slot: Some(46),
-        description: "Relative GNSS velocity noise per axis, 1 sigma of the Gaussian (> 0): the readings gnss_vx, gnss_vy, gnss_vz",
+        description: "Relative GNSS velocity noise per axis, 1 sigma of the Gaussian (nominal sigma of the other noise models; > 0): the readings gnss_vx, gnss_vy, gnss_vz",
     },
     range_bank: usize {
         elements: [("range_bank", 105, "", 1, "")],
@@ -621,6 +621,52 @@ crate::config! {
         elements: [("sigma_range0", 106, "m", 0.0, "")],
         rule: Rule::NonNegative, c: true, scenario: Some("sigma_range0"), slot: Some(48),
         description: "Initial position uncertainty along the line of sight of x0 (the range), 1 sigma (>= 0; 0: sigma_pos0, the same on every axis); sigma_pos0 is then the uncertainty across it",
+    },
+    camera_noise_model: NoiseKind {
+        elements: [("camera_noise_model", 107, "", 1, "")],
+        rule: Rule::Any, c: true, scenario: NO_KEY, slot: Some(49),
+        description: "Camera: density of the angle noise scaled by sigma_camera (the particle filters weigh with it, the Kalman filters assume the Gaussian of its variance)",
+    },
+    camera_noise_zeta: f64 {
+        elements: [("camera_noise_zeta", 108, "", 0.2, "")],
+        rule: NOISE_ZETA_RULE,
+        c: true, scenario: NO_KEY, slot: Some(50),
+        description: "Camera, mixture noise: weight of the wide component (in [0, 1))",
+    },
+    camera_noise_scale: f64 {
+        elements: [("camera_noise_scale", 109, "", 10.0, "")],
+        rule: NOISE_SCALE_RULE,
+        c: true, scenario: NO_KEY, slot: Some(51),
+        description: "Camera, mixture noise: sigma of the wide component over sigma_camera (>= 1)",
+    },
+    camera_noise_dof: f64 {
+        elements: [("camera_noise_dof", 110, "", 4.0, "")],
+        rule: NOISE_DOF_RULE,
+        c: true, scenario: NO_KEY, slot: Some(52),
+        description: "Camera, Student-t noise: degrees of freedom (> 2)",
+    },
+    gnss_noise_model: NoiseKind {
+        elements: [("gnss_noise_model", 111, "", 1, "")],
+        rule: Rule::Any, c: true, scenario: NO_KEY, slot: Some(53),
+        description: "Relative GNSS: density of the position and velocity noise scaled by sigma_gnss and sigma_gnss_velocity (the particle filters weigh with it, the Kalman filters assume the Gaussian of its variance)",
+    },
+    gnss_noise_zeta: f64 {
+        elements: [("gnss_noise_zeta", 112, "", 0.2, "")],
+        rule: NOISE_ZETA_RULE,
+        c: true, scenario: NO_KEY, slot: Some(54),
+        description: "Relative GNSS, mixture noise: weight of the wide component (in [0, 1))",
+    },
+    gnss_noise_scale: f64 {
+        elements: [("gnss_noise_scale", 113, "", 10.0, "")],
+        rule: NOISE_SCALE_RULE,
+        c: true, scenario: NO_KEY, slot: Some(55),
+        description: "Relative GNSS, mixture noise: sigma of the wide component over the nominal sigma (>= 1)",
+    },
+    gnss_noise_dof: f64 {
+        elements: [("gnss_noise_dof", 114, "", 4.0, "")],
+        rule: NOISE_DOF_RULE,
+        c: true, scenario: NO_KEY, slot: Some(56),
+        description: "Relative GNSS, Student-t noise: degrees of freedom (> 2)",
     },
 }
 
@@ -1006,6 +1052,25 @@ impl NavConfig {
             .model(self.noise_zeta, self.noise_scale, self.noise_dof)
     }
 
+    /// The camera's angle-noise density (`camera_noise_*`), scaled by `sigma_camera`.
+    pub fn camera_noise(&self) -> NoiseModel {
+        self.camera_noise_model.model(
+            self.camera_noise_zeta,
+            self.camera_noise_scale,
+            self.camera_noise_dof,
+        )
+    }
+
+    /// Relative GNSS's noise density (`gnss_noise_*`), scaled by `sigma_gnss` and
+    /// `sigma_gnss_velocity`.
+    pub fn gnss_noise(&self) -> NoiseModel {
+        self.gnss_noise_model.model(
+            self.gnss_noise_zeta,
+            self.gnss_noise_scale,
+            self.gnss_noise_dof,
+        )
+    }
+
     /// The particle-filter settings for filter codes 4-8 (`None` for the other filters):
     /// `PfParams::new(kind)` with `particles`, `resampler`, `resample_threshold`, `seed`,
     /// the UKF parameters (the unscented proposal of `upf` and `cgapf`), `pf_move` and
@@ -1189,7 +1254,7 @@ mod tests {
             .into_iter()
             .map(|(n, _)| n)
             .collect();
-        assert_eq!(names.len(), 62);
+        assert_eq!(names.len(), 70);
         assert_eq!(
             &names[..8],
             [
@@ -1213,7 +1278,15 @@ mod tests {
                 "sigma_gnss",
                 "sigma_gnss_velocity",
                 "range_bank",
-                "sigma_range0"
+                "sigma_range0",
+                "camera_noise_model",
+                "camera_noise_zeta",
+                "camera_noise_scale",
+                "camera_noise_dof",
+                "gnss_noise_model",
+                "gnss_noise_zeta",
+                "gnss_noise_scale",
+                "gnss_noise_dof",
             ]
         );
     }

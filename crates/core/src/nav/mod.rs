@@ -139,15 +139,26 @@ pub struct Readings {
     pub gnss_velocity: Option<[f64; 3]>,
 }
 
-/// The declared sensors beside the radio, from the configuration (Gaussian noise of
-/// `sigma_camera`, `sigma_gnss`, `sigma_gnss_velocity`, in the I/O frame).
+/// The declared sensors beside the radio, from the configuration (noise densities
+/// `camera_noise_*` and `gnss_noise_*` scaled by `sigma_camera`, `sigma_gnss`,
+/// `sigma_gnss_velocity`; in the I/O frame).
 fn declared_sensors(cfg: &NavConfig) -> [Arc<dyn NavSensor>; 3] {
     use crate::sensors::{CameraSensor, CartesianSensor, Modelled, SensorNoise, VelocitySensor};
     let f = cfg.frame;
+    let noise = |model, sigma| SensorNoise {
+        model,
+        scales: [sigma; 3],
+    };
     [
         Arc::new(Named::new(
             "camera",
-            CameraSensor::gaussian(f, cfg.sigma_camera),
+            CameraSensor {
+                frame: f,
+                noise: SensorNoise {
+                    model: cfg.camera_noise(),
+                    scales: [cfg.sigma_camera; 2],
+                },
+            },
         )),
         Arc::new(Named::new(
             "GNSS position",
@@ -156,12 +167,15 @@ fn declared_sensors(cfg: &NavConfig) -> [Arc<dyn NavSensor>; 3] {
                     frame: f,
                     sigma: cfg.sigma_gnss,
                 },
-                noise: SensorNoise::gaussian([cfg.sigma_gnss; 3]),
+                noise: noise(cfg.gnss_noise(), cfg.sigma_gnss),
             },
         )),
         Arc::new(Named::new(
             "GNSS velocity",
-            VelocitySensor::gaussian(f, cfg.sigma_gnss_velocity),
+            VelocitySensor {
+                frame: f,
+                noise: noise(cfg.gnss_noise(), cfg.sigma_gnss_velocity),
+            },
         )),
     ]
 }

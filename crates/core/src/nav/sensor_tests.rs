@@ -14,7 +14,7 @@ use nalgebra::{SMatrix, SVector};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, StandardNormal};
-use std::f64::consts::{PI, TAU};
+use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 /// The relative velocity (canonical frame), as relative GNSS gives it.
 #[derive(Debug, Clone, Copy)]
@@ -645,4 +645,66 @@ fn declared_sensors_through_step_readings() {
     // a plain step reports the radio alone
     nav.step(&[0.0; 3], None, 1.0).unwrap();
     assert!(nav.step_nis().iter().all(|v| v.is_nan()));
+}
+
+/// The declared sensors' own noise densities: a Kalman filter told a Student-t camera
+/// (or a contaminated-Gaussian GNSS) takes the Gaussian of its variance, so its update
+/// is the one told the Gaussian of that sigma; a particle filter weighs with the density
+/// itself, so its estimate differs from the one told the Gaussian.
+#[test]
+fn declared_sensors_take_their_noise_models() {
+    let base = NavConfig {
+        frame: Frame::RadialAlongNormal,
+        x0: [0.0, -1500.0, 20.0, 0.0, 0.0, 0.0],
+        sigma_pos0: 30.0,
+        sigma_vel0: 0.01,
+        accel_psd: 1e-10,
+        particles: 400,
+        ..NavConfig::default()
+    };
+    let dof = 4.0;
+    let zeta_scale = (0.2, 10.0);
+    let gnss_var = 1.0 - zeta_scale.0 + zeta_scale.0 * zeta_scale.1 * zeta_scale.1;
+    let told = NavConfig {
+        camera_noise_model: NoiseKind::StudentT,
+        camera_noise_dof: dof,
+        gnss_noise_model: NoiseKind::Mixture,
+        gnss_noise_zeta: zeta_scale.0,
+        gnss_noise_scale: zeta_scale.1,
+        ..base
+    };
+    let matched = NavConfig {
+        sigma_camera: base.sigma_camera * (dof / (dof - 2.0)).sqrt(),
+        sigma_gnss: base.sigma_gnss * gnss_var.sqrt(),
+        sigma_gnss_velocity: base.sigma_gnss_velocity * gnss_var.sqrt(),
+        ..base
+    };
+    let readings = |k: usize| Readings {
+        camera: Some([-FRAC_PI_2 + 1e-4 * k as f64, 0.013]),
+        gnss_position: Some([0.1, -1490.0 + 0.01 * k as f64, 19.0]),
+        gnss_velocity: Some([0.0, 0.01, 0.0]),
+        ..Readings::default()
+    };
+    for kind in [FilterKind::Ekf, FilterKind::Ukf, FilterKind::Pf] {
+        let mut a = Navigator::new(&NavConfig {
+            filter: kind,
+            ..told
+        })
+        .unwrap();
+        let mut b = Navigator::new(&NavConfig {
+            filter: kind,
+            ..matched
+        })
+        .unwrap();
+        for k in 0..20 {
+            a.step_readings(&[0.0; 3], &readings(k), 1.0).unwrap();
+            b.step_readings(&[0.0; 3], &readings(k), 1.0).unwrap();
+        }
+        let d = (a.state() - b.state()).norm();
+        if kind == FilterKind::Pf {
+            assert!(d > 1e-6, "{kind:?}: the density made no difference ({d})");
+        } else {
+            assert!(d < 1e-9 * a.state().norm(), "{kind:?}: {d}");
+        }
+    }
 }

@@ -104,7 +104,7 @@ pub fn io_variables() -> &'static [VarDef] {
 }
 
 /// Number of variables.
-pub const N_VARS: usize = 61;
+pub const N_VARS: usize = 69;
 
 /// Every variable; the value reference is the index.
 pub static VARIABLES: LazyLock<Vec<VarDef>> =
