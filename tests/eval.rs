@@ -295,7 +295,10 @@ fn kalman_filters_reach_the_pcrlb_on_relative_gnss() {
 /// bound: the EKF alone is within 2x; the UKF and the IMM as range-parameterised banks
 /// (`range_bank` = 7) are within 1.3x with the time-averaged NEES inside the per-time 95 %
 /// band of the 50-run average and at least 3/4 of the times in it; alone they are not
-/// (the reason for the bank).
+/// (the reason for the bank). The range itself: before the first burn one filter reports
+/// less than half the range uncertainty the bound keeps (its range has collapsed) and
+/// after the burns half its actual range error; a bank reports what it has (RMS error over
+/// RMS `range_sigma` within 0.8-1.25).
 #[test]
 fn range_banks_reach_the_bound_on_angles_only_acquisition() {
     let text = builtin::by_name("sensors_angles_only").unwrap();
@@ -304,6 +307,36 @@ fn range_banks_reach_the_bound_on_angles_only_acquisition() {
         .retain(|f| ["EKF", "UKF", "UKF bank", "IMM bank"].contains(&f.label.as_str()));
     assert_eq!(s.filters.len(), 4);
     let r = run(&s, &Options::default()).unwrap();
+    // the range: what each filter reports (range_sigma) against its RMS error, before the
+    // first burn (590 s: angles alone, the range unobservable) and after the second
+    let after: Vec<usize> = (0..r.t.len()).filter(|&k| r.t[k] >= 1900.0).collect();
+    let rms = |v: &[f64]| (after.iter().map(|&k| v[k]).sum::<f64>() / after.len() as f64).sqrt();
+    let bound_590 = r.range_bound_runs[590].sqrt();
+    assert!(
+        bound_590 > 450.0,
+        "run-wise range bound at 590 s: {bound_590}"
+    );
+    for f in &r.filters {
+        let (sigma_590, err_590) = (f.range_var[590].sqrt(), f.range_mse[590].sqrt());
+        let (err, sigma) = (rms(&f.range_mse), rms(&f.range_var));
+        println!(
+            "{}: range at 590 s: error {err_590:.0} m, range_sigma {sigma_590:.0} m (bound \
+             {bound_590:.0} m); after the burns: error {err:.1} m, range_sigma {sigma:.1} m",
+            f.label
+        );
+        if f.label.ends_with("bank") {
+            assert!(sigma_590 > 0.7 * bound_590, "{}: {sigma_590}", f.label);
+            assert!(
+                err / sigma > 0.8 && err / sigma < 1.25,
+                "{}: {err} / {sigma}",
+                f.label
+            );
+        } else {
+            // one filter claims the range it cannot know, and twice the precision it has
+            assert!(sigma_590 < 0.5 * bound_590, "{}: {sigma_590}", f.label);
+            assert!(err / sigma > 1.5, "{}: {err} / {sigma}", f.label);
+        }
+    }
     for x in summarize(&r) {
         let ratio = x.efficiency_runs_pos.unwrap();
         let nees = x.nees.clone().unwrap();

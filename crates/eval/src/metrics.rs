@@ -479,6 +479,8 @@ mod tests {
             nis_count: vec![10; n],
             max_pos_err: vec![1.0; n],
             max_vel_err: vec![0.1; n],
+            range_mse: vec![1.0; n],
+            range_var: vec![1.0; n],
             failed_runs: 0,
             us_per_step: 2.5,
         }
@@ -495,6 +497,7 @@ mod tests {
             filters,
             pcrlb: Err("not computed".to_string()),
             pcrlb_runs: Err("not computed".to_string()),
+            range_bound_runs: Vec::new(),
             convergence_time: 0.0,
             convergence_threshold: (1.0, 0.1),
             published: vec![],

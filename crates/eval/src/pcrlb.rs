@@ -90,6 +90,19 @@ pub fn sensor_information(s: &PreparedSensor, x: &State) -> Mat6 {
 /// Run the recursion given the Monte Carlo mean of `H^T I_v H` at each time (zero where
 /// nothing was measured). Returns the diagonal of `J_k^-1` in the I/O frame per time.
 pub fn recursion(prep: &Prepared, mean_info: &[Mat6]) -> Result<Vec<[f64; 6]>, String> {
+    let frame = prep.scenario.io_frame();
+    Ok(bounds(prep, mean_info)?
+        .iter()
+        .map(|c| {
+            let b = frame.cov_from_canonical(c);
+            std::array::from_fn(|i| b[(i, i)])
+        })
+        .collect())
+}
+
+/// [`recursion`]'s `J_k^-1` whole, in the canonical frame (the bound of any linear
+/// function of the state: one run's range along its own line of sight).
+pub fn bounds(prep: &Prepared, mean_info: &[Mat6]) -> Result<Vec<Mat6>, String> {
     if let Some(r) = undefined_reason(prep) {
         return Err(r);
     }
@@ -141,8 +154,7 @@ pub fn recursion(prep: &Prepared, mean_info: &[Mat6]) -> Result<Vec<[f64; 6]>, S
             let pred = f * jinv * f.transpose() + q;
             j = inv(&pred, "the predicted bound")? + info;
         }
-        let b = frame.cov_from_canonical(&inv(&j, "J")?);
-        out.push(std::array::from_fn(|i| b[(i, i)]));
+        out.push(inv(&j, "J")?);
     }
     Ok(out)
 }

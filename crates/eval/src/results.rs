@@ -23,6 +23,13 @@ pub struct FilterStats {
     pub max_pos_err: Vec<f64>,
     /// Largest velocity-error norm over runs at each time [m/s].
     pub max_vel_err: Vec<f64>,
+    /// Mean over runs of the squared range error (estimated range less the true one)
+    /// [m^2].
+    pub range_mse: Vec<f64>,
+    /// Mean over runs of the range variance the filter reports (its covariance along its
+    /// estimated line of sight, as `range_sigma`) [m^2]; NaN for a filter without a
+    /// covariance.
+    pub range_var: Vec<f64>,
     /// Runs in which the filter failed (numerical error) or diverged; they are excluded
     /// from the statistics above.
     pub failed_runs: u32,
@@ -59,6 +66,9 @@ pub struct McResult {
     /// unobservable direction is each run's own line of sight) or where a range-gated
     /// sensor is present in some runs and not in others.
     pub pcrlb_runs: Result<Vec<[f64; 6]>, String>,
+    /// The run-wise bound of the range: each run's `J^-1` along its own true line of
+    /// sight, averaged over the runs [m^2] (empty where the bound is not defined).
+    pub range_bound_runs: Vec<f64>,
     /// Time after which errors are averaged [s].
     pub convergence_time: f64,
     /// Per-axis thresholds (position [m], velocity [m/s]) for the convergence time.

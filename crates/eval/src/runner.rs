@@ -57,6 +57,8 @@ struct Acc {
     nis_n: Vec<u32>,
     max_pos: Vec<f64>,
     max_vel: Vec<f64>,
+    /// squared range error and reported range variance
+    range: Vec<[f64; 2]>,
     ok_runs: u32,
     failed: u32,
     failures: Vec<String>,
@@ -72,6 +74,7 @@ impl Acc {
             nis_n: vec![0; n],
             max_pos: vec![0.0; n],
             max_vel: vec![0.0; n],
+            range: vec![[0.0; 2]; n],
             ok_runs: 0,
             failed: 0,
             failures: Vec::new(),
@@ -90,6 +93,8 @@ impl Acc {
             }
             self.max_pos[k] = self.max_pos[k].max(v[8]);
             self.max_vel[k] = self.max_vel[k].max(v[9]);
+            self.range[k][0] += v[10];
+            self.range[k][1] += v[11];
         }
         self.ok_runs += 1;
     }
@@ -103,6 +108,8 @@ impl Acc {
             self.nis_n[k] += o.nis_n[k];
             self.max_pos[k] = self.max_pos[k].max(o.max_pos[k]);
             self.max_vel[k] = self.max_vel[k].max(o.max_vel[k]);
+            self.range[k][0] += o.range[k][0];
+            self.range[k][1] += o.range[k][1];
         }
         self.ok_runs += o.ok_runs;
         self.failed += o.failed;
@@ -112,12 +119,14 @@ impl Acc {
 }
 
 /// Sums of one chunk: per filter, plus the PCRLB's measurement information and the sum of
-/// the runs' own bounds (diagonal, I/O frame) with the number of runs in it.
+/// the runs' own bounds (diagonal, I/O frame; and the range's, along each run's own line
+/// of sight) with the number of runs in it.
 #[derive(Clone)]
 struct Chunk {
     filters: Vec<Acc>,
     info: Vec<Mat6>,
     run_bound: Vec<[f64; 6]>,
+    run_range_bound: Vec<f64>,
     bound_runs: u32,
     runs: u32,
 }
@@ -135,6 +144,9 @@ impl Chunk {
             for (x, y) in a.iter_mut().zip(b) {
                 *x += y;
             }
+        }
+        for (a, b) in self.run_range_bound.iter_mut().zip(&o.run_range_bound) {
+            *a += b;
         }
         self.bound_runs += o.bound_runs;
         self.runs += o.runs;
@@ -162,6 +174,7 @@ fn run_chunk(
         } else {
             Vec::new()
         },
+        run_range_bound: if want_info { vec![0.0; n] } else { Vec::new() },
         bound_runs: 0,
         runs: 0,
     };
@@ -189,11 +202,17 @@ fn run_chunk(
                 run_info.push(info);
             }
             // (a run whose own recursion fails numerically is left out of the mean)
-            if let Ok(b) = pcrlb::recursion(prep, &run_info) {
-                for (a, v) in c.run_bound.iter_mut().zip(&b) {
-                    for (x, y) in a.iter_mut().zip(v) {
-                        *x += y;
+            if let Ok(b) = pcrlb::bounds(prep, &run_info) {
+                let frame = prep.scenario.io_frame();
+                for (k, jinv) in b.iter().enumerate() {
+                    let io = frame.cov_from_canonical(jinv);
+                    for (i, x) in c.run_bound[k].iter_mut().enumerate() {
+                        *x += io[(i, i)];
                     }
+                    let r = run.states[k].fixed_rows::<3>(0);
+                    let u = r / r.norm();
+                    c.run_range_bound[k] +=
+                        (u.transpose() * jinv.fixed_view::<3, 3>(0, 0) * u)[(0, 0)];
                 }
                 c.bound_runs += 1;
             }
@@ -298,6 +317,7 @@ impl Campaign {
                 filters: vec![Acc::new(n); self.prep.filters.len()],
                 info: vec![Mat6::zeros(); if self.want_info { n } else { 0 }],
                 run_bound: vec![[0.0; 6]; if self.want_info { n } else { 0 }],
+                run_range_bound: vec![0.0; if self.want_info { n } else { 0 }],
                 bound_runs: 0,
                 runs: 0,
             },
@@ -371,7 +391,7 @@ pub struct Partial {
 }
 
 /// First bytes of [`Partial::to_bytes`] (format name and version).
-const PARTIAL_MAGIC: &[u8; 8] = b"RNPART02";
+const PARTIAL_MAGIC: &[u8; 8] = b"RNPART03";
 
 impl Partial {
     /// Index of the chunk.
@@ -389,7 +409,7 @@ impl Partial {
     pub fn to_bytes(&self) -> Vec<u8> {
         let c = &self.chunk;
         let n = c.filters.first().map_or(c.info.len(), |a| a.sum.len());
-        let mut w = Vec::with_capacity(64 + c.filters.len() * n * 12 * 8 + c.info.len() * 288);
+        let mut w = Vec::with_capacity(64 + c.filters.len() * n * 14 * 8 + c.info.len() * 296);
         w.extend_from_slice(PARTIAL_MAGIC);
         for v in [self.index, self.range.start, self.range.end, self.base] {
             w.extend_from_slice(&v.to_le_bytes());
@@ -417,6 +437,7 @@ impl Partial {
             }
             f64s(&mut w, &mut a.max_pos.iter().copied());
             f64s(&mut w, &mut a.max_vel.iter().copied());
+            f64s(&mut w, &mut a.range.iter().flatten().copied());
             for x in [a.ok_runs, a.failed, a.failures.len() as u32] {
                 w.extend_from_slice(&x.to_le_bytes());
             }
@@ -430,6 +451,7 @@ impl Partial {
             f64s(&mut w, &mut m.iter().copied());
         }
         f64s(&mut w, &mut c.run_bound.iter().flatten().copied());
+        f64s(&mut w, &mut c.run_range_bound.iter().copied());
         w
     }
 
@@ -447,8 +469,8 @@ impl Partial {
                 "partial sums: {ni} information matrices for {n} times"
             ));
         }
-        // every filter needs at least 12 n values: refuse sizes the input cannot hold
-        if (nf as usize).saturating_mul(n).saturating_mul(12 * 4) > bytes.len() {
+        // every filter needs at least 14 n values: refuse sizes the input cannot hold
+        if (nf as usize).saturating_mul(n).saturating_mul(14 * 4) > bytes.len() {
             return Err("partial sums: truncated".into());
         }
         let mut filters = Vec::with_capacity(nf as usize);
@@ -469,6 +491,9 @@ impl Partial {
                 for x in v.iter_mut() {
                     *x = r.f64()?;
                 }
+            }
+            for x in a.range.iter_mut().flatten() {
+                *x = r.f64()?;
             }
             let (ok, failed, nfail) = (r.u32()?, r.u32()?, r.u32()?);
             a.ok_runs = ok;
@@ -493,6 +518,10 @@ impl Partial {
         for x in run_bound.iter_mut().flatten() {
             *x = r.f64()?;
         }
+        let mut run_range_bound = vec![0.0; ni];
+        for x in run_range_bound.iter_mut() {
+            *x = r.f64()?;
+        }
         if r.pos != bytes.len() {
             return Err(format!(
                 "partial sums: {} trailing bytes",
@@ -507,6 +536,7 @@ impl Partial {
                 filters,
                 info,
                 run_bound,
+                run_range_bound,
                 bound_runs,
                 runs,
             },
@@ -608,6 +638,14 @@ fn summarize_total(prep: &Prepared, runs: u64, want_info: bool, total: &Chunk) -
             Ok(total.run_bound.iter().map(|v| v.map(|x| x / b)).collect())
         }
     };
+    let range_bound_runs = match (&pcrlb_runs, total.bound_runs) {
+        (Ok(_), b) if b > 0 => total
+            .run_range_bound
+            .iter()
+            .map(|v| v / f64::from(b))
+            .collect(),
+        _ => Vec::new(),
+    };
     let filters = prep
         .filters
         .iter()
@@ -629,6 +667,8 @@ fn summarize_total(prep: &Prepared, runs: u64, want_info: bool, total: &Chunk) -
                 nis_count: a.nis_n.clone(),
                 max_pos_err: a.max_pos.clone(),
                 max_vel_err: a.max_vel.clone(),
+                range_mse: a.range.iter().map(|v| v[0] / r).collect(),
+                range_var: a.range.iter().map(|v| v[1] / r).collect(),
                 failed_runs: a.failed,
                 us_per_step: a.nanos as f64 / 1e3 / steps_total,
             }
@@ -644,6 +684,7 @@ fn summarize_total(prep: &Prepared, runs: u64, want_info: bool, total: &Chunk) -
         filters,
         pcrlb,
         pcrlb_runs,
+        range_bound_runs,
         convergence_time: scenario.simulation.convergence_time,
         convergence_threshold: (
             scenario.simulation.convergence_threshold[0],

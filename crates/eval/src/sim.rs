@@ -873,8 +873,10 @@ impl Prepared {
 }
 
 /// Per-time score of one filter in one run: squared errors (I/O frame), NEES, NIS (NaN
-/// without a measurement), position and velocity error norms.
-pub type Score = [f64; 10];
+/// without a measurement), position and velocity error norms, the squared range error
+/// (estimated range less the true one) and the range variance the filter reports (its
+/// covariance along its estimated line of sight; NaN without a covariance).
+pub type Score = [f64; 12];
 
 /// Run one filter over a run's truth and measurements. `Err` when the filter fails
 /// numerically (the run is then excluded from its statistics and counted). The NIS scored
@@ -930,6 +932,9 @@ pub fn run_filter(
                 .unwrap_or(f64::INFINITY)
         };
         let eio = t6 * e;
+        let (r_est, r_true) = (est.state().fixed_rows::<3>(0), truth[k].fixed_rows::<3>(0));
+        let u = r_est / r_est.norm();
+        let range_var = (u.transpose() * p.fixed_view::<3, 3>(0, 0) * u)[(0, 0)];
         out.push([
             eio[0] * eio[0],
             eio[1] * eio[1],
@@ -941,6 +946,8 @@ pub fn run_filter(
             nis,
             eio.fixed_rows::<3>(0).norm(),
             eio.fixed_rows::<3>(3).norm(),
+            (r_est.norm() - r_true.norm()).powi(2),
+            range_var,
         ]);
         if k < prep.steps {
             let mut a = if f.told_thrust {

@@ -19,7 +19,7 @@ fn csv_num(v: f64) -> String {
 }
 
 /// Suffixes of the per-filter columns of `timeseries.csv`.
-const TIMESERIES_COLUMNS: [&str; 12] = [
+const TIMESERIES_COLUMNS: [&str; 14] = [
     "rmse_x",
     "rmse_y",
     "rmse_z",
@@ -32,6 +32,8 @@ const TIMESERIES_COLUMNS: [&str; 12] = [
     "nis",
     "max_pos_err",
     "max_vel_err",
+    "range_rmse",
+    "range_sigma",
 ];
 
 /// Columns of the PCRLB in `timeseries.csv` (square roots of the bound).
@@ -213,6 +215,15 @@ pub fn timeseries_columns(r: &McResult) -> Vec<(String, Vec<f64>)> {
         ] {
             cols.push((format!("{p}{name}"), (0..n).map(|k| at(v, k)).collect()));
         }
+        for (name, v) in [
+            (TIMESERIES_COLUMNS[12], &f.range_mse),
+            (TIMESERIES_COLUMNS[13], &f.range_var),
+        ] {
+            cols.push((
+                format!("{p}{name}"),
+                (0..n).map(|k| at(v, k).sqrt()).collect(),
+            ));
+        }
     }
     cols.extend(rmse(
         "",
@@ -223,6 +234,10 @@ pub fn timeseries_columns(r: &McResult) -> Vec<(String, Vec<f64>)> {
         "",
         r.pcrlb_runs.as_ref().ok().map(Vec::as_slice),
         &RUN_BOUND_COLUMNS,
+    ));
+    cols.push((
+        "run_bound_range".to_string(),
+        (0..n).map(|k| at(&r.range_bound_runs, k).sqrt()).collect(),
     ));
     cols
 }

@@ -366,7 +366,10 @@ fn axes_plot(r: &McResult, path: &Path, x_range: Range<f64>) -> Result<(), Strin
 /// - `nees.png`: mean NEES versus time with the per-time 95 % band
 ///   `chi2inv(0.025, 6M)/M .. chi2inv(0.975, 6M)/M` as two dashed lines (one band per
 ///   distinct number `M` of runs used by the filters), log y-axis;
-/// - `position_error_axes.png`: three stacked panels, x, y and z RMSE with the PCRLB.
+/// - `position_error_axes.png`: three stacked panels, x, y and z RMSE with the PCRLB;
+/// - `range.png`: the RMS range error of each filter (solid), the root of the mean range
+///   variance it reports (its `range_sigma`, dashed, same colour) and the run-wise bound of
+///   the range (each run's bound along its own line of sight; black, dashed).
 ///
 /// The title is the scenario title. Non-finite and non-positive values are left out
 /// (lines break there). Errors (missing font [`FONT_PATH`], unwritable directory, no
@@ -427,7 +430,34 @@ pub fn write_plots(r: &McResult, dir: &Path) -> Result<Vec<PathBuf>, String> {
     paths.push(p);
 
     let p = dir.join("position_error_axes.png");
-    axes_plot(r, &p, x_range)?;
+    axes_plot(r, &p, x_range.clone())?;
+    paths.push(p);
+
+    let p = dir.join("range.png");
+    let mut curves = Vec::new();
+    for (i, f) in r.filters.iter().enumerate() {
+        let rmse: Vec<f64> = f.range_mse.iter().map(|v| v.sqrt()).collect();
+        let sigma: Vec<f64> = f.range_var.iter().map(|v| v.sqrt()).collect();
+        curves.push(Curve::new(&f.label, color_of(i), false, &r.t, &rmse));
+        curves.push(Curve::new(
+            &format!("{} range_sigma", f.label),
+            color_of(i),
+            true,
+            &r.t,
+            &sigma,
+        ));
+    }
+    if !r.range_bound_runs.is_empty() {
+        let b: Vec<f64> = r.range_bound_runs.iter().map(|v| v.sqrt()).collect();
+        curves.push(Curve::new("run-wise bound", BLACK, true, &r.t, &b));
+    }
+    single_plot(
+        &p,
+        &r.title,
+        "range RMSE, reported range_sigma [m]",
+        x_range,
+        &curves,
+    )?;
     paths.push(p);
 
     Ok(paths)

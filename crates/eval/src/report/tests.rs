@@ -55,6 +55,12 @@ fn filter(label: &str, scale: f64, n: usize) -> FilterStats {
         nis_count: (0..n).map(|k| if k % 2 == 0 { 20 } else { 0 }).collect(),
         max_pos_err: vec![2.0; n],
         max_vel_err: vec![0.02; n],
+        range_mse: (0..n)
+            .map(|k| 300.0 * (-(k as f64) / 10.0).exp() + 0.03)
+            .collect(),
+        range_var: (0..n)
+            .map(|k| 250.0 * (-(k as f64) / 10.0).exp() + 0.02)
+            .collect(),
         failed_runs: 0,
         us_per_step: 1.234,
     }
@@ -88,6 +94,9 @@ fn campaign(n: usize) -> McResult {
             })
             .collect()),
         pcrlb_runs: Err("not computed".to_string()),
+        range_bound_runs: (0..n)
+            .map(|k| 150.0 * (-(k as f64) / 10.0).exp() + 0.015)
+            .collect(),
         convergence_time: 10.0,
         convergence_threshold: (1.0, 0.1),
         published: vec![
@@ -195,15 +204,18 @@ fn csv_files_have_headers_and_rows() {
 
     let mut rd = ::csv::Reader::from_path(dir.join("timeseries.csv")).unwrap();
     let header = rd.headers().unwrap().clone();
-    assert_eq!(header.len(), 1 + 2 * 12 + 8 + 8);
+    assert_eq!(header.len(), 1 + 2 * 14 + 8 + 8 + 1);
     assert_eq!(header.get(0), Some("t"));
     assert_eq!(header.get(1), Some("EKF_rmse_x"));
     assert_eq!(header.get(7), Some("EKF_rmse_pos"));
-    assert_eq!(header.get(13), Some("UKF_rmse_x"));
-    assert_eq!(header.get(25), Some("pcrlb_x"));
-    assert_eq!(header.get(32), Some("pcrlb_vel"));
-    assert_eq!(header.get(33), Some("run_bound_x"));
-    assert_eq!(header.get(40), Some("run_bound_vel"));
+    assert_eq!(header.get(13), Some("EKF_range_rmse"));
+    assert_eq!(header.get(14), Some("EKF_range_sigma"));
+    assert_eq!(header.get(15), Some("UKF_rmse_x"));
+    assert_eq!(header.get(29), Some("pcrlb_x"));
+    assert_eq!(header.get(36), Some("pcrlb_vel"));
+    assert_eq!(header.get(37), Some("run_bound_x"));
+    assert_eq!(header.get(44), Some("run_bound_vel"));
+    assert_eq!(header.get(45), Some("run_bound_range"));
     let rows: Vec<::csv::StringRecord> = rd.records().map(Result::unwrap).collect();
     assert_eq!(rows.len(), n);
     assert!(rows.iter().all(|row| row.len() == header.len()));
@@ -217,6 +229,11 @@ fn csv_files_have_headers_and_rows() {
     assert_eq!(r0.get(10), Some("3"));
     // Row 1: no measurement -> empty NIS cell.
     assert_eq!(rows[1].get(10), Some(""));
+    // the range columns: roots of the mean squared error and of the mean reported variance
+    let range: f64 = r0.get(13).unwrap().parse().unwrap();
+    assert!((range - 300.03_f64.sqrt()).abs() < 1e-12);
+    let sigma: f64 = r0.get(14).unwrap().parse().unwrap();
+    assert!((sigma - 250.02_f64.sqrt()).abs() < 1e-12);
 
     let mut rd = ::csv::Reader::from_path(dir.join("summary.csv")).unwrap();
     let header = rd.headers().unwrap().clone();
@@ -236,8 +253,8 @@ fn csv_files_have_headers_and_rows() {
     let mut rd = ::csv::Reader::from_path(dir.join("timeseries.csv")).unwrap();
     let rows: Vec<::csv::StringRecord> = rd.records().map(Result::unwrap).collect();
     assert_eq!(rows.len(), n);
-    assert_eq!(rows[0].get(25), Some(""));
-    assert_eq!(rows[0].len(), 41);
+    assert_eq!(rows[0].get(29), Some(""));
+    assert_eq!(rows[0].len(), 46);
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -261,7 +278,8 @@ fn plots_are_png_files() {
             "position_rmse.png",
             "velocity_rmse.png",
             "nees.png",
-            "position_error_axes.png"
+            "position_error_axes.png",
+            "range.png"
         ]
     );
     for p in &paths {
@@ -287,7 +305,7 @@ fn plots_survive_degenerate_input() {
     r.filters = vec![f];
     r.pcrlb = Err("undefined".to_string());
     let dir = unique_dir("degenerate");
-    assert_eq!(write_plots(&r, &dir).unwrap().len(), 4);
+    assert_eq!(write_plots(&r, &dir).unwrap().len(), 5);
     // No times at all: an error, not a panic.
     r.t.clear();
     assert!(write_plots(&r, &dir)
