@@ -486,7 +486,7 @@ fn malformed_fields_are_refused() {
     nav.save_state(&mut b);
     // then: mean, cached covariance (flag and 36), ESS, flags, prior mean, covariance,
     // factor, predictive mean, covariance and factor
-    let rng_at = perm + n * 4 + 48 + 1 + 288 + 8 + 2 + 48 + 288 + 288 + 48 + 288 + 288;
+    let rng_at = perm + n * 4 + 48 + 1 + 288 + 8 + 3 + 48 + 288 + 288 + 48 + 288 + 288;
     b[rng_at..rng_at + 32].fill(0);
     reseal(&mut b, EST_HEADER);
     refusal(&mut nav, &b, "all zero", "zero generator");
@@ -582,7 +582,7 @@ fn pf_len(n: usize, m: usize) -> usize {
         + 1
         + m6
         + 8
-        + 2
+        + 3
         + 48
         + m6
         + m6

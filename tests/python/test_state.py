@@ -22,7 +22,7 @@ STEPS = 40
 SAVE_AT = 15
 CODES = list(range(1, 11))
 # documented sizes with the default parameters (1500 particles, window 10)
-FMU_STATE_BYTES = {1: 2027, 2: 2027, 3: 2516, 4: 118271, 5: 118271, 6: 622271, 7: 118271, 8: 622271, 9: 3278, 10: 3067}
+FMU_STATE_BYTES = {1: 2027, 2: 2027, 3: 2516, 4: 118272, 5: 118272, 6: 622272, 7: 118272, 8: 622272, 9: 3278, 10: 3067}
 FMU_HEADER = 70
 EST_HEADER = 32
 

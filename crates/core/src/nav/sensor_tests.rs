@@ -708,3 +708,45 @@ fn declared_sensors_take_their_noise_models() {
         }
     }
 }
+
+/// A particle filter started from the first measurements draws its positions from the
+/// first position fix and its velocities from a velocity reading of that same step, so a
+/// GNSS velocity (Student-t, 0.5 mm/s) far more precise than the 1 m/s velocity prior
+/// does not leave one particle: after the first step the cloud's velocity spread is the
+/// reading's noise and every particle still counts.
+#[test]
+fn particle_filters_draw_their_velocities_from_the_first_velocity_reading() {
+    let sigma_v = 5e-4;
+    let cfg = NavConfig {
+        filter: FilterKind::Pf,
+        frame: Frame::RadialAlongNormal,
+        particles: 1000,
+        accel_psd: 1e-14,
+        q_pos: [0.0; 3],
+        q_vel: [0.0; 3],
+        sigma_gnss_velocity: sigma_v,
+        gnss_noise_model: NoiseKind::StudentT,
+        gnss_noise_dof: 4.0,
+        ..NavConfig::default()
+    };
+    let truth_v = [0.01, -0.02, 0.005];
+    let mut nav = Navigator::new(&cfg).unwrap();
+    let first = Readings {
+        gnss_position: Some([400.0, 500.0, 200.0]),
+        gnss_velocity: Some(truth_v),
+        ..Readings::default()
+    };
+    // measured before the prediction: the update alone
+    nav.step_readings(&[0.0; 3], &first, 1e-9).unwrap();
+    let s = nav.sigma();
+    let spread = sigma_v * (4.0f64 / 2.0).sqrt();
+    for a in 3..6 {
+        assert!(
+            s[a] > 0.5 * spread && s[a] < 2.0 * spread,
+            "axis {a}: {}",
+            s[a]
+        );
+        assert!((nav.state()[a] - truth_v[a - 3]).abs() < spread);
+    }
+    assert!(nav.ess().unwrap() > 900.0);
+}

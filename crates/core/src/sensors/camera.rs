@@ -178,6 +178,9 @@ impl Sensor<3> for VelocitySensor {
     fn support(&self) -> Support {
         Support::Velocity
     }
+    fn velocity_fix(&self, z: &Vec3) -> Option<Vec3> {
+        Some(self.frame.vec_to_canonical(z))
+    }
     fn linear(&self) -> bool {
         true
     }

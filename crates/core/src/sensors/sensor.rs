@@ -166,6 +166,13 @@ pub trait Sensor<const D: usize>: Sync {
         let _ = z;
         None
     }
+    /// The canonical velocity whose noise-free measurement is `z`, for sensors of the
+    /// velocity alone; `None` for the others. A particle filter started from the first
+    /// measurement draws its velocities from such a reading in its first step.
+    fn velocity_fix(&self, z: &SVector<f64, D>) -> Option<Vec3> {
+        let _ = z;
+        None
+    }
     /// Whether `z` is a measurement this sensor can produce (finite, in its domain); the
     /// message names the first bad component. Default: finite.
     fn check(&self, z: &SVector<f64, D>) -> Result<(), String> {

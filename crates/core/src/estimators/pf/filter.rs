@@ -53,6 +53,7 @@ impl ParticleFilter {
             cov: OnceCell::from(p0),
             ess: n as f64,
             awaiting_first: false,
+            awaiting_velocity: false,
             prior_mode: true,
             prior_mean: x0,
             prior_cov: p0,
@@ -92,6 +93,7 @@ impl ParticleFilter {
         self.logw.iter_mut().for_each(|v| *v = 0.0);
         self.w.iter_mut().for_each(|v| *v = 1.0 / n);
         self.awaiting_first = self.params.init == PfInit::FirstMeasurement;
+        self.awaiting_velocity = self.awaiting_first;
         self.prior_mode = true;
         self.prior_mean = self.x0;
         self.prior_cov = self.p0;

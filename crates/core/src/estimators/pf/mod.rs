@@ -189,6 +189,9 @@ pub struct ParticleFilter {
     ess: f64,
     /// the first-measurement initialisation is still to come
     awaiting_first: bool,
+    /// the first step's velocity reading may still draw the velocities (cleared by the
+    /// first prediction)
+    awaiting_velocity: bool,
     /// no weighting update yet: the prior is the Gaussian (prior_mean, prior_cov)
     prior_mode: bool,
     prior_mean: State,

@@ -46,6 +46,7 @@ impl Persist for ParticleFilter {
             cov,
             ess,
             awaiting_first,
+            awaiting_velocity,
             prior_mode,
             prior_mean,
             prior_cov,
@@ -82,6 +83,7 @@ impl Persist for ParticleFilter {
         w.opt_matrix(cov.get());
         w.f64(*ess);
         w.bool(*awaiting_first);
+        w.bool(*awaiting_velocity);
         w.bool(*prior_mode);
         w.matrix(prior_mean);
         w.matrix(prior_cov);
@@ -130,6 +132,7 @@ impl Persist for ParticleFilter {
             cov,
             ess,
             awaiting_first,
+            awaiting_velocity,
             prior_mode,
             prior_mean,
             prior_cov,
@@ -199,6 +202,7 @@ impl Persist for ParticleFilter {
         };
         *ess = r.f64("effective sample size")?;
         *awaiting_first = r.bool("awaiting-first-measurement flag")?;
+        *awaiting_velocity = r.bool("awaiting-first-velocity flag")?;
         *prior_mode = r.bool("prior-mode flag")?;
         *prior_mean = r.matrix("prior mean")?;
         *prior_cov = r.matrix("prior covariance")?;

@@ -103,6 +103,7 @@ impl Estimator for ParticleFilter {
         std::mem::swap(&mut self.x, &mut self.x_tmp);
         std::mem::swap(&mut self.xbar, &mut self.xbar_tmp);
         self.soa_fresh = fresh;
+        self.awaiting_velocity = false;
         if self.pending {
             // the particles were gathered: the log-likelihoods follow
             for (o, &i) in self.loglik_tmp.iter_mut().zip(&self.idx) {

@@ -9,7 +9,9 @@
 //! radio only: on this path the UPF and CGA-PF weigh with the transition as proposal. At
 //! the first update a particle filter started from the first measurement draws its
 //! positions from the measurement when the sensor fixes the position
-//! ([`Sensor::position_fix`]), and otherwise keeps the particles drawn from the prior.
+//! ([`Sensor::position_fix`]), and otherwise keeps the particles drawn from the prior; a
+//! reading of the velocity in that same first step ([`Sensor::velocity_fix`]) then draws
+//! the velocities from it.
 //!
 //! [`Estimator::update_sensor`]: crate::estimators::Estimator::update_sensor
 
@@ -46,6 +48,20 @@ impl ParticleFilter {
         let fresh = std::mem::take(&mut self.soa_fresh);
         self.materialise();
         let noise = sensor.noise();
+        // the first step's velocity reading, after its position fix: the velocities from
+        // it (a 1 m/s prior cloud weighed by a sub-mm/s density would keep one particle)
+        if self.awaiting_velocity && !self.awaiting_first && sensor.velocity_fix(z).is_some() {
+            self.init_velocities(|rng| {
+                sensor.velocity_fix(&less_noise(z, &noise.model, &noise.scales, rng))
+            })?;
+            self.first_update_done();
+            self.awaiting_velocity = false;
+            return Ok(SensorUpdate {
+                innovation: SVector::zeros(),
+                nis: f64::NAN,
+                dof: D,
+            });
+        }
         if self.awaiting_first {
             if sensor.position_fix(z).is_some() {
                 self.init_from_fix(sensor, z)?;

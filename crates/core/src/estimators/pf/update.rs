@@ -81,6 +81,30 @@ impl ParticleFilter {
         Ok(())
     }
 
+    /// Velocities from a velocity reading's likelihood (`fix` draws one), positions kept:
+    /// the first step's velocity reading after the positions' initialisation.
+    pub(super) fn init_velocities(
+        &mut self,
+        mut fix: impl FnMut(&mut PfRng) -> Option<Vec3>,
+    ) -> Result<(), FilterError> {
+        for i in 0..self.x.len() {
+            let v = fix(&mut self.rng).ok_or(FilterError::NonFinite("velocity inversion"))?;
+            let r = self.x[i].fixed_rows::<3>(0).into_owned();
+            self.x_tmp[i] = State::new(r.x, r.y, r.z, v.x, v.y, v.z);
+            if let Some(xb) = self.xbar_tmp.get_mut(i) {
+                *xb = self.x_tmp[i];
+            }
+        }
+        if !self.x_tmp.iter().all(|x| x.iter().all(|v| v.is_finite())) {
+            return Err(FilterError::NonFinite(
+                "particles drawn from the velocity reading",
+            ));
+        }
+        std::mem::swap(&mut self.x, &mut self.x_tmp);
+        std::mem::swap(&mut self.xbar, &mut self.xbar_tmp);
+        Ok(())
+    }
+
     /// The bookkeeping after the first-measurement initialisation drew the particles:
     /// equal weights, the summary, each particle's own covariance, the ESS.
     pub(super) fn first_update_done(&mut self) {
