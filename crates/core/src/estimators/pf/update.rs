@@ -62,23 +62,12 @@ impl ParticleFilter {
     ) -> Result<(), FilterError> {
         // the velocity rows of a square root of the prior draw from its velocity marginal
         let l = psd_sqrt(&self.prior_cov).ok_or(FilterError::NonFinite("prior covariance"))?;
-        for i in 0..self.x.len() {
-            let r = fix(&mut self.rng).ok_or(FilterError::NonFinite("measurement inversion"))?;
-            let v =
-                self.prior_mean.fixed_rows::<3>(3) + (l * gauss6(&mut self.rng)).fixed_rows::<3>(3);
-            self.x_tmp[i] = State::new(r.x, r.y, r.z, v.x, v.y, v.z);
-            if let Some(xb) = self.xbar_tmp.get_mut(i) {
-                *xb = self.x_tmp[i];
-            }
-        }
-        if !self.x_tmp.iter().all(|x| x.iter().all(|v| v.is_finite())) {
-            return Err(FilterError::NonFinite(
-                "particles drawn from the measurement",
-            ));
-        }
-        std::mem::swap(&mut self.x, &mut self.x_tmp);
-        std::mem::swap(&mut self.xbar, &mut self.xbar_tmp);
-        Ok(())
+        let v0 = self.prior_mean.fixed_rows::<3>(3).into_owned();
+        self.redraw("particles drawn from the measurement", |rng, _| {
+            let r = fix(rng)?;
+            let v = v0 + (l * gauss6(rng)).fixed_rows::<3>(3);
+            Some(State::new(r.x, r.y, r.z, v.x, v.y, v.z))
+        })
     }
 
     /// Velocities from a velocity reading's likelihood (`fix` draws one), positions kept:
@@ -87,18 +76,27 @@ impl ParticleFilter {
         &mut self,
         mut fix: impl FnMut(&mut PfRng) -> Option<Vec3>,
     ) -> Result<(), FilterError> {
+        self.redraw("particles drawn from the velocity reading", |rng, x| {
+            let v = fix(rng)?;
+            Some(State::new(x[0], x[1], x[2], v.x, v.y, v.z))
+        })
+    }
+
+    /// Every particle replaced by `draw(rng, particle)`, committed only when every draw
+    /// succeeded and is finite (`what` names them otherwise).
+    fn redraw(
+        &mut self,
+        what: &'static str,
+        mut draw: impl FnMut(&mut PfRng, &State) -> Option<State>,
+    ) -> Result<(), FilterError> {
         for i in 0..self.x.len() {
-            let v = fix(&mut self.rng).ok_or(FilterError::NonFinite("velocity inversion"))?;
-            let r = self.x[i].fixed_rows::<3>(0).into_owned();
-            self.x_tmp[i] = State::new(r.x, r.y, r.z, v.x, v.y, v.z);
+            self.x_tmp[i] = draw(&mut self.rng, &self.x[i]).ok_or(FilterError::NonFinite(what))?;
             if let Some(xb) = self.xbar_tmp.get_mut(i) {
                 *xb = self.x_tmp[i];
             }
         }
         if !self.x_tmp.iter().all(|x| x.iter().all(|v| v.is_finite())) {
-            return Err(FilterError::NonFinite(
-                "particles drawn from the velocity reading",
-            ));
+            return Err(FilterError::NonFinite(what));
         }
         std::mem::swap(&mut self.x, &mut self.x_tmp);
         std::mem::swap(&mut self.xbar, &mut self.xbar_tmp);
