@@ -63,7 +63,11 @@ impl ParticleFilter {
         // the velocity rows of a square root of the prior draw from its velocity marginal
         let l = psd_sqrt(&self.prior_cov).ok_or(FilterError::NonFinite("prior covariance"))?;
         let v0 = self.prior_mean.fixed_rows::<3>(3).into_owned();
-        self.redraw("particles drawn from the measurement", |rng, _| {
+        let what = (
+            "measurement inversion",
+            "particles drawn from the measurement",
+        );
+        self.redraw(what, |rng, _| {
             let r = fix(rng)?;
             let v = v0 + (l * gauss6(rng)).fixed_rows::<3>(3);
             Some(State::new(r.x, r.y, r.z, v.x, v.y, v.z))
@@ -76,27 +80,32 @@ impl ParticleFilter {
         &mut self,
         mut fix: impl FnMut(&mut PfRng) -> Option<Vec3>,
     ) -> Result<(), FilterError> {
-        self.redraw("particles drawn from the velocity reading", |rng, x| {
+        let what = (
+            "velocity inversion",
+            "particles drawn from the velocity reading",
+        );
+        self.redraw(what, |rng, x| {
             let v = fix(rng)?;
             Some(State::new(x[0], x[1], x[2], v.x, v.y, v.z))
         })
     }
 
     /// Every particle replaced by `draw(rng, particle)`, committed only when every draw
-    /// succeeded and is finite (`what` names them otherwise).
+    /// succeeded and is finite; `what` names the failed draw and the non-finite set.
     fn redraw(
         &mut self,
-        what: &'static str,
+        what: (&'static str, &'static str),
         mut draw: impl FnMut(&mut PfRng, &State) -> Option<State>,
     ) -> Result<(), FilterError> {
         for i in 0..self.x.len() {
-            self.x_tmp[i] = draw(&mut self.rng, &self.x[i]).ok_or(FilterError::NonFinite(what))?;
+            self.x_tmp[i] =
+                draw(&mut self.rng, &self.x[i]).ok_or(FilterError::NonFinite(what.0))?;
             if let Some(xb) = self.xbar_tmp.get_mut(i) {
                 *xb = self.x_tmp[i];
             }
         }
         if !self.x_tmp.iter().all(|x| x.iter().all(|v| v.is_finite())) {
-            return Err(FilterError::NonFinite(what));
+            return Err(FilterError::NonFinite(what.1));
         }
         std::mem::swap(&mut self.x, &mut self.x_tmp);
         std::mem::swap(&mut self.xbar, &mut self.xbar_tmp);
