@@ -422,6 +422,10 @@ typedef struct relnav_config {
   // Allowed: > 2.
   // Default: 4.
   double gnss_noise_dof;
+  // H-infinity filter: the measurement set its design is for, the sum of 1 radio, 2 camera, 4 relative GNSS position, 8 relative GNSS velocity (it must hold the radio or the GNSS position: a camera or a velocity alone leaves the position unobservable to a linear observer); the design's noise is each sensor's at the initial estimate.
+  // Allowed: 1..=15.
+  // Default: 1.
+  int32_t hinf_sensors;
 } relnav_config;
 
 // How the H-infinity filter of an estimator (filter code 9) was designed

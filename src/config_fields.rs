@@ -359,6 +359,10 @@ pub struct relnav_config {
     /// Allowed: > 2.
     /// Default: 4.
     pub gnss_noise_dof: f64,
+    /// H-infinity filter: the measurement set its design is for, the sum of 1 radio, 2 camera, 4 relative GNSS position, 8 relative GNSS velocity (it must hold the radio or the GNSS position: a camera or a velocity alone leaves the position unobservable to a linear observer); the design's noise is each sensor's at the initial estimate.
+    /// Allowed: 1..=15.
+    /// Default: 1.
+    pub hinf_sensors: i32,
 }
 
 impl relnav_config {
@@ -422,6 +426,7 @@ impl relnav_config {
         gnss_noise_zeta: 0.0,
         gnss_noise_scale: 0.0,
         gnss_noise_dof: 0.0,
+        hinf_sensors: 0,
     };
 
     /// Element `i` of parameter `k` (its index in the table).
@@ -485,6 +490,7 @@ impl relnav_config {
             55 => Value::Real(self.gnss_noise_zeta),
             56 => Value::Real(self.gnss_noise_scale),
             57 => Value::Real(self.gnss_noise_dof),
+            58 => Value::Int(i64::from(self.hinf_sensors)),
             _ => return None,
         })
     }
@@ -551,6 +557,7 @@ impl relnav_config {
             55 => self.gnss_noise_zeta = v.as_f64(),
             56 => self.gnss_noise_scale = v.as_f64(),
             57 => self.gnss_noise_dof = v.as_f64(),
+            58 => self.hinf_sensors = v.as_int().map_or(i32::MAX, |x| i32::try_from(x).unwrap_or(i32::MAX)),
             _ => {}
         }
     }

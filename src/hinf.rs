@@ -123,6 +123,8 @@ fn from_c_matrices(m: &relnav_hinf_matrices) -> relnav_core::hinf::HinfMatrices 
         b_f: Mat63::from_fn(|i, j| m.b_f[3 * i + j]),
         c_f: Mat6::from_fn(|i, j| m.c_f[6 * i + j]),
         e_f: Mat63::from_fn(|i, j| m.e_f[3 * i + j]),
+        // the C ABI's runtime filter takes the position alone
+        b_v: Mat63::zeros(),
         period: m.period,
     }
 }

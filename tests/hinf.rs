@@ -653,9 +653,9 @@ fn acquisition_hands_over_keeps_and_reacquires() {
 /// quiet-truth noise only the balanced one reaches the optimum); the solver-independent verifier bounds the certified channel's
 /// norm by gamma, the (w, v) norm over the delta grid by the small-gain bound below, with
 /// stable error dynamics.
-fn check_riccati_route(
+fn check_riccati_route<const M: usize>(
     name: &str,
-    plant: &HinfPlant,
+    plant: &HinfPlant<M>,
     period: f64,
     delta_bar: f64,
     at: impl Fn(f64) -> Mat6,
@@ -670,7 +670,7 @@ fn check_riccati_route(
     );
     assert_eq!((r.riccati_failure, r.iterations), (None, 0), "{name}");
     assert!(r.lmi_max_eig < 0.0, "{name}");
-    let g = r.matrices.b_f;
+    let g = r.matrices.gain::<M>();
     let x = observer_error_covariance(plant, &g).unwrap();
     let tau = ((x[(0, 0)] + x[(1, 1)] + x[(2, 2)]) / (x[(3, 3)] + x[(4, 4)] + x[(5, 5)])).sqrt();
     let sdp = design_observer_sdp(plant, period, &opts).unwrap_or_else(|e| panic!("{name}: {e}"));
@@ -756,6 +756,56 @@ fn riccati_route_matches_the_sdp() {
             HinfPlant::open_loop_at(spec, d)
         });
     }
+}
+
+/// A design that measures the velocity as well (relative GNSS: 5 cm and 0.5 mm/s per axis,
+/// LEO, T = 1 s; `C = I6`): the Riccati route against both SDPs (eliminated and literal,
+/// posed for the 6-dimensional measurement), the same checks as the position designs, and
+/// what measuring more must give: a gamma and an H2 norm no larger than the position-only
+/// design's (its gain, with zero velocity columns, is admissible here). The mixed design
+/// meets its bound with an H2 norm no larger than the gamma-optimal one's.
+#[test]
+fn velocity_designs_are_certified_and_no_worse_than_position_ones() {
+    use relnav_core::hinf::design::{design_observer_riccati, design_plant_mixed};
+    use relnav_core::types::Mat3;
+    let mut cfg = NavConfig {
+        filter: FilterKind::Hinf,
+        mean_motion: std::f64::consts::TAU / 5554.0,
+        hinf_period: 1.0,
+        accel_psd: 1e-9,
+        sigma_gnss: 0.05,
+        sigma_gnss_velocity: 5e-4,
+        hinf_sensors: 4,
+        ..NavConfig::default()
+    };
+    cfg.x0 = [0.0, -200.0, 0.0, 0.0, 0.0, 0.0];
+    let spec = cfg.hinf_spec().unwrap();
+    let pos = HinfPlant::open_loop(&spec);
+    let vel = pos.measuring_velocity(&(Mat3::identity() * 5e-4));
+    let at = |d| HinfPlant::open_loop_at(&spec, d);
+    let p = check_riccati_route("GNSS position", &pos, 1.0, spec.delta_bar, at);
+    let v = check_riccati_route("GNSS position and velocity", &vel, 1.0, spec.delta_bar, at);
+    let opts = DesignOptions::default();
+    let full = design_observer_full(&vel, 1.0, &opts).unwrap();
+    eprintln!(
+        "position: gamma {:.6}, H2 {:.6e} | position and velocity: gamma {:.6} (literal SDP \
+         {:.6}), H2 {:.6e}",
+        p.gamma, p.h2_norm, v.gamma, full.gamma, v.h2_norm
+    );
+    assert!(full.lmi_max_eig < 0.0);
+    assert!((v.gamma - full.gamma).abs() <= 1e-4 * full.gamma);
+    assert!(v.gamma <= p.gamma * (1.0 + 1e-6));
+    assert!(v.h2_norm <= p.h2_norm);
+    assert!(v.matrices.measures_velocity() && !p.matrices.measures_velocity());
+    assert!(design_observer_riccati(&vel, 1.0).is_ok());
+    let m = design_plant_mixed(&vel, 1.0, 1.5, &opts).unwrap();
+    eprintln!(
+        "mixed (gamma <= 1.5 x {:.6}): H2 {:.6e} (bound {:.6e})",
+        m.pure.gamma, m.mixed.h2_norm, m.mixed.h2_bound
+    );
+    assert!(m.mixed.lmi_max_eig < 0.0);
+    assert!(observer_certified_norm(&vel, &m.mixed.matrices.gain::<6>()) <= m.mixed.gamma);
+    assert!(m.mixed.h2_norm <= m.pure.h2_norm * (1.0 + 1e-9));
 }
 
 /// The fallback: with a noise-free measurement axis (`D` singular) the Riccati route cannot

@@ -486,7 +486,8 @@ fn steps_with_added_sensors_do_not_allocate() {
 }
 
 /// The declared sensors' steps (`Navigator::step_readings`: the radio, the camera and
-/// relative GNSS together) allocate nothing either, an added sensor present or not.
+/// relative GNSS together) allocate nothing either, an added sensor present or not; the
+/// H-infinity filter with a design for all four (`hinf_sensors` = 15) included.
 #[test]
 fn declared_sensor_steps_do_not_allocate() {
     use relnav_core::nav::{Named, Readings};
@@ -495,11 +496,9 @@ fn declared_sensor_steps_do_not_allocate() {
     let banks = [FilterKind::Ekf, FilterKind::Ukf, FilterKind::Imm].map(|f| (f, 3));
     let singles = FilterKind::ALL.map(|f| (f, 1));
     for (filter, bank) in singles.into_iter().chain(banks) {
-        if filter == FilterKind::Hinf {
-            continue;
-        }
         let cfg = NavConfig {
             range_bank: bank,
+            hinf_sensors: 15,
             ..sensor_config(filter)
         };
         let mut nav = Navigator::new(&cfg).unwrap();

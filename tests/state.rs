@@ -376,7 +376,7 @@ fn bad_states_are_refused_and_change_nothing() {
         let mut c = good.clone();
         c[8..12].copy_from_slice(&(STATE_FORMAT_VERSION + 1).to_le_bytes());
         reseal(&mut c, EST_HEADER);
-        refusal(&mut target, &c, "format version 5", "version");
+        refusal(&mut target, &c, "format version 6", "version");
         // another magic
         let mut c = good.clone();
         c[0] = b'X';
@@ -505,7 +505,7 @@ fn malformed_fields_are_refused() {
 #[test]
 fn sizes_follow_the_documented_layout() {
     assert_eq!(
-        STATE_FORMAT_VERSION, 4,
+        STATE_FORMAT_VERSION, 5,
         "update docs/state-format.md and this table"
     );
     let conf = conf_len();
@@ -527,9 +527,25 @@ fn sizes_follow_the_documented_layout() {
             }
             FilterKind::Pf | FilterKind::Rpf | FilterKind::Gapf => pf_len(n, 0),
             FilterKind::Upf | FilterKind::Cgapf => pf_len(n, n),
-            // + H2 norm, track-initiation flag, its covariance and hand-over flag (on by default)
+            // matrices (B_V too), period, C_F^-1, x_f, estimate; the step's gathered
+            // measurements (two counts, opt fix, information, information innovation);
+            // gamma, H2 norm, track-initiation flag, its covariance and hand-over flag (on by
+            // default)
             FilterKind::Hinf => {
-                m6 + 144 + m6 + 144 + 8 + m6 + v6 + v6 + 1 + 24 + 8 + 8 + 1 + m6 + 1
+                m6 + 144
+                    + m6
+                    + 144
+                    + 144
+                    + 8
+                    + m6
+                    + v6
+                    + v6
+                    + (2 + 1 + 24 + m6 + v6)
+                    + 8
+                    + 8
+                    + 1
+                    + m6
+                    + 1
             }
             // mode count, each mode's EKF, the mode probabilities, the combined estimate
             FilterKind::Imm => 8 + cfg.imm_modes * (kalman + 8) + kalman,

@@ -91,6 +91,7 @@ class Estimator:
         gnss_noise_zeta: float = 0.2,
         gnss_noise_scale: float = 10.0,
         gnss_noise_dof: float = 4.0,
+        hinf_sensors: int = 1,
     ) -> None:
         """Keyword arguments are the FMU's parameters (names, types, defaults):
 
@@ -163,6 +164,7 @@ class Estimator:
             gnss_noise_zeta: Relative GNSS, mixture noise: weight of the wide component (in [0, 1)).
             gnss_noise_scale: Relative GNSS, mixture noise: sigma of the wide component over the nominal sigma (>= 1).
             gnss_noise_dof: Relative GNSS, Student-t noise: degrees of freedom (> 2).
+            hinf_sensors: H-infinity filter: the measurement set its design is for, the sum of 1 radio, 2 camera, 4 relative GNSS position, 8 relative GNSS velocity (it must hold the radio or the GNSS position: a camera or a velocity alone leaves the position unobservable to a linear observer); the design's noise is each sensor's at the initial estimate.
         """
     # --- parameters: end ---
     def step(

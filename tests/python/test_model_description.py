@@ -95,6 +95,8 @@ EXPECTED = {
     "gnss_velocity_valid": ("input", "discrete", "Boolean", None),
     "range_sigma": ("output", "continuous", "Real", "m"),
     **{f"{s}_nis": ("output", "continuous", "Real", None) for s in ("radio", "camera", "gnss", "gnss_velocity")},
+    # the H-infinity design's measurement set (a sum of sensor bits)
+    "hinf_sensors": ("parameter", "fixed", "Integer", None),
 }
 
 # issue 12's variables, appended in this order after vr 62 (looked up by name: the
@@ -171,6 +173,8 @@ DEFAULTS = {
     # Gaussian unless told otherwise, with the radio's defaults for the other densities
     **{f"{k}_noise_model": 1 for k in ("camera", "gnss")},
     **{f"{k}_noise_{p}": v for k in ("camera", "gnss") for p, v in (("zeta", 0.2), ("scale", 10.0), ("dof", 4.0))},
+    # the radio alone, as before the parameter
+    "hinf_sensors": 1,
 }
 
 FMI2_CS_FUNCTIONS = [

@@ -22,7 +22,7 @@ STEPS = 40
 SAVE_AT = 15
 CODES = list(range(1, 11))
 # documented sizes with the default parameters (1500 particles, window 10)
-FMU_STATE_BYTES = {1: 2027, 2: 2027, 3: 2516, 4: 118272, 5: 118272, 6: 622272, 7: 118272, 8: 622272, 9: 3278, 10: 3067}
+FMU_STATE_BYTES = {1: 2043, 2: 2043, 3: 2532, 4: 118288, 5: 118288, 6: 622288, 7: 118288, 8: 622288, 9: 3776, 10: 3083}
 FMU_HEADER = 70
 EST_HEADER = 32
 
@@ -89,12 +89,12 @@ def parse_fmu_state(b: bytes, guid: str) -> dict:
 
 def parse_estimator_state(e: bytes) -> dict:
     magic, version, code, fingerprint, length, crc = struct.unpack_from("<8sIiIQI", e, 0)
-    assert magic == b"RELNAVES" and version == 4
+    assert magic == b"RELNAVES" and version == 5
     assert length == len(e) - EST_HEADER
     assert crc == zlib.crc32(e[:28] + e[EST_HEADER:])
     assert e[32:36] == b"CONF"
     (count,) = struct.unpack_from("<I", e, 36)
-    assert count == 70
+    assert count == 71
     conf = e[36 : 40 + 8 * count]
     assert fingerprint == zlib.crc32(conf)
     settings = e[40 : 40 + 8 * count]

@@ -107,6 +107,11 @@ pub const BUILTIN: &[(&str, &str, &str)] = &[
     ),
     (
         "sensors",
+        "sensors_handover_rate_error",
+        include_str!("../../../scenarios/sensors_handover_rate_error.toml"),
+    ),
+    (
+        "sensors",
         "sensors_angles_only",
         include_str!("../../../scenarios/sensors_angles_only.toml"),
     ),

@@ -692,7 +692,11 @@ impl FilterSpec {
     /// process noise as rates (`process_noise / step`; for the AQUKF the velocity part is
     /// its initial adaptive density), the H-infinity settings of this table, then every
     /// parameter the table sets. Its sensor settings are the navigator's defaults: the
-    /// engine gives each filter its measurement model itself.
+    /// engine gives each filter its measurement model itself; only an H-infinity filter
+    /// of a scenario with `[[sensors]]` takes their noise (`sigma_range`, `sigma_angle` of
+    /// the first radio or lidar, `sigma_camera`, `sigma_gnss`, `sigma_gnss_velocity`, each
+    /// the Gaussian of its density's variance), from which the factory derives its design's
+    /// measurement noise for `hinf_sensors`.
     pub fn nav_config(&self, scenario: &Scenario, mean_motion: f64) -> Result<NavConfig, String> {
         let step = scenario.simulation.step;
         let mut c = NavConfig {
@@ -721,6 +725,23 @@ impl FilterSpec {
         let sc = self.hinf_scalings.unwrap_or([0.05, 0.001, 0.1]);
         (c.hinf_b_pos, c.hinf_b_vel, c.hinf_d) = (sc[0], sc[1], sc[2]);
         self.params.apply(&mut c)?;
+        if c.filter == FilterKind::Hinf {
+            let mut radio = false;
+            for p in &scenario.sensors {
+                let (sc, _) = p.scales();
+                let f = p.noise.variance_factor().sqrt();
+                match p.kind {
+                    SensorKind::Radio | SensorKind::Lidar if !radio => {
+                        radio = true;
+                        (c.sigma_range, c.sigma_angle) = (sc[0] * f, sc[1] * f);
+                    }
+                    SensorKind::Camera => c.sigma_camera = sc[0] * f,
+                    SensorKind::Gnss => c.sigma_gnss = sc[0] * f,
+                    SensorKind::GnssVelocity => c.sigma_gnss_velocity = sc[0] * f,
+                    _ => {}
+                }
+            }
+        }
         Ok(c)
     }
 

@@ -628,9 +628,11 @@ impl Prepared {
             let x0 = config.initial_state();
             let p0 = config.initial_covariance();
             let mut options = f.filter_options();
-            // an eccentric orbit's H-infinity filter is the factory's scheduled design
+            // an eccentric orbit's H-infinity filter is the factory's scheduled design, and
+            // that of a scenario with [[sensors]] the factory's design for hinf_sensors
             let feedforward_feedback = if config.filter == FilterKind::Hinf
                 && config.eccentricity == 0.0
+                && s.sensor.is_some()
             {
                 let (h, ff) = prepare_hinf(
                     f,
@@ -647,7 +649,8 @@ impl Prepared {
                 ff
             } else {
                 if config.filter == FilterKind::Hinf {
-                    // designed once per scenario (one design per instant of the orbit)
+                    // designed once per scenario (one design per instant of an eccentric
+                    // orbit)
                     match relnav_core::nav::build_filter(&config)
                         .map_err(|e| format!("filter \"{}\": {}", f.label, e.message))?
                     {

@@ -190,7 +190,7 @@ pub fn io_variables() -> &'static [VarDef] {
 }
 
 /// Number of variables.
-pub const N_VARS: usize = 115;
+pub const N_VARS: usize = 116;
 
 /// Every variable of relnav.fmu; the value reference is the index.
 pub static VARIABLES: LazyLock<Vec<VarDef>> =

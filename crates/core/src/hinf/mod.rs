@@ -306,17 +306,20 @@ pub fn noise_inputs(qd: &Mat6, r: &Mat3) -> (Mat6, Mat3) {
 }
 
 /// The uncertain discrete plant of paper 002 eq. (9), with the discrete uncertainty
-/// structure `dA = ha F ea` (`ha` already includes the period `T`).
+/// structure `dA = ha F ea` (`ha` already includes the period `T`). `M` is the dimension of
+/// the measurement: 3, the position (`C = [I3 0]`, the paper's), or 6, the position then the
+/// velocity (`C = I6`, [`HinfPlant::measuring_velocity`]); the observer designs and
+/// [`HinfMatrices::observer`] take the measurement in that order.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct HinfPlant {
+pub struct HinfPlant<const M: usize = 3> {
     /// Nominal transition `A`.
     pub a: Mat6,
     /// Process-noise input `B` (n x p).
     pub b: Mat6,
-    /// Measurement matrix `C = [I3 0]`.
-    pub c: Mat36,
+    /// Measurement matrix `C` (`[I3 0]`, or `I6` with the velocity).
+    pub c: nalgebra::SMatrix<f64, M, 6>,
     /// Measurement-noise input `D`.
-    pub d: Mat3,
+    pub d: nalgebra::SMatrix<f64, M, M>,
     /// Estimated signal `z = L x`.
     pub l: Mat6,
     /// Uncertainty input `T Ha`.
@@ -360,6 +363,12 @@ pub fn paper_f(delta: f64, db: f64) -> Mat6 {
 fn c_pos() -> Mat36 {
     let mut c = Mat36::zeros();
     c.fixed_view_mut::<3, 3>(0, 0).copy_from(&Mat3::identity());
+    c
+}
+
+fn c_vel() -> Mat36 {
+    let mut c = Mat36::zeros();
+    c.fixed_view_mut::<3, 3>(0, 3).copy_from(&Mat3::identity());
     c
 }
 
@@ -434,7 +443,28 @@ impl HinfPlant {
     pub fn open_loop_at(spec: &HinfSpec, delta: f64) -> Mat6 {
         CwModel::new(spec.w0 * (1.0 + delta)).phi(spec.period)
     }
+
+    /// This plant measuring the velocity as well: `C = I6` (position, then velocity) and
+    /// the noise input `D = diag(self.d, d_vel)`.
+    pub fn measuring_velocity(&self, d_vel: &Mat3) -> HinfPlant<6> {
+        let mut d = Mat6::zeros();
+        d.fixed_view_mut::<3, 3>(0, 0).copy_from(&self.d);
+        d.fixed_view_mut::<3, 3>(3, 3).copy_from(d_vel);
+        HinfPlant {
+            a: self.a,
+            b: self.b,
+            c: Mat6::identity(),
+            d,
+            l: self.l,
+            ha: self.ha,
+            ea: self.ea,
+            g: self.g,
+        }
+    }
 }
+
+/// An observer gain for a measurement of dimension `M` (6 x M).
+pub type Gain<const M: usize> = nalgebra::SMatrix<f64, 6, M>;
 
 /// `G0 = [0; I3 / m]` (paper 002 eq. 2).
 pub fn g0(mass: f64) -> Mat63 {
@@ -451,7 +481,9 @@ pub fn g0(mass: f64) -> Mat63 {
 /// ```
 ///
 /// Paper design: `E_F = 0` (the control is inside `A`). Observer design: `A_F = A - G C`,
-/// `B_F = G`, `C_F = I`, `E_F = Gamma(T)` (known thrust acceleration as feed-forward).
+/// `B_F = G`, `C_F = I`, `E_F = Gamma(T)` (known thrust acceleration as feed-forward). A
+/// design that measures the velocity as well (`C = I6`) has `B_F y + B_V y_v`: `G = [B_F
+/// B_V]`; the others have `B_V = 0`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct HinfMatrices {
     /// `A_F` (6x6).
@@ -462,6 +494,9 @@ pub struct HinfMatrices {
     pub c_f: Mat6,
     /// `E_F` (6x3), feed-forward of the known acceleration [m/s^2].
     pub e_f: Mat63,
+    /// `B_V` (6x3), the gain on the measured velocity (zero when the design measures the
+    /// position alone).
+    pub b_v: Mat63,
     /// The sampling period the matrices hold for [s].
     pub period: f64,
 }
@@ -474,8 +509,49 @@ impl HinfMatrices {
             b_f: Mat63::from_fn(|i, j| PAPER_B_F[i][j]),
             c_f: Mat6::from_fn(|i, j| PAPER_C_F[i][j]),
             e_f: Mat63::zeros(),
+            b_v: Mat63::zeros(),
             period: PAPER_PERIOD,
         }
+    }
+
+    /// The observer with gain `g` for `plant`: `A_F = A - G C`, `B_F` and `B_V` the gain's
+    /// position and velocity columns, `C_F = I`, `E_F = Gamma`.
+    pub fn observer<const M: usize>(plant: &HinfPlant<M>, g: &Gain<M>, period: f64) -> Self {
+        let mut b_f = Mat63::zeros();
+        let mut b_v = Mat63::zeros();
+        for j in 0..M {
+            let col = g.column(j);
+            if j < 3 {
+                b_f.set_column(j, &col);
+            } else {
+                b_v.set_column(j - 3, &col);
+            }
+        }
+        Self {
+            a_f: plant.a - g * plant.c,
+            b_f,
+            c_f: Mat6::identity(),
+            e_f: plant.g,
+            b_v,
+            period,
+        }
+    }
+
+    /// The observer gain `[B_F B_V]` restricted to a measurement of dimension `M` (3: the
+    /// position; 6: position and velocity).
+    pub fn gain<const M: usize>(&self) -> Gain<M> {
+        Gain::<M>::from_fn(|i, j| {
+            if j < 3 {
+                self.b_f[(i, j)]
+            } else {
+                self.b_v[(i, j - 3)]
+            }
+        })
+    }
+
+    /// Whether the filter takes a measured velocity (`B_V != 0`).
+    pub fn measures_velocity(&self) -> bool {
+        self.b_v.iter().any(|v| *v != 0.0)
     }
 }
 
@@ -526,11 +602,24 @@ impl HinfFilter {
     /// One step with the indirect position measurement `y` (canonical frame, or `None`)
     /// and the known acceleration `a` [m/s^2] held over the period.
     pub fn step(&mut self, y: Option<&Vec3>, a: &Vec3) {
+        self.step_with_velocity(y, None, a)
+    }
+
+    /// [`HinfFilter::step`] with a measured velocity `v` as well (used when the design
+    /// measures it, `B_V != 0`; a missing one is replaced by its prediction).
+    pub fn step_with_velocity(&mut self, y: Option<&Vec3>, v: Option<&Vec3>, a: &Vec3) {
         let yv = match y {
             Some(y) => *y,
             None => self.est.fixed_rows::<3>(0).into_owned(),
         };
         self.x_f = self.m.a_f * self.x_f + self.m.b_f * yv + self.m.e_f * a;
+        if self.m.measures_velocity() {
+            let vv = match v {
+                Some(v) => *v,
+                None => self.est.fixed_rows::<3>(3).into_owned(),
+            };
+            self.x_f += self.m.b_v * vv;
+        }
         self.est = self.m.c_f * self.x_f;
     }
 
@@ -610,12 +699,29 @@ pub const ACQUISITION_MARGIN: f64 = 0.25;
 /// times the steady-state mean-square error. A dropout grows `P` (prediction only); if it
 /// leaves that set, the next measurements re-acquire with the Kalman gain. The Kalman `P`
 /// tends to the Riccati solution, which is `<= X_G`, so the hand-over always comes.
+///
+/// A step of a design for several sensors, or with a velocity ([`HinfStep`]), is taken in
+/// information form, with the step's information `J` and information innovation `u`, and
+/// the design's equivalent fix `e = N u` ([`step_normaliser`]: `J_D^-1` for the design's
+/// readings or a subset of them):
+///
+/// ```text
+/// acquisition:  x <- A x + Gamma a + A (P^-1 + J)^-1 u,   P <- A (P^-1 + J)^-1 A^T + Q
+/// certified:    x <- A x + Gamma a + G e,
+///               P <- (A - G N J) P (A - G N J)^T + Q + G N J N G^T
+/// ```
+///
+/// (`(P^-1 + J)^-1` computed as `P (I + J P)^-1`): the Kalman update of the step's own
+/// measurements, and the designed gain on the equivalent fix (exact: `e = N J (x - xh) + N
+/// H^T R^-1 v`); with one position fix and `J = J_D = R^-1` both are the forms above.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct HinfAcquisition {
     a: Mat6,
     q: Mat6,
     r: Mat3,
     g: Mat63,
+    /// the design's gain on the measured velocity (zero without one)
+    g_v: Mat63,
     bound: Mat6,
     p: Mat6,
     certified: bool,
@@ -624,22 +730,60 @@ pub struct HinfAcquisition {
 impl HinfAcquisition {
     /// For the observer gain `g` of `plant`, starting at covariance `p0`; `None` when `A -
     /// G C` is not stable (no steady state to hand over to).
-    pub fn new(plant: &HinfPlant, g: &Mat63, p0: Mat6) -> Option<Self> {
+    pub fn new<const M: usize>(plant: &HinfPlant<M>, g: &Gain<M>, p0: Mat6) -> Option<Self> {
         // the robustness input d of the observer design, weighted like the unit noises
         let hd = plant.ha * plant.ea.norm();
         let q = plant.b * plant.b.transpose() + hd * hd.transpose();
         let mut robust = *plant;
         robust.b = psd_sqrt(&q);
         let x_g = verify::observer_error_covariance(&robust, g)?;
+        let r = plant.d * plant.d.transpose();
+        let split = HinfMatrices::observer(plant, g, 1.0);
         Some(Self {
             a: plant.a,
             q,
-            r: plant.d * plant.d.transpose(),
-            g: *g,
+            r: r.fixed_view::<3, 3>(0, 0).into_owned(),
+            g: split.b_f,
+            g_v: split.b_v,
             bound: x_g * (1.0 + ACQUISITION_MARGIN),
             p: p0,
             certified: false,
         })
+    }
+
+    /// Whether `P <= (1 + m) X_G` (the designed gain may run).
+    fn within_bound(&self) -> bool {
+        let slack = self.bound - self.p;
+        nalgebra::Cholesky::new((slack + slack.transpose()) * 0.5).is_some()
+    }
+
+    /// The correction of a step in information form (type docs), `None` when `I + J P` is
+    /// singular; updates `P` and the hand-over flag.
+    fn correction_info(&mut self, m: &HinfStep, n: &Mat6) -> Option<State> {
+        self.certified = self.within_bound();
+        let (dx, p) = if self.certified {
+            let g = self.gain6() * n;
+            let ae = self.a - g * m.j;
+            let noise = g * m.j * g.transpose();
+            (g * m.u, ae * self.p * ae.transpose() + self.q + noise)
+        } else {
+            let post = self.p * (Mat6::identity() + m.j * self.p).try_inverse()?;
+            let post = (post + post.transpose()) * 0.5;
+            (
+                self.a * post * m.u,
+                self.a * post * self.a.transpose() + self.q,
+            )
+        };
+        self.p = (p + p.transpose()) * 0.5;
+        Some(dx)
+    }
+
+    /// `[G G_v]` (6 x 6).
+    fn gain6(&self) -> Mat6 {
+        let mut g = Mat6::zeros();
+        g.fixed_view_mut::<6, 3>(0, 0).copy_from(&self.g);
+        g.fixed_view_mut::<6, 3>(0, 3).copy_from(&self.g_v);
+        g
     }
 
     /// The gain for this step's measurement (zero without one) and the covariance update.
@@ -648,8 +792,7 @@ impl HinfAcquisition {
             self.p = self.a * self.p * self.a.transpose() + self.q;
             return Mat63::zeros();
         }
-        let slack = self.bound - self.p;
-        self.certified = nalgebra::Cholesky::new((slack + slack.transpose()) * 0.5).is_some();
+        self.certified = self.within_bound();
         let c = c_pos();
         let k = if self.certified {
             self.g
@@ -683,6 +826,128 @@ impl HinfAcquisition {
     }
 }
 
+/// Iterations of the 3 x 3 eigen-decomposition of a step's information (bounded work;
+/// Jacobi-type sweeps converge in a handful).
+const PINV_MAX_ITER: usize = 64;
+/// Eigenvalues of a block of information below this fraction of its largest are no
+/// information (the pseudo-inverse drops them).
+const PINV_RELATIVE_FLOOR: f64 = 1e-12;
+
+/// The measurements of one step as the H-infinity estimator gathers them before its step:
+/// per block (position, velocity) the number of sensors, the information `J` (6 x 6,
+/// block diagonal) and the information innovation `u` (relative to the estimate at the
+/// step's start: `u = H^T R^-1 (z - h(x))` for a sensor linearised there, `J_s (y - x)` for
+/// one that fixes its block, `J_s` from its noise at the fix), and the first position fix.
+/// In a design for one sensor, one position fix alone is the design's own measurement and
+/// runs as before; anything else runs through the design's equivalent fix `e = N u`
+/// ([`step_normaliser`]): the design's observer with the readings of the declared sensors
+/// that gave none replaced by their prediction
+/// ([`HinfEstimator::with_measurement_information`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HinfStep {
+    n_pos: u8,
+    n_vel: u8,
+    fix: Option<Vec3>,
+    j: Mat6,
+    u: State,
+}
+
+impl Default for HinfStep {
+    fn default() -> Self {
+        Self {
+            n_pos: 0,
+            n_vel: 0,
+            fix: None,
+            j: Mat6::zeros(),
+            u: State::zeros(),
+        }
+    }
+}
+
+impl HinfStep {
+    /// No measurement this step.
+    pub fn is_empty(&self) -> bool {
+        self.n_pos == 0 && self.n_vel == 0
+    }
+
+    /// The position fix when it is the step's only measurement.
+    pub fn single_fix(&self) -> Option<&Vec3> {
+        if self.n_pos == 1 && self.n_vel == 0 {
+            self.fix.as_ref()
+        } else {
+            None
+        }
+    }
+
+    /// Add a sensor's information `j` and information innovation `u` to block `at` (0:
+    /// position, 3: velocity); `fix` is a position fix.
+    fn add(&mut self, at: usize, j: &Mat3, u: &Vec3, fix: Option<Vec3>) {
+        if at == 0 {
+            self.n_pos = self.n_pos.saturating_add(1);
+            if self.fix.is_none() {
+                self.fix = fix;
+            }
+        } else {
+            self.n_vel = self.n_vel.saturating_add(1);
+        }
+        let mut jb = self.j.fixed_view_mut::<3, 3>(at, at);
+        jb += j;
+        let mut ub = self.u.fixed_rows_mut::<3>(at);
+        ub += u;
+    }
+}
+
+/// `f(M)` of a symmetric 3 x 3 block through its eigen-decomposition, `f` applied to each
+/// eigenvalue with the largest one's magnitude (`None`: not converged or not finite).
+fn spectral_map(m: &Mat3, f: impl Fn(f64, f64) -> f64) -> Option<Mat3> {
+    if !m.iter().all(|v| v.is_finite()) {
+        return None;
+    }
+    let e = nalgebra::SymmetricEigen::try_new(*m, f64::EPSILON, PINV_MAX_ITER)?;
+    let top = e.eigenvalues.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
+    let mut out = Mat3::zeros();
+    for k in 0..3 {
+        let v = e.eigenvectors.column(k);
+        out += v * v.transpose() * f(e.eigenvalues[k], top);
+    }
+    Some(out)
+}
+
+/// Pseudo-inverse of a symmetric positive semidefinite block (eigenvalues below
+/// [`PINV_RELATIVE_FLOOR`] of the largest dropped).
+fn pinv_psd(m: &Mat3) -> Option<Mat3> {
+    spectral_map(m, |l, top| {
+        if l > top * PINV_RELATIVE_FLOOR && l > 0.0 {
+            1.0 / l
+        } else {
+            0.0
+        }
+    })
+}
+
+/// The normaliser `N` of a step's information innovation, block by block (position,
+/// velocity): `N = (J_D + (J - J_D)_+)^+`, `J_D` the design's information, `J` the step's,
+/// `(.)_+` the positive part. For readings of declared sensors at the design's geometry or
+/// a subset of them (`J <= J_D`) it is `J_D^-1`: the design's observer with the missing
+/// readings replaced by their prediction. Information beyond the design's (a sensor closer
+/// or more precise than designed for, or not declared) enters with its own weight, so that
+/// `N J` never exceeds the identity: a fix is never over-corrected. `None` when a
+/// decomposition does not converge.
+pub fn step_normaliser(j_d: &Mat6, j: &Mat6) -> Option<Mat6> {
+    let mut out = Mat6::zeros();
+    for at in [0, 3] {
+        let d = j_d.fixed_view::<3, 3>(at, at).into_owned();
+        let s = j.fixed_view::<3, 3>(at, at).into_owned();
+        if s.iter().all(|v| *v == 0.0) {
+            continue;
+        }
+        let excess = spectral_map(&((s - d + (s - d).transpose()) * 0.5), |l, _| l.max(0.0))?;
+        let n = pinv_psd(&(d + excess))?;
+        out.fixed_view_mut::<3, 3>(at, at).copy_from(&n);
+    }
+    Some(out)
+}
+
 /// The runtime filter behind the [`crate::estimators::Estimator`] trait, as the navigator
 /// (filter code 9) runs it: [`Estimator::update`](crate::estimators::Estimator::update)
 /// turns the radio measurement into the indirect Cartesian position of paper 002 (sec. 1.2
@@ -691,17 +956,22 @@ impl HinfAcquisition {
 /// [`Estimator::predict`](crate::estimators::Estimator::predict) makes the one filter step
 /// `x_f <- A_F x_f + B_F y + E_F a` with it (or with the prediction when no measurement
 /// came), or, with an [`HinfAcquisition`] (observer form only), the acquisition step.
+/// A step with other measurements than one position fix (several sensors, a camera's line
+/// of sight, a velocity: [`HinfStep`]) makes the observer step on their equivalent fix,
+/// `x <- A x + Gamma a + [B_F B_V] J^+ u` (observer form, without a schedule).
 /// There is no Gaussian covariance: [`HinfEstimator::covariance`] is NaN.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct HinfEstimator {
     filter: HinfFilter,
-    pending: Option<Vec3>,
+    pending: HinfStep,
     gamma: f64,
     h2_norm: f64,
     acquisition: Option<HinfAcquisition>,
     nan: Mat6,
     design: Option<HinfDesignInfo>,
     schedule: Option<HinfSchedule>,
+    /// the design's measurement set: its information `J_D` and its sensor count
+    set: Option<(Mat6, u32)>,
 }
 
 impl HinfEstimator {
@@ -709,14 +979,33 @@ impl HinfEstimator {
     pub fn new(m: HinfMatrices, gamma: f64, x0: State) -> Result<Self, HinfError> {
         Ok(Self {
             filter: HinfFilter::new(m, x0)?,
-            pending: None,
+            pending: HinfStep::default(),
             gamma,
             h2_norm: f64::NAN,
             acquisition: None,
             nan: Mat6::from_element(f64::NAN),
             design: None,
             schedule: None,
+            set: None,
         })
+    }
+    /// Record the design's measurement set: its information `J_D` (block diagonal:
+    /// position, velocity; `C^T (D D^T)^-1 C` of the design's plant) and how many sensors
+    /// it declares. With it a step's measurements other than the design's one position fix
+    /// ([`HinfStep`]) make the observer step on the design's equivalent fix `N u`
+    /// ([`step_normaliser`]); without it such a step is refused.
+    pub fn with_measurement_information(
+        mut self,
+        j_d: &Mat6,
+        sensors: u32,
+    ) -> Result<Self, HinfError> {
+        if !j_d.iter().all(|v| v.is_finite()) {
+            return Err(HinfError::invalid(
+                "the design's measurement information is not finite".into(),
+            ));
+        }
+        self.set = Some((*j_d, sensors));
+        Ok(self)
     }
     /// Run the scheduled gains of an eccentric orbit ([`HinfSchedule`]; observer form, no
     /// track initiation): each step uses the step's own transition and the gain of its
@@ -742,20 +1031,24 @@ impl HinfEstimator {
     /// Start with track initiation ([`HinfAcquisition`]) from covariance `p0`. The
     /// matrices must be an observer design for `plant` (`C_F = I`, `A_F = A - B_F C`,
     /// `E_F = Gamma`).
-    pub fn with_acquisition(mut self, plant: &HinfPlant, p0: Mat6) -> Result<Self, HinfError> {
+    pub fn with_acquisition<const M: usize>(
+        mut self,
+        plant: &HinfPlant<M>,
+        p0: Mat6,
+    ) -> Result<Self, HinfError> {
         let m = self.filter.matrices();
         let tol = 1e-9 * (1.0 + plant.a.abs().max());
         if (m.c_f - Mat6::identity()).abs().max() > 0.0
-            || (m.a_f + m.b_f * plant.c - plant.a).abs().max() > tol
+            || (m.a_f + m.gain::<M>() * plant.c - plant.a).abs().max() > tol
             || (m.e_f - plant.g).abs().max() > tol
         {
             return Err(HinfError::invalid(
                 "track initiation needs an observer-form filter of the same plant".to_string(),
             ));
         }
-        self.acquisition = Some(HinfAcquisition::new(plant, &m.b_f, p0).ok_or_else(|| {
-            HinfError::invalid("the observer gain is not stabilising".to_string())
-        })?);
+        self.acquisition = Some(HinfAcquisition::new(plant, &m.gain::<M>(), p0).ok_or_else(
+            || HinfError::invalid("the observer gain is not stabilising".to_string()),
+        )?);
         Ok(self)
     }
     /// Record how the matrices were designed (reported by [`HinfEstimator::design_info`]).
@@ -800,31 +1093,69 @@ impl crate::estimators::Estimator for HinfEstimator {
         model: &crate::dynamics::DiscreteModel,
         accel: &Vec3,
     ) -> Result<(), crate::estimators::FilterError> {
+        use crate::estimators::FilterError;
         let (saved, saved_acq) = (self.filter, self.acquisition);
-        match &mut self.acquisition {
-            None if self.schedule.is_some() => {
-                let x = *self.filter.state();
-                let mut next = model.phi * x + model.gamma * accel;
-                if let (Some(y), Some(s)) = (&self.pending, &self.schedule) {
-                    next += s.gain_at(model.t) * (y - x.fixed_rows::<3>(0));
+        let step = std::mem::take(&mut self.pending);
+        let fused = self.set.is_some_and(|(_, k)| k > 1);
+        let fix = if fused {
+            None
+        } else {
+            step.single_fix().copied()
+        };
+        if fix.is_none() && !step.is_empty() {
+            // several sensors, a line of sight or a velocity: the design's equivalent fix
+            let m = *self.filter.matrices();
+            let j_d =
+                match &self.set {
+                    Some((j_d, _)) if self.schedule.is_none() && m.c_f == Mat6::identity() => *j_d,
+                    _ => return Err(FilterError::Unsupported(
+                        "the H-infinity filter takes one position fix per step when its design \
+                         is scheduled along an eccentric orbit, is not of observer form, or \
+                         does not record its measurement set",
+                    )),
+                };
+            let n = step_normaliser(&j_d, &step.j)
+                .ok_or(FilterError::NonFinite("H-infinity step information"))?;
+            let x = *self.filter.state();
+            // observer form: the estimate is the state, A = A_F + B_F C_p + B_V C_v
+            let a = m.a_f + m.b_f * c_pos() + m.b_v * c_vel();
+            let dx = match &mut self.acquisition {
+                Some(acq) => acq.correction_info(&step, &n),
+                None => Some(m.gain::<6>() * (n * step.u)),
+            };
+            let next = dx.map(|dx| a * x + m.e_f * accel + dx);
+            match next {
+                Some(next) => self.filter.set_estimate(next),
+                None => {
+                    self.acquisition = saved_acq;
+                    return Err(FilterError::NonFinite("H-infinity step information"));
                 }
-                self.filter.set_estimate(next);
             }
-            None => self.filter.step(self.pending.as_ref(), accel),
-            Some(acq) => {
-                // observer form: the estimate is the state, A = A_F + B_F C, Gamma = E_F
-                let x = *self.filter.state();
-                let k = acq.gain(self.pending.is_some());
-                let m = self.filter.matrices();
-                let a = m.a_f + m.b_f * c_pos();
-                let mut next = a * x + m.e_f * accel;
-                if let Some(y) = &self.pending {
-                    next += k * (y - x.fixed_rows::<3>(0));
+        } else {
+            match &mut self.acquisition {
+                None if self.schedule.is_some() => {
+                    let x = *self.filter.state();
+                    let mut next = model.phi * x + model.gamma * accel;
+                    if let (Some(y), Some(s)) = (&fix, &self.schedule) {
+                        next += s.gain_at(model.t) * (y - x.fixed_rows::<3>(0));
+                    }
+                    self.filter.set_estimate(next);
                 }
-                self.filter.set_estimate(next);
+                None => self.filter.step(fix.as_ref(), accel),
+                Some(acq) => {
+                    // observer form: the estimate is the state, A = A_F + B_F C, Gamma = E_F
+                    let x = *self.filter.state();
+                    let k = acq.gain(fix.is_some());
+                    let m = self.filter.matrices();
+                    let a = m.a_f + m.b_f * c_pos() + m.b_v * c_vel();
+                    let mut next = a * x + m.e_f * accel;
+                    if let Some(y) = &fix {
+                        next += k * (y - x.fixed_rows::<3>(0));
+                    }
+                    self.filter.set_estimate(next);
+                }
             }
         }
-        self.pending = None;
         if !self.filter.state().iter().all(|v| v.is_finite()) {
             self.filter = saved;
             self.acquisition = saved_acq;
@@ -849,39 +1180,91 @@ impl crate::estimators::Estimator for HinfEstimator {
             Some(zh) => sensor.diff(z, &zh),
             None => Vec3::from_element(f64::NAN),
         };
-        self.pending = Some(y);
+        // the fix's information from its noise at the fix (NaN where that has no
+        // geometry: used only when the step fuses it with other measurements)
+        let j = match (sensor.linearize(&y), sensor.noise_cov().try_inverse()) {
+            (Ok(g), Some(ri)) => {
+                let h = g.h.fixed_view::<3, 3>(0, 0).into_owned();
+                h.transpose() * ri * h
+            }
+            _ => Mat3::from_element(f64::NAN),
+        };
+        self.pending.add(0, &j, &(j * (y - r)), Some(y));
         Ok(crate::estimators::UpdateInfo {
             innovation,
             nis: f64::NAN,
             azimuth_used: true,
         })
     }
-    /// A sensor that fixes the position ([`crate::sensors::Sensor::position_fix`]: the
-    /// radio, a Cartesian position) is taken as the design's measured position, one per
-    /// step; any other is refused: the design's guarantee covers a position measurement.
+    /// A sensor of the position alone or of the velocity alone
+    /// ([`crate::sensors::Sensor::support`]) is gathered into the step's [`HinfStep`]: a
+    /// position fix ([`crate::sensors::Sensor::position_fix`]: the radio, a Cartesian
+    /// position) or a velocity reading as the fix with its information, any other (a
+    /// camera's line of sight) linearised at the estimate. Refused: a sensor of position and
+    /// velocity together, and a velocity when the design measures none (`hinf_sensors`).
     fn update_sensor<const D: usize, S: crate::sensors::Sensor<D> + ?Sized>(
         &mut self,
         sensor: &S,
         z: &nalgebra::SVector<f64, D>,
     ) -> Result<crate::estimators::SensorUpdate<D>, crate::estimators::FilterError> {
         use crate::estimators::FilterError;
-        let y = sensor.position_fix(z).ok_or(FilterError::Unsupported(
-            "the H-infinity filter takes position measurements only (its design's \
-             measurement): this sensor does not fix the position",
-        ))?;
-        if !y.iter().all(|v| v.is_finite()) {
-            return Err(FilterError::NonFinite("indirect position"));
+        use crate::sensors::Support;
+        let at = match sensor.support() {
+            Support::Position => 0,
+            Support::Velocity if self.filter.matrices().measures_velocity() => 3,
+            Support::Velocity => {
+                return Err(FilterError::Unsupported(
+                    "the H-infinity design measures no velocity: declare relative GNSS \
+                     velocity (8) in hinf_sensors",
+                ))
+            }
+            Support::Full => {
+                return Err(FilterError::Unsupported(
+                    "the H-infinity filter takes sensors of the position alone or of the \
+                     velocity alone: this one measures both",
+                ))
+            }
+        };
+        let x = *self.filter.state();
+        let fix = if at == 0 {
+            sensor.position_fix(z)
+        } else {
+            sensor.velocity_fix(z)
+        };
+        if fix.is_some_and(|f| !f.iter().all(|v| v.is_finite())) {
+            return Err(FilterError::NonFinite("indirect position or velocity"));
         }
-        if self.pending.is_some() {
-            return Err(FilterError::Unsupported(
-                "the H-infinity filter takes one position measurement per step",
-            ));
+        // a fix's information from its noise at the fix, another's at the estimate
+        let mut at_x = x;
+        if let Some(f) = &fix {
+            at_x.fixed_rows_mut::<3>(at).copy_from(f);
         }
+        let info = match (sensor.linearize(&at_x), sensor.noise().cov().try_inverse()) {
+            (Ok(lin), Some(ri)) => {
+                let mut h: nalgebra::SMatrix<f64, D, 3> = lin.h.fixed_view::<D, 3>(0, at).into();
+                let mut nu = sensor.residual(z, &lin.z);
+                for k in 0..D {
+                    if !lin.used[k] {
+                        h.row_mut(k).fill(0.0);
+                        nu[k] = 0.0;
+                    }
+                }
+                Some((h.transpose() * ri * h, h.transpose() * ri * nu))
+            }
+            _ => None,
+        };
+        let (j, u) = match (info, &fix) {
+            (Some((j, _)), Some(f)) => (j, j * (f - x.fixed_rows::<3>(at))),
+            (Some(ju), None) => ju,
+            // a fix whose noise has no geometry there: usable alone, as the design's
+            (None, Some(_)) => (Mat3::from_element(f64::NAN), Vec3::from_element(f64::NAN)),
+            (None, None) => return Err(FilterError::NonFinite("line of sight at the estimate")),
+        };
         let innovation = match sensor.measure(self.filter.state()) {
             Some(zh) => sensor.residual(z, &zh),
             None => nalgebra::SVector::from_element(f64::NAN),
         };
-        self.pending = Some(y);
+        self.pending.add(at, &j, &u, fix.filter(|_| at == 0));
         Ok(crate::estimators::SensorUpdate {
             innovation,
             nis: f64::NAN,
@@ -896,7 +1279,7 @@ impl crate::estimators::Estimator for HinfEstimator {
     }
     fn set_estimate(&mut self, x: State, p: Mat6) {
         self.filter.set_estimate(x);
-        self.pending = None;
+        self.pending = HinfStep::default();
         if let Some(acq) = &mut self.acquisition {
             acq.reset(p);
         }
@@ -928,8 +1311,8 @@ fn check_output_map(c_f: &Mat6, c_f_inv: &Mat6) -> Result<(), StateError> {
     Ok(())
 }
 
-/// Saved state: the matrices `A_F` (36), `B_F` (18), `C_F` (36), `E_F` (18), column by
-/// column, and their period (8) — saved rather than re-designed, so a restore continues
+/// Saved state: the matrices `A_F` (36), `B_F` (18), `C_F` (36), `E_F` (18), `B_V` (18),
+/// column by column, and their period (8) — saved rather than re-designed, so a restore continues
 /// with exactly these numbers whatever the solver gives on another machine — then
 /// `C_F^-1` (36), the filter state `x_f` (6) and the estimate `C_F x_f` (6).
 impl Persist for HinfFilter {
@@ -945,12 +1328,14 @@ impl Persist for HinfFilter {
             b_f,
             c_f,
             e_f,
+            b_v,
             period,
         } = m;
         w.matrix(a_f);
         w.matrix(b_f);
         w.matrix(c_f);
         w.matrix(e_f);
+        w.matrix(b_v);
         w.f64(*period);
         w.matrix(c_f_inv);
         w.matrix(x_f);
@@ -969,12 +1354,14 @@ impl Persist for HinfFilter {
             b_f,
             c_f,
             e_f,
+            b_v,
             period,
         } = m;
         *a_f = r.finite_matrix("H-infinity A_F")?;
         *b_f = r.finite_matrix("H-infinity B_F")?;
         *c_f = r.finite_matrix("H-infinity C_F")?;
         *e_f = r.finite_matrix("H-infinity E_F")?;
+        *b_v = r.finite_matrix("H-infinity B_V")?;
         *period = r.finite("H-infinity period")?;
         if !(*period > 0.0) {
             return Err(refuse(format!(
@@ -989,8 +1376,37 @@ impl Persist for HinfFilter {
     }
 }
 
-/// Saved state: the runtime filter's, the held indirect position of a measurement not
-/// yet used by a step (flag, then 3), the design's `gamma` and H2 norm (8 each), and the
+/// Saved state of a step's gathered measurements: the sensor counts of the two blocks (1
+/// byte each), the first position fix (flag, then 3), the information `J` (36) and the
+/// information innovation `u` (6). Between steps it is empty.
+impl Persist for HinfStep {
+    fn save_state(&self, w: &mut Writer<'_>) {
+        let Self {
+            n_pos,
+            n_vel,
+            fix,
+            j,
+            u,
+        } = self;
+        w.u8(*n_pos);
+        w.u8(*n_vel);
+        w.opt_matrix(fix.as_ref());
+        w.matrix(j);
+        w.matrix(u);
+    }
+
+    fn load_state(&mut self, r: &mut Reader<'_>) -> Result<(), StateError> {
+        self.n_pos = r.u8("H-infinity step: position sensors")?;
+        self.n_vel = r.u8("H-infinity step: velocity sensors")?;
+        self.fix = r.opt_matrix("H-infinity step: position fix")?;
+        self.j = r.matrix("H-infinity step: information")?;
+        self.u = r.matrix("H-infinity step: information innovation")?;
+        Ok(())
+    }
+}
+
+/// Saved state: the runtime filter's, the measurements gathered for a step not yet made
+/// ([`HinfStep`]), the design's `gamma` and H2 norm (8 each), and the
 /// track initiation (flag; when present its covariance (36) and hand-over flag).
 impl Persist for HinfEstimator {
     fn save_state(&self, w: &mut Writer<'_>) {
@@ -1004,9 +1420,10 @@ impl Persist for HinfEstimator {
             design: _,
             // configuration: designed again, the same, by the restoring estimator
             schedule: _,
+            set: _,
         } = self;
         filter.save_state(w);
-        w.opt_matrix(pending.as_ref());
+        pending.save_state(w);
         w.f64(*gamma);
         w.f64(*h2_norm);
         // track initiation: its model (a, q, r, g, bound) follows from the design; the
@@ -1028,9 +1445,10 @@ impl Persist for HinfEstimator {
             nan: _,
             design: _,
             schedule: _,
+            set: _,
         } = self;
         filter.load_state(r)?;
-        *pending = r.opt_matrix("H-infinity held measurement")?;
+        pending.load_state(r)?;
         *gamma = r.f64("H-infinity gamma")?;
         *h2_norm = r.f64("H-infinity H2 norm")?;
         let acquiring = r.bool("H-infinity track initiation flag")?;

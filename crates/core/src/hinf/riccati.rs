@@ -136,8 +136,9 @@
 //! `Gm` of the H-infinity case is allowed. Everything is 6 x 6 on the stack: no heap
 //! allocation in a trial.
 
-use super::HinfPlant;
-use crate::types::{Mat3, Mat6, Mat63};
+use super::{Gain, HinfPlant};
+use crate::types::Mat6;
+use nalgebra::SMatrix;
 use std::fmt;
 
 /// Relative width `g_hi / g_lo - 1` at which the bisection stops (100 times finer than
@@ -184,9 +185,9 @@ impl fmt::Display for RiccatiFailure {
 
 /// Result of the Riccati route, before certification.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct RiccatiObserver {
+pub struct RiccatiObserver<const M: usize = 3> {
     /// The central gain `G*` at `gamma`.
-    pub gain: Mat63,
+    pub gain: Gain<M>,
     /// The upper end of the final bracket: the bound the gain is designed for.
     pub gamma: f64,
     /// The lower end (the last infeasible trial, or `g_lo`).
@@ -200,15 +201,15 @@ pub struct RiccatiObserver {
 }
 
 /// The data of the Riccati route for one plant.
-struct Problem {
+struct Problem<const M: usize> {
     a: Mat6,
-    c: crate::types::Mat36,
+    c: SMatrix<f64, M, 6>,
     l: Mat6,
     /// `C^T R^-1 C`
     cri: Mat6,
     /// `L^T L`
     ltl: Mat6,
-    r: Mat3,
+    r: SMatrix<f64, M, M>,
     /// `Qe`
     q: Mat6,
 }
@@ -289,8 +290,8 @@ fn spectral_radius(m: &Mat6) -> Option<f64> {
     rho.is_finite().then_some(rho)
 }
 
-impl Problem {
-    fn new(plant: &HinfPlant) -> Result<Self, RiccatiFailure> {
+impl<const M: usize> Problem<M> {
+    fn new(plant: &HinfPlant<M>) -> Result<Self, RiccatiFailure> {
         let r = plant.d * plant.d.transpose();
         let chol = r
             .cholesky()
@@ -345,7 +346,7 @@ impl Problem {
 
     /// The central gain `G* = A Xt C^T (R + C Xt C^T)^-1`, `Xt = X + X L^T (g2 I - L X
     /// L^T)^-1 L X`.
-    fn gain(&self, g: f64, x: &Mat6) -> Option<Mat63> {
+    fn gain(&self, g: f64, x: &Mat6) -> Option<Gain<M>> {
         let s = (Mat6::identity() * (g * g) - self.l * x * self.l.transpose()).cholesky()?;
         let lx = self.l * x;
         let xt = symmetric(&(x + lx.transpose() * s.solve(&lx)));
@@ -359,7 +360,7 @@ impl Problem {
 /// The Kalman (H2-optimal one-step predictor) gain of `plant` for the unit white noises
 /// `(w, v, d)`: the stabilising solution at `g = infinity` and `G = A X C^T (R + C X
 /// C^T)^-1`; `None` when `D` is singular or there is no stabilising solution.
-pub fn kalman_gain(plant: &HinfPlant) -> Option<Mat63> {
+pub fn kalman_gain<const M: usize>(plant: &HinfPlant<M>) -> Option<Gain<M>> {
     let p = Problem::new(plant).ok()?;
     let x = p.trial(f64::INFINITY).0?;
     let cx = p.c * x;
@@ -370,7 +371,9 @@ pub fn kalman_gain(plant: &HinfPlant) -> Option<Mat63> {
 
 /// The gamma-optimal observer gain of `plant` by bisection on the H-infinity filtering
 /// Riccati equation (module docs), not yet certified.
-pub fn observer(plant: &HinfPlant) -> Result<RiccatiObserver, RiccatiFailure> {
+pub fn observer<const M: usize>(
+    plant: &HinfPlant<M>,
+) -> Result<RiccatiObserver<M>, RiccatiFailure> {
     let mut p = Problem::new(plant)?;
     // Kalman predictor with the true Q: the scale of the perturbation
     let (xk, mut doublings) = p.trial(f64::INFINITY);
@@ -529,7 +532,9 @@ mod tests {
     #[test]
     fn singular_measurement_noise_is_refused() {
         let spec = crate::hinf::HinfSpec {
-            d_matrix: Some(Mat3::from_diagonal(&crate::types::Vec3::new(0.1, 0.1, 0.0))),
+            d_matrix: Some(crate::types::Mat3::from_diagonal(&crate::types::Vec3::new(
+                0.1, 0.1, 0.0,
+            ))),
             ..crate::hinf::HinfSpec::paper()
         };
         let plant = HinfPlant::open_loop(&spec);

@@ -28,7 +28,8 @@
 //! one LU of an `n^2 x n^2` matrix), without iterating and without the solver's variables.
 
 use super::{HinfMatrices, HinfPlant};
-use crate::types::{Mat6, Mat63};
+use crate::hinf::Gain;
+use crate::types::Mat6;
 use nalgebra::{Complex, DMatrix};
 
 /// Result of a verification.
@@ -114,14 +115,19 @@ pub fn lmi_paper(
 }
 
 /// The observer LMI (see [`crate::hinf`]'s design docs) at `P`, gain `G`, `gamma^2`.
-pub fn lmi_observer(plant: &HinfPlant, p: &DMatrix<f64>, g: &Mat63, gamma2: f64) -> DMatrix<f64> {
+pub fn lmi_observer<const M: usize>(
+    plant: &HinfPlant<M>,
+    p: &DMatrix<f64>,
+    g: &Gain<M>,
+    gamma2: f64,
+) -> DMatrix<f64> {
     let ae = dm(&(plant.a - g * plant.c));
     let gd = dm(&(g * plant.d));
     let hae = dm(&(plant.ha * plant.ea.norm()));
     let (b, l) = (dm(&plant.b), dm(&plant.l));
-    let o = [0, 6, 12, 18, 21, 27];
+    let o = [0, 6, 12, 18, 18 + M, 24 + M];
     let i = |k: usize| DMatrix::<f64>::identity(k, k);
-    let mut m = DMatrix::zeros(33, 33);
+    let mut m = DMatrix::zeros(30 + M, 30 + M);
     put(&mut m, o[0], o[0], &(-p), true);
     put(&mut m, o[0], o[1], &(p * &ae), true);
     put(&mut m, o[0], o[2], &(p * &b), true);
@@ -130,7 +136,7 @@ pub fn lmi_observer(plant: &HinfPlant, p: &DMatrix<f64>, g: &Mat63, gamma2: f64)
     put(&mut m, o[1], o[1], &(-p), true);
     put(&mut m, o[1], o[5], &l.transpose(), true);
     put(&mut m, o[2], o[2], &(-i(6) * gamma2), true);
-    put(&mut m, o[3], o[3], &(-i(3) * gamma2), true);
+    put(&mut m, o[3], o[3], &(-i(M) * gamma2), true);
     put(&mut m, o[4], o[4], &(-i(6) * gamma2), true);
     put(&mut m, o[5], o[5], &(-i(6)), true);
     m
@@ -140,10 +146,10 @@ pub fn lmi_observer(plant: &HinfPlant, p: &DMatrix<f64>, g: &Mat63, gamma2: f64)
 /// module docs) assembled at the recovered slack `X`, gain `G` (`Y = X G`), certificates
 /// `P_inf`, `P_2`, the H2 bound `Z` and the fixed `gamma^2`: `(H-infinity, H2 Lyapunov, H2
 /// input)`; each must be negative definite.
-pub fn lmi_mixed(
-    plant: &HinfPlant,
+pub fn lmi_mixed<const M: usize>(
+    plant: &HinfPlant<M>,
     x: &DMatrix<f64>,
-    g: &Mat63,
+    g: &Gain<M>,
     p_inf: &DMatrix<f64>,
     p2: &DMatrix<f64>,
     z: &DMatrix<f64>,
@@ -156,8 +162,8 @@ pub fn lmi_mixed(
     let i = |k: usize| DMatrix::<f64>::identity(k, k);
     let xs = x + x.transpose();
     // H-infinity, extended form: blocks n, n, p, q, h, l
-    let o = [0, 6, 12, 18, 21, 27];
-    let mut hinf = DMatrix::zeros(33, 33);
+    let o = [0, 6, 12, 18, 18 + M, 24 + M];
+    let mut hinf = DMatrix::zeros(30 + M, 30 + M);
     put(&mut hinf, o[0], o[0], &(p_inf - &xs), true);
     put(&mut hinf, o[0], o[1], &(x * &ae), true);
     put(&mut hinf, o[0], o[2], &(x * &b), true);
@@ -166,7 +172,7 @@ pub fn lmi_mixed(
     put(&mut hinf, o[1], o[1], &(-p_inf), true);
     put(&mut hinf, o[1], o[5], &l.transpose(), true);
     put(&mut hinf, o[2], o[2], &(-i(6) * gamma2), true);
-    put(&mut hinf, o[3], o[3], &(-i(3) * gamma2), true);
+    put(&mut hinf, o[3], o[3], &(-i(M) * gamma2), true);
     put(&mut hinf, o[4], o[4], &(-i(6) * gamma2), true);
     put(&mut hinf, o[5], o[5], &(-i(6)), true);
     // H2 Lyapunov: blocks n, n, l
@@ -177,7 +183,7 @@ pub fn lmi_mixed(
     put(&mut lyap, 6, 12, &l.transpose(), true);
     put(&mut lyap, 12, 12, &(-i(6)), true);
     // H2 input: blocks n, p + q
-    let mut input = DMatrix::zeros(15, 15);
+    let mut input = DMatrix::zeros(12 + M, 12 + M);
     put(&mut input, 0, 0, &(p2 - &xs), true);
     put(&mut input, 0, 6, &(x * &b), true);
     put(&mut input, 0, 12, &(-(x * &gd)), true);
@@ -214,11 +220,11 @@ pub fn h2_norm(a: &DMatrix<f64>, b: &DMatrix<f64>, c: &DMatrix<f64>) -> f64 {
 
 /// The observer's nominal error system `e(k+1) = (A - G C) e + [B, -G D] (w, v)`,
 /// `z_e = L e` as `(A, B, C)`.
-pub fn observer_error_system(
-    plant: &HinfPlant,
-    g: &Mat63,
+pub fn observer_error_system<const M: usize>(
+    plant: &HinfPlant<M>,
+    g: &Gain<M>,
 ) -> (DMatrix<f64>, DMatrix<f64>, DMatrix<f64>) {
-    let mut b = DMatrix::zeros(6, 9);
+    let mut b = DMatrix::zeros(6, 6 + M);
     put(&mut b, 0, 0, &dm(&plant.b), false);
     put(&mut b, 0, 6, &dm(&(-(g * plant.d))), false);
     (dm(&(plant.a - g * plant.c)), b, dm(&plant.l))
@@ -228,14 +234,17 @@ pub fn observer_error_system(
 /// `z_e = L e`: with `B`, `D` the square roots of the process and measurement covariances
 /// and `L = I`, its square is the steady-state mean-square error of the one-step
 /// prediction (position [m^2] plus velocity [m^2/s^2]).
-pub fn observer_h2_norm(plant: &HinfPlant, g: &Mat63) -> f64 {
+pub fn observer_h2_norm<const M: usize>(plant: &HinfPlant<M>, g: &Gain<M>) -> f64 {
     let (a, b, c) = observer_error_system(plant, g);
     h2_norm(&a, &b, &c)
 }
 
 /// Steady-state error covariance `X = (A - G C) X (A - G C)^T + B B^T + G D D^T G^T` of
 /// the observer (the H2 Gramian; `None` if `A - G C` is not stable).
-pub fn observer_error_covariance(plant: &HinfPlant, g: &Mat63) -> Option<crate::types::Mat6> {
+pub fn observer_error_covariance<const M: usize>(
+    plant: &HinfPlant<M>,
+    g: &Gain<M>,
+) -> Option<crate::types::Mat6> {
     let (a, b, _) = observer_error_system(plant, g);
     if !(spectral_radius(&a) < 1.0) {
         return None;
@@ -247,11 +256,11 @@ pub fn observer_error_covariance(plant: &HinfPlant, g: &Mat63) -> Option<crate::
 /// H-infinity norm (frequency sweep) of the channel the observer design certifies: from
 /// `(w, v, d)` to `z_e` at the nominal plant, with the robustness input `|Ea| Ha`
 /// ([`crate::hinf::design`] module docs). The design's `gamma` must bound it.
-pub fn observer_certified_norm(plant: &HinfPlant, g: &Mat63) -> f64 {
+pub fn observer_certified_norm<const M: usize>(plant: &HinfPlant<M>, g: &Gain<M>) -> f64 {
     let (a, b, c) = observer_error_system(plant, g);
-    let mut bf = DMatrix::zeros(6, 15);
+    let mut bf = DMatrix::zeros(6, 12 + M);
     put(&mut bf, 0, 0, &b, false);
-    put(&mut bf, 0, 9, &dm(&(plant.ha * plant.ea.norm())), false);
+    put(&mut bf, 0, 6 + M, &dm(&(plant.ha * plant.ea.norm())), false);
     hinf_norm(&a, &bf, &c)
 }
 
@@ -395,13 +404,13 @@ pub fn verify_filter<F: Fn(f64) -> Mat6>(
 /// The observer's error system `e(k+1) = (A(delta) - G C) e + B w - G D v`, `z_e = L e`,
 /// worst case over `deltas` (the term `(A(delta) - A) x` is the robustness channel and is
 /// not part of this transfer).
-pub fn observer_error_norm<F: Fn(f64) -> Mat6>(
-    plant: &HinfPlant,
-    g: &Mat63,
+pub fn observer_error_norm<const M: usize, F: Fn(f64) -> Mat6>(
+    plant: &HinfPlant<M>,
+    g: &Gain<M>,
     deltas: &[f64],
     a_of: F,
 ) -> Verification {
-    let mut b = DMatrix::zeros(6, 9);
+    let mut b = DMatrix::zeros(6, 6 + M);
     put(&mut b, 0, 0, &dm(&plant.b), false);
     put(&mut b, 0, 6, &dm(&(-(g * plant.d))), false);
     let c = dm(&plant.l);

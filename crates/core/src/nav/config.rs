@@ -38,6 +38,15 @@ use crate::noise::NoiseModel;
 use crate::numerics::num;
 use crate::numerics::state::{crc32, Writer};
 use crate::params::{closed, open, CodeItem, CodeList, Field, Kind, Param, Rule, Value};
+
+/// `hinf_sensors` bit of the radio (or lidar).
+pub const HINF_RADIO: usize = 1;
+/// `hinf_sensors` bit of the camera.
+pub const HINF_CAMERA: usize = 2;
+/// `hinf_sensors` bit of relative GNSS's position.
+pub const HINF_GNSS_POSITION: usize = 4;
+/// `hinf_sensors` bit of relative GNSS's velocity.
+pub const HINF_GNSS_VELOCITY: usize = 8;
 use crate::sensors::RadioSensor;
 use crate::types::{Mat3, Mat6, State, Vec3};
 
@@ -668,6 +677,11 @@ crate::config! {
         c: true, scenario: NO_KEY, slot: Some(56),
         description: "Relative GNSS, Student-t noise: degrees of freedom (> 2)",
     },
+    hinf_sensors: usize {
+        elements: [("hinf_sensors", 115, "", 1, "")],
+        rule: Rule::Count { lo: 1, hi: 15 }, c: true, scenario: Some("hinf_sensors"), slot: Some(57),
+        description: "H-infinity filter: the measurement set its design is for, the sum of 1 radio, 2 camera, 4 relative GNSS position, 8 relative GNSS velocity (it must hold the radio or the GNSS position: a camera or a velocity alone leaves the position unobservable to a linear observer); the design's noise is each sensor's at the initial estimate",
+    },
 }
 
 /// One setting of a [`NavConfig`] as a saved state records it.
@@ -933,6 +947,26 @@ impl NavConfig {
         spec.b_vel = if spec.b_vel > 0.0 { spec.b_vel } else { 1.0 };
         spec.d = if spec.d > 0.0 { spec.d } else { 1.0 };
         spec.validate().map_err(hinf)?;
+        if self.hinf_sensors & (HINF_RADIO | HINF_GNSS_POSITION) == 0 {
+            return Err(NavError::invalid(format!(
+                "hinf_sensors = {}: the set must hold the radio (1) or the relative GNSS position \
+                 (4); a camera's line of sight leaves the range, a velocity the along-track \
+                 position unobservable to a linear observer, so no design exists for them alone",
+                self.hinf_sensors
+            )));
+        }
+        if self.filter == FilterKind::Hinf
+            && self.eccentricity > 0.0
+            && ![HINF_RADIO, HINF_GNSS_POSITION].contains(&self.hinf_sensors)
+        {
+            return Err(NavError::invalid(format!(
+                "filter 9 (hinf) at eccentricity = {}: the design scheduled over the orbit \
+                 measures one position fix; set hinf_sensors to 1 (radio) or 4 (GNSS position) \
+                 (got {})",
+                num(self.eccentricity),
+                self.hinf_sensors
+            )));
+        }
         if self.filter == FilterKind::Hinf && self.eccentricity > 0.0 && self.hinf_acquisition {
             return Err(NavError::invalid(format!(
                 "filter 9 (hinf) at eccentricity = {}: the design is scheduled over the orbit \
@@ -970,7 +1004,9 @@ impl NavConfig {
     /// * `D = R^(1/2)` with `R` the covariance of the indirect Cartesian position
     ///   ([`RadioSensor::position_covariance`]) at the initial estimate's position, of the
     ///   radio noise the Kalman filters assume (`sigma^2` times the noise model's variance
-    ///   factor): `sigma_range` along the line of sight, `range * sigma_angle` across it.
+    ///   factor): `sigma_range` along the line of sight, `range * sigma_angle` across it;
+    ///   for another `hinf_sensors` than the radio alone, `R` is the covariance of the
+    ///   declared sensors' fused position fix ([`NavConfig::hinf_position_noise`]).
     ///
     /// Errors: a zero initial range when `D` is derived; a derived `B` of zero (no process
     /// noise at all) for the mixed design, whose H2 criterion needs one.
@@ -991,7 +1027,9 @@ impl NavConfig {
             }
             spec.b_matrix = Some(crate::hinf::psd_sqrt(&qd));
         }
-        if self.hinf_d == 0.0 {
+        if self.hinf_sensors != HINF_RADIO {
+            spec.d_matrix = Some(crate::hinf::psd_sqrt(&self.hinf_position_noise()?));
+        } else if self.hinf_d == 0.0 {
             let inflate = self.noise().variance_factor().sqrt();
             let sensor = RadioSensor::new(
                 self.frame,
@@ -1009,6 +1047,79 @@ impl NavConfig {
             spec.d_matrix = Some(crate::hinf::psd_sqrt(&r));
         }
         Ok(spec)
+    }
+
+    /// The covariance of the H-infinity design's position fix for the declared
+    /// `hinf_sensors`: the inverse of the sum of each declared sensor's position information
+    /// at the initial estimate, `J = sum H^T R^-1 H` (the radio: the inverse of its indirect
+    /// position's covariance, or `hinf_d^2 I` when set; the camera: its line of sight's
+    /// Jacobian and `sigma_camera`; relative GNSS: `sigma_gnss` per axis; each noise scaled
+    /// by its density's variance factor). Error when `J` is singular (no position fix
+    /// declared) or the initial estimate is at zero range.
+    pub fn hinf_position_noise(&self) -> Result<Mat3, NavError> {
+        use crate::sensors::{CameraSensor, Sensor, SensorNoise};
+        let x0 = self.initial_state();
+        let r0 = x0.fixed_rows::<3>(0).into_owned();
+        let at_zero = || {
+            NavError::invalid(
+                "hinf: the design's measurement noise is derived at the initial estimate's \
+                 position, which is at zero range: set x0, y0, z0"
+                    .to_string(),
+            )
+        };
+        let mut j = Mat3::zeros();
+        if self.hinf_sensors & HINF_RADIO != 0 {
+            let r = if self.hinf_d > 0.0 {
+                Mat3::identity() * (self.hinf_d * self.hinf_d)
+            } else {
+                let inflate = self.noise().variance_factor().sqrt();
+                RadioSensor::new(
+                    self.frame,
+                    self.sigma_range * inflate,
+                    self.sigma_angle * inflate,
+                )
+                .position_covariance(&r0)
+                .ok_or_else(at_zero)?
+            };
+            j += r.try_inverse().ok_or_else(at_zero)?;
+        }
+        if self.hinf_sensors & HINF_CAMERA != 0 {
+            let camera = CameraSensor {
+                frame: self.frame,
+                noise: SensorNoise {
+                    model: self.camera_noise(),
+                    scales: [self.sigma_camera; 2],
+                },
+            };
+            let lin = camera.linearize(&x0).map_err(|_| at_zero())?;
+            let h = lin.h.fixed_view::<2, 3>(0, 0).into_owned();
+            let ri = camera.noise.cov().try_inverse().ok_or_else(at_zero)?;
+            j += h.transpose() * ri * h;
+        }
+        if self.hinf_sensors & HINF_GNSS_POSITION != 0 {
+            let var = self.sigma_gnss * self.sigma_gnss * self.gnss_noise().variance_factor();
+            j += Mat3::identity() / var;
+        }
+        let r = j.try_inverse().filter(|r| r.iter().all(|v| v.is_finite()));
+        r.map(|r| (r + r.transpose()) * 0.5).ok_or_else(|| {
+            NavError::invalid(format!(
+                "hinf_sensors = {}: the declared sensors do not fix the position at the initial \
+                 estimate",
+                self.hinf_sensors
+            ))
+        })
+    }
+
+    /// The covariance of the H-infinity design's velocity fix when `hinf_sensors` declares
+    /// relative GNSS velocity (`sigma_gnss_velocity^2` per axis times the GNSS density's
+    /// variance factor), `None` otherwise.
+    pub fn hinf_velocity_noise(&self) -> Option<Mat3> {
+        (self.hinf_sensors & HINF_GNSS_VELOCITY != 0).then(|| {
+            Mat3::identity()
+                * (self.sigma_gnss_velocity
+                    * self.sigma_gnss_velocity
+                    * self.gnss_noise().variance_factor())
+        })
     }
 
     /// The process-noise covariance of one H-infinity period `T = hinf_period` from the
@@ -1254,7 +1365,7 @@ mod tests {
             .into_iter()
             .map(|(n, _)| n)
             .collect();
-        assert_eq!(names.len(), 70);
+        assert_eq!(names.len(), 71);
         assert_eq!(
             &names[..8],
             [
@@ -1287,6 +1398,7 @@ mod tests {
                 "gnss_noise_zeta",
                 "gnss_noise_scale",
                 "gnss_noise_dof",
+                "hinf_sensors",
             ]
         );
     }

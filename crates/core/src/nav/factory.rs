@@ -338,43 +338,72 @@ fn build_single(cfg: &NavConfig, opts: &FilterOptions) -> Result<AnyFilter, NavE
         FilterKind::Hinf if cfg.eccentricity > 0.0 => scheduled_hinf(cfg, x0),
         #[cfg(feature = "hinf")]
         FilterKind::Hinf => {
-            use crate::hinf::design::{design_open_loop, design_open_loop_mixed, DesignOptions};
             let spec = cfg.hinf_spec()?;
-            let opts = DesignOptions::default();
-            let (d, info) = match cfg.hinf_design {
-                super::config::HinfDesignKind::GammaOptimal => {
-                    design_open_loop(&spec, &opts).map(|d| {
-                        let info = d.info();
-                        (d, info)
-                    })
-                }
-                super::config::HinfDesignKind::Mixed => {
-                    design_open_loop_mixed(&spec, cfg.hinf_gamma_factor, &opts).map(|m| {
-                        let info = m.info();
-                        (m.mixed, info)
-                    })
+            let plant = crate::hinf::HinfPlant::open_loop(&spec);
+            match cfg.hinf_velocity_noise() {
+                None => open_loop_hinf(cfg, &plant, x0, p0),
+                Some(r_vel) => {
+                    let d_vel = crate::hinf::psd_sqrt(&r_vel);
+                    open_loop_hinf(cfg, &plant.measuring_velocity(&d_vel), x0, p0)
                 }
             }
-            .map_err(|e| NavError {
-                kind: NavErrorKind::InvalidArgument,
-                message: format!("hinf design ({}) failed: {e}", cfg.hinf_design.name()),
-            })?;
-            let invalid = |e: crate::hinf::HinfError| NavError::invalid(format!("hinf: {e}"));
-            let mut f = HinfEstimator::new(d.matrices, d.gamma, x0)
-                .map_err(invalid)?
-                .with_h2_norm(d.h2_norm)
-                .with_design_info(info);
-            if cfg.hinf_acquisition {
-                let plant = crate::hinf::HinfPlant::open_loop(&spec);
-                f = f.with_acquisition(&plant, p0).map_err(invalid)?;
-            }
-            Ok(AnyFilter::Hinf(f))
         }
         other => Err(NavError {
             kind: NavErrorKind::NotImplemented,
             message: format!("filter {} is not implemented", other.name()),
         }),
     }
+}
+
+/// The H-infinity filter of a circular orbit: the observer design ([`NavConfig::hinf_design`])
+/// for `plant` (the open-loop CW plant measuring the position, or the position and the
+/// velocity, with the noise of the declared `hinf_sensors`), with track initiation when
+/// `hinf_acquisition` is set.
+#[cfg(feature = "hinf")]
+fn open_loop_hinf<const M: usize>(
+    cfg: &NavConfig,
+    plant: &crate::hinf::HinfPlant<M>,
+    x0: crate::types::State,
+    p0: crate::types::Mat6,
+) -> Result<AnyFilter, NavError> {
+    use crate::hinf::design::{design_observer, design_plant_mixed, DesignOptions};
+    let opts = DesignOptions::default();
+    let period = cfg.hinf_period;
+    let (d, info) = match cfg.hinf_design {
+        super::config::HinfDesignKind::GammaOptimal => {
+            design_observer(plant, period, &opts).map(|d| {
+                let info = d.info();
+                (d, info)
+            })
+        }
+        super::config::HinfDesignKind::Mixed => {
+            design_plant_mixed(plant, period, cfg.hinf_gamma_factor, &opts).map(|m| {
+                let info = m.info();
+                (m.mixed, info)
+            })
+        }
+    }
+    .map_err(|e| NavError {
+        kind: NavErrorKind::InvalidArgument,
+        message: format!("hinf design ({}) failed: {e}", cfg.hinf_design.name()),
+    })?;
+    let invalid = |e: crate::hinf::HinfError| NavError::invalid(format!("hinf: {e}"));
+    // the design's information C^T (D D^T)^-1 C, block diagonal (position, velocity)
+    let r = plant.d * plant.d.transpose();
+    let ri = r.try_inverse().ok_or_else(|| {
+        NavError::invalid("hinf: the design's measurement noise is singular".to_string())
+    })?;
+    let j_d = plant.c.transpose() * ri * plant.c;
+    let mut f = HinfEstimator::new(d.matrices, d.gamma, x0)
+        .map_err(invalid)?
+        .with_h2_norm(d.h2_norm)
+        .with_design_info(info)
+        .with_measurement_information(&j_d, cfg.hinf_sensors.count_ones())
+        .map_err(invalid)?;
+    if cfg.hinf_acquisition {
+        f = f.with_acquisition(plant, p0).map_err(invalid)?;
+    }
+    Ok(AnyFilter::Hinf(f))
 }
 
 /// The H-infinity filter of an eccentric orbit: an observer design ([`NavConfig::hinf_design`])

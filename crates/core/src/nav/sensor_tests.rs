@@ -402,7 +402,8 @@ fn the_generic_path_is_consistent() {
 }
 
 /// The H-infinity filter takes a sensor that fixes the position (its design's
-/// measurement) and refuses one that does not, naming why, with the estimate unchanged.
+/// measurement) and refuses one of the position and the velocity together, naming why,
+/// with the estimate unchanged.
 #[cfg(feature = "hinf")]
 #[test]
 fn the_hinf_filter_takes_position_fixes_only() {
@@ -431,12 +432,117 @@ fn the_hinf_filter_takes_position_fixes_only() {
         .vec_from_canonical(&x.fixed_rows::<3>(0).into_owned());
     nav.step_with(&[0.0; 3], None, &[None, Some(p.as_slice())], 1.0)
         .unwrap();
-    // the radio and a position fix in one step: one position measurement per step
-    let z = radio(&cfg, &x, &mut ChaCha8Rng::seed_from_u64(1));
+}
+
+/// A design for the radio and relative GNSS position (`hinf_sensors` = 5): a GNSS reading
+/// alone moves the estimate by `G J_D^-1 J_g (y - x)`, the design's observer with the
+/// radio's reading replaced by its prediction, `J_D` computed here from this file's radio
+/// (Jacobian by central differences at the initial estimate); a fix far more precise than
+/// the design's, not declared, moves it by `G (y - x)` (its own weight, not amplified by
+/// `J_D^-1`).
+#[cfg(feature = "hinf")]
+#[test]
+fn the_hinf_filter_fuses_a_steps_position_fixes() {
+    let (mut cfg, x) = setup(9);
+    cfg.hinf_acquisition = false;
+    cfg.hinf_sensors = 5;
+    let sigma_g = 2.0;
+    let fix = Modelled {
+        model: CartesianSensor {
+            frame: cfg.frame,
+            sigma: sigma_g,
+        },
+        noise: SensorNoise::gaussian([sigma_g; 3]),
+    };
+    cfg.sigma_gnss = sigma_g;
+    let precise = Modelled {
+        model: CartesianSensor {
+            frame: cfg.frame,
+            sigma: 1e-4,
+        },
+        noise: SensorNoise::gaussian([1e-4; 3]),
+    };
+    let mut none = Navigator::new(&cfg).unwrap();
+    none.add_sensor(Arc::new(Named::new("position", fix)));
+    none.add_sensor(Arc::new(Named::new("precise", precise)));
+    let (mut gnss_only, mut precise_only) = (none.clone(), none.clone());
+    let g = Vec3::new(x[0] + 1.5, x[1] - 2.0, x[2] + 0.5);
+    let g_io = cfg.frame.vec_from_canonical(&g);
+    gnss_only
+        .step_with(&[0.0; 3], None, &[Some(g_io.as_slice()), None], 1.0)
+        .unwrap();
+    precise_only
+        .step_with(&[0.0; 3], None, &[None, Some(g_io.as_slice())], 1.0)
+        .unwrap();
+    none.step_with(&[0.0; 3], None, &[None, None], 1.0).unwrap();
+    let x1 = none.state();
+    // the design's information: the radio's at the initial estimate plus the GNSS's
+    let x0 = cfg.initial_state();
+    let mut cfg0 = cfg;
+    cfg0.sigma_range = 0.0;
+    cfg0.sigma_angle = 0.0;
+    let noiseless = |r: &Vec3| {
+        let mut s = x0;
+        s.fixed_rows_mut::<3>(0).copy_from(r);
+        Vec3::from(radio(&cfg0, &s, &mut ChaCha8Rng::seed_from_u64(0)))
+    };
+    let r0 = x0.fixed_rows::<3>(0).into_owned();
+    let mut h = Mat3::zeros();
+    for k in 0..3 {
+        let mut d = Vec3::zeros();
+        d[k] = 1e-4;
+        h.set_column(k, &((noiseless(&(r0 + d)) - noiseless(&(r0 - d))) / 2e-4));
+    }
+    let ri = Mat3::from_diagonal(&Vec3::new(
+        cfg.sigma_range.powi(-2),
+        cfg.sigma_angle.powi(-2),
+        cfg.sigma_angle.powi(-2),
+    ));
+    let j_g = Mat3::identity() / (sigma_g * sigma_g);
+    let n = (h.transpose() * ri * h + j_g).try_inverse().unwrap();
+    let AnyFilter::Hinf(f) = none.filter() else {
+        panic!("not the H-infinity filter")
+    };
+    let b_f = f.filter().matrices().b_f;
+    let want = b_f * (n * j_g * (g - r0));
+    // the navigator's state is in the I/O frame
+    let got = cfg.frame.state_to_canonical(&(gnss_only.state() - x1));
+    assert!(
+        (got - want).abs().max() <= 1e-6 * want.abs().max(),
+        "{got} vs {want}"
+    );
+    let want = b_f * (g - r0);
+    let got = cfg.frame.state_to_canonical(&(precise_only.state() - x1));
+    assert!(
+        (got - want).abs().max() <= 1e-3 * want.abs().max(),
+        "{got} vs {want}"
+    );
+}
+
+/// A design that measures the velocity (`hinf_sensors` 4 + 8, relative GNSS) takes a
+/// velocity reading; one without refuses it, naming `hinf_sensors`.
+#[cfg(feature = "hinf")]
+#[test]
+fn the_hinf_filter_takes_a_velocity_when_its_design_measures_one() {
+    use crate::sensors::VelocitySensor;
+    let (mut cfg, x) = setup(9);
+    let vel = Named::new("GNSS velocity", VelocitySensor::gaussian(cfg.frame, 5e-4));
+    let v_io = cfg
+        .frame
+        .vec_from_canonical(&x.fixed_rows::<3>(3).into_owned());
+    let mut nav = Navigator::new(&cfg).unwrap();
+    nav.add_sensor(Arc::new(vel.clone()));
     let e = nav
-        .step_with(&[0.0; 3], Some(&z), &[None, Some(p.as_slice())], 1.0)
+        .step_with(&[0.0; 3], None, &[Some(v_io.as_slice())], 1.0)
         .unwrap_err();
-    assert_eq!(e.kind, NavErrorKind::NotImplemented, "{e}");
+    assert!(e.message.contains("hinf_sensors"), "{e}");
+    cfg.hinf_sensors = 12;
+    let mut nav = Navigator::new(&cfg).unwrap();
+    nav.add_sensor(Arc::new(vel));
+    let before = nav.state();
+    nav.step_with(&[0.0; 3], None, &[Some(v_io.as_slice())], 1.0)
+        .unwrap();
+    assert_ne!(nav.state(), before);
 }
 
 /// `step_with` checks every reading before anything changes, applies the radio then the

@@ -6,8 +6,9 @@ use super::observer::design_observer;
 use super::sdp::{dm, max_eig, status_name, Lmi, Sdp, Vars};
 use super::{check_opts, check_plant, DesignOptions, DesignRoute, HinfDesign};
 use crate::hinf::verify::lmi_mixed;
+use crate::hinf::Gain;
 use crate::hinf::{HinfDesignInfo, HinfError, HinfErrorKind, HinfMatrices, HinfPlant, HinfSpec};
-use crate::types::{Mat6, Mat63};
+use crate::types::Mat6;
 use nalgebra::DMatrix;
 use std::time::Instant;
 
@@ -46,11 +47,11 @@ impl MixedDesign {
 /// gamma_bound`; the H2 norm is computed again without the solver
 /// ([`crate::hinf::verify::observer_h2_norm`]). `iterations` and `solve_time` cover every
 /// solve (one or two, see the [design docs](super)).
-pub fn design_mixed(
-    plant: &HinfPlant,
+pub fn design_mixed<const M: usize>(
+    plant: &HinfPlant<M>,
     period: f64,
     gamma_bound: f64,
-    start_gain: &Mat63,
+    start_gain: &Gain<M>,
     opts: &DesignOptions,
 ) -> Result<HinfDesign, HinfError> {
     check_opts(opts)?;
@@ -65,7 +66,7 @@ pub fn design_mixed(
         HinfError::invalid("the start gain of the mixed design is not stabilising".to_string())
     })?;
     let mut d = solve_mixed(plant, period, gamma_bound, tau0, opts)?;
-    if let Some(tau1) = error_time_scale(plant, &d.matrices.b_f) {
+    if let Some(tau1) = error_time_scale(plant, &d.matrices.gain::<M>()) {
         if !(tau1 / tau0 > 0.5 && tau1 / tau0 < 2.0) {
             let first = d;
             d = solve_mixed(plant, period, gamma_bound, tau1, opts)?;
@@ -79,7 +80,7 @@ pub fn design_mixed(
 /// `tau = sqrt(trace X_pp / trace X_vv)` [s] of the steady-state error covariance `X` of
 /// the observer with gain `g` ([`crate::hinf::verify::observer_error_covariance`]): the
 /// time over which a velocity error makes a position error of its size.
-fn error_time_scale(plant: &HinfPlant, g: &Mat63) -> Option<f64> {
+fn error_time_scale<const M: usize>(plant: &HinfPlant<M>, g: &Gain<M>) -> Option<f64> {
     let x = crate::hinf::verify::observer_error_covariance(plant, g)?;
     let pp = x[(0, 0)] + x[(1, 1)] + x[(2, 2)];
     let vv = x[(3, 3)] + x[(4, 4)] + x[(5, 5)];
@@ -92,7 +93,7 @@ fn error_time_scale(plant: &HinfPlant, g: &Mat63) -> Option<f64> {
 /// kept). Every transfer from `(w, v, d)` to `z_e` is unchanged, so is the optimal gamma.
 /// Returns the plant and `S^-1`. (Also used by the tests and `examples/hinf_profile.rs` to
 /// pose the observer SDP in balanced units.)
-pub fn scaled_plant(plant: &HinfPlant, tau: f64) -> (HinfPlant, Mat6) {
+pub fn scaled_plant<const M: usize>(plant: &HinfPlant<M>, tau: f64) -> (HinfPlant<M>, Mat6) {
     let s = Mat6::from_diagonal(&crate::types::State::from_row_slice(&[
         1.0, 1.0, 1.0, tau, tau, tau,
     ]));
@@ -120,8 +121,8 @@ pub fn scaled_plant(plant: &HinfPlant, tau: f64) -> (HinfPlant, Mat6) {
 }
 
 /// One solve of the mixed SDP in the coordinates scaled by `tau`.
-fn solve_mixed(
-    plant: &HinfPlant,
+fn solve_mixed<const M: usize>(
+    plant: &HinfPlant<M>,
     period: f64,
     gamma_bound: f64,
     tau: f64,
@@ -134,20 +135,20 @@ fn solve_mixed(
     let n = 6;
     let mut vars = Vars { n: 0 };
     let xv = vars.full(n, n);
-    let y = vars.full(n, 3);
+    let y = vars.full(n, M);
     let p_inf = vars.sym(n);
     let p2 = vars.sym(n);
-    let z = vars.sym(9);
+    let z = vars.sym(6 + M);
     let nvar = vars.n;
     let eye = |k: usize| DMatrix::<f64>::identity(k, k);
     // H-infinity (extended form): blocks n, n, p, q, h, l
-    let mut hinf = Lmi::new(&[n, n, 6, 3, 6, 6], nvar);
+    let mut hinf = Lmi::new(&[n, n, 6, M, 6, 6], nvar);
     // H2, Lyapunov part: blocks n, n, l
     let mut lyap = Lmi::new(&[n, n, 6], nvar);
     // H2, input part: blocks n, p + q
-    let mut input = Lmi::new(&[n, 9], nvar);
+    let mut input = Lmi::new(&[n, 6 + M], nvar);
     let pad = |m: DMatrix<f64>, col: usize| {
-        let mut o = DMatrix::zeros(n, 9);
+        let mut o = DMatrix::zeros(n, 6 + M);
         o.view_mut((0, col), (n, m.ncols())).copy_from(&m);
         o
     };
@@ -185,7 +186,7 @@ fn solve_mixed(
     }
     hinf.add(None, 1, 5, &l.transpose());
     hinf.add(None, 2, 2, &(-eye(6) * g2));
-    hinf.add(None, 3, 3, &(-eye(3) * g2));
+    hinf.add(None, 3, 3, &(-eye(M) * g2));
     hinf.add(None, 4, 4, &(-eye(6) * g2));
     hinf.add(None, 5, 5, &(-eye(6)));
     lyap.add(None, 1, 2, &l.transpose());
@@ -209,7 +210,7 @@ fn solve_mixed(
         message: "the solver's slack X is singular: no observer gain can be recovered".to_string(),
     })?;
     let gain = &x_inv * &yval;
-    let g_scaled = Mat63::from_fn(|i, j| gain[(i, j)]);
+    let g_scaled = Gain::<M>::from_fn(|i, j| gain[(i, j)]);
     let zval = z.value(xs);
     // independent check, in the solver's coordinates
     let lmis = lmi_mixed(
@@ -236,13 +237,7 @@ fn solve_mixed(
     // back to the plant's coordinates: e = S^-1 e', so G = S^-1 G'
     let g = s_inv * g_scaled;
     Ok(HinfDesign {
-        matrices: HinfMatrices {
-            a_f: plant.a - g * plant.c,
-            b_f: g,
-            c_f: Mat6::identity(),
-            e_f: plant.g,
-            period,
-        },
+        matrices: HinfMatrices::observer(plant, &g, period),
         gamma: gamma_bound,
         lmi_max_eig: max_eig,
         h2_norm: crate::hinf::verify::observer_h2_norm(plant, &g),
@@ -272,12 +267,29 @@ pub fn design_open_loop_mixed(
             "gamma_factor must be finite and > 1 (got {gamma_factor})"
         )));
     }
-    let plant = HinfPlant::open_loop(spec);
-    let pure = design_observer(&plant, spec.period, opts)?;
+    design_plant_mixed(&HinfPlant::open_loop(spec), spec.period, gamma_factor, opts)
+}
+
+/// [`design_open_loop_mixed`] for any observer plant (e.g. one that measures the velocity
+/// as well, [`HinfPlant::measuring_velocity`]): the gamma-optimal observer, then
+/// [`design_mixed`] with `gamma_bound = gamma_factor * gamma_opt` from the Kalman
+/// predictor's gain.
+pub fn design_plant_mixed<const M: usize>(
+    plant: &HinfPlant<M>,
+    period: f64,
+    gamma_factor: f64,
+    opts: &DesignOptions,
+) -> Result<MixedDesign, HinfError> {
+    if !(gamma_factor.is_finite() && gamma_factor > 1.0) {
+        return Err(HinfError::invalid(format!(
+            "gamma_factor must be finite and > 1 (got {gamma_factor})"
+        )));
+    }
+    let pure = design_observer(plant, period, opts)?;
     // the first coordinate scaling from the Kalman predictor, whose error covariance is
     // closer to the mixed design's than the gamma-optimal observer's (design docs,
     // "Scaling"); the gamma-optimal gain when there is no Kalman gain (singular D)
-    let start = crate::hinf::riccati::kalman_gain(&plant).unwrap_or(pure.matrices.b_f);
-    let mixed = design_mixed(&plant, spec.period, gamma_factor * pure.gamma, &start, opts)?;
+    let start = crate::hinf::riccati::kalman_gain(plant).unwrap_or(pure.matrices.gain::<M>());
+    let mixed = design_mixed(plant, period, gamma_factor * pure.gamma, &start, opts)?;
     Ok(MixedDesign { pure, mixed })
 }

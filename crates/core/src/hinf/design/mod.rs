@@ -258,7 +258,9 @@ mod paper;
 mod sdp;
 
 pub use super::DesignRoute;
-pub use mixed::{design_mixed, design_open_loop_mixed, scaled_plant, MixedDesign};
+pub use mixed::{
+    design_mixed, design_open_loop_mixed, design_plant_mixed, scaled_plant, MixedDesign,
+};
 pub use observer::{
     design_observer, design_observer_full, design_observer_riccati, design_observer_sdp,
     design_open_loop,
@@ -349,7 +351,7 @@ fn check_opts(o: &DesignOptions) -> Result<(), HinfError> {
     Ok(())
 }
 
-fn check_plant(p: &HinfPlant) -> Result<(), HinfError> {
+fn check_plant<const M: usize>(p: &HinfPlant<M>) -> Result<(), HinfError> {
     let all =
         p.a.iter()
             .chain(p.b.iter())

@@ -7,8 +7,8 @@ use super::sdp::{upper_bound, Lmi, Sdp, SdpSolution, Vars};
 use super::{check_opts, check_plant, DesignOptions, DesignRoute, HinfDesign};
 use crate::hinf::riccati::RiccatiFailure;
 use crate::hinf::verify::lmi_observer;
+use crate::hinf::Gain;
 use crate::hinf::{HinfError, HinfErrorKind, HinfMatrices, HinfPlant, HinfSpec};
-use crate::types::{Mat6, Mat63};
 use nalgebra::DMatrix;
 use std::time::Instant;
 
@@ -20,8 +20,8 @@ use std::time::Instant;
 /// ([`design_observer_sdp`]) designs the filter and [`HinfDesign::route`] /
 /// [`HinfDesign::riccati_failure`] say so. Returns `A_F = A - G C`, `B_F = G`, `C_F = I`,
 /// `E_F = plant.g`.
-pub fn design_observer(
-    plant: &HinfPlant,
+pub fn design_observer<const M: usize>(
+    plant: &HinfPlant<M>,
     period: f64,
     opts: &DesignOptions,
 ) -> Result<HinfDesign, HinfError> {
@@ -45,8 +45,8 @@ pub fn design_observer(
 /// `P = gamma^2 X^-1`, `G`, `gamma^2` and must be negative definite (the same check as the SDP's answer), or the
 /// route reports [`RiccatiFailure::CertificationFailed`]. No interior-point solver:
 /// `iterations` is 0, `riccati_steps` the bisection's trials, `status` `"Riccati"`.
-pub fn design_observer_riccati(
-    plant: &HinfPlant,
+pub fn design_observer_riccati<const M: usize>(
+    plant: &HinfPlant<M>,
     period: f64,
 ) -> Result<HinfDesign, RiccatiFailure> {
     let t0 = Instant::now();
@@ -62,13 +62,7 @@ pub fn design_observer_riccati(
         return Err(RiccatiFailure::CertificationFailed);
     }
     Ok(HinfDesign {
-        matrices: HinfMatrices {
-            a_f: plant.a - r.gain * plant.c,
-            b_f: r.gain,
-            c_f: Mat6::identity(),
-            e_f: plant.g,
-            period,
-        },
+        matrices: HinfMatrices::observer(plant, &r.gain, period),
         gamma: r.gamma,
         lmi_max_eig: max_eig,
         h2_norm: crate::hinf::verify::observer_h2_norm(plant, &r.gain),
@@ -87,8 +81,8 @@ pub fn design_observer_riccati(
 /// sizes 21 and 6), then `Y` in closed form and the observer LMI checked at `G = P^-1 Y`
 /// with nalgebra. [`design_observer_full`] when `D` is singular. The reference of the
 /// Riccati route and the fallback of [`design_observer`].
-pub fn design_observer_sdp(
-    plant: &HinfPlant,
+pub fn design_observer_sdp<const M: usize>(
+    plant: &HinfPlant<M>,
     period: f64,
     opts: &DesignOptions,
 ) -> Result<HinfDesign, HinfError> {
@@ -113,7 +107,7 @@ pub fn design_observer_sdp(
     let nvar = vars.n;
     let eye = |k: usize| DMatrix::<f64>::identity(k, k);
     // on ker [C D]: blocks P-row, e, v, w, d (z by its Schur complement L^T L)
-    let mut m = Lmi::new(&[n, n, 3, pb, ph], nvar);
+    let mut m = Lmi::new(&[n, n, M, pb, ph], nvar);
     // outside it: P - L^T L > 0
     let mut out = Lmi::new(&[n], nvar);
     for (k, e) in p.basis() {
@@ -126,7 +120,7 @@ pub fn design_observer_sdp(
     }
     m.add(None, 1, 1, &ltl);
     out.add(None, 0, 0, &ltl);
-    m.add(Some(g2), 2, 2, &(-eye(3)));
+    m.add(Some(g2), 2, 2, &(-eye(M)));
     m.add(Some(g2), 3, 3, &(-eye(pb)));
     m.add(Some(g2), 4, 4, &(-eye(ph)));
     let m = m.congruence(&kernel_basis(&dinv_c, pb + ph));
@@ -144,14 +138,14 @@ pub fn design_observer_sdp(
     let x = &sol.x;
     let pv = p.value(x);
     let gamma2 = x[g2];
-    // Y enters the P row only: blocks P-row 0, e 6, w 12, v 18, d 21, z 27
-    let psi = lmi_observer(plant, &pv, &Mat63::zeros(), gamma2);
-    let mut v = DMatrix::zeros(3, 33);
-    for i in 0..3 {
+    // Y enters the P row only: blocks P-row 0, e 6, w 12, v 18, d 18 + M, z 24 + M
+    let psi = lmi_observer(plant, &pv, &Gain::<M>::zeros(), gamma2);
+    let mut v = DMatrix::zeros(M, 30 + M);
+    for i in 0..M {
         for j in 0..6 {
             v[(i, 6 + j)] = -plant.c[(i, j)];
         }
-        for j in 0..3 {
+        for j in 0..M {
             v[(i, 18 + j)] = -plant.d[(i, j)];
         }
     }
@@ -169,8 +163,8 @@ pub fn design_observer_sdp(
 /// The observer design posed literally, in `P, Y, g2` (40 scalars, one 33 x 33 LMI): the
 /// reference for [`design_observer`] (`tests/hinf.rs` compares the two) and its fallback
 /// when `D` is singular.
-pub fn design_observer_full(
-    plant: &HinfPlant,
+pub fn design_observer_full<const M: usize>(
+    plant: &HinfPlant<M>,
     period: f64,
     opts: &DesignOptions,
 ) -> Result<HinfDesign, HinfError> {
@@ -190,11 +184,11 @@ pub fn design_observer_full(
     let n = 6;
     let mut vars = Vars { n: 0 };
     let p = vars.sym(n);
-    let y = vars.full(n, 3);
+    let y = vars.full(n, M);
     let g2 = vars.scalar();
     let nvar = vars.n;
     let eye = |k: usize| DMatrix::<f64>::identity(k, k);
-    let mut m = Lmi::new(&[n, n, 6, 3, 6, 6], nvar);
+    let mut m = Lmi::new(&[n, n, 6, M, 6, 6], nvar);
     for (k, e) in p.basis() {
         m.add(Some(k), 0, 0, &(-&e));
         m.add(Some(k), 0, 1, &(&e * &a));
@@ -207,7 +201,7 @@ pub fn design_observer_full(
         m.add(Some(k), 0, 3, &(-(&e * &d)));
     }
     m.add(Some(g2), 2, 2, &(-eye(6)));
-    m.add(Some(g2), 3, 3, &(-eye(3)));
+    m.add(Some(g2), 3, 3, &(-eye(M)));
     m.add(Some(g2), 4, 4, &(-eye(6)));
     m.add(None, 1, 5, &l.transpose());
     m.add(None, 5, 5, &(-eye(6)));
@@ -238,8 +232,8 @@ pub fn design_observer_full(
 
 /// The observer from `(P, Y)`: `G = P^-1 Y`, the observer LMI re-checked with nalgebra.
 #[allow(clippy::too_many_arguments)]
-fn finish_observer(
-    plant: &HinfPlant,
+fn finish_observer<const M: usize>(
+    plant: &HinfPlant<M>,
     period: f64,
     sol: &SdpSolution,
     pv: &DMatrix<f64>,
@@ -253,7 +247,7 @@ fn finish_observer(
         message: "the solver's P is singular: no observer gain can be recovered".to_string(),
     })?;
     let gain = &p_inv * yv;
-    let g = Mat63::from_fn(|i, j| gain[(i, j)]);
+    let g = Gain::<M>::from_fn(|i, j| gain[(i, j)]);
     let lmi = lmi_observer(plant, pv, &g, gamma2);
     let max_eig = max_eig(&lmi);
     if !(max_eig < 0.0) {
@@ -266,13 +260,7 @@ fn finish_observer(
         });
     }
     Ok(HinfDesign {
-        matrices: HinfMatrices {
-            a_f: plant.a - g * plant.c,
-            b_f: g,
-            c_f: Mat6::identity(),
-            e_f: plant.g,
-            period,
-        },
+        matrices: HinfMatrices::observer(plant, &g, period),
         gamma: gamma2.sqrt(),
         lmi_max_eig: max_eig,
         h2_norm: crate::hinf::verify::observer_h2_norm(plant, &g),

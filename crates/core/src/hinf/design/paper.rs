@@ -230,6 +230,7 @@ fn finish_paper(
         b_f: Mat63::from_fn(|i, j| b_f[(i, j)]),
         c_f: Mat6::from_fn(|i, j| cbv[(i, j)]),
         e_f: Mat63::zeros(),
+        b_v: Mat63::zeros(),
         period,
     };
     // independent check: the LMI assembled from the recovered blocks with nalgebra

@@ -304,19 +304,20 @@ pub(crate) fn max_eig(m: &DMatrix<f64>) -> f64 {
 }
 
 /// `N = diag(I_6, [I_6; -D^-1 C], I_rest)`: the basis of `{(row, x, v, rest) : C x + D v =
-/// 0}` for an LMI with blocks `(row 6, x 6, v 3, rest)`.
+/// 0}` for an LMI with blocks `(row 6, x 6, v m, rest)`, `m` the rows of `C`.
 pub(super) fn kernel_basis(dinv_c: &DMatrix<f64>, rest: usize) -> DMatrix<f64> {
-    let mut kern = DMatrix::zeros(15 + rest, 12 + rest);
+    let m = dinv_c.nrows();
+    let mut kern = DMatrix::zeros(12 + m + rest, 12 + rest);
     for i in 0..12 {
         kern[(i, i)] = 1.0;
     }
-    for i in 0..3 {
+    for i in 0..m {
         for j in 0..6 {
             kern[(12 + i, 6 + j)] = -dinv_c[(i, j)];
         }
     }
     for i in 0..rest {
-        kern[(15 + i, 12 + i)] = 1.0;
+        kern[(12 + m + i, 12 + i)] = 1.0;
     }
     kern
 }
