@@ -649,6 +649,18 @@ impl Prepared {
                 ff
             } else {
                 if config.filter == FilterKind::Hinf {
+                    if let Some(d) = f
+                        .hinf_design
+                        .as_deref()
+                        .filter(|d| !["observer", "mixed"].contains(d))
+                    {
+                        return Err(format!(
+                            "filter \"{}\": hinf_design = \"{d}\" needs a [sensor]; with \
+                             [[sensors]] or an eccentric orbit the design is filter code 9's \
+                             (observer or mixed)",
+                            f.label
+                        ));
+                    }
                     // designed once per scenario (one design per instant of an eccentric
                     // orbit)
                     match relnav_core::nav::build_filter(&config)
