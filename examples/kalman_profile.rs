@@ -9,7 +9,9 @@
 //! the three measurements, `fmi2DoStep`, `fmi2GetReal` of the 12 estimate outputs: the
 //! `fmu_cycle_*` criterion bench); their counts less the bare filter's are the layers'
 //! overheads.
-//! `sensor-<s>-ekf` (and `-ukf`; `s` = `radio`, `camera`, `gnss`, `velocity` or `none`)
+//! `sensor-<s>-ekf` (and `-ukf`, `-hinf`: the H-infinity filter designed for all four sensors,
+//! `-hinffixed` the same without track initiation;
+//! `s` = `radio`, `camera`, `gnss`, `velocity` or `none`)
 //! run navigator steps (`Navigator::step_readings`) with that one sensor's reading at every
 //! step, all four readings generated in every mode: less `sensor-none-*` (the prediction
 //! alone), the count per step is that sensor's update (`benches/summarize.py` prints its
@@ -310,10 +312,14 @@ fn print_timing(kind: FilterKind, t: &Timing) {
 
 /// `steps` navigator steps with one sensor's reading per step (see the module docs); the
 /// estimate and sigma in the user frame.
-fn run_sensor(sensor: &str, kind: FilterKind, steps: usize) -> Option<Vec<f64>> {
+fn run_sensor(sensor: &str, kind: FilterKind, acquisition: bool, steps: usize) -> Option<Vec<f64>> {
     use relnav_core::nav::Readings;
     let cfg = NavConfig {
         filter: kind,
+        // the H-infinity filter's design for all four sensors: each reading alone is a
+        // subset of its measurement set
+        hinf_sensors: 15,
+        hinf_acquisition: acquisition,
         ..Default::default()
     };
     let fr = cfg.frame;
@@ -358,12 +364,14 @@ fn run_sensor(sensor: &str, kind: FilterKind, steps: usize) -> Option<Vec<f64>> 
 fn layered(which: &str, steps: usize) -> Option<Vec<f64>> {
     if let Some(rest) = which.strip_prefix("sensor-") {
         let (sensor, f) = rest.rsplit_once('-')?;
-        let kind = match f {
-            "ekf" => FilterKind::Ekf,
-            "ukf" => FilterKind::Ukf,
+        let (kind, acquisition) = match f {
+            "ekf" => (FilterKind::Ekf, true),
+            "ukf" => (FilterKind::Ukf, true),
+            "hinf" => (FilterKind::Hinf, true),
+            "hinffixed" => (FilterKind::Hinf, false),
             _ => return None,
         };
-        return run_sensor(sensor, kind, steps);
+        return run_sensor(sensor, kind, acquisition, steps);
     }
     let (layer, f) = which.split_once('-')?;
     let kind = match f {

@@ -832,6 +832,9 @@ const PINV_MAX_ITER: usize = 64;
 /// Eigenvalues of a block of information below this fraction of its largest are no
 /// information (the pseudo-inverse drops them).
 const PINV_RELATIVE_FLOOR: f64 = 1e-12;
+/// A step's information within this relative margin of the design's counts as the design's
+/// (or a subset of it): its readings' geometry is the design's to rounding.
+const SUBSET_TOLERANCE: f64 = 1e-9;
 
 /// The measurements of one step as the H-infinity estimator gathers them before its step:
 /// per block (position, velocity) the number of sensors, the information `J` (6 x 6,
@@ -931,14 +934,21 @@ fn pinv_psd(m: &Mat3) -> Option<Mat3> {
 /// a subset of them (`J <= J_D`) it is `J_D^-1`: the design's observer with the missing
 /// readings replaced by their prediction. Information beyond the design's (a sensor closer
 /// or more precise than designed for, or not declared) enters with its own weight, so that
-/// `N J` never exceeds the identity: a fix is never over-corrected. `None` when a
-/// decomposition does not converge.
-pub fn step_normaliser(j_d: &Mat6, j: &Mat6) -> Option<Mat6> {
+/// `N J` never exceeds the identity: a fix is never over-corrected. `n_d` is `J_D^+` (block
+/// pseudo-inverse), taken as it is when `J <= J_D (1 + 1e-9)` (a Cholesky test, no
+/// eigen-decomposition). `None` when a decomposition does not converge.
+pub fn step_normaliser(j_d: &Mat6, n_d: &Mat6, j: &Mat6) -> Option<Mat6> {
     let mut out = Mat6::zeros();
     for at in [0, 3] {
         let d = j_d.fixed_view::<3, 3>(at, at).into_owned();
         let s = j.fixed_view::<3, 3>(at, at).into_owned();
         if s.iter().all(|v| *v == 0.0) {
+            continue;
+        }
+        let slack = d * (1.0 + SUBSET_TOLERANCE) - s;
+        if (slack + slack.transpose()).cholesky().is_some() {
+            out.fixed_view_mut::<3, 3>(at, at)
+                .copy_from(&n_d.fixed_view::<3, 3>(at, at));
             continue;
         }
         let excess = spectral_map(&((s - d + (s - d).transpose()) * 0.5), |l, _| l.max(0.0))?;
@@ -970,8 +980,8 @@ pub struct HinfEstimator {
     nan: Mat6,
     design: Option<HinfDesignInfo>,
     schedule: Option<HinfSchedule>,
-    /// the design's measurement set: its information `J_D` and its sensor count
-    set: Option<(Mat6, u32)>,
+    /// the design's measurement set: its information `J_D`, `J_D^+` and its sensor count
+    set: Option<(Mat6, Mat6, u32)>,
 }
 
 impl HinfEstimator {
@@ -999,12 +1009,15 @@ impl HinfEstimator {
         j_d: &Mat6,
         sensors: u32,
     ) -> Result<Self, HinfError> {
-        if !j_d.iter().all(|v| v.is_finite()) {
-            return Err(HinfError::invalid(
-                "the design's measurement information is not finite".into(),
-            ));
+        let mut n_d = Mat6::zeros();
+        for at in [0, 3] {
+            let b = j_d.fixed_view::<3, 3>(at, at).into_owned();
+            let n = pinv_psd(&b).ok_or_else(|| {
+                HinfError::invalid("the design's measurement information is not finite".into())
+            })?;
+            n_d.fixed_view_mut::<3, 3>(at, at).copy_from(&n);
         }
-        self.set = Some((*j_d, sensors));
+        self.set = Some((*j_d, n_d, sensors));
         Ok(self)
     }
     /// Run the scheduled gains of an eccentric orbit ([`HinfSchedule`]; observer form, no
@@ -1096,7 +1109,7 @@ impl crate::estimators::Estimator for HinfEstimator {
         use crate::estimators::FilterError;
         let (saved, saved_acq) = (self.filter, self.acquisition);
         let step = std::mem::take(&mut self.pending);
-        let fused = self.set.is_some_and(|(_, k)| k > 1);
+        let fused = self.set.is_some_and(|(_, _, k)| k > 1);
         let fix = if fused {
             None
         } else {
@@ -1105,16 +1118,15 @@ impl crate::estimators::Estimator for HinfEstimator {
         if fix.is_none() && !step.is_empty() {
             // several sensors, a line of sight or a velocity: the design's equivalent fix
             let m = *self.filter.matrices();
-            let j_d =
-                match &self.set {
-                    Some((j_d, _)) if self.schedule.is_none() && m.c_f == Mat6::identity() => *j_d,
-                    _ => return Err(FilterError::Unsupported(
-                        "the H-infinity filter takes one position fix per step when its design \
-                         is scheduled along an eccentric orbit, is not of observer form, or \
-                         does not record its measurement set",
-                    )),
-                };
-            let n = step_normaliser(&j_d, &step.j)
+            let observer = self.schedule.is_none() && m.c_f == Mat6::identity();
+            let Some((j_d, n_d, _)) = self.set.filter(|_| observer) else {
+                return Err(FilterError::Unsupported(
+                    "the H-infinity filter takes one position fix per step when its design is \
+                     scheduled along an eccentric orbit, is not of observer form, or does not \
+                     record its measurement set",
+                ));
+            };
+            let n = step_normaliser(&j_d, &n_d, &step.j)
                 .ok_or(FilterError::NonFinite("H-infinity step information"))?;
             let x = *self.filter.state();
             // observer form: the estimate is the state, A = A_F + B_F C_p + B_V C_v
