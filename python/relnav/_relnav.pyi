@@ -238,6 +238,10 @@ class Estimator:
     def hinf_gamma(self) -> float:
         """The H-infinity design's certified gamma (NaN for the other filters)."""
     @property
+    def hinf_certified(self) -> Optional[bool]:
+        """Whether the H-infinity filter runs its certified gain (False during its track
+        initiation; None for the other filters)."""
+    @property
     def params(self) -> Dict[str, Union[float, int, bool, str]]:
         """Every parameter's value (enumerations by name)."""
 

@@ -448,6 +448,13 @@ impl Estimator {
         Ok(self.nav()?.hinf_gamma().unwrap_or(f64::NAN))
     }
 
+    /// Whether the H-infinity filter runs its designed, certified gain (false while its
+    /// track initiation runs; None for the other filters): the FMU's `hinf_certified`.
+    #[getter]
+    fn hinf_certified(&self) -> PyResult<Option<bool>> {
+        Ok(self.nav()?.hinf_certified())
+    }
+
     /// Every parameter's value (enumerations by name), in the variable table's order.
     #[getter]
     fn params<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {

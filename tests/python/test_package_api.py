@@ -100,8 +100,11 @@ def test_library_outputs_of_each_filter_kind():
     h = relnav.Estimator(filter="hinf")
     assert 0 < h.hinf_gamma < math.inf
     assert np.isnan(h.sigma).all() and np.isnan(h.covariance).all()
+    assert h.hinf_certified is False  # track initiation first
     h.step([0, 0, 0], Z0, dt=1.0)
     assert np.isfinite(h.state).all()
+    assert relnav.Estimator(filter="hinf", hinf_acquisition=False).hinf_certified is True
+    assert aq.hinf_certified is None
 
 
 def raises(exc, match, fn, *args, **kwargs):
