@@ -517,6 +517,7 @@ impl HinfMatrices {
     /// The observer with gain `g` for `plant`: `A_F = A - G C`, `B_F` and `B_V` the gain's
     /// position and velocity columns, `C_F = I`, `E_F = Gamma`.
     pub fn observer<const M: usize>(plant: &HinfPlant<M>, g: &Gain<M>, period: f64) -> Self {
+        const { assert!(M == 3 || M == 6, "a measurement of the position or of both") };
         let mut b_f = Mat63::zeros();
         let mut b_v = Mat63::zeros();
         for j in 0..M {
@@ -540,6 +541,7 @@ impl HinfMatrices {
     /// The observer gain `[B_F B_V]` restricted to a measurement of dimension `M` (3: the
     /// position; 6: position and velocity).
     pub fn gain<const M: usize>(&self) -> Gain<M> {
+        const { assert!(M == 3 || M == 6, "a measurement of the position or of both") };
         Gain::<M>::from_fn(|i, j| {
             if j < 3 {
                 self.b_f[(i, j)]
