@@ -287,7 +287,8 @@ fn small_process_noise_moving_filters_match_the_ekf_literal_sir_degenerates() {
 
 /// From `PARALLEL_MIN_PARTICLES` particles on the particle loops run in chunks with their
 /// own generators: one, two or three worker threads give bit-identical particles,
-/// weights, means and covariances for every kind (with and without moves).
+/// weights, means, covariances, resampling counts and move acceptances for every kind, with
+/// and without moves, in runs where a resampling happened.
 #[test]
 fn parallel_path_is_independent_of_the_thread_count() {
     use relnav_core::estimators::pf::PARALLEL_MIN_PARTICLES;
@@ -303,14 +304,14 @@ fn parallel_path_is_independent_of_the_thread_count() {
         400.0, 500.0, 200.0, 0.0, 0.0, 0.0,
     ]));
     let particles = PARALLEL_MIN_PARTICLES + 1001; // a short last chunk
-    for (kind, moves) in [
-        (PfKind::Sir, true),
-        (PfKind::Sir, false),
-        (PfKind::Rpf, true),
-        (PfKind::Upf, true),
-        (PfKind::Gapf, true),
-        (PfKind::Cgapf, true),
-    ] {
+    let kinds = [
+        PfKind::Sir,
+        PfKind::Rpf,
+        PfKind::Upf,
+        PfKind::Gapf,
+        PfKind::Cgapf,
+    ];
+    for (kind, moves) in kinds.into_iter().flat_map(|k| [(k, true), (k, false)]) {
         let run = |threads: usize| {
             let params = PfParams {
                 particles,
@@ -330,6 +331,7 @@ fn parallel_path_is_independent_of_the_thread_count() {
                 pf.predict(&d, &Vec3::new(1e-3, 0.0, 0.0)).unwrap();
                 xt = d.phi * xt;
             }
+            let counts = (pf.resample_count(), pf.move_acceptance().to_bits());
             let (x, w) = pf.particles();
             (
                 x.to_vec(),
@@ -337,10 +339,15 @@ fn parallel_path_is_independent_of_the_thread_count() {
                 *pf.state(),
                 *pf.covariance(),
                 pf.ess(),
+                counts,
             )
         };
         let one = run(1);
         assert!(one.2.iter().all(|v| v.is_finite()));
+        assert!(
+            one.5 .0 >= 1,
+            "{kind:?} (moves {moves}): no resampling in the run"
+        );
         for threads in [2, 3] {
             let other = run(threads);
             assert!(
@@ -350,6 +357,10 @@ fn parallel_path_is_independent_of_the_thread_count() {
             assert!(
                 one.2 == other.2 && one.3 == other.3 && one.4 == other.4,
                 "{kind:?} (moves {moves}): moments differ with {threads} threads"
+            );
+            assert_eq!(
+                one.5, other.5,
+                "{kind:?} (moves {moves}): resamplings or acceptance differ with {threads} threads"
             );
         }
     }
