@@ -551,6 +551,17 @@ impl HinfMatrices {
         })
     }
 
+    /// The observer form's transition `A = A_F + B_F C_p (+ B_V C_v` when the design
+    /// measures the velocity).
+    pub fn observer_transition(&self) -> Mat6 {
+        let a = self.a_f + self.b_f * c_pos();
+        if self.measures_velocity() {
+            a + self.b_v * c_vel()
+        } else {
+            a
+        }
+    }
+
     /// Whether the filter takes a measured velocity (`B_V != 0`).
     pub fn measures_velocity(&self) -> bool {
         self.b_v.iter().any(|v| *v != 0.0)
@@ -918,6 +929,21 @@ fn spectral_map(m: &Mat3, f: impl Fn(f64, f64) -> f64) -> Option<Mat3> {
     Some(out)
 }
 
+/// A sensor's information `H^T R^-1 H` on the 3-column block `h` of its Jacobian and its
+/// information innovation `H^T R^-1 nu`, through a Cholesky factor of the noise covariance
+/// `r` (`None` when `r` is not positive definite).
+pub fn information<const D: usize>(
+    h: &nalgebra::SMatrix<f64, D, 3>,
+    r: &nalgebra::SMatrix<f64, D, D>,
+    nu: &nalgebra::SVector<f64, D>,
+) -> Option<(Mat3, Vec3)> {
+    let chol = r.cholesky()?;
+    Some((
+        h.transpose() * chol.solve(h),
+        h.transpose() * chol.solve(nu),
+    ))
+}
+
 /// Pseudo-inverse of a symmetric positive semidefinite block (eigenvalues below
 /// [`PINV_RELATIVE_FLOOR`] of the largest dropped).
 fn pinv_psd(m: &Mat3) -> Option<Mat3> {
@@ -1132,7 +1158,7 @@ impl crate::estimators::Estimator for HinfEstimator {
                 .ok_or(FilterError::NonFinite("H-infinity step information"))?;
             let x = *self.filter.state();
             // observer form: the estimate is the state, A = A_F + B_F C_p + B_V C_v
-            let a = m.a_f + m.b_f * c_pos() + m.b_v * c_vel();
+            let a = m.observer_transition();
             let dx = match &mut self.acquisition {
                 Some(acq) => acq.correction_info(&step, &n),
                 None => Some(m.gain::<6>() * (n * step.u)),
@@ -1161,7 +1187,7 @@ impl crate::estimators::Estimator for HinfEstimator {
                     let x = *self.filter.state();
                     let k = acq.gain(fix.is_some());
                     let m = self.filter.matrices();
-                    let a = m.a_f + m.b_f * c_pos() + m.b_v * c_vel();
+                    let a = m.observer_transition();
                     let mut next = a * x + m.e_f * accel;
                     if let Some(y) = &fix {
                         next += k * (y - x.fixed_rows::<3>(0));
@@ -1196,13 +1222,14 @@ impl crate::estimators::Estimator for HinfEstimator {
         };
         // the fix's information from its noise at the fix (NaN where that has no
         // geometry: used only when the step fuses it with other measurements)
-        let j = match (sensor.linearize(&y), sensor.noise_cov().try_inverse()) {
-            (Ok(g), Some(ri)) => {
+        let j = sensor
+            .linearize(&y)
+            .ok()
+            .and_then(|g| {
                 let h = g.h.fixed_view::<3, 3>(0, 0).into_owned();
-                h.transpose() * ri * h
-            }
-            _ => Mat3::from_element(f64::NAN),
-        };
+                information(&h, &sensor.noise_cov(), &Vec3::zeros())
+            })
+            .map_or(Mat3::from_element(f64::NAN), |(j, _)| j);
         self.pending.add(0, &j, &(j * (y - r)), Some(y));
         Ok(crate::estimators::UpdateInfo {
             innovation,
@@ -1253,20 +1280,18 @@ impl crate::estimators::Estimator for HinfEstimator {
         if let Some(f) = &fix {
             at_x.fixed_rows_mut::<3>(at).copy_from(f);
         }
-        let info = match (sensor.linearize(&at_x), sensor.noise().cov().try_inverse()) {
-            (Ok(lin), Some(ri)) => {
-                let mut h: nalgebra::SMatrix<f64, D, 3> = lin.h.fixed_view::<D, 3>(0, at).into();
-                let mut nu = sensor.residual(z, &lin.z);
-                for k in 0..D {
-                    if !lin.used[k] {
-                        h.row_mut(k).fill(0.0);
-                        nu[k] = 0.0;
-                    }
+        let lin = sensor.linearize(&at_x).ok();
+        let info = lin.as_ref().and_then(|lin| {
+            let mut h: nalgebra::SMatrix<f64, D, 3> = lin.h.fixed_view::<D, 3>(0, at).into();
+            let mut nu = sensor.residual(z, &lin.z);
+            for k in 0..D {
+                if !lin.used[k] {
+                    h.row_mut(k).fill(0.0);
+                    nu[k] = 0.0;
                 }
-                Some((h.transpose() * ri * h, h.transpose() * ri * nu))
             }
-            _ => None,
-        };
+            information(&h, &sensor.noise().cov(), &nu)
+        });
         let (j, u) = match (info, &fix) {
             (Some((j, _)), Some(f)) => (j, j * (f - x.fixed_rows::<3>(at))),
             (Some(ju), None) => ju,
@@ -1274,7 +1299,12 @@ impl crate::estimators::Estimator for HinfEstimator {
             (None, Some(_)) => (Mat3::from_element(f64::NAN), Vec3::from_element(f64::NAN)),
             (None, None) => return Err(FilterError::NonFinite("line of sight at the estimate")),
         };
-        let innovation = match sensor.measure(self.filter.state()) {
+        // linearised at the estimate itself (no fix), the prediction is already there
+        let predicted = match (&lin, &fix) {
+            (Some(lin), None) => Some(lin.z),
+            _ => sensor.measure(&x),
+        };
+        let innovation = match predicted {
             Some(zh) => sensor.residual(z, &zh),
             None => nalgebra::SVector::from_element(f64::NAN),
         };

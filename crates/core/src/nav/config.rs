@@ -1057,7 +1057,8 @@ impl NavConfig {
     /// by its density's variance factor). Error when `J` is singular (no position fix
     /// declared) or the initial estimate is at zero range.
     pub fn hinf_position_noise(&self) -> Result<Mat3, NavError> {
-        use crate::sensors::{CameraSensor, Sensor, SensorNoise};
+        use crate::sensors::Sensor;
+        use nalgebra::SVector;
         let x0 = self.initial_state();
         let r0 = x0.fixed_rows::<3>(0).into_owned();
         let at_zero = || {
@@ -1083,22 +1084,17 @@ impl NavConfig {
             };
             j += r.try_inverse().ok_or_else(at_zero)?;
         }
+        // a declared sensor's information on the position at the initial estimate
+        fn at<const D: usize, S: Sensor<D>>(s: &S, x0: &State) -> Option<Mat3> {
+            let lin = s.linearize(x0).ok()?;
+            let h = lin.h.fixed_view::<D, 3>(0, 0).into_owned();
+            crate::hinf::information(&h, &s.noise().cov(), &SVector::zeros()).map(|(j, _)| j)
+        }
         if self.hinf_sensors & HINF_CAMERA != 0 {
-            let camera = CameraSensor {
-                frame: self.frame,
-                noise: SensorNoise {
-                    model: self.camera_noise(),
-                    scales: [self.sigma_camera; 2],
-                },
-            };
-            let lin = camera.linearize(&x0).map_err(|_| at_zero())?;
-            let h = lin.h.fixed_view::<2, 3>(0, 0).into_owned();
-            let ri = camera.noise.cov().try_inverse().ok_or_else(at_zero)?;
-            j += h.transpose() * ri * h;
+            j += at(&self.camera_sensor(), &x0).ok_or_else(at_zero)?;
         }
         if self.hinf_sensors & HINF_GNSS_POSITION != 0 {
-            let var = self.sigma_gnss * self.sigma_gnss * self.gnss_noise().variance_factor();
-            j += Mat3::identity() / var;
+            j += at(&self.gnss_position_sensor(), &x0).ok_or_else(at_zero)?;
         }
         let r = j.try_inverse().filter(|r| r.iter().all(|v| v.is_finite()));
         r.map(|r| (r + r.transpose()) * 0.5).ok_or_else(|| {
@@ -1114,12 +1110,48 @@ impl NavConfig {
     /// relative GNSS velocity (`sigma_gnss_velocity^2` per axis times the GNSS density's
     /// variance factor), `None` otherwise.
     pub fn hinf_velocity_noise(&self) -> Option<Mat3> {
-        (self.hinf_sensors & HINF_GNSS_VELOCITY != 0).then(|| {
-            Mat3::identity()
-                * (self.sigma_gnss_velocity
-                    * self.sigma_gnss_velocity
-                    * self.gnss_noise().variance_factor())
-        })
+        use crate::sensors::Sensor;
+        (self.hinf_sensors & HINF_GNSS_VELOCITY != 0)
+            .then(|| self.gnss_velocity_sensor().noise().cov())
+    }
+
+    /// The declared camera (`sigma_camera`, `camera_noise_*`; I/O frame).
+    pub fn camera_sensor(&self) -> crate::sensors::CameraSensor {
+        crate::sensors::CameraSensor {
+            frame: self.frame,
+            noise: crate::sensors::SensorNoise {
+                model: self.camera_noise(),
+                scales: [self.sigma_camera; 2],
+            },
+        }
+    }
+
+    /// The declared relative GNSS position (`sigma_gnss`, `gnss_noise_*`; I/O frame).
+    pub fn gnss_position_sensor(
+        &self,
+    ) -> crate::sensors::Modelled<crate::sensors::CartesianSensor> {
+        crate::sensors::Modelled {
+            model: crate::sensors::CartesianSensor {
+                frame: self.frame,
+                sigma: self.sigma_gnss,
+            },
+            noise: crate::sensors::SensorNoise {
+                model: self.gnss_noise(),
+                scales: [self.sigma_gnss; 3],
+            },
+        }
+    }
+
+    /// The declared relative GNSS velocity (`sigma_gnss_velocity`, `gnss_noise_*`; I/O
+    /// frame).
+    pub fn gnss_velocity_sensor(&self) -> crate::sensors::VelocitySensor {
+        crate::sensors::VelocitySensor {
+            frame: self.frame,
+            noise: crate::sensors::SensorNoise {
+                model: self.gnss_noise(),
+                scales: [self.sigma_gnss_velocity; 3],
+            },
+        }
     }
 
     /// The process-noise covariance of one H-infinity period `T = hinf_period` from the

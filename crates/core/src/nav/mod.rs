@@ -143,40 +143,10 @@ pub struct Readings {
 /// `camera_noise_*` and `gnss_noise_*` scaled by `sigma_camera`, `sigma_gnss`,
 /// `sigma_gnss_velocity`; in the I/O frame).
 fn declared_sensors(cfg: &NavConfig) -> [Arc<dyn NavSensor>; 3] {
-    use crate::sensors::{CameraSensor, CartesianSensor, Modelled, SensorNoise, VelocitySensor};
-    let f = cfg.frame;
-    let noise = |model, sigma| SensorNoise {
-        model,
-        scales: [sigma; 3],
-    };
     [
-        Arc::new(Named::new(
-            "camera",
-            CameraSensor {
-                frame: f,
-                noise: SensorNoise {
-                    model: cfg.camera_noise(),
-                    scales: [cfg.sigma_camera; 2],
-                },
-            },
-        )),
-        Arc::new(Named::new(
-            "GNSS position",
-            Modelled {
-                model: CartesianSensor {
-                    frame: f,
-                    sigma: cfg.sigma_gnss,
-                },
-                noise: noise(cfg.gnss_noise(), cfg.sigma_gnss),
-            },
-        )),
-        Arc::new(Named::new(
-            "GNSS velocity",
-            VelocitySensor {
-                frame: f,
-                noise: noise(cfg.gnss_noise(), cfg.sigma_gnss_velocity),
-            },
-        )),
+        Arc::new(Named::new("camera", cfg.camera_sensor())),
+        Arc::new(Named::new("GNSS position", cfg.gnss_position_sensor())),
+        Arc::new(Named::new("GNSS velocity", cfg.gnss_velocity_sensor())),
     ]
 }
 
