@@ -210,13 +210,16 @@ struct Anomaly {
     sn: f64,
     /// cos of the true anomaly
     cn: f64,
+    /// `rho = 1 + e cos nu`
+    rho: f64,
+    /// `1 / rho = (1 - e cos E) / (1 - e^2)`
+    ir: f64,
 }
 
-/// One quadrature node of a step: where the target is, `rho = 1 + e cos nu` there, the time
-/// left to the step's end [s] and the node's weight in time [s].
+/// One quadrature node of a step: where the target is, the time left to the step's end [s]
+/// and the node's weight in time [s].
 struct Node {
     at: Anomaly,
-    rho: f64,
     to_end: f64,
     weight: f64,
 }
@@ -263,7 +266,20 @@ pub struct EllipticModel {
     short_dm: f64,
     /// `sqrt(1 - e^2)`
     sq: f64,
+    /// `1 / (1 - e^2)`
+    inv_1me2: f64,
+    /// `1 / n`
+    inv_n: f64,
+    /// `1 / k^2`
+    inv_k2: f64,
 }
+
+/// The last anchor of [`EllipticModel::start`]: a step's start anomaly is advanced from the
+/// Kepler solve at the grid point of mean anomaly below it (`m0 + i short_dm`), a pure
+/// function of the index `i`, so a caller stepping forward keeps it here and solves Kepler's
+/// equation once per grid interval; whether the memo holds it or not changes no result.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct KeplerMemo(Option<(f64, Anomaly)>);
 
 /// The in-plane scaled coordinates of Yamanaka and Ankersen's frame (x along-track, z
 /// toward the Earth) from the canonical ones (x radial, y along-track), both ordered
@@ -301,6 +317,9 @@ impl EllipticModel {
             short_span,
             short_dm: (1.0 - e) * short_span,
             sq: (1.0 - e * e).sqrt(),
+            inv_1me2: 1.0 / (1.0 - e * e),
+            inv_n: 1.0 / n,
+            inv_k2: 1.0 / k2,
         }
     }
 
@@ -321,14 +340,37 @@ impl EllipticModel {
     }
 
     fn with_sin_cos(&self, big_e: f64, se: f64, ce: f64) -> Anomaly {
-        let d = 1.0 / (1.0 - self.e * ce);
+        let q = 1.0 - self.e * ce;
+        let d = 1.0 / q;
+        let cn = (ce - self.e) * d;
         Anomaly {
             big_e,
             se,
             ce,
             sn: self.sq * se * d,
-            cn: (ce - self.e) * d,
+            cn,
+            rho: 1.0 + self.e * cn,
+            ir: q * self.inv_1me2,
         }
+    }
+
+    /// The anomaly at time `t` as every step starts from it: [`EllipticModel::advanced`]
+    /// from the Kepler solve at the grid point `m0 + i short_dm` of mean anomaly at or below
+    /// `m0 + n t` (its increment is within the short step's, where `advanced` is as accurate
+    /// as a fresh solve, tested), the anchor kept in `memo`.
+    fn start(&self, t: f64, memo: &mut KeplerMemo) -> Anomaly {
+        let x = self.n * t;
+        let i = (x / self.short_dm).floor();
+        let anchor = match memo.0 {
+            Some((j, a)) if j == i => a,
+            _ => {
+                let (big_e, se, ce) = kepler(self.m0 + i * self.short_dm, self.e);
+                let a = self.with_sin_cos(big_e, se, ce);
+                memo.0 = Some((i, a));
+                a
+            }
+        };
+        self.advanced(&anchor, x - i * self.short_dm).0
     }
 
     /// The anomaly `d` (`|d| <=` [`SMALL_ANGLE`]) of eccentric anomaly after `a`, with
@@ -369,8 +411,7 @@ impl EllipticModel {
     /// The target's angular rate `nu'` at time `t` [rad/s] (`k^2 rho^2`).
     pub fn angular_rate(&self, t: f64) -> f64 {
         let a = self.anomaly(t);
-        let rho = 1.0 + self.e * a.cn;
-        self.k2 * rho * rho
+        self.k2 * a.rho * a.rho
     }
 
     /// The target's true anomaly at time `t` [rad, in (-pi, pi]].
@@ -383,13 +424,11 @@ impl EllipticModel {
     /// `Psi = psi_a + J psi_b e_4^T` (only the last column depends on `J`): `(psi_a, psi_b)`.
     fn psi(&self, a: &Anomaly) -> (Matrix4<f64>, Vector4<f64>) {
         let e = self.e;
-        let (sn, cn) = (a.sn, a.cn);
-        let rho = 1.0 + e * cn;
+        let (sn, cn, rho, ir) = (a.sn, a.cn, a.rho, a.ir);
         let (s, c) = (rho * sn, rho * cn);
         // cos 2 nu, sin 2 nu
         let sp = cn + e * (cn * cn - sn * sn);
         let cp = -(sn + e * (2.0 * sn * cn));
-        let ir = 1.0 / rho;
         let a = Matrix4::new(
             1.0,
             -c * (1.0 + ir),
@@ -417,11 +456,9 @@ impl EllipticModel {
     /// The closed-form inverse of [`EllipticModel::psi`] at `J = 0`.
     fn psi_inv(&self, a: &Anomaly) -> Matrix4<f64> {
         let e = self.e;
-        let (sn, cn) = (a.sn, a.cn);
-        let rho = 1.0 + e * cn;
+        let (sn, cn, rho, ir) = (a.sn, a.cn, a.rho, a.ir);
         let (s, c) = (rho * sn, rho * cn);
-        let ir = 1.0 / rho;
-        let f = 1.0 / (1.0 - e * e);
+        let f = self.inv_1me2;
         // the last two columns are the velocity columns (of `psi^-1 P`, unpermuted)
         let v = self.psi_inv_velocity(a);
         Matrix4::from_columns(&[
@@ -441,11 +478,9 @@ impl EllipticModel {
     /// psi^-1[:, 2])` of [`EllipticModel::psi_inv`], alone.
     fn psi_inv_velocity(&self, a: &Anomaly) -> Matrix4x2<f64> {
         let e = self.e;
-        let (sn, cn) = (a.sn, a.cn);
-        let rho = 1.0 + e * cn;
+        let (sn, cn, rho, ir) = (a.sn, a.cn, a.rho, a.ir);
         let (s, c) = (rho * sn, rho * cn);
-        let ir = 1.0 / rho;
-        let f = 1.0 / (1.0 - e * e);
+        let f = self.inv_1me2;
         Matrix4x2::new(
             -(2.0 - e * c),
             -e * s * (1.0 + ir),
@@ -460,16 +495,12 @@ impl EllipticModel {
 
     /// Per-axis scaling `(u, u') -> (u~, u~')` at true anomaly `nu`.
     fn scaling(&self, a: &Anomaly) -> Matrix2<f64> {
-        let (sn, cn) = (a.sn, a.cn);
-        let rho = 1.0 + self.e * cn;
-        Matrix2::new(rho, 0.0, -self.e * sn, 1.0 / (self.k2 * rho))
+        Matrix2::new(a.rho, 0.0, -self.e * a.sn, a.ir * self.inv_k2)
     }
 
     /// Its inverse: `u = u~ / rho`, `u' = k^2 (e sin nu u~ + rho u~')`.
     fn unscaling(&self, a: &Anomaly) -> Matrix2<f64> {
-        let (sn, cn) = (a.sn, a.cn);
-        let rho = 1.0 + self.e * cn;
-        Matrix2::new(1.0 / rho, 0.0, self.k2 * self.e * sn, self.k2 * rho)
+        Matrix2::new(a.ir, 0.0, self.k2 * self.e * a.sn, self.k2 * a.rho)
     }
 
     /// `m S` for the in-plane scaling `S` on (x, y, vx, vy) -> (x~, y~, x~', y~') at `a` (the
@@ -516,8 +547,7 @@ impl EllipticModel {
     /// The continuous system matrix `A(t)` (canonical frame).
     pub fn continuous_a(&self, t: f64) -> Mat6 {
         let a = self.anomaly(t);
-        let (sn, cn) = (a.sn, a.cn);
-        let rho = 1.0 + self.e * cn;
+        let (sn, rho) = (a.sn, a.rho);
         let k4 = self.k2 * self.k2;
         let w = self.k2 * rho * rho;
         let wd = -2.0 * k4 * self.e * rho * rho * rho * sn;
@@ -631,7 +661,7 @@ impl EllipticModel {
     /// A quadrature weight `w` in the eccentric anomaly at `at` as a weight in time: `ds =
     /// (1 - e cos E) / n dE`, and `1 - e cos E = (1 - e^2) / rho`.
     fn weight(&self, at: &Anomaly, w: f64) -> f64 {
-        w * (1.0 - self.e * self.e) / ((1.0 + self.e * at.cn) * self.n)
+        w * (1.0 - self.e * self.e) * at.ir * self.inv_n
     }
 
     /// A node at `at`, `dm_to_end` of mean anomaly before the step's end, with quadrature
@@ -639,26 +669,21 @@ impl EllipticModel {
     fn node(&self, at: Anomaly, dm_to_end: f64, w: f64) -> Node {
         Node {
             at,
-            rho: 1.0 + self.e * at.cn,
-            to_end: dm_to_end / self.n,
+            to_end: dm_to_end * self.inv_n,
             weight: self.weight(&at, w),
         }
     }
 
     /// `Phi(t1, s) B` at a node (in-plane and normal blocks), with its weight.
     fn value(&self, end: &EndFactor, a1: &Anomaly, node: Node) -> Value {
-        let Node {
-            at,
-            rho,
-            to_end,
-            weight,
-        } = node;
+        let Node { at, to_end, weight } = node;
+        let scale = at.ir * self.inv_k2;
         // unit accelerations along x and y enter as u~' = 1 / (k^2 rho): the velocity
         // columns of psi^-1 P
-        let v = self.psi_inv_velocity(&at) * (1.0 / (self.k2 * rho));
+        let v = self.psi_inv_velocity(&at) * scale;
         let g_in = end.la * v + end.lb * (v.row(3) * (self.k2 * to_end));
         let (sd, cd) = sin_cos_difference(a1, &at);
-        let gz = end.unz * Vector2::new(sd, cd) * (1.0 / (self.k2 * rho));
+        let gz = end.unz * Vector2::new(sd, cd) * scale;
         Value { g_in, gz, weight }
     }
 
@@ -729,7 +754,18 @@ impl EllipticModel {
 
     /// The exact step (transition, input matrix, noise) from `t0` over `dt >= 0`.
     fn exact(&self, t0: f64, dt: f64, qc: Option<&Mat3>) -> DiscreteModel {
-        let (phi, gamma, q) = self.exact_parts(t0, dt, qc);
+        self.exact_with(&mut KeplerMemo::default(), t0, dt, qc)
+    }
+
+    /// [`EllipticModel::exact`] with the start's anchor kept in `memo`.
+    fn exact_with(
+        &self,
+        memo: &mut KeplerMemo,
+        t0: f64,
+        dt: f64,
+        qc: Option<&Mat3>,
+    ) -> DiscreteModel {
+        let (phi, gamma, q) = self.exact_parts(memo, t0, dt, qc);
         DiscreteModel {
             t: t0,
             dt,
@@ -740,8 +776,14 @@ impl EllipticModel {
     }
 
     #[inline(always)]
-    fn exact_parts(&self, t0: f64, dt: f64, qc: Option<&Mat3>) -> (Mat6, Mat63, Mat6) {
-        let a0 = self.anomaly(t0);
+    fn exact_parts(
+        &self,
+        memo: &mut KeplerMemo,
+        t0: f64,
+        dt: f64,
+        qc: Option<&Mat3>,
+    ) -> (Mat6, Mat63, Mat6) {
+        let a0 = self.start(t0, memo);
         let dm = self.n * dt;
         // a short step (false for NaN): the end and the nodes from the start, no Kepler
         // solve and no sin_cos beyond the start's
@@ -850,6 +892,25 @@ fn assemble(inplane: &Matrix4<f64>, normal: &Matrix2<f64>) -> Mat6 {
     m[(5, 2)] = normal[(1, 0)];
     m[(5, 5)] = normal[(1, 1)];
     m
+}
+
+impl EllipticModel {
+    /// [`RelativeDynamics::step`] with the start's Kepler anchor kept in `memo` (the same
+    /// result, bit for bit; a caller stepping forward solves Kepler's equation once per
+    /// `short_dm` of mean anomaly instead of once per step).
+    pub fn step_with(
+        &self,
+        memo: &mut KeplerMemo,
+        t: f64,
+        dt: f64,
+        qc: &Mat3,
+        method: Discretization,
+    ) -> DiscreteModel {
+        match method {
+            Discretization::Exact => self.exact_with(memo, t, dt, Some(qc)),
+            Discretization::Euler => self.step(t, dt, qc, method),
+        }
+    }
 }
 
 impl RelativeDynamics for EllipticModel {
@@ -1184,6 +1245,40 @@ mod tests {
             worst[1] < SHORT_BOUND && worst[2] < SHORT_BOUND,
             "{worst:?}"
         );
+    }
+
+    /// A step's start anomaly, advanced from its grid anchor, against Kepler's equation
+    /// solved afresh at the same time (times around many orbits, before the epoch and far
+    /// after it), and a step taken with a kept anchor equals one taken without, bit for bit.
+    #[test]
+    fn anchored_starts_match_kepler_and_do_not_depend_on_the_memo() {
+        let n = TAU / 7200.0;
+        let qc = Mat3::from_diagonal(&Vec3::new(1e-8, 4e-8, 2e-8));
+        let mut worst = 0.0f64;
+        for e in [0.001, 0.1, 0.5, 0.81, 0.99] {
+            let m = EllipticModel::new(n, e, 0.7);
+            let mut memo = KeplerMemo::default();
+            for k in -3000..3000 {
+                let t = 0.37 * k as f64 + if k > 0 { 1e6 } else { 0.0 };
+                let a = m.start(t, &mut memo);
+                let fresh = m.anomaly(t);
+                let ulps = (a.big_e - fresh.big_e).abs() * (1.0 - e * fresh.ce)
+                    / (f64::EPSILON * 4.0 * fresh.big_e.abs().max(1.0));
+                worst = worst.max(ulps);
+                // sine and cosine: within the anomaly's own difference and its rounding (two
+                // chains of angle additions: the anchor's solve and the advance)
+                let tol =
+                    (a.big_e - fresh.big_e).abs() + 8.0 * f64::EPSILON * fresh.big_e.abs().max(1.0);
+                assert!((a.se - fresh.se).abs() <= tol, "{e} {t}");
+                assert!((a.ce - fresh.ce).abs() <= tol, "{e} {t}");
+                if k % 97 == 0 {
+                    let kept = m.step_with(&mut memo, t, 1.3, &qc, Discretization::Exact);
+                    assert_eq!(kept, m.step(t, 1.3, &qc, Discretization::Exact), "{e} {t}");
+                }
+            }
+        }
+        eprintln!("anchored start anomalies: {worst:.2} x 4 ulps (scaled, relative)");
+        assert!(worst < 2.0, "{worst}");
     }
 
     /// The small-angle polynomials against the library's sine and cosine.

@@ -18,8 +18,8 @@ mod elliptic;
 
 pub use cw::CwModel;
 pub use elliptic::{
-    eccentric_anomaly, kepler_iterations, EllipticModel, KEPLER_ITERATIONS, QUADRATURE_BOUND,
-    SHORT_BOUND,
+    eccentric_anomaly, kepler_iterations, EllipticModel, KeplerMemo, KEPLER_ITERATIONS,
+    QUADRATURE_BOUND, SHORT_BOUND,
 };
 
 use crate::types::{Mat3, Mat6, Mat63, State, Vec3};
@@ -114,6 +114,22 @@ impl Dynamics {
         match self {
             Dynamics::Cw(m) => m.propagate(x, accel, dt),
             Dynamics::Elliptic(m) => m.propagate(x, accel, t, dt),
+        }
+    }
+
+    /// [`RelativeDynamics::step`] for a caller stepping forward, which keeps `memo` between
+    /// its steps (the elliptic model's Kepler anchor; the same result, bit for bit).
+    pub fn step_with(
+        &self,
+        memo: &mut KeplerMemo,
+        t: f64,
+        dt: f64,
+        qc: &Mat3,
+        method: Discretization,
+    ) -> DiscreteModel {
+        match self {
+            Dynamics::Cw(m) => m.step(t, dt, qc, method),
+            Dynamics::Elliptic(m) => m.step_with(memo, t, dt, qc, method),
         }
     }
 

@@ -39,7 +39,7 @@ pub use factory::{build_filter, build_filter_with, AnyFilter, FilterOptions};
 pub use persist::STATE_FORMAT_VERSION;
 pub use sensors::{Named, NavSensor, SensorReport};
 
-use crate::dynamics::{DiscreteModel, Dynamics, RelativeDynamics};
+use crate::dynamics::{DiscreteModel, Dynamics, KeplerMemo, RelativeDynamics};
 use crate::estimators::{Estimator, Member, UpdateInfo, MAX_MODES};
 use crate::noise::NoiseModel;
 use crate::numerics::num;
@@ -102,6 +102,8 @@ pub struct Navigator {
     scales: [f64; 3],
     filter: AnyFilter,
     step_cache: DiscreteModel,
+    /// the elliptic model's Kepler anchor between steps (a cache: no result depends on it)
+    kepler: KeplerMemo,
     /// [`NavConfig::process_noise_rates`], added to every step's noise
     q_rates: Mat6,
     last_update: Option<UpdateInfo>,
@@ -178,6 +180,7 @@ impl Navigator {
                 gamma: Default::default(),
                 q: Mat6::zeros(),
             },
+            kepler: KeplerMemo::default(),
             q_rates: Mat6::zeros(),
             last_update: None,
             sensors: Vec::new(),
@@ -217,7 +220,9 @@ impl Navigator {
     fn discrete(&mut self, dt: f64) {
         if self.step_cache.dt != dt || !self.dynamics.time_invariant() {
             let qc = Mat3::identity() * self.cfg.accel_psd;
-            self.step_cache = self.dynamics.step(self.t, dt, &qc, self.cfg.discretization);
+            self.step_cache =
+                self.dynamics
+                    .step_with(&mut self.kepler, self.t, dt, &qc, self.cfg.discretization);
             self.step_cache.q += self.q_rates * dt;
         }
         self.step_cache.t = self.t;

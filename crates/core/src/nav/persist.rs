@@ -24,6 +24,8 @@ impl Navigator {
             filter,
             // a cache of the discrete model per step size, recomputed from `cfg` (same bits)
             step_cache: _,
+            // a cache of the elliptic model's Kepler anchor (no result depends on it)
+            kepler: _,
             // configuration (the rates of `cfg` in the canonical frame)
             q_rates: _,
             last_update,
