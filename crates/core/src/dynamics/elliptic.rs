@@ -38,9 +38,14 @@
 //!   (RK4 in `E`, Richardson-extrapolated), for `e <= 0.95` and steps up to one period,
 //!   `Phi` and `Gamma` agree to 1e-11 and `Qd` to [`QUADRATURE_BOUND`] = 1e-9 of each
 //!   matrix's largest entry (tests; measured 3.6e-12, 9.2e-13 and 6.5e-10).
+//! * A step starts from `t0`'s anomaly advanced from an anchor, the Kepler solve at the
+//!   grid point `m0 + i short_dm` of mean anomaly at or below it (the same increment
+//!   solve as the short step's end, below): a pure function of `t0`, whose anchor a caller
+//!   stepping forward keeps ([`KeplerMemo`]), so the navigator solves Kepler's equation
+//!   once per `short_dm` of mean anomaly, not once per step.
 //! * A short step (`n dt <= (1 - e) short_span`, its span in `E` at most `short_span =
-//!   min(0.02, 0.05 acosh(1/e))`: a navigator's usual step) costs one `sin_cos`, at `t0`'s
-//!   Kepler solve: the end's anomaly is Kepler's equation solved in the increment from `t0`
+//!   min(0.02, 0.05 acosh(1/e))`: a navigator's usual step) needs no `sin_cos` beyond its
+//!   anchor's: the end's anomaly is Kepler's equation solved in the increment from `t0`
 //!   (two Halley steps from Newton's, the increment's sine and cosine by their Taylor
 //!   polynomials), and `Gamma` and `Qd` come from the four Gauss–Lobatto points in `E`,
 //!   whose two ends are free (`Phi(t1, t1) B = B`, `Phi(t1, t0) B` is the transition's
@@ -412,6 +417,14 @@ impl EllipticModel {
     pub fn angular_rate(&self, t: f64) -> f64 {
         let a = self.anomaly(t);
         self.k2 * a.rho * a.rho
+    }
+
+    /// The first time `t >= 0` [s] at which the target is at true anomaly `nu` [rad].
+    pub fn time_at_true_anomaly(&self, nu: f64) -> f64 {
+        let (s, c) = (0.5 * nu).sin_cos();
+        let big_e = 2.0 * ((1.0 - self.e).sqrt() * s).atan2((1.0 + self.e).sqrt() * c);
+        let m = big_e - self.e * big_e.sin();
+        (m - self.m0).rem_euclid(TAU) / self.n
     }
 
     /// The target's true anomaly at time `t` [rad, in (-pi, pi]].

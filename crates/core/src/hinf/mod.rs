@@ -647,32 +647,58 @@ impl HinfFilter {
     }
 }
 
-/// Number of instants, evenly spread in mean anomaly over one orbit, of a scheduled design
+/// Number of instants, evenly spread in true anomaly over one orbit, of a scheduled design
 /// ([`HinfSchedule`]).
 pub const SCHEDULE_POINTS: usize = 24;
 
+/// The horizon of a scheduled design's certificate ([`HinfSchedule::certified_gamma`]):
+/// this many orbits of steps from the start...
+pub const SCHEDULE_CERTIFIED_ORBITS: f64 = 4.0;
+/// ... and at most this many steps (the work of the certificate is bounded for every step
+/// length).
+pub const SCHEDULE_CERTIFIED_STEPS: usize = 40_000;
+
 /// Observer gains designed at [`SCHEDULE_POINTS`] instants of an eccentric orbit, evenly
-/// spread in mean anomaly (`M_k = 2 pi k / N`), each for the frozen plant of the step that
-/// starts there (`A = Phi(t_k + T, t_k)`, `Gamma`, the step's process noise, the CW
-/// uncertainty structure at the local orbit rate) and certified on its own LMI. At run time
-/// the step from `t` uses the gain of the nearest instant in mean anomaly, with the step's
-/// own transition: `x <- Phi x + Gamma a + G_k (y - C x)`. What is guaranteed: each `G_k`
-/// meets the H-infinity bound for its frozen plant; switching between them along the orbit
-/// is not covered by a certificate.
+/// spread in true anomaly (`nu_k = 2 pi k / N`: denser in time near perigee, where the plant
+/// changes fastest), each for the frozen plant of the step that starts there
+/// (`A = Phi(t_k + T, t_k)`, `Gamma`, the step's process noise, the CW uncertainty
+/// structure at the local orbit rate) and certified on its own LMI. At run time the step
+/// from `t` uses the gain of the nearest instant in true anomaly, with the step's own
+/// transition: `x <- Phi x + Gamma a + G_k (y - C x)`.
+///
+/// What is guaranteed: the error system as it runs, every step with its own transition,
+/// noise and uncertainty structure and the gain its start time picks (switching included),
+/// has an l2 gain from the design's inputs to the error of at most `certified_gamma` over
+/// the first `certified_steps` steps, for every start within them, from a zero initial
+/// error: the time-varying bounded-real Riccati recursion passes at that `gamma`
+/// ([`verify::varying_gain_below`], a Cholesky factorisation per step). It is the largest
+/// frozen-plant bound when that passes, and the recursion's own bisection value otherwise.
+/// When the orbit is a whole number of steps the system is periodic, and `certified_steps
+/// = usize::MAX` says the recursion closes a period ([`verify::closes_period`]): the bound
+/// holds over every horizon.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct HinfSchedule {
     /// The gains `G_k`.
     pub gains: [Mat63; SCHEDULE_POINTS],
-    /// The target's mean anomaly at time 0 [rad].
-    pub m0: f64,
-    /// Mean motion [rad/s].
-    pub n: f64,
+    /// The target's orbit.
+    pub orbit: crate::dynamics::EllipticModel,
+    /// The largest of the instants' frozen-plant bounds.
+    pub frozen_gamma: f64,
+    /// The bound certified for the time-varying error system (`>= frozen_gamma`).
+    pub certified_gamma: f64,
+    /// The steps the certificate covers (`usize::MAX`: every horizon).
+    pub certified_steps: usize,
 }
 
 impl HinfSchedule {
-    /// The gain of the instant nearest in mean anomaly to time `t`.
+    /// The true anomaly of instant `k`, `2 pi k / N` [rad].
+    pub fn anomaly(k: usize) -> f64 {
+        std::f64::consts::TAU * k as f64 / SCHEDULE_POINTS as f64
+    }
+
+    /// The gain of the instant nearest in true anomaly to time `t`.
     pub fn gain_at(&self, t: f64) -> &Mat63 {
-        let x = (self.m0 + self.n * t) / std::f64::consts::TAU * SCHEDULE_POINTS as f64;
+        let x = self.orbit.true_anomaly(t) / std::f64::consts::TAU * SCHEDULE_POINTS as f64;
         // a finite index in 0..N for every input (NaN maps to 0)
         let k = (x.round().rem_euclid(SCHEDULE_POINTS as f64) as usize).min(SCHEDULE_POINTS - 1);
         &self.gains[k]

@@ -414,17 +414,142 @@ fn open_loop_hinf<const M: usize>(
 /// checked by the solver-independent frequency sweep
 /// ([`crate::hinf::verify::observer_certified_norm`]); the reported `gamma` and H2 norm are
 /// the largest over the instants.
+/// The frozen plant of the step of `spec.period` from time `t` on an eccentric orbit, as a
+/// scheduled H-infinity design sees it: the elliptic transition and input matrix, the CW
+/// orbit-rate uncertainty structure at the local orbit rate, and (returned beside it) the
+/// step's process noise `B B^T` when the noise inputs are derived (`hinf_b_pos =
+/// hinf_b_vel = 0`; the spec's `B` is in the plant otherwise).
+#[cfg(feature = "hinf")]
+fn step_plant(
+    cfg: &NavConfig,
+    spec: &crate::hinf::HinfSpec,
+    model: &crate::dynamics::EllipticModel,
+    t: f64,
+) -> (crate::hinf::HinfPlant, crate::types::Mat6) {
+    use crate::dynamics::RelativeDynamics;
+    use crate::hinf::{paper_ea, paper_ha, HinfPlant};
+    let qc = crate::types::Mat3::identity() * cfg.accel_psd;
+    let step = model.step(t, spec.period, &qc, crate::dynamics::Discretization::Exact);
+    let w = model.angular_rate(t);
+    let mut plant = HinfPlant::open_loop(spec);
+    plant.a = step.phi;
+    plant.g = step.gamma;
+    plant.ha = paper_ha(w) * spec.period;
+    plant.ea = paper_ea(w, spec.delta_bar);
+    let q = if cfg.hinf_b_pos == 0.0 && cfg.hinf_b_vel == 0.0 {
+        cfg.hinf_process_noise(step.q)
+    } else {
+        plant.b * plant.b.transpose()
+    };
+    (plant, q)
+}
+
+/// The error system of a scheduled H-infinity design over `steps` steps from time 0, as
+/// it runs: `e(k+1) = (Phi_k - G(t_k) C) e(k) + [B_k, -G D, |Ea_k| Ha_k] d(k)`, each step
+/// with its own transition, noise and uncertainty structure and the gain
+/// [`crate::hinf::HinfSchedule::gain_at`] its start time picks
+/// ([`crate::hinf::verify::varying_l2_gain`] bounds its gain: the certificate of the
+/// schedule, switching and time variation included).
+#[cfg(feature = "hinf")]
+pub fn scheduled_error_steps(
+    cfg: &NavConfig,
+    schedule: &crate::hinf::HinfSchedule,
+    steps: usize,
+) -> Result<Vec<crate::hinf::verify::VaryingStep>, NavError> {
+    let spec = cfg.hinf_spec()?;
+    let model =
+        crate::dynamics::EllipticModel::new(cfg.mean_motion, cfg.eccentricity, cfg.true_anomaly0);
+    Ok((0..steps)
+        .map(|k| {
+            let t = k as f64 * spec.period;
+            let (plant, q) = step_plant(cfg, &spec, &model, t);
+            let g = schedule.gain_at(t);
+            let gd = g * plant.d;
+            let h = plant.ha * plant.ea.norm();
+            crate::hinf::verify::VaryingStep {
+                a: plant.a - g * plant.c,
+                w: q + gd * gd.transpose() + h * h.transpose(),
+            }
+        })
+        .collect())
+}
+
+/// The certificate of a scheduled design for the time-varying error system as it runs
+/// ([`crate::hinf::HinfSchedule`]): over [`crate::hinf::SCHEDULE_CERTIFIED_ORBITS`] orbits
+/// (at most [`crate::hinf::SCHEDULE_CERTIFIED_STEPS`] steps), the largest frozen-plant bound
+/// if the time-varying Riccati recursion passes there, its bisection value (to 1e-4)
+/// otherwise. When a whole number of steps makes an orbit the error system is periodic,
+/// and a bound (that one, or 1 %, 5 % or 10 % above it) whose recursion closes a period
+/// ([`crate::hinf::verify::closes_period`]) holds over every horizon.
+#[cfg(feature = "hinf")]
+fn certify_schedule(
+    cfg: &NavConfig,
+    schedule: &mut crate::hinf::HinfSchedule,
+) -> Result<(), NavError> {
+    use crate::hinf::verify::{
+        closes_period, varying_gain_below, varying_l2_gain, varying_riccati,
+    };
+    use crate::hinf::{SCHEDULE_CERTIFIED_ORBITS, SCHEDULE_CERTIFIED_STEPS};
+    use crate::types::Mat6;
+    let per_orbit = schedule.orbit.period() / cfg.hinf_period;
+    let whole = per_orbit.round();
+    // a validated configuration has a finite, positive step; NaN casts to 0
+    let periodic = whole >= 1.0
+        && (per_orbit - whole).abs() <= 1e-9 * per_orbit
+        && whole as usize <= SCHEDULE_CERTIFIED_STEPS;
+    let steps = if periodic {
+        let orbits = (SCHEDULE_CERTIFIED_STEPS as f64 / whole)
+            .floor()
+            .min(SCHEDULE_CERTIFIED_ORBITS);
+        (orbits * whole) as usize
+    } else {
+        ((SCHEDULE_CERTIFIED_ORBITS * per_orbit).ceil() as usize).clamp(1, SCHEDULE_CERTIFIED_STEPS)
+    };
+    let error_steps = scheduled_error_steps(cfg, schedule, steps)?;
+    let l = Mat6::identity();
+    let frozen = schedule.frozen_gamma;
+    let horizon = if varying_gain_below(&error_steps, &l, frozen) {
+        frozen
+    } else {
+        varying_l2_gain(&error_steps, &l, 1e-4)
+    };
+    if !horizon.is_finite() {
+        return Err(NavError {
+            kind: NavErrorKind::Numerical,
+            message: format!(
+                "hinf: the scheduled gains do not keep the eccentric orbit's error system \
+                 bounded over its first {steps} steps (the frozen designs' bound is {frozen})"
+            ),
+        });
+    }
+    schedule.certified_gamma = horizon;
+    schedule.certified_steps = steps;
+    if periodic {
+        let period = &error_steps[..whole as usize];
+        for factor in [1.0, 1.01, 1.05, 1.1] {
+            let gamma = horizon * factor;
+            let closed = varying_riccati(&error_steps, &l, gamma, &Mat6::zeros())
+                .is_some_and(|y| closes_period(period, &l, gamma, &(y * 1.01)));
+            if closed {
+                schedule.certified_gamma = gamma;
+                schedule.certified_steps = usize::MAX;
+                break;
+            }
+        }
+    }
+    Ok(())
+}
+
 #[cfg(feature = "hinf")]
 fn scheduled_hinf(cfg: &NavConfig, x0: crate::types::State) -> Result<AnyFilter, NavError> {
-    use crate::dynamics::{EllipticModel, RelativeDynamics};
+    use crate::dynamics::EllipticModel;
     use crate::hinf::design::{design_mixed, design_observer, DesignOptions};
-    use crate::hinf::{paper_ea, paper_ha, psd_sqrt, HinfPlant, HinfSchedule, SCHEDULE_POINTS};
-    use crate::types::{Mat3, Mat63};
+    use crate::hinf::{psd_sqrt, HinfSchedule, SCHEDULE_POINTS};
+    use crate::types::Mat63;
     let spec = cfg.hinf_spec()?;
     let model = EllipticModel::new(cfg.mean_motion, cfg.eccentricity, cfg.true_anomaly0);
     let t = spec.period;
     let opts = DesignOptions::default();
-    let qc = Mat3::identity() * cfg.accel_psd;
     let derived_b = cfg.hinf_b_pos == 0.0 && cfg.hinf_b_vel == 0.0;
     let failed = |k: usize, e: crate::hinf::HinfError| NavError {
         kind: NavErrorKind::InvalidArgument,
@@ -437,17 +562,10 @@ fn scheduled_hinf(cfg: &NavConfig, x0: crate::types::State) -> Result<AnyFilter,
     let (mut gamma, mut h2) = (0.0f64, 0.0f64);
     let mut first = None;
     for (k, gain) in gains.iter_mut().enumerate() {
-        let m = std::f64::consts::TAU * k as f64 / SCHEDULE_POINTS as f64;
-        let tk = (m - model.mean_anomaly0()) / model.n;
-        let step = model.step(tk, t, &qc, crate::dynamics::Discretization::Exact);
-        let w = model.angular_rate(tk);
-        let mut plant = HinfPlant::open_loop(&spec);
-        plant.a = step.phi;
-        plant.g = step.gamma;
-        plant.ha = paper_ha(w) * t;
-        plant.ea = paper_ea(w, spec.delta_bar);
+        let tk = model.time_at_true_anomaly(HinfSchedule::anomaly(k));
+        let (mut plant, q) = step_plant(cfg, &spec, &model, tk);
         if derived_b {
-            plant.b = psd_sqrt(&cfg.hinf_process_noise(step.q));
+            plant.b = psd_sqrt(&q);
         }
         let design = design_observer(&plant, t, &opts).map_err(|e| failed(k, e))?;
         let design = match cfg.hinf_design {
@@ -487,12 +605,15 @@ fn scheduled_hinf(cfg: &NavConfig, x0: crate::types::State) -> Result<AnyFilter,
     }
     let first = first.ok_or_else(|| NavError::invalid("no H-infinity design".to_string()))?;
     let invalid = |e: crate::hinf::HinfError| NavError::invalid(format!("hinf: {e}"));
-    let schedule = HinfSchedule {
+    let mut schedule = HinfSchedule {
         gains,
-        m0: model.mean_anomaly0(),
-        n: model.n,
+        orbit: model,
+        frozen_gamma: gamma,
+        certified_gamma: f64::NAN,
+        certified_steps: 0,
     };
-    let f = HinfEstimator::new(first.matrices, gamma, x0)
+    certify_schedule(cfg, &mut schedule)?;
+    let f = HinfEstimator::new(first.matrices, schedule.certified_gamma, x0)
         .map_err(invalid)?
         .with_h2_norm(h2)
         .with_design_info(first.info())
