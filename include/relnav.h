@@ -684,6 +684,18 @@ enum relnav_status relnav_estimator_get_innovation(const struct relnav_estimator
 // `estimator` is a live handle or null; `out` is null or writable.
 enum relnav_status relnav_estimator_get_ess(const struct relnav_estimator *estimator, double *out);
 
+// The fraction of a particle filter's (codes 4-8) Metropolis–Hastings moves (`pf_move`
+// rejuvenation, the RPF's jitter, the genetic operators) accepted in the last
+// `relnav_estimator_step` or update: how far its particles moved from their proposal.
+// `*out` is NaN when that step made no move (no measurement, the first update, which draws
+// the particles from the measurement), for the other filters, before the first step and
+// after a restore (the status `RELNAV_OK`).
+//
+// # Safety
+// `estimator` is a live handle or null; `out` is null or writable.
+enum relnav_status relnav_estimator_get_pf_acceptance(const struct relnav_estimator *estimator,
+                                                      double *out);
+
 // The AQUKF's (code 3) current adaptive velocity process-noise density `q_vv`
 // [m^2/s^3], one value per axis of the configured frame (the diagonal of the rotated
 // matrix, exact because every frame rotation is a signed permutation; paper 001

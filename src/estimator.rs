@@ -415,6 +415,31 @@ pub unsafe extern "C" fn relnav_estimator_get_ess(
     })
 }
 
+/// The fraction of a particle filter's (codes 4-8) Metropolis–Hastings moves (`pf_move`
+/// rejuvenation, the RPF's jitter, the genetic operators) accepted in the last
+/// `relnav_estimator_step` or update: how far its particles moved from their proposal.
+/// `*out` is NaN when that step made no move (no measurement, the first update, which draws
+/// the particles from the measurement), for the other filters, before the first step and
+/// after a restore (the status `RELNAV_OK`).
+///
+/// # Safety
+/// `estimator` is a live handle or null; `out` is null or writable.
+#[no_mangle]
+pub unsafe extern "C" fn relnav_estimator_get_pf_acceptance(
+    estimator: *const relnav_estimator,
+    out: *mut f64,
+) -> relnav_status {
+    const F: &str = "relnav_estimator_get_pf_acceptance";
+    boundary(F, || {
+        // SAFETY: pointer contracts are the caller's, checked for null.
+        let nav = unsafe { estimator_ref(estimator, F) }?;
+        // SAFETY: as above.
+        let o = unsafe { out.as_mut() }.ok_or_else(|| null("out", F))?;
+        *o = nav.step_acceptance();
+        Ok(())
+    })
+}
+
 /// The AQUKF's (code 3) current adaptive velocity process-noise density `q_vv`
 /// [m^2/s^3], one value per axis of the configured frame (the diagonal of the rotated
 /// matrix, exact because every frame rotation is a signed permutation; paper 001

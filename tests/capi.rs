@@ -1,6 +1,7 @@
 //! The C ABI (`include/relnav.h`) from Rust, as a C caller uses it: the particle-filter and
 //! noise-model fields of `relnav_config` (defaults, validation with a message naming the
-//! field, round trip), `relnav_estimator_get_ess`, seeded reproducibility, the noise
+//! field, round trip), `relnav_estimator_get_ess`, `relnav_estimator_get_pf_acceptance`,
+//! seeded reproducibility, the noise
 //! model's variance in the Kalman filters, a failed particle-filter step changing nothing
 //! (or, after a committed update, refusing to go on until reset), the AQUKF's adaptation
 //! law and the IMM (code 10) with `relnav_estimator_get_mode_probabilities`.
@@ -70,6 +71,15 @@ impl Est {
     fn reset(&self) {
         // SAFETY: live handle.
         assert_eq!(unsafe { relnav_estimator_reset(self.0) }, OK);
+    }
+    fn acceptance(&self) -> f64 {
+        let mut a = -1.0;
+        // SAFETY: live handle, writable double.
+        assert_eq!(
+            unsafe { relnav_estimator_get_pf_acceptance(self.0, &mut a) },
+            OK
+        );
+        a
     }
 }
 
@@ -349,6 +359,51 @@ fn get_ess_checks_pointers_and_reports_particles() {
         let before = e.ess();
         assert_eq!(e.step(None), OK);
         assert_eq!(e.ess(), before);
+    }
+}
+
+#[test]
+fn get_pf_acceptance_checks_pointers_and_reports_each_steps_moves() {
+    let mut out = 0.0;
+    // SAFETY: null handle and null output are the cases under test.
+    unsafe {
+        assert_eq!(
+            relnav_estimator_get_pf_acceptance(std::ptr::null(), &mut out),
+            relnav_status::RELNAV_ERROR_NULL_POINTER
+        );
+    }
+    assert!(last_error().contains("estimator"), "{}", last_error());
+    let kf = Est::new(&relnav_config_default());
+    // SAFETY: null output under test.
+    unsafe {
+        assert_eq!(
+            relnav_estimator_get_pf_acceptance(kf.0, std::ptr::null_mut()),
+            relnav_status::RELNAV_ERROR_NULL_POINTER
+        );
+    }
+    assert!(last_error().contains("out"), "{}", last_error());
+    // a Kalman filter makes no moves
+    assert_eq!(kf.step(Some(&z(0))), OK);
+    assert!(kf.acceptance().is_nan());
+    for filter in [
+        relnav_filter::RELNAV_FILTER_PF,
+        relnav_filter::RELNAV_FILTER_GAPF,
+    ] {
+        let e = Est::new(&pf_config(filter, 400, 1));
+        assert!(e.acceptance().is_nan(), "{filter:?} before any step");
+        // the first update draws the particles from the measurement: no move
+        assert_eq!(e.step(Some(&z(0))), OK, "{filter:?}: {}", last_error());
+        assert!(e.acceptance().is_nan(), "{filter:?} first step");
+        for k in 1..5 {
+            assert_eq!(e.step(Some(&z(k))), OK, "{filter:?}: {}", last_error());
+            let a = e.acceptance();
+            assert!((0.0..=1.0).contains(&a), "{filter:?} step {k}: {a}");
+        }
+        // no reading, no move
+        assert_eq!(e.step(None), OK);
+        assert!(e.acceptance().is_nan(), "{filter:?}");
+        e.reset();
+        assert!(e.acceptance().is_nan(), "{filter:?} after a reset");
     }
 }
 

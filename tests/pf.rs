@@ -558,3 +558,65 @@ fn dispatched_and_baseline_filters_agree_bit_for_bit() {
         }
     }
 }
+
+/// The per-step move acceptance (relnav.fmu's `pf_acceptance`, the C ABI's
+/// `relnav_estimator_get_pf_acceptance`): after a step with a reading, every kind with
+/// moves reports the fraction of that step's moves accepted, the change of its cumulative
+/// counts, in [0, 1]; a step without a reading moves nothing (NaN); the literal SIR
+/// (`pf_move = false`) moves nothing; a Kalman filter has no moves; a reset clears it.
+#[test]
+fn step_acceptance_is_the_fraction_of_the_steps_moves_accepted() {
+    use relnav_core::nav::AnyFilter;
+    let counts = |nav: &Navigator| match nav.filter() {
+        AnyFilter::Pf(pf) => pf.move_counts(),
+        _ => (0, 0),
+    };
+    let codes = [4, 5, 6, 7, 8];
+    for (code, moves) in codes
+        .into_iter()
+        .map(|c| (c, true))
+        .chain([(4, false), (1, false)])
+    {
+        let cfg = NavConfig {
+            filter: FilterKind::from_code(code).unwrap(),
+            particles: 400,
+            pf_move: moves,
+            ..NavConfig::default()
+        };
+        let mut nav = Navigator::new(&cfg).unwrap();
+        assert!(nav.step_acceptance().is_nan());
+        let sensor = RadioSensor::new(cfg.frame, cfg.sigma_range, cfg.sigma_angle);
+        let mut rng = ChaCha8Rng::seed_from_u64(9);
+        let xt = cfg.initial_state();
+        let mut seen = 0;
+        for k in 0..6 {
+            let z = sensor
+                .measure(&xt.fixed_rows::<3>(0).into_owned(), &mut rng)
+                .unwrap();
+            let before = counts(&nav);
+            let reading = k != 3;
+            let z = [z[0], z[1], z[2]];
+            nav.step(&[0.0; 3], reading.then_some(&z), 1.0).unwrap();
+            let after = counts(&nav);
+            let a = nav.step_acceptance();
+            if after.0 > before.0 {
+                let expect = (after.1 - before.1) as f64 / (after.0 - before.0) as f64;
+                assert_eq!(a.to_bits(), expect.to_bits(), "code {code} step {k}");
+                assert!((0.0..=1.0).contains(&a), "code {code} step {k}: {a}");
+                seen += 1;
+            } else {
+                assert!(a.is_nan(), "code {code} step {k}: {a}");
+            }
+            if !reading {
+                assert!(a.is_nan(), "code {code}: a step without a reading moved");
+            }
+        }
+        if moves {
+            assert!(seen >= 4, "code {code}: moves in {seen} of 5 updates");
+        } else {
+            assert_eq!(seen, 0, "code {code} without moves");
+        }
+        nav.reset();
+        assert!(nav.step_acceptance().is_nan());
+    }
+}

@@ -231,6 +231,9 @@ class Estimator:
     def ess(self) -> float:
         """Effective sample size of a particle filter (NaN for the others)."""
     @property
+    def pf_acceptance(self) -> float:
+        """Fraction of a particle filter's moves accepted in the last step (NaN when it made none, and for the other filters)."""
+    @property
     def q_vv(self) -> _FloatArray:
         """The AQUKF's adaptive velocity process-noise density per axis [m^2/s^3] (NaN
         for the other filters)."""

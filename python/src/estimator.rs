@@ -435,6 +435,13 @@ impl Estimator {
         Ok(self.nav()?.ess().unwrap_or(f64::NAN))
     }
 
+    /// Fraction of a particle filter's moves accepted in the last step (NaN when it made
+    /// none, and for the other filters).
+    #[getter]
+    fn pf_acceptance(&self) -> PyResult<f64> {
+        Ok(self.nav()?.step_acceptance())
+    }
+
     /// The AQUKF's adaptive velocity process-noise density per axis [m^2/s^3] (NaN for
     /// the other filters).
     #[getter]

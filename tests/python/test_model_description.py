@@ -97,6 +97,8 @@ EXPECTED = {
     **{f"{s}_nis": ("output", "continuous", "Real", None) for s in ("radio", "camera", "gnss", "gnss_velocity")},
     # the H-infinity design's measurement set (a sum of sensor bits)
     "hinf_sensors": ("parameter", "fixed", "Integer", None),
+    # the particle filters' per-step move acceptance
+    "pf_acceptance": ("output", "continuous", "Real", None),
 }
 
 # issue 12's variables, appended in this order after vr 62 (looked up by name: the

@@ -73,6 +73,7 @@ def test_defaults_are_paper_000s_example():
     np.testing.assert_array_equal(est.sigma, [50, 50, 50, 1, 1, 1])
     np.testing.assert_array_equal(est.covariance, np.diag([2500.0] * 3 + [1.0] * 3))
     assert math.isnan(est.ess) and math.isnan(est.hinf_gamma) and np.isnan(est.q_vv).all()
+    assert math.isnan(est.pf_acceptance)
     assert est.params["filter"] == "ekf" and est.params["frame"] == "along_radial_antinormal"
     assert est.params["mean_motion"] == 2 * math.pi / 7200
     assert repr(est) == "Estimator(filter='ekf')"
@@ -95,6 +96,10 @@ def test_library_outputs_of_each_filter_kind():
     assert pf.ess == 200
     pf.step([0, 0, 0], Z0)
     assert 1 <= pf.ess <= 200
+    # the first update draws the particles from the measurement; the second moves them
+    assert math.isnan(pf.pf_acceptance)
+    pf.step([0, 0, 0], Z0)
+    assert 0 <= pf.pf_acceptance <= 1
     aq = relnav.Estimator(filter="aqukf")
     np.testing.assert_array_equal(aq.q_vv, [1e-6] * 3)
     h = relnav.Estimator(filter="hinf")

@@ -122,11 +122,13 @@ def test_paper000_bar_met(rmse, name):
 
 
 def test_same_seed_reproduces_and_ess_is_output(unzipdir):
-    """Identical seed: bit-identical outputs (ess included) from two simulate_fmu runs; a
-    different seed: different outputs. ess is the effective sample size of the particle
-    filter, in [1, particles], and NaN for the EKF."""
+    """Identical seed: bit-identical outputs (ess and pf_acceptance included) from two
+    simulate_fmu runs; a different seed: different outputs. ess is the effective sample
+    size of the particle filter, in [1, particles], and NaN for the EKF; pf_acceptance the
+    fraction of the step's moves accepted, in [0, 1] once the particles move (NaN before,
+    with the first update drawing them from the measurement) and NaN for the EKF."""
     sc = cw.paper000_scenario(2, times=np.arange(151.0))
-    outputs = rf.OUTPUTS + ["ess"]
+    outputs = rf.OUTPUTS + ["ess", "pf_acceptance"]
 
     def simulate(params):
         res = simulate_fmu(
@@ -148,6 +150,8 @@ def test_same_seed_reproduces_and_ess_is_output(unzipdir):
     ess = a[:, 12]
     assert np.all((ess >= 1.0) & (ess <= 500.0)) and len(np.unique(ess)) > 10, ess
     assert ess[0] == 500.0  # equal weights before the first update
+    acc = a[3:, 13]
+    assert np.all((acc >= 0.0) & (acc <= 1.0)) and len(np.unique(acc)) > 10, a[:, 13]
     ekf = simulate({"filter": 1})
-    assert np.all(np.isnan(ekf[:, 12]))
+    assert np.all(np.isnan(ekf[:, 12])) and np.all(np.isnan(ekf[:, 13]))
     assert np.all(np.isfinite(ekf[:, :12]))

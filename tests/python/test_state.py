@@ -22,7 +22,7 @@ STEPS = 40
 SAVE_AT = 15
 CODES = list(range(1, 11))
 # documented sizes with the default parameters (1500 particles, window 10)
-FMU_STATE_BYTES = {1: 2043, 2: 2043, 3: 2532, 4: 118288, 5: 118288, 6: 622288, 7: 118288, 8: 622288, 9: 3776, 10: 3083}
+FMU_STATE_BYTES = {1: 2051, 2: 2051, 3: 2540, 4: 118296, 5: 118296, 6: 622296, 7: 118296, 8: 622296, 9: 3784, 10: 3091}
 FMU_HEADER = 70
 EST_HEADER = 32
 

@@ -141,6 +141,8 @@ pub struct Summary {
     pub efficiency_runs_vel: Option<f64>,
     /// Mean wall-clock time of one step \[µs\] (copied).
     pub us_per_step: f64,
+    /// A particle filter's moves accepted over tried (copied; NaN for the others).
+    pub move_acceptance: f64,
     /// Failed or diverged runs (copied).
     pub failed_runs: u32,
     /// Recovery after each unreported burn \[s\] ([`recovery_times`]); empty when the
@@ -377,6 +379,7 @@ fn summarize_filter(
         efficiency_runs_pos: runs.and_then(|(b, _)| ratio(rmse_pos, b)),
         efficiency_runs_vel: runs.and_then(|(_, b)| ratio(rmse_vel, b)),
         us_per_step: f.us_per_step,
+        move_acceptance: f.move_acceptance,
         failed_runs: f.failed_runs,
         recovery: recovery_times(&r.t, &f.mse, r.convergence_threshold.0, &r.unreported_burns),
         quiet_rmse: r
@@ -483,6 +486,7 @@ mod tests {
             range_var: vec![1.0; n],
             failed_runs: 0,
             us_per_step: 2.5,
+            move_acceptance: f64::NAN,
         }
     }
 

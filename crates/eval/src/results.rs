@@ -36,6 +36,10 @@ pub struct FilterStats {
     /// Mean wall-clock time of one step (update + predict) [microseconds] (informative,
     /// machine dependent, not part of the deterministic results).
     pub us_per_step: f64,
+    /// A particle filter's Metropolis–Hastings moves accepted over tried, over every
+    /// update of the runs that did not fail (the per-step figure is relnav.fmu's
+    /// `pf_acceptance`); NaN for the other filters and where no move was made.
+    pub move_acceptance: f64,
 }
 
 /// The whole campaign.

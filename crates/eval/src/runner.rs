@@ -63,6 +63,8 @@ struct Acc {
     failed: u32,
     failures: Vec<String>,
     nanos: u128,
+    /// a particle filter's moves over the ok runs: tried, accepted
+    moves: [u64; 2],
 }
 
 impl Acc {
@@ -79,9 +81,12 @@ impl Acc {
             failed: 0,
             failures: Vec::new(),
             nanos: 0,
+            moves: [0; 2],
         }
     }
-    fn add_run(&mut self, s: &[Score]) {
+    fn add_run(&mut self, s: &[Score], (tried, accepted): (u64, u64)) {
+        self.moves[0] += tried;
+        self.moves[1] += accepted;
         for (k, v) in s.iter().enumerate() {
             for (acc, x) in self.sum[k].iter_mut().zip(v.iter()) {
                 *acc += x;
@@ -115,6 +120,8 @@ impl Acc {
         self.failed += o.failed;
         self.failures.extend(o.failures.iter().cloned());
         self.nanos += o.nanos;
+        self.moves[0] += o.moves[0];
+        self.moves[1] += o.moves[1];
     }
 }
 
@@ -223,7 +230,7 @@ fn run_chunk(
             let r = run_filter(prep, f, &run, filter_seed, &mut scores);
             c.filters[fi].nanos += t0.elapsed().as_nanos();
             match r {
-                Ok(()) => c.filters[fi].add_run(&scores),
+                Ok(moves) => c.filters[fi].add_run(&scores, moves),
                 Err(e) => {
                     c.filters[fi].failed += 1;
                     c.filters[fi].failures.push(format!("run {i}: {e}"));
@@ -391,7 +398,7 @@ pub struct Partial {
 }
 
 /// First bytes of [`Partial::to_bytes`] (format name and version).
-const PARTIAL_MAGIC: &[u8; 8] = b"RNPART03";
+const PARTIAL_MAGIC: &[u8; 8] = b"RNPART04";
 
 impl Partial {
     /// Index of the chunk.
@@ -442,6 +449,9 @@ impl Partial {
                 w.extend_from_slice(&x.to_le_bytes());
             }
             w.extend_from_slice(&a.nanos.to_le_bytes());
+            for x in a.moves {
+                w.extend_from_slice(&x.to_le_bytes());
+            }
             for f in &a.failures {
                 w.extend_from_slice(&(f.len() as u32).to_le_bytes());
                 w.extend_from_slice(f.as_bytes());
@@ -499,6 +509,7 @@ impl Partial {
             a.ok_runs = ok;
             a.failed = failed;
             a.nanos = u128::from_le_bytes(r.array()?);
+            a.moves = [r.u64()?, r.u64()?];
             for _ in 0..nfail {
                 let len = r.u32()? as usize;
                 a.failures
@@ -671,6 +682,11 @@ fn summarize_total(prep: &Prepared, runs: u64, want_info: bool, total: &Chunk) -
                 range_var: a.range.iter().map(|v| v[1] / r).collect(),
                 failed_runs: a.failed,
                 us_per_step: a.nanos as f64 / 1e3 / steps_total,
+                move_acceptance: if a.moves[0] > 0 {
+                    a.moves[1] as f64 / a.moves[0] as f64
+                } else {
+                    f64::NAN
+                },
             }
         })
         .collect();

@@ -903,7 +903,7 @@ pub fn run_filter(
     run: &RunTruth,
     seed: u64,
     out: &mut Vec<Score>,
-) -> Result<(), String> {
+) -> Result<(u64, u64), String> {
     let (truth, meas) = (&run.states, &run.meas);
     let frame = prep.scenario.io_frame();
     let t6 = frame.rotation6();
@@ -978,5 +978,9 @@ pub fn run_filter(
                 .map_err(|e| format!("t = {t}: {e}"))?;
         }
     }
-    Ok(())
+    // a particle filter's Metropolis–Hastings moves over the run: tried, accepted
+    Ok(match &est {
+        AnyFilter::Pf(pf) => pf.move_counts(),
+        _ => (0, 0),
+    })
 }

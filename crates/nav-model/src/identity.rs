@@ -113,6 +113,8 @@ mod io {
         "Normalised innovation squared of the last step's relative-GNSS position update; NaN when it gave no reading in that step, and for the particle and H-infinity filters";
         GNSS_VELOCITY_NIS = 104: "gnss_velocity_nis", Output, Continuous, Real(""), 0.0,
         "Normalised innovation squared of the last step's relative-GNSS velocity update; NaN when it gave no reading in that step, and for the particle and H-infinity filters";
+        PF_ACCEPTANCE = 116: "pf_acceptance", Output, Continuous, Real(""), 0.0,
+        "Particle filters: fraction of the Metropolis-Hastings moves (pf_move rejuvenation, RPF jitter, genetic operators) accepted in the last step, how far the particles moved from their proposal; NaN when that step made no move, and for the other filters";
     }
 }
 
@@ -190,7 +192,7 @@ pub fn io_variables() -> &'static [VarDef] {
 }
 
 /// Number of variables.
-pub const N_VARS: usize = 116;
+pub const N_VARS: usize = 117;
 
 /// Every variable of relnav.fmu; the value reference is the index.
 pub static VARIABLES: LazyLock<Vec<VarDef>> =

@@ -143,6 +143,7 @@ fn publish(nav: &Navigator, values: &mut [f64], d: Diagnostics) {
     }
     if d.ess {
         values[vr::ESS as usize] = nav.ess().unwrap_or(f64::NAN);
+        values[vr::PF_ACCEPTANCE as usize] = nav.step_acceptance();
     }
     if d.q_vv {
         let q = nav.q_vv().unwrap_or([f64::NAN; 3]);
@@ -256,6 +257,8 @@ impl Model for RelnavFmu {
         } else {
             f64::NAN
         };
+        // no step has moved particles yet
+        values[vr::PF_ACCEPTANCE as usize] = f64::NAN;
         let q_vv = if kind == Some(FilterKind::Aqukf) {
             initial_q_vv(q_vel)
         } else {
@@ -474,7 +477,13 @@ mod tests {
             let before = values.clone();
             RelnavFmu::new().initialize(&mut values, 0.0).unwrap();
             let kind = filter_kind(values[vr::FILTER as usize]).unwrap();
-            let mut compared = vec![vr::ESS, vr::Q_VV_X, vr::Q_VV_Y, vr::Q_VV_Z];
+            let mut compared = vec![
+                vr::ESS,
+                vr::PF_ACCEPTANCE,
+                vr::Q_VV_X,
+                vr::Q_VV_Y,
+                vr::Q_VV_Z,
+            ];
             compared.extend([vr::IMM_MU_1, vr::IMM_MU_2, vr::IMM_MU_3]);
             if kind != FilterKind::Hinf {
                 // the design's figures exist once it is designed

@@ -119,6 +119,9 @@ pub struct Navigator {
     /// the last step's NIS per declared sensor (radio, camera, GNSS position, GNSS
     /// velocity), NaN where it gave no reading ([`Navigator::step_nis`])
     step_nis: [f64; 4],
+    /// the fraction of a particle filter's moves accepted in the last update or step (NaN
+    /// where it made none; [`Navigator::step_acceptance`])
+    step_acceptance: f64,
     /// a particle filter's prediction failed after its update in one step: refuse to go
     /// on until reset
     failed: bool,
@@ -188,6 +191,7 @@ impl Navigator {
             pending: Vec::new(),
             declared: declared_sensors(cfg),
             step_nis: [f64::NAN; 4],
+            step_acceptance: f64::NAN,
             failed: false,
         };
         nav.q_rates = cfg.process_noise_rates();
@@ -362,7 +366,33 @@ impl Navigator {
     pub fn update(&mut self, z: &[f64; 3]) -> Result<UpdateInfo, NavError> {
         Self::check_measurement(z)?;
         self.check_not_failed()?;
-        self.update_checked(z)
+        self.tallied(|nav| nav.update_checked(z))
+    }
+
+    /// The moves a particle filter has tried and accepted so far (`None` for the others).
+    fn move_counts(&self) -> Option<(u64, u64)> {
+        match &self.filter {
+            AnyFilter::Pf(pf) => Some(pf.move_counts()),
+            _ => None,
+        }
+    }
+
+    /// Run `f` (an update or a step) and, when it succeeds, record the fraction of the
+    /// moves it made that were accepted ([`Navigator::step_acceptance`]).
+    #[inline(always)]
+    fn tallied<T>(
+        &mut self,
+        f: impl FnOnce(&mut Self) -> Result<T, NavError>,
+    ) -> Result<T, NavError> {
+        let before = self.move_counts();
+        let r = f(self);
+        if r.is_ok() {
+            self.step_acceptance = match (before, self.move_counts()) {
+                (Some((t0, a0)), Some((t1, a1))) if t1 > t0 => (a1 - a0) as f64 / (t1 - t0) as f64,
+                _ => f64::NAN,
+            };
+        }
+        r
     }
 
     /// [`Navigator::update`] once its input is checked.
@@ -388,7 +418,7 @@ impl Navigator {
         measurement: Option<&[f64; 3]>,
         dt: f64,
     ) -> Result<(), NavError> {
-        let r = self.step_radio(thrust, measurement, dt);
+        let r = self.tallied(|nav| nav.step_radio(thrust, measurement, dt));
         if r.is_ok() {
             let nis = measurement
                 .and(self.last_update)
@@ -496,7 +526,7 @@ impl Navigator {
                 self.sensors.len()
             )));
         }
-        self.step_all(thrust, measurement, [None; 3], readings, dt)
+        self.tallied(|nav| nav.step_all(thrust, measurement, [None; 3], readings, dt))
     }
 
     /// One step with the declared sensors' `readings` ([`Readings`]: the radio, then the
@@ -516,7 +546,17 @@ impl Navigator {
             readings.gnss_velocity.as_ref().map(|z| &z[..]),
         ];
         // no reading for the added sensors (`step_all` takes the first `readings.len()`)
-        self.step_all(thrust, readings.radio.as_ref(), declared, &[], dt)
+        self.tallied(|nav| nav.step_all(thrust, readings.radio.as_ref(), declared, &[], dt))
+    }
+
+    /// The fraction of the Metropolis–Hastings moves (rejuvenation, RPF jitter, genetic
+    /// operators) a particle filter accepted in the last update or step: how far its
+    /// particles moved from their proposal. NaN when that step made no move (no reading,
+    /// the first update, which draws the particles from the measurement, `pf_move = false`
+    /// on a kind without operators), for the other filters, before the first step and
+    /// after a restore.
+    pub fn step_acceptance(&self) -> f64 {
+        self.step_acceptance
     }
 
     /// The normalised innovation squared of the last step's update by each declared sensor
@@ -701,6 +741,7 @@ impl Navigator {
         self.last_update = None;
         self.reports.iter_mut().for_each(|r| *r = None);
         self.step_nis = [f64::NAN; 4];
+        self.step_acceptance = f64::NAN;
         self.failed = false;
         self.t = 0.0;
     }

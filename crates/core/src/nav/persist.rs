@@ -38,6 +38,7 @@ impl Navigator {
             // restore)
             declared: _,
             step_nis: _,
+            step_acceptance: _,
             failed,
         } = self;
         w.tag(b"CONF");
@@ -177,6 +178,7 @@ impl Navigator {
         self.last_update = last_update;
         self.reports.iter_mut().for_each(|r| *r = None);
         self.step_nis = [f64::NAN; 4];
+        self.step_acceptance = f64::NAN;
         self.failed = failed;
         self.t = t;
         Ok(())

@@ -60,7 +60,7 @@ const RUN_BOUND_COLUMNS: [&str; 8] = [
 ];
 
 /// Columns of `summary.csv`.
-pub const SUMMARY_COLUMNS: [&str; 39] = [
+pub const SUMMARY_COLUMNS: [&str; 40] = [
     "label",
     "kind",
     "runs_used",
@@ -95,6 +95,7 @@ pub const SUMMARY_COLUMNS: [&str; 39] = [
     "efficiency_runs_pos",
     "efficiency_runs_vel",
     "us_per_step",
+    "move_acceptance",
     "pcrlb_pos_m",
     "pcrlb_vel_mps",
     "run_bound_pos_m",
@@ -164,6 +165,9 @@ pub fn summary_fields(r: &McResult, s: &[Summary]) -> Vec<Vec<Field>> {
             row.push(Field::opt(x.efficiency_runs_pos));
             row.push(Field::opt(x.efficiency_runs_vel));
             row.push(Field::Num(x.us_per_step));
+            row.push(Field::opt(
+                (!x.move_acceptance.is_nan()).then_some(x.move_acceptance),
+            ));
             row.push(Field::opt(bound.map(|b| b.0)));
             row.push(Field::opt(bound.map(|b| b.1)));
             row.push(Field::opt(runs.map(|b| b.0)));

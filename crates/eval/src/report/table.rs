@@ -55,17 +55,17 @@ pub fn markdown_table(r: &McResult, s: &[Summary]) -> String {
         "| filter | published (paper) | pos RMSE [m] | vel RMSE [m/s] | max pos err [m] | \
          max vel err [m/s] | conv. time [s] | NEES avg [95 % bounds]; % of t in per-time band | \
          NIS avg [95 % bounds]; % of t in per-time band | efficiency pos / vel vs PCRLB | \
-         pos / vel vs run-wise bound | µs/step | failed runs |"
+         pos / vel vs run-wise bound | µs/step | moves accepted | failed runs |"
     );
     let _ = writeln!(
         out,
-        "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+        "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
     );
     for x in s {
         let published = published_for(r, &x.label).map_or_else(|| "—".to_string(), |p| cell(&p));
         let _ = writeln!(
             out,
-            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} / {} | {} / {} | {} | {} |",
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} / {} | {} / {} | {} | {} | {} |",
             cell(&x.label),
             published,
             fmt_sig(x.rmse_pos, 4),
@@ -81,6 +81,11 @@ pub fn markdown_table(r: &McResult, s: &[Summary]) -> String {
             fmt_opt(x.efficiency_runs_pos, 3),
             fmt_opt(x.efficiency_runs_vel, 3),
             fmt_sig(x.us_per_step, 3),
+            if x.move_acceptance.is_nan() {
+                "—".to_string()
+            } else {
+                fmt_sig(x.move_acceptance, 3)
+            },
             x.failed_runs,
         );
     }
@@ -96,7 +101,7 @@ pub fn markdown_table(r: &McResult, s: &[Summary]) -> String {
         let published = published_for(r, label).unwrap_or_default();
         let _ = writeln!(
             out,
-            "| {} | {} | not run | — | — | — | — | — | — | — | — | — | — |",
+            "| {} | {} | not run | — | — | — | — | — | — | — | — | — | — | — |",
             cell(label),
             cell(&published),
         );

@@ -63,6 +63,7 @@ fn filter(label: &str, scale: f64, n: usize) -> FilterStats {
             .collect(),
         failed_runs: 0,
         us_per_step: 1.234,
+        move_acceptance: f64::NAN,
     }
 }
 
@@ -244,7 +245,9 @@ fn csv_files_have_headers_and_rows() {
     assert_eq!(rows[0].get(0), Some("EKF"));
     assert_eq!(rows[1].get(0), Some("UKF"));
     assert_eq!(rows[1].get(2), Some("18"));
-    assert_eq!(rows[0].get(38), Some("0.52 m RMSE (Table 2)"));
+    // no moves: an empty acceptance cell
+    assert_eq!(rows[0].get(34), Some(""));
+    assert_eq!(rows[0].get(39), Some("0.52 m RMSE (Table 2)"));
 
     // Undefined PCRLB: empty bound cells, same shape.
     let mut r = r;

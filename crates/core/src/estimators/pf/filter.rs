@@ -119,6 +119,12 @@ impl ParticleFilter {
         self.moves_accepted as f64 / self.moves_tried as f64
     }
 
+    /// The Metropolis–Hastings moves tried and accepted so far (the counts behind
+    /// [`ParticleFilter::move_acceptance`]).
+    pub fn move_counts(&self) -> (u64, u64) {
+        (self.moves_tried, self.moves_accepted)
+    }
+
     /// The settings.
     pub fn params(&self) -> &PfParams {
         &self.params
