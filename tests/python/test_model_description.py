@@ -366,8 +366,8 @@ def test_outputs_have_no_direct_feedthrough_in_model_structure(xml_root, md):
         assert variables[idx - 1].get("causality") == "output"
         assert u.get("dependencies") == "", f"output {variables[idx - 1].get('name')}: dependencies={u.get('dependencies')!r}"
     assert listed == output_indices
-    # hinf_h2_norm, hinf_certified, imm_mu_1..3; range_sigma and 4 NIS
-    assert len(md.outputs) == 18 + 2 + 3 + 5
+    # hinf_h2_norm, hinf_certified, imm_mu_1..3; range_sigma and 4 NIS; pf_acceptance
+    assert len(md.outputs) == 18 + 2 + 3 + 5 + 1
 
 
 def test_binary_exports_fmi2_cosimulation_api(unzipdir):
