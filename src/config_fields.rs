@@ -30,6 +30,8 @@ pub enum relnav_filter {
     RELNAV_FILTER_HINF = 9,
     /// Interacting multiple-model filter: imm_modes EKFs with the process noise plus imm_accel_psd_*, Markov switching (imm_p_stay_*); mode probabilities in imm_mu_*.
     RELNAV_FILTER_IMM = 10,
+    /// Robust EKF: the radio's update uses the density of noise_model (mixture: the Gaussian-sum update collapsed to its moments; Student-t: a variational update) instead of the Gaussian of its variance; the EKF's otherwise.
+    RELNAV_FILTER_REKF = 11,
 }
 
 /// Frame codes (`relnav_config` holds them as plain integers, so that an unknown
@@ -101,8 +103,8 @@ pub enum relnav_adaptation {
 #[repr(C)]
 #[derive(Debug, Clone, Copy)]
 pub struct relnav_config {
-    /// Estimator (codes 1-10: 1-3 Kalman (EKF, UKF, AQUKF), 4-8 particle filters, 9 robust H-infinity, 10 IMM).
-    /// A `relnav_filter` code: 1 ekf, 2 ukf, 3 aqukf, 4 pf, 5 rpf, 6 upf, 7 gapf, 8 cgapf, 9 hinf, 10 imm.
+    /// Estimator (codes 1-11: 1-3 Kalman (EKF, UKF, AQUKF), 4-8 particle filters, 9 robust H-infinity, 10 IMM, 11 robust EKF).
+    /// A `relnav_filter` code: 1 ekf, 2 ukf, 3 aqukf, 4 pf, 5 rpf, 6 upf, 7 gapf, 8 cgapf, 9 hinf, 10 imm, 11 rekf.
     /// Default: 1 (ekf).
     pub filter: i32,
     /// Hill-frame convention of every input and output vector and angle.

@@ -519,7 +519,7 @@ fn sizes_follow_the_documented_layout() {
         let kind = cfg.filter;
         let n = cfg.particles;
         let single = match kind {
-            FilterKind::Ekf | FilterKind::Ukf => kalman,
+            FilterKind::Ekf | FilterKind::Ukf | FilterKind::Rekf => kalman,
             // q_vv, window position/fill/width and entries, then the gated law's NIS ring
             // (position/fill/width and (NIS, dof) entries), gate flag and inflation
             FilterKind::Aqukf => {

@@ -574,9 +574,9 @@ void error_cases(Context& cx) {
             EXPECT_FMI(api.fmi2Terminate(s.get()), fmi2::OK);
         }
     }
-    // Codes 3 (AQUKF), 4..8 (particle filters), 9 (H-infinity) and 10 (IMM) initialise;
-    // 11 is not a filter code: refused when set.
-    for (int code = 3; code <= 11; ++code) {
+    // Codes 3 (AQUKF), 4..8 (particle filters), 9 (H-infinity), 10 (IMM) and 11 (robust
+    // EKF) initialise; 12 is not a filter code: refused when set.
+    for (int code = 3; code <= 12; ++code) {
         Slave s(api, *cx.md, env, "filter" + std::to_string(code), cx.resource_uri, cx.md->guid);
         if (!s.get()) {
             CHECK(s.get() != nullptr);
@@ -594,9 +594,9 @@ void error_cases(Context& cx) {
         env.echo = true;
         std::printf("  filter=%d: fmi2SetInteger -> %d, fmi2ExitInitializationMode -> %d: %s\n", code, set,
                     set == fmi2::OK ? exit_st : -1, last_message(env).c_str());
-        if (code <= 10) {
+        if (code <= 11) {
             CHECK(set == fmi2::OK);
-            // every code 3..10 is implemented (AQUKF, particle filters, H-infinity, IMM).
+            // every code 3..11 is implemented (AQUKF, particle filters, H-infinity, IMM, REKF).
             CHECK_MSG(exit_st == fmi2::OK, "filter " + std::to_string(code) + ": " + last_message(env));
         } else {
             CHECK(set == fmi2::Error);

@@ -6,7 +6,7 @@
 
 use relnav_core::estimators::pf::{Kernel, PfInit};
 use relnav_core::frames::Frame;
-use relnav_core::nav::{FilterKind, FilterOptions, HinfDesignKind, NavConfig, PARAMS};
+use relnav_core::nav::{FilterKind, FilterOptions, HinfDesignKind, NavConfig, NoiseKind, PARAMS};
 use relnav_core::noise::NoiseModel;
 use relnav_core::params::{Kind, Value};
 use relnav_core::types::{Mat6, State};
@@ -740,6 +740,27 @@ impl FilterSpec {
                     SensorKind::GnssVelocity => c.sigma_gnss_velocity = sc[0] * f,
                     _ => {}
                 }
+            }
+        }
+        if c.filter == FilterKind::Rekf {
+            // the robust EKF updates with the [sensor]'s density (its variance is the
+            // filters' R)
+            if let Some(p) = &scenario.sensor {
+                (c.noise_model, c.noise_zeta, c.noise_scale, c.noise_dof) = match p.noise {
+                    NoiseModel::Mixture { zeta, scale } => {
+                        (NoiseKind::Mixture, zeta, scale, c.noise_dof)
+                    }
+                    NoiseModel::StudentT { dof } => {
+                        (NoiseKind::StudentT, c.noise_zeta, c.noise_scale, dof)
+                    }
+                    // no robust update: the EKF's
+                    _ => (
+                        NoiseKind::Gaussian,
+                        c.noise_zeta,
+                        c.noise_scale,
+                        c.noise_dof,
+                    ),
+                };
             }
         }
         Ok(c)

@@ -439,7 +439,7 @@ mod tests {
             assert_eq!(filter_kind(f64::from(kind as i32)), Some(kind));
         }
         assert_eq!(filter_kind(0.0), None);
-        assert_eq!(filter_kind(11.0), None);
+        assert_eq!(filter_kind(12.0), None);
         assert_eq!(filter_kind(2.5), None);
     }
 

@@ -47,8 +47,8 @@ mod tests {
             Err(format!("pf_threads must lie in 0..={MAX_THREADS} (got -1)"))
         );
         values[vr::PF_THREADS as usize] = 0.0;
-        values[vr::FILTER as usize] = 11.0;
+        values[vr::FILTER as usize] = 12.0;
         let e = config_of(&values).map(|_| ()).map_err(|e| e.message);
-        assert!(e.is_err_and(|m| m.starts_with("unknown filter code 11 (allowed: 1 ekf")));
+        assert!(e.is_err_and(|m| m.starts_with("unknown filter code 12 (allowed: 1 ekf")));
     }
 }

@@ -133,12 +133,31 @@ fn block_update<const D: usize, const OFF: usize>(
 pub struct Ekf {
     x: State,
     p: Mat6,
+    /// the robust EKF's noise density (filter code 11; [`super::rekf`]): its radio update
+    /// is that density's, not the Gaussian of its variance. Configuration.
+    robust: Option<crate::noise::NoiseModel>,
 }
 
 impl Ekf {
     /// A filter starting from estimate `x0` with covariance `p0` (canonical frame).
     pub fn new(x0: State, p0: Mat6) -> Self {
-        Self { x: x0, p: p0 }
+        Self {
+            x: x0,
+            p: p0,
+            robust: None,
+        }
+    }
+
+    /// The robust EKF (filter code 11): the radio's update uses the noise density `noise`
+    /// ([`super::rekf`]; the sensor's `R` is its variance).
+    pub fn robust(mut self, noise: crate::noise::NoiseModel) -> Self {
+        self.robust = Some(noise);
+        self
+    }
+
+    /// The noise density of a robust EKF's update (`None` for the EKF).
+    pub fn robust_noise(&self) -> Option<&crate::noise::NoiseModel> {
+        self.robust.as_ref()
     }
 
     /// The measurement update of [`Estimator::update`], returning also the innovation
@@ -245,11 +264,16 @@ impl Ekf {
             k[(i, 1)] = ki.y;
             k[(i, 2)] = ki.z;
         }
-        let x = self.x + k * nu;
-        let p = joseph_update(&self.p, &k, &h_r, &r);
+        let robust = self.robust.as_ref().and_then(|noise| {
+            super::rekf::robust_update(&self.x, &self.p, &h_r, &nu, &r, noise, g.azimuth_usable)
+        });
+        let (x, p) = match robust {
+            Some(updated) => updated?,
+            None => (self.x + k * nu, joseph_update(&self.p, &k, &h_r, &r)),
+        };
         finite(&x, "updated state")?;
         finite(&p, "updated covariance")?;
-        // nu^T S^-1 nu = |L^-1 nu|^2
+        // nu^T S^-1 nu = |L^-1 nu|^2 (the robust EKF's too: against the variance's S)
         let nis = chol.forward(&nu).norm_squared();
         Ok((
             x,
@@ -303,13 +327,14 @@ impl Estimator for Ekf {
 /// Saved state: `x` (6), `P` (36, column by column); see `docs/state-format.md`.
 impl Persist for Ekf {
     fn save_state(&self, w: &mut Writer<'_>) {
-        let Self { x, p } = self;
+        // `robust`: configuration (from the filter code and the noise parameters)
+        let Self { x, p, robust: _ } = self;
         w.matrix(x);
         w.matrix(p);
     }
 
     fn load_state(&mut self, r: &mut Reader<'_>) -> Result<(), StateError> {
-        let Self { x, p } = self;
+        let Self { x, p, robust: _ } = self;
         *x = r.finite_matrix("EKF state")?;
         *p = r.finite_matrix("EKF covariance")?;
         Ok(())

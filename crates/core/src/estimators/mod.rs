@@ -21,6 +21,7 @@ mod covariance;
 pub mod ekf;
 pub mod imm;
 pub mod pf;
+pub mod rekf;
 pub mod ukf;
 
 pub use aqukf::{

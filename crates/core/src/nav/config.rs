@@ -86,6 +86,9 @@ crate::codes! {
         /// Interacting multiple-model filter over CW models with a quiet and one or two
         /// manoeuvring process noises ([`crate::estimators::imm`]).
         Imm = 10, "imm", "Interacting multiple-model filter: imm_modes EKFs with the process noise plus imm_accel_psd_*, Markov switching (imm_p_stay_*); mode probabilities in imm_mu_*";
+        /// Robust EKF: the radio's update with the noise density of `noise_model`
+        /// ([`crate::estimators::rekf`]).
+        Rekf = 11, "rekf", "Robust EKF: the radio's update uses the density of noise_model (mixture: the Gaussian-sum update collapsed to its moments; Student-t: a variational update) instead of the Gaussian of its variance; the EKF's otherwise";
     }
 }
 
@@ -342,7 +345,7 @@ crate::config! {
     filter: FilterKind {
         elements: [("filter", 0, "", 1, "")],
         rule: Rule::Any, c: true, scenario: Some("kind"), slot: Some(0),
-        description: "Estimator (codes 1-10: 1-3 Kalman (EKF, UKF, AQUKF), 4-8 particle filters, 9 robust H-infinity, 10 IMM)",
+        description: "Estimator (codes 1-11: 1-3 Kalman (EKF, UKF, AQUKF), 4-8 particle filters, 9 robust H-infinity, 10 IMM, 11 robust EKF)",
     },
     frame: Frame {
         elements: [("frame", 1, "", 2, "")],

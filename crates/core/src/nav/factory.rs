@@ -320,6 +320,7 @@ fn build_single(cfg: &NavConfig, opts: &FilterOptions) -> Result<AnyFilter, NavE
     }
     match cfg.filter {
         FilterKind::Ekf => Ok(AnyFilter::Ekf(Ekf::new(x0, p0))),
+        FilterKind::Rekf => Ok(AnyFilter::Ekf(Ekf::new(x0, p0).robust(cfg.noise()))),
         FilterKind::Ukf => Ok(AnyFilter::Ukf(Ukf::new(x0, p0, cfg.ukf()))),
         FilterKind::Aqukf => Ok(AnyFilter::Aqukf(Aqukf::new(
             x0,
