@@ -24,7 +24,7 @@ use crate::numerics::cholesky::{chol3, chol_small};
 use crate::numerics::state::{Persist, Reader, StateError, Writer};
 use crate::numerics::symmetrize;
 use crate::sensors::{MeasurementModel, Sensor, Support};
-use crate::types::{Mat3, Mat6, Mat63, State, Vec3};
+use crate::types::{Mat3, Mat6, State, Vec3};
 use nalgebra::{SMatrix, SVector};
 
 /// The linearised (EKF) measurement update of `(x, P)` with any sensor, not committed:
@@ -256,14 +256,7 @@ impl Ekf {
         // closed-form Cholesky of S (lower triangle), on the stack
         let chol = chol3(&s).ok_or(FilterError::NotPositiveDefinite("innovation covariance S"))?;
         // K = P H^T S^-1  <=>  K^T = S^-1 (H P)   (S, P symmetric): one solve per row of P H^T
-        let mut k = Mat63::zeros();
-        for i in 0..6 {
-            let row = Vec3::new(ph[(i, 0)], ph[(i, 1)], ph[(i, 2)]);
-            let ki = chol.solve(&row);
-            k[(i, 0)] = ki.x;
-            k[(i, 1)] = ki.y;
-            k[(i, 2)] = ki.z;
-        }
+        let k = chol.gain(&ph);
         let robust = self.robust.as_ref().and_then(|noise| {
             super::rekf::robust_update(&self.x, &self.p, &h_r, &nu, &r, noise, g.azimuth_usable)
         });

@@ -26,7 +26,7 @@ use super::covariance::joseph_update;
 use super::FilterError;
 use crate::noise::NoiseModel;
 use crate::numerics::cholesky::chol3;
-use crate::types::{Mat3, Mat6, Mat63, State, Vec3};
+use crate::types::{Mat3, Mat6, State, Vec3};
 
 /// Variational iterations of the Student-t update after its predictive start (each one
 /// Kalman update).
@@ -53,13 +53,7 @@ fn kalman(
     let ph = p.fixed_columns::<3>(0) * h_r.transpose();
     let s = h_r * ph.fixed_rows::<3>(0) + r;
     let chol = chol3(&s).ok_or(FilterError::NotPositiveDefinite("innovation covariance S"))?;
-    let mut k = Mat63::zeros();
-    for i in 0..6 {
-        let ki = chol.solve(&Vec3::new(ph[(i, 0)], ph[(i, 1)], ph[(i, 2)]));
-        k[(i, 0)] = ki.x;
-        k[(i, 1)] = ki.y;
-        k[(i, 2)] = ki.z;
-    }
+    let k = chol.gain(&ph);
     let l = chol.factor();
     let log_det = 2.0 * (l[(0, 0)].ln() + l[(1, 1)].ln() + l[(2, 2)].ln());
     let maha = chol.forward(nu).norm_squared();

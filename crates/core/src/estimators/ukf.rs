@@ -181,13 +181,7 @@ impl Ukf {
             "innovation covariance Pzz",
         ))?;
         // `K = Pxz Pzz^-1`, row by row (`Pzz` is symmetric)
-        let mut k = Mat63::zeros();
-        for r in 0..6 {
-            let row = chol.solve(&Vec3::new(pxz[(r, 0)], pxz[(r, 1)], pxz[(r, 2)]));
-            k[(r, 0)] = row.x;
-            k[(r, 1)] = row.y;
-            k[(r, 2)] = row.z;
-        }
+        let k = chol.gain(&pxz);
         let mut nu = sensor.diff(z, &z_hat);
         if !azimuth_used {
             nu.y = 0.0;

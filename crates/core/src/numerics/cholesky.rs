@@ -208,6 +208,21 @@ impl Chol3 {
     pub(crate) fn solve(&self, b: &Vec3) -> Vec3 {
         self.backward(&self.forward(b))
     }
+
+    /// The Kalman gain `K = C S^-1` of a cross covariance `C` (`P H^T`, or the UKF's
+    /// `Pxz`), row by row: `S` is symmetric, so each row of `K` is `S^-1` times that row of
+    /// `C`.
+    #[inline(always)]
+    pub(crate) fn gain(&self, c: &crate::types::Mat63) -> crate::types::Mat63 {
+        let mut k = crate::types::Mat63::zeros();
+        for i in 0..6 {
+            let ki = self.solve(&Vec3::new(c[(i, 0)], c[(i, 1)], c[(i, 2)]));
+            k[(i, 0)] = ki.x;
+            k[(i, 1)] = ki.y;
+            k[(i, 2)] = ki.z;
+        }
+        k
+    }
 }
 
 /// Lower Cholesky factor, `None` unless positive definite.
