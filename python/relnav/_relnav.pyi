@@ -95,7 +95,7 @@ class Estimator:
     ) -> None:
         """Keyword arguments are the FMU's parameters (names, types, defaults):
 
-            filter: Estimator (codes 1-10: 1-3 Kalman (EKF, UKF, AQUKF), 4-8 particle filters, 9 robust H-infinity, 10 IMM). One of: 1 ekf, 2 ukf, 3 aqukf, 4 pf, 5 rpf, 6 upf, 7 gapf, 8 cgapf, 9 hinf, 10 imm.
+            filter: Estimator (codes 1-11: 1-3 Kalman (EKF, UKF, AQUKF), 4-8 particle filters, 9 robust H-infinity, 10 IMM, 11 robust EKF). One of: 1 ekf, 2 ukf, 3 aqukf, 4 pf, 5 rpf, 6 upf, 7 gapf, 8 cgapf, 9 hinf, 10 imm, 11 rekf.
             frame: Hill-frame convention of every input and output vector and angle. One of: 1 radial_along_normal, 2 along_radial_antinormal, 3 along_antinormal_nadir.
             discretization: Discretisation of the CW model. One of: 1 exact, 2 euler.
             mean_motion [rad/s]: Mean motion of the target's orbit, 2 pi / period (> 0).

@@ -294,7 +294,7 @@ def test_codes(md, xml_root):
     assert not [v.name for v in md.modelVariables if v.type == "Enumeration"]
     codes = rf.codes(md)
     items = lambda var: {c: n for n, c in codes[var].items()}  # noqa: E731
-    assert items("filter") == {1: "ekf", 2: "ukf", 3: "aqukf", 4: "pf", 5: "rpf", 6: "upf", 7: "gapf", 8: "cgapf", 9: "hinf", 10: "imm"}
+    assert items("filter") == {1: "ekf", 2: "ukf", 3: "aqukf", 4: "pf", 5: "rpf", 6: "upf", 7: "gapf", 8: "cgapf", 9: "hinf", 10: "imm", 11: "rekf"}
     assert items("aq_law") == {1: "window", 2: "gated"}
     assert items("frame") == {1: "radial_along_normal", 2: "along_radial_antinormal", 3: "along_antinormal_nadir"}
     assert items("discretization") == {1: "exact", 2: "euler"}
