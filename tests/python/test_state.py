@@ -20,9 +20,9 @@ import relnav_fmu as rf
 
 STEPS = 40
 SAVE_AT = 15
-CODES = list(range(1, 11))
+CODES = list(range(1, 12))
 # documented sizes with the default parameters (1500 particles, window 10)
-FMU_STATE_BYTES = {1: 2051, 2: 2051, 3: 2540, 4: 118296, 5: 118296, 6: 622296, 7: 118296, 8: 622296, 9: 3784, 10: 3091}
+FMU_STATE_BYTES = {1: 2051, 2: 2051, 3: 2540, 4: 118296, 5: 118296, 6: 622296, 7: 118296, 8: 622296, 9: 3784, 10: 3091, 11: 2051}
 FMU_HEADER = 70
 EST_HEADER = 32
 
