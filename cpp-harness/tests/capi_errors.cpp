@@ -345,7 +345,7 @@ void check_config() {
                            [&](relnav_config& c) { c.filter = RELNAV_FILTER_UKF; c.ukf_kappa = v; }, "kappa");
 
     // Unknown codes.
-    for (int v : {0, -1, 11, 100, INT_MIN, INT_MAX})
+    for (int v : {0, -1, 12, 100, INT_MIN, INT_MAX})
         expect_config_fail("filter=" + std::to_string(v), IA, [&](relnav_config& c) { c.filter = v; }, "filter");
     for (int v : {0, -1, 4, 100, INT_MIN, INT_MAX})
         expect_config_fail("frame=" + std::to_string(v), IA, [&](relnav_config& c) { c.frame = v; }, "frame");
