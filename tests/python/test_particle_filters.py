@@ -118,8 +118,8 @@ def test_heavy_tails_every_particle_filter_beats_the_ekf(rmse, case):
 @pytest.mark.parametrize("case", HEAVY, ids=[c[0] for c in HEAVY])
 def test_heavy_tails_robust_ekf_beats_the_ekf_and_matches_the_particle_filters(rmse, case):
     """The robust EKF (filter 11, the mixture's Gaussian-sum update) through the FMU: at
-    least 15 % below the EKF's position RMSE and within 1.15 times every particle filter's
-    (issue 36's targets)."""
+    least 15 % below the EKF's position RMSE and within 1.15 times every particle
+    filter's."""
     key = case[0]
     ekf_p, _, _ = rmse[(key, "ekf")]
     pos, _, finite = rmse[(key, "rekf")]

@@ -22,10 +22,9 @@
 //! * Any other density (Gaussian, uniform, Laplace, AR(1)): the EKF's update with the
 //!   variance.
 
-use super::covariance::joseph_update;
+use super::ekf::{position_innovation, position_update};
 use super::FilterError;
 use crate::noise::NoiseModel;
-use crate::numerics::cholesky::chol3;
 use crate::types::{Mat3, Mat6, State, Vec3};
 
 /// Variational iterations of the Student-t update after its predictive start (each one
@@ -50,14 +49,12 @@ fn kalman(
     nu: &Vec3,
     r: &Mat3,
 ) -> Result<(State, Mat6, f64, f64), FilterError> {
-    let ph = p.fixed_columns::<3>(0) * h_r.transpose();
-    let s = h_r * ph.fixed_rows::<3>(0) + r;
-    let chol = chol3(&s).ok_or(FilterError::NotPositiveDefinite("innovation covariance S"))?;
-    let k = chol.gain(&ph);
+    let (ph, _, chol) = position_innovation(p, h_r, r)?;
     let l = chol.factor();
     let log_det = 2.0 * (l[(0, 0)].ln() + l[(1, 1)].ln() + l[(2, 2)].ln());
     let maha = chol.forward(nu).norm_squared();
-    Ok((x + k * nu, joseph_update(p, &k, h_r, r), log_det, maha))
+    let (xn, pn) = position_update(x, p, h_r, nu, r, &ph, &chol);
+    Ok((xn, pn, log_det, maha))
 }
 
 /// The robust update of `(x, P)` (module docs) for the linearisation `h_r`, innovation

@@ -181,7 +181,7 @@ fn hinf_track_initiation_and_bad_eccentricities_are_refused() {
 /// The scheduled H-infinity design's certificate for the time-varying error system as it
 /// runs (720 steps per orbit: periodic): up to e = 0.5 the largest frozen-plant bound holds
 /// over every horizon; at e = 0.81 the switching and the plant's fast change through
-/// perigee raise it (1.39 frozen, 2.46 certified), the filter reports the certified one, and
+/// perigee raise it above half as much again, the filter reports the certified one, and
 /// it bounds the recursion's own gain over eight orbits.
 #[test]
 fn scheduled_hinf_is_certified_for_the_time_varying_system() {
