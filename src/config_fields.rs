@@ -71,6 +71,8 @@ pub enum relnav_resampler {
     RELNAV_RESAMPLER_STRATIFIED = 3,
     /// floor(N w) deterministic copies, the rest multinomial (Liu and Chen 1998).
     RELNAV_RESAMPLER_RESIDUAL = 4,
+    /// Multinomial with pf_move = false (paper 000's SIR as written), systematic with the moves.
+    RELNAV_RESAMPLER_AUTO = 5,
 }
 
 /// NoiseModel codes (`relnav_config` holds them as plain integers, so that an unknown
@@ -189,9 +191,9 @@ pub struct relnav_config {
     /// Allowed: 1..=2000000.
     /// Default: 1500.
     pub particles: i32,
-    /// Resampling scheme of the particle filters.
-    /// A `relnav_resampler` code: 1 multinomial, 2 systematic, 3 stratified, 4 residual.
-    /// Default: 2 (systematic).
+    /// Resampling scheme of the particle filters (auto: multinomial with pf_move = false, systematic with the moves).
+    /// A `relnav_resampler` code: 1 multinomial, 2 systematic, 3 stratified, 4 residual, 5 auto.
+    /// Default: 5 (auto).
     pub resampler: i32,
     /// The particle filters resample when the effective sample size drops below resample_threshold * particles (in (0, 1]; paper 000: 2/3).
     /// Allowed: in (0, 1].
@@ -289,7 +291,7 @@ pub struct relnav_config {
     /// Allowed: in (0, 1).
     /// Default: 0.99999, 0.9, 0.9.
     pub imm_p_stay: [f64; 3],
-    /// Particle filters (codes 4-8): after every update, Metropolis-Hastings moves whose target is the likelihood times the Gaussian of the predictive moments (Gaussian-prior moves, not invariant for the exact posterior; as accurate as the EKF on Gaussian noise, also with small process noise); false: the papers' literal filters (paper 000's SIR, plain RPF, van der Merwe's UPF), which degenerate with small process noise.
+    /// Particle filters (codes 4-8): after every update, Metropolis-Hastings moves whose target is the likelihood times the Gaussian of the predictive moments (Gaussian-prior moves, not invariant for the exact posterior; as accurate as the EKF on Gaussian noise, also with small process noise); false: the papers' filters as written (particles drawn from the prior N(x0, P0), multinomial resampling with resampler = auto, paper 000's SIR, the plain RPF, van der Merwe's UPF, and the GA-PF's and CGA-PF's operators accepted on the likelihood ratio as paper 003 writes), which degenerate with small process noise.
     /// 0 or 1.
     /// Default: 1.
     pub pf_move: i32,

@@ -108,10 +108,7 @@ fn pf_config(filter: relnav_filter, particles: i32, seed: u64) -> relnav_config 
 fn defaults_of_the_new_fields() {
     let c = relnav_config_default();
     assert_eq!(c.particles, 1500);
-    assert_eq!(
-        c.resampler,
-        relnav_resampler::RELNAV_RESAMPLER_SYSTEMATIC as i32
-    );
+    assert_eq!(c.resampler, relnav_resampler::RELNAV_RESAMPLER_AUTO as i32);
     assert_eq!(c.resample_threshold, 2.0 / 3.0);
     assert_eq!(
         c.noise_model,
@@ -177,7 +174,7 @@ fn bad_new_fields_are_refused_with_their_name() {
         ("particles", |c| c.particles = 2_000_001),
         ("particles", |c| c.particles = i32::MIN),
         ("resampler", |c| c.resampler = 0),
-        ("resampler", |c| c.resampler = 5),
+        ("resampler", |c| c.resampler = 6),
         ("resampler", |c| c.resampler = 7),
         ("resample_threshold", |c| c.resample_threshold = 0.0),
         ("resample_threshold", |c| c.resample_threshold = -0.5),

@@ -326,9 +326,9 @@ fn fmu_cycles_do_not_allocate(filter: i32, law: i32) {
 /// few vectors per loop (ARCHITECTURE.md, invariants).
 #[test]
 fn particle_filter_steps_do_not_allocate() {
-    use relnav_core::estimators::pf::resample::Resampler;
     use relnav_core::estimators::pf::PARALLEL_MIN_PARTICLES;
     use relnav_core::nav::NoiseKind;
+    use relnav_core::nav::ResamplerSetting;
     const PARTICLES: usize = 300;
     const { assert!(PARTICLES < PARALLEL_MIN_PARTICLES) };
     let kinds = [
@@ -347,7 +347,7 @@ fn particle_filter_steps_do_not_allocate() {
             filter,
             pf_move,
             particles: PARTICLES,
-            resampler: Resampler::ALL[i % 4],
+            resampler: ResamplerSetting::ALL[i % 5],
             noise_model: if i % 2 == 0 {
                 NoiseKind::Gaussian
             } else {

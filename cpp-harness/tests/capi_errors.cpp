@@ -377,7 +377,7 @@ void check_config() {
     for (int v : {0, -1, 2000001, INT_MIN})
         expect_config_fail("particles=" + std::to_string(v), IA, [&](relnav_config& c) { c.particles = v; },
                            "particles");
-    for (int v : {0, 5, 7, INT_MIN})
+    for (int v : {0, 6, 7, INT_MIN})
         expect_config_fail("resampler=" + std::to_string(v), IA, [&](relnav_config& c) { c.resampler = v; },
                            "resampler");
     for (double v : {0.0, -0.5, 1.5, kNaN, kInf})
@@ -426,7 +426,7 @@ void check_config() {
     expect_config_ok("accel_psd=1e-8", [](relnav_config& c) { c.accel_psd = 1e-8; });
     expect_config_ok("seed=UINT64_MAX", [](relnav_config& c) { c.seed = UINT64_MAX; });
     for (int r : {RELNAV_RESAMPLER_MULTINOMIAL, RELNAV_RESAMPLER_SYSTEMATIC, RELNAV_RESAMPLER_STRATIFIED,
-                  RELNAV_RESAMPLER_RESIDUAL})
+                  RELNAV_RESAMPLER_RESIDUAL, RELNAV_RESAMPLER_AUTO})
         for (int nm : {RELNAV_NOISE_GAUSSIAN, RELNAV_NOISE_MIXTURE, RELNAV_NOISE_STUDENT_T})
             expect_config_ok("cgapf resampler=" + std::to_string(r) + " noise_model=" + std::to_string(nm),
                              [=](relnav_config& c) {

@@ -49,7 +49,7 @@ class Estimator:
         ukf_kappa: float = 0.0,
         seed: int = 0,
         particles: int = 1500,
-        resampler: Union[int, str] = 'systematic',
+        resampler: Union[int, str] = 'auto',
         resample_threshold: float = 0.6666666666666666,
         noise_model: Union[int, str] = 'gaussian',
         noise_zeta: float = 0.2,
@@ -122,7 +122,7 @@ class Estimator:
             ukf_kappa: UKF kappa.
             seed: Seed of the filters that draw random numbers (identical seeds give identical outputs).
             particles: Number of particles of the particle filters (codes 4-8; 1..2000000).
-            resampler: Resampling scheme of the particle filters. One of: 1 multinomial, 2 systematic, 3 stratified, 4 residual.
+            resampler: Resampling scheme of the particle filters (auto: multinomial with pf_move = false, systematic with the moves). One of: 1 multinomial, 2 systematic, 3 stratified, 4 residual, 5 auto.
             resample_threshold: The particle filters resample when the effective sample size drops below resample_threshold * particles (in (0, 1]; paper 000: 2/3).
             noise_model: Measurement-noise density scaled by sigma_range and sigma_angle: the particle filters weigh with it, the Kalman filters assume the Gaussian of its variance. One of: 1 gaussian, 2 mixture, 3 student_t.
             noise_zeta: Mixture noise: weight of the wide component (in [0, 1)).
@@ -147,7 +147,7 @@ class Estimator:
             imm_p_stay_1: IMM: probability of staying in mode 1 over one second (in (0, 1)).
             imm_p_stay_2: IMM: probability of staying in mode 2 over one second (in (0, 1)).
             imm_p_stay_3: IMM: probability of staying in mode 3 over one second (in (0, 1)).
-            pf_move: Particle filters (codes 4-8): after every update, Metropolis-Hastings moves whose target is the likelihood times the Gaussian of the predictive moments (Gaussian-prior moves, not invariant for the exact posterior; as accurate as the EKF on Gaussian noise, also with small process noise); false: the papers' literal filters (paper 000's SIR, plain RPF, van der Merwe's UPF), which degenerate with small process noise.
+            pf_move: Particle filters (codes 4-8): after every update, Metropolis-Hastings moves whose target is the likelihood times the Gaussian of the predictive moments (Gaussian-prior moves, not invariant for the exact posterior; as accurate as the EKF on Gaussian noise, also with small process noise); false: the papers' filters as written (particles drawn from the prior N(x0, P0), multinomial resampling with resampler = auto, paper 000's SIR, the plain RPF, van der Merwe's UPF, and the GA-PF's and CGA-PF's operators accepted on the likelihood ratio as paper 003 writes), which degenerate with small process noise.
             pf_threads: Particle filters: worker threads of the particle loops from 32768 particles on (0: one per core; 1: the calling thread; <= 1024); results do not depend on it.
             eccentricity: Eccentricity of the target's orbit (0 <= e <= 0.99): 0 the Clohessy-Wiltshire model, > 0 the linearised elliptic model of Yamanaka and Ankersen; mean_motion stays 2 pi / period.
             true_anomaly0 [rad]: True anomaly of the target at the start time (unused at eccentricity 0).

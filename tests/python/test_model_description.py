@@ -135,7 +135,7 @@ DEFAULTS = {
     "thrust_z": 0.0,
     "measurement_valid": False,
     "particles": 1500,
-    "resampler": 2,
+    "resampler": 5,
     "resample_threshold": 2 / 3,
     "noise_model": 1,
     "noise_zeta": 0.2,
@@ -298,7 +298,7 @@ def test_codes(md, xml_root):
     assert items("aq_law") == {1: "window", 2: "gated"}
     assert items("frame") == {1: "radial_along_normal", 2: "along_radial_antinormal", 3: "along_antinormal_nadir"}
     assert items("discretization") == {1: "exact", 2: "euler"}
-    assert items("resampler") == {1: "multinomial", 2: "systematic", 3: "stratified", 4: "residual"}
+    assert items("resampler") == {1: "multinomial", 2: "systematic", 3: "stratified", 4: "residual", 5: "auto"}
     assert items("noise_model") == {1: "gaussian", 2: "mixture", 3: "student_t"}
     assert items("hinf_design") == {1: "gamma_optimal", 3: "mixed"}
     elements = {sv.get("name"): sv.find("Integer") for sv in xml_root.find("ModelVariables")}

@@ -414,9 +414,9 @@ pub struct FilterSpec {
     /// (true) or ignores the thrust (false: it does not know the controller).
     #[serde(default = "yes")]
     pub knows_control: bool,
-    /// Particle filters: `first_measurement` (the default, for every kind:
+    /// Particle filters: `first_measurement` (the default with the moves, for every kind:
     /// [`relnav_core::estimators::pf::PfKind::default_init`]) or `prior` (paper 000
-    /// literally).
+    /// literally; the default with `move = false`).
     #[serde(default)]
     pub init: Option<InitName>,
     /// Regularised PF: `gaussian` (default) or `epanechnikov`.

@@ -284,7 +284,10 @@ impl Model for RelnavFmu {
         let pf = if cfg.filter.pf_kind().is_some() {
             format!(
                 ", particles {}, resampler {}, resample_threshold {}, seed {}",
-                cfg.particles, cfg.resampler as i32, cfg.resample_threshold, cfg.seed
+                cfg.particles,
+                cfg.resampler.code(),
+                cfg.resample_threshold,
+                cfg.seed
             )
         } else if cfg.filter == FilterKind::Hinf {
             let noise = |v: f64| {

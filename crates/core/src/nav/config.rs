@@ -29,7 +29,7 @@
 use super::error::{NavError, NavErrorKind};
 use crate::dynamics::{CwModel, Discretization, MAX_ECCENTRICITY};
 use crate::estimators::pf::resample::Resampler;
-use crate::estimators::pf::{PfKind, PfParams, MAX_PARTICLES, MAX_THREADS};
+use crate::estimators::pf::{PfInit, PfKind, PfParams, MAX_PARTICLES, MAX_THREADS};
 use crate::estimators::{
     AdaptationLaw, AqParams, ImmParams, UkfParams, MAX_BANK, MAX_GATE_WINDOW, MAX_MODES, MAX_WINDOW,
 };
@@ -216,7 +216,8 @@ pub const DISCRETIZATION_CODES: CodeList = CodeList {
     ],
 };
 
-/// The codes of [`Resampler`] (`resampler` parameter).
+/// The codes of [`ResamplerSetting`] (`resampler` parameter): the schemes of [`Resampler`]
+/// and `auto`.
 pub const RESAMPLER_CODES: CodeList = CodeList {
     name: "Resampler",
     c_type: "relnav_resampler",
@@ -244,8 +245,68 @@ pub const RESAMPLER_CODES: CodeList = CodeList {
             description:
                 "floor(N w) deterministic copies, the rest multinomial (Liu and Chen 1998)",
         },
+        CodeItem {
+            name: "auto",
+            code: 5,
+            description: "Multinomial with pf_move = false (paper 000's SIR as written), systematic with the moves",
+        },
     ],
 };
+
+/// The `resampler` parameter: a resampling scheme, or [`ResamplerSetting::Auto`], the
+/// scheme that goes with `pf_move` ([`ResamplerSetting::resolve`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ResamplerSetting {
+    /// This scheme.
+    Scheme(Resampler),
+    /// Multinomial for the papers' literal filters (`pf_move = false`), systematic (the
+    /// lower-variance scheme) with the moves.
+    Auto,
+}
+
+impl ResamplerSetting {
+    /// Every setting, in code order.
+    pub const ALL: [ResamplerSetting; 5] = [
+        ResamplerSetting::Scheme(Resampler::Multinomial),
+        ResamplerSetting::Scheme(Resampler::Systematic),
+        ResamplerSetting::Scheme(Resampler::Stratified),
+        ResamplerSetting::Scheme(Resampler::Residual),
+        ResamplerSetting::Auto,
+    ];
+
+    /// The C ABI / FMU code (1-4 the schemes, 5 `auto`).
+    pub fn code(self) -> i32 {
+        match self {
+            ResamplerSetting::Scheme(r) => r as i32,
+            ResamplerSetting::Auto => 5,
+        }
+    }
+
+    /// The setting of code `c`, or `None` for an unknown code.
+    pub fn from_code(c: i32) -> Option<Self> {
+        match c {
+            5 => Some(ResamplerSetting::Auto),
+            _ => Resampler::from_code(c).map(ResamplerSetting::Scheme),
+        }
+    }
+
+    /// Lower-case name (a scheme's, or `"auto"`).
+    pub fn name(self) -> &'static str {
+        match self {
+            ResamplerSetting::Scheme(r) => r.name(),
+            ResamplerSetting::Auto => "auto",
+        }
+    }
+
+    /// The scheme a particle filter uses, with or without the moves.
+    pub fn resolve(self, moves: bool) -> Resampler {
+        match self {
+            ResamplerSetting::Scheme(r) => r,
+            ResamplerSetting::Auto if moves => Resampler::Systematic,
+            ResamplerSetting::Auto => Resampler::Multinomial,
+        }
+    }
+}
 
 /// The codes of [`AdaptationLaw`] (`aq_law` parameter).
 pub const AQ_LAW_CODES: CodeList = CodeList {
@@ -313,11 +374,11 @@ code_field!(
     Discretization::from_code
 );
 code_field!(
-    Resampler,
+    ResamplerSetting,
     RESAMPLER_CODES,
-    Resampler::Systematic,
-    |r: Resampler| r as i32,
-    Resampler::from_code
+    ResamplerSetting::Auto,
+    ResamplerSetting::code,
+    ResamplerSetting::from_code
 );
 code_field!(
     AdaptationLaw,
@@ -447,10 +508,10 @@ crate::config! {
         rule: Rule::Count { lo: 1, hi: MAX_PARTICLES as i64 }, c: true, scenario: Some("particles"), slot: Some(17),
         description: "Number of particles of the particle filters (codes 4-8; 1..2000000)",
     },
-    resampler: Resampler {
-        elements: [("resampler", 46, "", 2, "")],
+    resampler: ResamplerSetting {
+        elements: [("resampler", 46, "", 5, "")],
         rule: Rule::Any, c: true, scenario: Some("resampler"), slot: Some(18),
-        description: "Resampling scheme of the particle filters",
+        description: "Resampling scheme of the particle filters (auto: multinomial with pf_move = false, systematic with the moves)",
     },
     resample_threshold: f64 {
         elements: [("resample_threshold", 47, "", 2.0 / 3.0, "")],
@@ -591,7 +652,7 @@ crate::config! {
     pf_move: bool {
         elements: [("pf_move", 82, "", 1, "")],
         rule: Rule::Any, c: true, scenario: Some("move"), slot: Some(41),
-        description: "Particle filters (codes 4-8): after every update, Metropolis-Hastings moves whose target is the likelihood times the Gaussian of the predictive moments (Gaussian-prior moves, not invariant for the exact posterior; as accurate as the EKF on Gaussian noise, also with small process noise); false: the papers' literal filters (paper 000's SIR, plain RPF, van der Merwe's UPF), which degenerate with small process noise",
+        description: "Particle filters (codes 4-8): after every update, Metropolis-Hastings moves whose target is the likelihood times the Gaussian of the predictive moments (Gaussian-prior moves, not invariant for the exact posterior; as accurate as the EKF on Gaussian noise, also with small process noise); false: the papers' filters as written (particles drawn from the prior N(x0, P0), multinomial resampling with resampler = auto, paper 000's SIR, the plain RPF, van der Merwe's UPF, and the GA-PF's and CGA-PF's operators accepted on the likelihood ratio as paper 003 writes), which degenerate with small process noise",
     },
     pf_threads: usize {
         elements: [("pf_threads", 83, "", 0, "")],
@@ -1218,16 +1279,22 @@ impl NavConfig {
     }
 
     /// The particle-filter settings for filter codes 4-8 (`None` for the other filters):
-    /// `PfParams::new(kind)` with `particles`, `resampler`, `resample_threshold`, `seed`,
-    /// the UKF parameters (the unscented proposal of `upf` and `cgapf`), `pf_move` and
-    /// `pf_threads` of this configuration.
+    /// `PfParams::new(kind)` with `particles`, `resampler` (`auto` resolved by `pf_move`),
+    /// `resample_threshold`, `seed`, the UKF parameters (the unscented proposal of `upf`
+    /// and `cgapf`), `pf_move` and `pf_threads` of this configuration; without the moves the
+    /// particles start from the prior ([`PfInit::Prior`]), as the papers write.
     pub fn pf_params(&self) -> Option<PfParams> {
         let kind = self.filter.pf_kind()?;
         Some(PfParams {
             moves: self.pf_move,
             threads: self.pf_threads,
             particles: self.particles,
-            resampler: self.resampler,
+            resampler: self.resampler.resolve(self.pf_move),
+            init: if self.pf_move {
+                kind.default_init()
+            } else {
+                PfInit::Prior
+            },
             threshold: self.resample_threshold,
             seed: self.seed,
             ukf: self.ukf(),
@@ -1347,6 +1414,48 @@ mod tests {
         }
     }
 
+    /// `pf_move = false` is the papers' filters as written: drawn from the prior and, with
+    /// the default `resampler = auto`, resampled multinomially; an explicit scheme is kept,
+    /// and with the moves `auto` is systematic from the first measurement.
+    #[test]
+    fn literal_filters_are_the_papers() {
+        use crate::estimators::pf::resample::Resampler;
+        for filter in [
+            FilterKind::Pf,
+            FilterKind::Rpf,
+            FilterKind::Upf,
+            FilterKind::Gapf,
+            FilterKind::Cgapf,
+        ] {
+            let moved = NavConfig {
+                filter,
+                ..Default::default()
+            };
+            assert_eq!(moved.resampler, ResamplerSetting::Auto);
+            let p = moved.pf_params().unwrap();
+            assert!(p.moves);
+            assert_eq!(
+                (p.init, p.resampler, p.threshold),
+                (PfInit::FirstMeasurement, Resampler::Systematic, 2.0 / 3.0)
+            );
+            let literal = NavConfig {
+                pf_move: false,
+                ..moved
+            };
+            let p = literal.pf_params().unwrap();
+            assert!(!p.moves);
+            assert_eq!(
+                (p.init, p.resampler, p.threshold),
+                (PfInit::Prior, Resampler::Multinomial, 2.0 / 3.0)
+            );
+            let chosen = NavConfig {
+                resampler: ResamplerSetting::Scheme(Resampler::Residual),
+                ..literal
+            };
+            assert_eq!(chosen.pf_params().unwrap().resampler, Resampler::Residual);
+        }
+    }
+
     /// The enums declared elsewhere agree with their code lists here, item by item.
     #[test]
     fn code_lists_match_their_enums() {
@@ -1360,9 +1469,9 @@ mod tests {
         );
         check(
             &RESAMPLER_CODES,
-            Resampler::ALL
+            ResamplerSetting::ALL
                 .iter()
-                .map(|r| (*r as i32, r.name()))
+                .map(|r| (r.code(), r.name()))
                 .collect(),
         );
         check(

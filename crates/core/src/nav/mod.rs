@@ -31,8 +31,8 @@ mod sensor_tests;
 pub mod sensors;
 
 pub use config::{
-    FilterKind, HinfDesignKind, NavConfig, NoiseKind, Setting, MAX_INITIAL_MAGNITUDE,
-    MEAN_MOTION_RANGE, PARAMS,
+    FilterKind, HinfDesignKind, NavConfig, NoiseKind, ResamplerSetting, Setting,
+    MAX_INITIAL_MAGNITUDE, MEAN_MOTION_RANGE, PARAMS,
 };
 pub use error::{NavError, NavErrorKind};
 pub use factory::{build_filter, build_filter_with, AnyFilter, FilterOptions};

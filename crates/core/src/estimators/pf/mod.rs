@@ -40,8 +40,12 @@
 //! `Q` is small. Every kind therefore ends each measurement update with a Metropolis–
 //! Hastings move toward the Gaussian-prior posterior, the likelihood times the Gaussian of
 //! the predictive moments ([`moves`]; a resample-move after Gilks & Berzuini 2001, whose
-//! target here is that approximation, not the exact filtering posterior). `moves = false` gives the literal filters of the papers: paper 000's
-//! SIR, the plain post-regularised RPF, van der Merwe's UPF.
+//! target here is that approximation, not the exact filtering posterior). `moves = false`
+//! gives the papers' filters as written: particles drawn from the prior `N(x0, P0)`
+//! ([`PfInit::Prior`], set by the navigator's configuration), paper 000's SIR (with the
+//! configuration's `resampler = auto`: multinomial at `N_eff < 2N/3`), the plain
+//! post-regularised RPF, van der Merwe's UPF, and the GA-PF's and CGA-PF's operators
+//! accepted on the likelihood ratio alone, as paper 003 writes ([`genetic`]).
 //!
 //! **Regularised PF** (Musso, Oudjane & Le Gland 2001): after each resampling every
 //! particle is moved by `h D eps`, `D D^T` the weighted empirical covariance before
@@ -93,7 +97,7 @@
 //! x 0.12 m box, about 1e-7 of the prior's volume: with thousands of particles none lands
 //! in the likelihood's support, one particle takes all the weight and the filter ends
 //! hundreds of metres off. [`PfInit::Prior`] with `moves = false` keeps that literal
-//! behaviour. [`PfInit::FirstMeasurement`] (the default) draws the positions from the first
+//! behaviour. [`PfInit::FirstMeasurement`] (the default with the moves) draws the positions from the first
 //! measurement's likelihood (the noisy measurement inverted to a position, noise drawn from
 //! the sensor's noise model) and the velocities from the prior: the posterior after the
 //! first measurement up to the prior's density over a box of a few decimetres, which a 50 m

@@ -54,9 +54,10 @@ impl PfKind {
         matches!(self, PfKind::Upf | PfKind::Cgapf)
     }
 
-    /// The default initialisation ([`PfInit::FirstMeasurement`] for every kind: even the
-    /// UKF proposal of the Gaussian prior is metres off the first posterior on paper
-    /// 000's example, where the posterior is decimetres wide).
+    /// The default initialisation with the moves ([`PfInit::FirstMeasurement`] for every
+    /// kind: even the UKF proposal of the Gaussian prior is metres off the first posterior
+    /// on paper 000's example, where the posterior is decimetres wide); the navigator's
+    /// literal filters (`pf_move = false`) start from the prior as the papers write.
     pub fn default_init(self) -> PfInit {
         PfInit::FirstMeasurement
     }

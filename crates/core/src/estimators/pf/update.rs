@@ -149,8 +149,7 @@ impl ParticleFilter {
             (self.mean, *self.cov())
         };
         let needs_pred_l = match kind {
-            PfKind::Rpf => self.params.moves,
-            PfKind::Gapf | PfKind::Cgapf => true,
+            PfKind::Rpf | PfKind::Gapf | PfKind::Cgapf => self.params.moves,
             PfKind::Sir | PfKind::Upf => false,
         };
         if needs_pred_l {

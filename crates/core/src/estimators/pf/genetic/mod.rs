@@ -7,7 +7,9 @@
 //! produces is accepted by a **Metropolis–Hastings** test on the filtering posterior
 //! `pi(x) = p(z | x) N(x; m-, P-)`, the predictive density approximated by the Gaussian
 //! of the predicted particles (before the prior's first update: the Gaussian prior itself):
-//! accepted with probability `min(1, pi(x') / pi(x_i))`.
+//! accepted with probability `min(1, pi(x') / pi(x_i))`. Without the moves
+//! ([`super::PfParams::moves`] false, the papers' filters as written) the target is the
+//! likelihood alone, paper 003's test on the likelihood ratio.
 //!
 //! Why not the exact resample-move target `p(z | x) p(x | ancestor)`: conditional on its
 //! ancestor a particle's velocity is pinned to the process noise (paper 000: 1e-3 m/s
@@ -127,6 +129,16 @@ impl ParticleFilter {
         }
     }
 
+    /// The operators' target: the likelihood times the Gaussian predictive with the moves,
+    /// the likelihood alone without them (paper 003 as written).
+    fn target<'l, const D: usize, L: ParticleLikelihood<D>>(&self, lik: &'l L) -> Target<'l, L, D> {
+        if self.params.moves {
+            Target::new(lik, &self.pred_mean, &self.pred_l)
+        } else {
+            Target::likelihood_only(lik)
+        }
+    }
+
     /// GA-PF move step after resampling (see the module documentation). The random
     /// stream: four words of the filter's generator seed the lanes
     /// ([`Lanes::seed_from`]); the pairing's `n / 2` indices from the generator
@@ -151,7 +163,7 @@ impl ParticleFilter {
     ) -> bool {
         let g = self.params.genetic;
         let n = self.x.len();
-        let t = Target::new(lik, &self.pred_mean, &self.pred_l);
+        let t = self.target(lik);
         // `D` any square root of the covariance (the step's law is N(0, h^2 s^2 D D^T)):
         // the Cholesky factor (lower triangular, 21 products per step instead of 36, no
         // eigendecomposition), the symmetric root when the covariance is only
@@ -248,7 +260,7 @@ impl ParticleFilter {
     pub(super) fn cloud_moves<const D: usize, L: ParticleLikelihood<D>>(&mut self, lik: &L) {
         let c = self.params.cloud;
         let n = self.x.len();
-        let t = Target::new(lik, &self.pred_mean, &self.pred_l);
+        let t = self.target(lik);
         let mut pop = self.pop();
         simd::dispatch(
             #[inline(always)]

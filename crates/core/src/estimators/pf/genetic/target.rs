@@ -29,6 +29,18 @@ impl<'a, const D: usize, Lk: ParticleLikelihood<D>> Target<'a, Lk, D> {
         }
     }
 
+    /// The likelihood alone, `ln pi(x) = ln p(z | x)` (a flat predictive: its quadratic form
+    /// is zero): paper 003's acceptance on the likelihood ratio, the literal filters'.
+    pub(super) fn likelihood_only(lik: &'a Lk) -> Self {
+        Self {
+            lik,
+            dim: PhantomData,
+            m: [0.0; 6],
+            l: [[0.0; 6]; 6],
+            inv_diag: [0.0; 6],
+        }
+    }
+
     /// `ln N(c; m-, P-)` up to a constant, `-|L-^-1 (c - m-)|^2 / 2`, for every lane
     /// (`CENTRE`; without it `-|L-^-1 c|^2 / 2`, the form of a difference of two states).
     // lane-indexed loops over several arrays: the form that vectorises across lanes

@@ -122,3 +122,35 @@ fn dispatched_and_baseline_operators_agree_bit_for_bit() {
         }
     }
 }
+
+/// The literal filters' target is the likelihood alone: its predictive term is zero for
+/// every candidate (centred or as a difference), where the moves' Gaussian predictive is
+/// not; the likelihood term is the same in both.
+#[test]
+fn literal_target_is_the_likelihood_alone() {
+    use super::target::Target;
+    use super::B;
+    use crate::estimators::pf::likelihood::Likelihood;
+    use crate::noise::NoiseModel;
+    let sensor = RadioSensor::new(crate::frames::Frame::AlongRadialAntinormal, 0.5, 1e-3);
+    let noise = NoiseModel::Gaussian;
+    let z = Vec3::new(640.0, 0.9, 0.3);
+    let lik = Likelihood::new(&sensor, &z, &noise, &[1.0; 3]);
+    let m = State::new(400.0, 500.0, 200.0, 0.0, 0.0, 0.0);
+    let l = Mat6::from_diagonal(&State::new(5.0, 5.0, 5.0, 0.1, 0.1, 0.1));
+    let c: [[f64; B]; 6] =
+        std::array::from_fn(|k| std::array::from_fn(|i| m[k] + (i * (k + 1)) as f64));
+    let (mut u, mut flat, mut gauss) = ([[0.0; B]; 6], [1.0; B], [0.0; B]);
+    let literal = Target::<_, 3>::likelihood_only(&lik);
+    let moved = Target::<_, 3>::new(&lik, &m, &l);
+    literal.log_predictive::<B, true>(&c, &mut u, &mut flat);
+    assert!(flat.iter().all(|&v| v == 0.0), "{flat:?}");
+    literal.log_predictive::<B, false>(&c, &mut u, &mut flat);
+    assert!(flat.iter().all(|&v| v == 0.0), "{flat:?}");
+    moved.log_predictive::<B, true>(&c, &mut u, &mut gauss);
+    assert!(gauss[1..].iter().all(|&v| v < 0.0), "{gauss:?}");
+    let (mut ll_literal, mut ll_moved) = ([0.0; B], [0.0; B]);
+    literal.log_likelihood(&c, B, &mut ll_literal);
+    moved.log_likelihood(&c, B, &mut ll_moved);
+    assert_eq!(ll_literal, ll_moved);
+}
