@@ -444,8 +444,16 @@ fn row<'a>(
 #[test]
 fn paper000_particle_filters_meet_their_reproduced_bars() {
     let moving = ["SIR PF", "RPF", "UPF", "GA-PF", "CGA-PF"];
-    let mut labels = vec!["EKF", "SIR PF (literal)", "SIR PF (no move)"];
+    let literal = [
+        "SIR PF (literal)",
+        "RPF (literal)",
+        "UPF (literal)",
+        "GA-PF (literal)",
+        "CGA-PF (literal)",
+    ];
+    let mut labels = vec!["EKF", "SIR PF (no move)"];
     labels.extend(moving);
+    labels.extend(literal);
     let sm = reproduce("paper000", &labels, 8, 600.0);
     for s in &sm {
         eprintln!(
@@ -460,9 +468,41 @@ fn paper000_particle_filters_meet_their_reproduced_bars() {
         let (ep, ev) = (s.efficiency_pos.unwrap(), s.efficiency_vel.unwrap());
         assert!(ep < 1.1 && ev < 1.1, "{l}: efficiency {ep} / {ev}");
     }
-    // the failures the module documentation explains
-    assert!(row(&sm, "SIR PF (literal)").rmse_pos > 50.0);
+    // the failures the module documentation explains: as written (drawn from the 50 m
+    // prior) every kind misses the paper's bar by far (100 runs: 74 to 564 m; these 8: the
+    // CGA-PF, whose UKF proposal reaches the measurement, 2.8 m, the others 147 to 572 m)
+    for l in literal {
+        assert!(row(&sm, l).rmse_pos > 2.0, "{l}");
+    }
     assert!(row(&sm, "SIR PF (no move)").rmse_pos > 2.0);
+}
+
+/// Paper 003's example with the papers' filters as written (`move = false`: drawn from the
+/// prior, multinomial resampling, the genetic operators accepted on the likelihood ratio)
+/// beside the same kinds with the moves, on the same 16 runs: as written each kind is
+/// behind in velocity, where the likelihood does not reach (100 runs: 1.20 to 2.14 times
+/// the moved kind's velocity RMSE; docs/results.md), and none fails.
+#[test]
+fn paper003_filters_as_written_trail_the_moved_ones() {
+    const KINDS: [&str; 5] = ["PF", "RPF", "UPF", "GA-PF", "CGA-PF"];
+    let literal: Vec<String> = KINDS.iter().map(|k| format!("{k} (literal)")).collect();
+    let mut labels: Vec<&str> = KINDS.to_vec();
+    labels.extend(literal.iter().map(String::as_str));
+    let sm = reproduce("paper003", &labels, 16, 100.0);
+    for (k, l) in KINDS.iter().zip(&literal) {
+        let (moved, written) = (row(&sm, k), row(&sm, l));
+        eprintln!(
+            "{k}: {:.2} m {:.3} m/s; as written {:.2} m {:.3} m/s",
+            moved.rmse_pos, moved.rmse_vel, written.rmse_pos, written.rmse_vel
+        );
+        assert_eq!(written.failed_runs, 0, "{l}");
+        assert!(
+            written.rmse_vel > 1.1 * moved.rmse_vel,
+            "{l}: {} vs {}",
+            written.rmse_vel,
+            moved.rmse_vel
+        );
+    }
 }
 
 /// Paper 003 (lidar, contaminated Gaussian zeta = 0.2): every particle filter beats the
