@@ -469,8 +469,8 @@ fn paper000_particle_filters_meet_their_reproduced_bars() {
         assert!(ep < 1.1 && ev < 1.1, "{l}: efficiency {ep} / {ev}");
     }
     // the failures the module documentation explains: as written (drawn from the 50 m
-    // prior) every kind misses the paper's bar by far (100 runs: 74 to 564 m; these 8: the
-    // CGA-PF, whose UKF proposal reaches the measurement, 2.8 m, the others 147 to 572 m)
+    // prior) every kind misses the paper's bar by far; the CGA-PF, whose UKF proposal
+    // reaches the measurement, least (docs/results.md)
     for l in literal {
         assert!(row(&sm, l).rmse_pos > 2.0, "{l}");
     }
@@ -480,8 +480,8 @@ fn paper000_particle_filters_meet_their_reproduced_bars() {
 /// Paper 003's example with the papers' filters as written (`move = false`: drawn from the
 /// prior, multinomial resampling, the genetic operators accepted on the likelihood ratio)
 /// beside the same kinds with the moves, on the same 16 runs: as written each kind is
-/// behind in velocity, where the likelihood does not reach (100 runs: 1.20 to 2.14 times
-/// the moved kind's velocity RMSE; docs/results.md), and none fails.
+/// behind in velocity, where the likelihood does not reach (the 100-run figures:
+/// docs/results.md), and none fails.
 #[test]
 fn paper003_filters_as_written_trail_the_moved_ones() {
     const KINDS: [&str; 5] = ["PF", "RPF", "UPF", "GA-PF", "CGA-PF"];

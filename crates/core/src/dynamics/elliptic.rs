@@ -52,10 +52,9 @@
 //!   values and first two derivatives at both ends follow from the transition and the
 //!   target's rates there: `Gamma` is its integral, `Qd` the five-point Gauss–Lobatto rule
 //!   on `G qc G^T`. Within [`SHORT_BOUND`] = 1e-8 of the six-node panels up to `e = 0.95`
-//!   (tested; measured 8.4e-9 at the longest short step near perigee); at `e = 0.99`
-//!   within 3.7e-8, the order of the closed-form transition's own rounding near apogee
-//!   there (7.4e-8 against the product of its halves, same test). A cubic interpolant does
-//!   not do: it errs by `(n dt)^3 / 180` of the input matrix, 9e-6 at the longest step.
+//!   (tested); at `e = 0.99` within the order of the closed-form transition's own rounding
+//!   near apogee (the same test compares the two; figures in `docs/filters.md`). A cubic
+//!   interpolant does not do: it errs by `(n dt)^3 / 180` of the input matrix.
 //! * A step of one period or more is split into `k` whole periods and a remainder: over a
 //!   whole period the in-plane transition is `I + D` with `D` the along-track drift (the
 //!   fundamental matrix is periodic but for its `J` term), so `k` periods of thrust and
