@@ -289,7 +289,7 @@ pub struct relnav_config {
     /// `[1]` imm_p_stay_2
     /// `[2]` imm_p_stay_3
     /// Allowed: in (0, 1).
-    /// Default: 0.99999, 0.9, 0.9.
+    /// Default: 0.999999, 0.9, 0.9.
     pub imm_p_stay: [f64; 3],
     /// Particle filters (codes 4-8): after every update, Metropolis-Hastings moves whose target is the likelihood times the Gaussian of the predictive moments (Gaussian-prior moves, not invariant for the exact posterior; as accurate as the EKF on Gaussian noise, also with small process noise); false: the papers' filters as written (particles drawn from the prior N(x0, P0), multinomial resampling with resampler = auto, paper 000's SIR, the plain RPF, van der Merwe's UPF, and the GA-PF's and CGA-PF's operators accepted on the likelihood ratio as paper 003 writes), which degenerate with small process noise.
     /// 0 or 1.

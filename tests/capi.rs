@@ -139,7 +139,7 @@ fn defaults_of_the_new_fields() {
     assert_eq!((c.aq_gate_window, c.aq_gate_quantile), (10, 0.999));
     assert_eq!(c.imm_modes, 3);
     assert_eq!(c.imm_accel_psd, [0.0, 1e-6, 1e-3]);
-    assert_eq!(c.imm_p_stay, [0.99999, 0.9, 0.9]);
+    assert_eq!(c.imm_p_stay, [0.999999, 0.9, 0.9]);
     for f in (3..=8)
         .chain(cfg!(feature = "hinf").then_some(9))
         .chain([10])

@@ -71,7 +71,7 @@ class Estimator:
         imm_accel_psd_1: float = 0.0,
         imm_accel_psd_2: float = 1e-06,
         imm_accel_psd_3: float = 0.001,
-        imm_p_stay_1: float = 0.99999,
+        imm_p_stay_1: float = 0.999999,
         imm_p_stay_2: float = 0.9,
         imm_p_stay_3: float = 0.9,
         pf_move: bool = True,

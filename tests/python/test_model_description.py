@@ -156,7 +156,7 @@ DEFAULTS = {
     "imm_accel_psd_1": 0.0,
     "imm_accel_psd_2": 1e-6,
     "imm_accel_psd_3": 1e-3,
-    "imm_p_stay_1": 0.99999,
+    "imm_p_stay_1": 0.999999,
     "imm_p_stay_2": 0.9,
     "imm_p_stay_3": 0.9,
     # particle filters: Gaussian-prior moves on, one thread per core

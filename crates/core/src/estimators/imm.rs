@@ -67,16 +67,19 @@ impl Default for ImmParams {
     /// Three modes: quiet (the nominal `Q`), a small manoeuvre or model error
     /// (1e-6 m^2/s^3: about 1 mm/s of unmodelled velocity change per second) and a burn
     /// (1e-3 m^2/s^3: about 3 cm/s per second, 3 N on 100 kg). The quiet mode lasts
-    /// 10^5 s on average (an unannounced manoeuvre a day), the manoeuvring ones 10 s. A
-    /// quiet mode this sticky keeps the manoeuvring modes at a stationary probability of
-    /// 1e-4 each, which keeps the quiet-phase cost small (less sticky modes cost visibly more
-    /// without burns: `docs/results.md`, "No model error: the quiet phase with an honest
-    /// Q"); the likelihood ratio of a burn still lifts mode 3 within seconds.
+    /// 10^6 s on average (an unannounced manoeuvre every twelve days), the manoeuvring
+    /// ones 10 s, so the manoeuvring modes sit at a stationary probability of about 5e-6
+    /// each. Why this sticky: the mixing feeds the burn mode's covariance into the quiet
+    /// mode at that weight, which acts as added process noise; with a day's switching it
+    /// was of the order of an honest quiet density (1e-10 m^2/s^3) and, most after a
+    /// measurement dropout (where the burn mode's covariance grows), cost the quiet mode
+    /// its velocity knowledge (`docs/filters.md`, "IMM"). The likelihood ratio of a burn
+    /// still lifts mode 3 within seconds.
     fn default() -> Self {
         Self {
             modes: 3,
             accel_psd: [0.0, 1e-6, 1e-3],
-            p_stay: [0.99999, 0.9, 0.9],
+            p_stay: [0.999999, 0.9, 0.9],
         }
     }
 }

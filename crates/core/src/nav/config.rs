@@ -637,7 +637,7 @@ crate::config! {
     },
     imm_p_stay: [f64; MAX_MODES] {
         elements: [
-            ("imm_p_stay_1", 76, "", 0.99999, "IMM: probability of staying in mode 1 over one second (in (0, 1))"),
+            ("imm_p_stay_1", 76, "", 0.999999, "IMM: probability of staying in mode 1 over one second (in (0, 1))"),
             ("imm_p_stay_2", 77, "", 0.9, "IMM: probability of staying in mode 2 over one second (in (0, 1))"),
             ("imm_p_stay_3", 78, "", 0.9, "IMM: probability of staying in mode 3 over one second (in (0, 1))"),
         ],
