@@ -708,11 +708,12 @@ impl EllipticModel {
         b
     }
 
-    /// A short step's input matrix and (with `qc`) noise over `h` [s] from
-    /// [`EllipticModel::hermite_blocks`]: the input matrix is the interpolant's integral,
-    /// `h (G(0) + G(h)) / 2 + h^2 (G'(0) - G'(h)) / 10 + h^3 (G''(0) + G''(h)) / 120`, and
-    /// the noise the five-point Gauss–Lobatto rule on `G qc G^T` (exact to degree 7), whose
-    /// two ends are coefficients and whose three interior values are the interpolant's.
+    /// A short step's input matrix and (with `qc`) noise over `h` [s]:
+    /// [`EllipticModel::quadrature`] at the five Gauss–Lobatto nodes in time of the
+    /// interpolant of [`EllipticModel::hermite_blocks`], whose two end values are
+    /// coefficients and whose three interior ones its sums. The rule is exact to degree 7:
+    /// the input matrix is the quintic interpolant's integral, the noise the rule on `G qc
+    /// G^T`.
     fn short_gamma_q(
         &self,
         a0: &Anomaly,
@@ -722,17 +723,6 @@ impl EllipticModel {
         qc: Option<&Mat3>,
     ) -> (Mat63, Mat6) {
         let b = self.hermite_blocks(a0, a1, phi, h);
-        let mut g: Packed = [0.0; 10];
-        for (r, v) in g.iter_mut().enumerate() {
-            *v = h
-                * (0.5 * (b[0][r] + b[5][r])
-                    + 0.1 * (b[1][r] - b[4][r])
-                    + (b[2][r] + b[3][r]) * (1.0 / 120.0));
-        }
-        let gamma = unpack(&g);
-        let Some(qc) = qc else {
-            return (gamma, Mat6::zeros());
-        };
         let mut nodes = [b[0], [0.0; 10], [0.0; 10], [0.0; 10], b[5]];
         for (node, basis) in nodes[1..4].iter_mut().zip(&HERMITE) {
             for (bk, &c) in b.iter().zip(basis) {
@@ -741,48 +731,12 @@ impl EllipticModel {
                 }
             }
         }
-        let weights = LOBATTO_W.map(|w| 0.5 * h * w);
-        let Some(d) = diagonal_density(qc) else {
-            let values = nodes.iter().zip(weights).map(|(v, weight)| {
-                let (g_in, gz) = split(v);
-                Value { g_in, gz, weight }
-            });
-            return (gamma, Self::quadrature(values, Some(qc)).1);
-        };
-        // per axis and per block, in the lower triangles; the end's node is B
-        let (mut q_in, mut q_z) = ([0.0; 10], [0.0; 3]);
-        q_in[5] = weights[0] * d[0];
-        q_in[9] = weights[0] * d[1];
-        q_z[2] = weights[0] * d[2];
-        for (v, w) in nodes[1..].iter().zip(&weights[1..]) {
-            let (wx, wy, wz) = (w * d[0], w * d[1], w * d[2]);
-            let mut k = 0;
-            for j in 0..4 {
-                let (x, y) = (wx * v[j], wy * v[4 + j]);
-                for l in 0..=j {
-                    q_in[k] += x * v[l] + y * v[4 + l];
-                    k += 1;
-                }
-            }
-            let z = wz * v[9];
-            q_z[0] += wz * v[8] * v[8];
-            q_z[1] += z * v[8];
-            q_z[2] += z * v[9];
-        }
-        let mut q = Mat6::zeros();
-        let mut k = 0;
-        for (j, &r) in IN_PLANE.iter().enumerate() {
-            for &c in &IN_PLANE[..=j] {
-                q[(r, c)] = q_in[k];
-                q[(c, r)] = q_in[k];
-                k += 1;
-            }
-        }
-        q[(2, 2)] = q_z[0];
-        q[(5, 2)] = q_z[1];
-        q[(2, 5)] = q_z[1];
-        q[(5, 5)] = q_z[2];
-        (gamma, q)
+        let values = nodes.iter().zip(LOBATTO_W).map(|(v, w)| Value {
+            g_in: Matrix4x2::from_column_slice(&v[..8]),
+            gz: Vector2::new(v[8], v[9]),
+            weight: 0.5 * h * w,
+        });
+        Self::quadrature(values, qc)
     }
 
     /// A quadrature weight `w` in the eccentric anomaly at `at` as a weight in time: `ds =
@@ -819,7 +773,11 @@ impl EllipticModel {
     fn quadrature(values: impl Iterator<Item = Value>, qc: Option<&Mat3>) -> (Mat63, Mat6) {
         // a diagonal density (every caller in relnav) is summed per axis and per block, in
         // the lower triangles
-        let diagonal = qc.map(diagonal_density);
+        let diagonal = qc.map(|m| {
+            let m = (m + m.transpose()) * 0.5;
+            (m[(0, 1)] == 0.0 && m[(0, 2)] == 0.0 && m[(1, 2)] == 0.0)
+                .then(|| [m[(0, 0)], m[(1, 1)], m[(2, 2)]])
+        });
         let (mut g_in_sum, mut gz_sum) = (Matrix4x2::zeros(), Vector2::zeros());
         let (mut q_in, mut q_z) = ([[0.0; 4]; 4], [0.0; 3]);
         let mut q_full = Mat6::zeros();
@@ -997,30 +955,6 @@ fn embed_g(g_in: &Matrix4x2<f64>, gz: &nalgebra::Vector2<f64>) -> Mat63 {
 /// A 6x3 input-shaped matrix packed by input column: the x input's in-plane rows (x, y, vx,
 /// vy), the y input's, then the z input's normal rows (z, vz); the other entries are zero.
 type Packed = [f64; 10];
-
-/// The in-plane rows of the canonical state.
-const IN_PLANE: [usize; 4] = [0, 1, 3, 4];
-
-/// [`Packed`] as its in-plane and normal blocks.
-fn split(v: &Packed) -> (Matrix4x2<f64>, Vector2<f64>) {
-    (
-        Matrix4x2::from_column_slice(&v[..8]),
-        Vector2::new(v[8], v[9]),
-    )
-}
-
-/// [`Packed`] as the 6x3 matrix.
-fn unpack(v: &Packed) -> Mat63 {
-    let (g_in, gz) = split(v);
-    embed_g(&g_in, &gz)
-}
-
-/// The diagonal of a (symmetrised) density, if it is diagonal.
-fn diagonal_density(m: &Mat3) -> Option<[f64; 3]> {
-    let m = (m + m.transpose()) * 0.5;
-    (m[(0, 1)] == 0.0 && m[(0, 2)] == 0.0 && m[(1, 2)] == 0.0)
-        .then(|| [m[(0, 0)], m[(1, 1)], m[(2, 2)]])
-}
 
 /// `(sin, cos)` of the true-anomaly difference `nu(a) - nu(b)`.
 fn sin_cos_difference(a: &Anomaly, b: &Anomaly) -> (f64, f64) {
