@@ -36,6 +36,27 @@ pub(super) unsafe fn estimator_ref<'a>(
         .ok_or_else(|| null("estimator", func))
 }
 
+/// The body of a getter that writes one value of the estimator to `*out`: the handle and
+/// `out` checked for null, in that order, inside the panic boundary.
+///
+/// # Safety
+/// `estimator` is a live handle or null; `out` is null or writable.
+unsafe fn get_one<T>(
+    estimator: *const relnav_estimator,
+    out: *mut T,
+    func: &str,
+    value: impl FnOnce(&Navigator) -> T,
+) -> relnav_status {
+    boundary(func, || {
+        // SAFETY: pointer contracts are the caller's, checked for null.
+        let nav = unsafe { estimator_ref(estimator, func) }?;
+        // SAFETY: as above.
+        let o = unsafe { out.as_mut() }.ok_or_else(|| null("out", func))?;
+        *o = value(nav);
+        Ok(())
+    })
+}
+
 /// Create an estimator. On success `*out` holds a new handle (free it with
 /// [`relnav_estimator_free`]); on error `*out` is set to null.
 ///
@@ -347,15 +368,12 @@ pub unsafe extern "C" fn relnav_estimator_get_config(
     estimator: *const relnav_estimator,
     out: *mut relnav_config,
 ) -> relnav_status {
-    const F: &str = "relnav_estimator_get_config";
-    boundary(F, || {
-        // SAFETY: pointer contracts are the caller's, checked for null.
-        let nav = unsafe { estimator_ref(estimator, F) }?;
-        // SAFETY: as above.
-        let o = unsafe { out.as_mut() }.ok_or_else(|| null("out", F))?;
-        *o = relnav_config::from(nav.config());
-        Ok(())
-    })
+    // SAFETY: the caller's pointer contracts, passed on.
+    unsafe {
+        get_one(estimator, out, "relnav_estimator_get_config", |nav| {
+            relnav_config::from(nav.config())
+        })
+    }
 }
 
 /// Diagnostics of the last measurement update: innovation (3 doubles, azimuth wrapped) and
@@ -404,15 +422,12 @@ pub unsafe extern "C" fn relnav_estimator_get_ess(
     estimator: *const relnav_estimator,
     out: *mut f64,
 ) -> relnav_status {
-    const F: &str = "relnav_estimator_get_ess";
-    boundary(F, || {
-        // SAFETY: pointer contracts are the caller's, checked for null.
-        let nav = unsafe { estimator_ref(estimator, F) }?;
-        // SAFETY: as above.
-        let o = unsafe { out.as_mut() }.ok_or_else(|| null("out", F))?;
-        *o = nav.ess().unwrap_or(f64::NAN);
-        Ok(())
-    })
+    // SAFETY: the caller's pointer contracts, passed on.
+    unsafe {
+        get_one(estimator, out, "relnav_estimator_get_ess", |nav| {
+            nav.ess().unwrap_or(f64::NAN)
+        })
+    }
 }
 
 /// The fraction of a particle filter's (codes 4-8) Metropolis–Hastings moves (`pf_move`
@@ -429,15 +444,15 @@ pub unsafe extern "C" fn relnav_estimator_get_pf_acceptance(
     estimator: *const relnav_estimator,
     out: *mut f64,
 ) -> relnav_status {
-    const F: &str = "relnav_estimator_get_pf_acceptance";
-    boundary(F, || {
-        // SAFETY: pointer contracts are the caller's, checked for null.
-        let nav = unsafe { estimator_ref(estimator, F) }?;
-        // SAFETY: as above.
-        let o = unsafe { out.as_mut() }.ok_or_else(|| null("out", F))?;
-        *o = nav.step_acceptance();
-        Ok(())
-    })
+    // SAFETY: the caller's pointer contracts, passed on.
+    unsafe {
+        get_one(
+            estimator,
+            out,
+            "relnav_estimator_get_pf_acceptance",
+            |nav| nav.step_acceptance(),
+        )
+    }
 }
 
 /// The AQUKF's (code 3) current adaptive velocity process-noise density `q_vv`
@@ -472,15 +487,12 @@ pub unsafe extern "C" fn relnav_estimator_get_hinf_gamma(
     estimator: *const relnav_estimator,
     out: *mut f64,
 ) -> relnav_status {
-    const F: &str = "relnav_estimator_get_hinf_gamma";
-    boundary(F, || {
-        // SAFETY: pointer contracts are the caller's, checked for null.
-        let nav = unsafe { estimator_ref(estimator, F) }?;
-        // SAFETY: as above.
-        let o = unsafe { out.as_mut() }.ok_or_else(|| null("out", F))?;
-        *o = nav.hinf_gamma().unwrap_or(f64::NAN);
-        Ok(())
-    })
+    // SAFETY: the caller's pointer contracts, passed on.
+    unsafe {
+        get_one(estimator, out, "relnav_estimator_get_hinf_gamma", |nav| {
+            nav.hinf_gamma().unwrap_or(f64::NAN)
+        })
+    }
 }
 
 /// The H2 norm of the H-infinity design of an estimator created with filter 9 (from the
@@ -495,15 +507,12 @@ pub unsafe extern "C" fn relnav_estimator_get_hinf_h2_norm(
     estimator: *const relnav_estimator,
     out: *mut f64,
 ) -> relnav_status {
-    const F: &str = "relnav_estimator_get_hinf_h2_norm";
-    boundary(F, || {
-        // SAFETY: pointer contracts are the caller's, checked for null.
-        let nav = unsafe { estimator_ref(estimator, F) }?;
-        // SAFETY: as above.
-        let o = unsafe { out.as_mut() }.ok_or_else(|| null("out", F))?;
-        *o = nav.hinf_h2_norm().unwrap_or(f64::NAN);
-        Ok(())
-    })
+    // SAFETY: the caller's pointer contracts, passed on.
+    unsafe {
+        get_one(estimator, out, "relnav_estimator_get_hinf_h2_norm", |nav| {
+            nav.hinf_h2_norm().unwrap_or(f64::NAN)
+        })
+    }
 }
 
 /// Whether the H-infinity filter (filter 9) runs its designed, certified gain: 1 after
@@ -517,15 +526,15 @@ pub unsafe extern "C" fn relnav_estimator_get_hinf_certified(
     estimator: *const relnav_estimator,
     out: *mut i32,
 ) -> relnav_status {
-    const F: &str = "relnav_estimator_get_hinf_certified";
-    boundary(F, || {
-        // SAFETY: pointer contracts are the caller's, checked for null.
-        let nav = unsafe { estimator_ref(estimator, F) }?;
-        // SAFETY: as above.
-        let o = unsafe { out.as_mut() }.ok_or_else(|| null("out", F))?;
-        *o = nav.hinf_certified().map_or(-1, i32::from);
-        Ok(())
-    })
+    // SAFETY: the caller's pointer contracts, passed on.
+    unsafe {
+        get_one(
+            estimator,
+            out,
+            "relnav_estimator_get_hinf_certified",
+            |nav| nav.hinf_certified().map_or(-1, i32::from),
+        )
+    }
 }
 
 /// The IMM's (code 10) mode probabilities after the last step, 3 doubles: mode 1 (the
@@ -563,15 +572,15 @@ pub unsafe extern "C" fn relnav_estimator_get_hinf_design(
     estimator: *const relnav_estimator,
     out: *mut crate::hinf::relnav_hinf_design_info,
 ) -> relnav_status {
-    const F: &str = "relnav_estimator_get_hinf_design";
-    boundary(F, || {
-        // SAFETY: pointer contracts are the caller's, checked for null.
-        let nav = unsafe { estimator_ref(estimator, F) }?;
-        // SAFETY: as above.
-        let o = unsafe { out.as_mut() }.ok_or_else(|| null("out", F))?;
-        *o = design_info_of(nav);
-        Ok(())
-    })
+    // SAFETY: the caller's pointer contracts, passed on.
+    unsafe {
+        get_one(
+            estimator,
+            out,
+            "relnav_estimator_get_hinf_design",
+            design_info_of,
+        )
+    }
 }
 
 fn design_info_of(nav: &Navigator) -> crate::hinf::relnav_hinf_design_info {

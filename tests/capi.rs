@@ -303,26 +303,34 @@ fn config_round_trip_keeps_the_new_fields() {
     );
 }
 
-#[test]
-fn get_ess_checks_pointers_and_reports_particles() {
+/// A one-double getter refuses a null handle and a null output, naming each.
+fn getter_checks_pointers(
+    get: unsafe extern "C" fn(*const relnav_estimator, *mut f64) -> relnav_status,
+) {
     let mut out = 0.0;
     // SAFETY: null handle and null output are the cases under test.
     unsafe {
         assert_eq!(
-            relnav_estimator_get_ess(std::ptr::null(), &mut out),
+            get(std::ptr::null(), &mut out),
             relnav_status::RELNAV_ERROR_NULL_POINTER
         );
-        assert!(last_error().contains("estimator"), "{}", last_error());
     }
+    assert!(last_error().contains("estimator"), "{}", last_error());
     let kf = Est::new(&relnav_config_default());
     // SAFETY: null output under test.
     unsafe {
         assert_eq!(
-            relnav_estimator_get_ess(kf.0, std::ptr::null_mut()),
+            get(kf.0, std::ptr::null_mut()),
             relnav_status::RELNAV_ERROR_NULL_POINTER
         );
     }
     assert!(last_error().contains("out"), "{}", last_error());
+}
+
+#[test]
+fn get_ess_checks_pointers_and_reports_particles() {
+    getter_checks_pointers(relnav_estimator_get_ess);
+    let kf = Est::new(&relnav_config_default());
     // Kalman filters: NaN (no particles), before and after steps
     assert!(kf.ess().is_nan());
     assert_eq!(kf.step(Some(&z(0))), OK);
@@ -361,24 +369,8 @@ fn get_ess_checks_pointers_and_reports_particles() {
 
 #[test]
 fn get_pf_acceptance_checks_pointers_and_reports_each_steps_moves() {
-    let mut out = 0.0;
-    // SAFETY: null handle and null output are the cases under test.
-    unsafe {
-        assert_eq!(
-            relnav_estimator_get_pf_acceptance(std::ptr::null(), &mut out),
-            relnav_status::RELNAV_ERROR_NULL_POINTER
-        );
-    }
-    assert!(last_error().contains("estimator"), "{}", last_error());
+    getter_checks_pointers(relnav_estimator_get_pf_acceptance);
     let kf = Est::new(&relnav_config_default());
-    // SAFETY: null output under test.
-    unsafe {
-        assert_eq!(
-            relnav_estimator_get_pf_acceptance(kf.0, std::ptr::null_mut()),
-            relnav_status::RELNAV_ERROR_NULL_POINTER
-        );
-    }
-    assert!(last_error().contains("out"), "{}", last_error());
     // a Kalman filter makes no moves
     assert_eq!(kf.step(Some(&z(0))), OK);
     assert!(kf.acceptance().is_nan());
