@@ -5,6 +5,7 @@
 #   relnav_plant.fmu     the truth plant (fmu/plant)
 #   relnav_guidance.fmu  the hold-point guidance law (fmu/guidance)
 #   relnav_system.ssp    the closed GNC loop of the three (fmu/ssp/*.ssd)
+#   relnav3.fmu          the estimator as FMI 3.0 (the same library as relnav.fmu)
 #
 # (and each FMU unpacked in target/fmu/<id>/). The three cdylibs and the packer
 # `relnav-fmu` (fmu/pack) are default members of the workspace: the plain release build

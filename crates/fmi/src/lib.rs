@@ -18,12 +18,14 @@
 //! * [`state`] — the FMU state as explicit, versioned bytes, and the registry of handed-out
 //!   state handles.
 //!
-//! No module of the generic part uses [`fmi2`]; [`fmi2`] uses only the generic part.
+//! No module of the generic part uses [`fmi2`] or [`fmi3`]; [`fmi2`] uses only the generic
+//! part, [`fmi3`] the generic part and [`fmi2`]'s description and argument helpers.
 
 // the generic part is safe Rust; only the bindings touch C pointers
 #[deny(unsafe_code)]
 pub mod binding;
 pub mod fmi2;
+pub mod fmi3;
 #[deny(unsafe_code)]
 pub mod instance;
 #[deny(unsafe_code)]

@@ -29,6 +29,7 @@ pub struct DefaultExperiment {
 #[derive(Debug, Default)]
 pub struct Generated {
     pub(crate) fmi2: OnceLock<(String, String)>,
+    pub(crate) fmi3: OnceLock<(String, String)>,
 }
 
 impl Generated {
@@ -36,8 +37,23 @@ impl Generated {
     pub const fn new() -> Self {
         Self {
             fmi2: OnceLock::new(),
+            fmi3: OnceLock::new(),
         }
     }
+}
+
+/// A vector of the variable table that FMI 3.0 publishes as one array variable (FMI 2.0
+/// has only scalars: there the elements are the variables). The elements share causality,
+/// variability and base type; the array has their unit when they all have the same, none
+/// otherwise (its description names them).
+#[derive(Debug, Clone, Copy)]
+pub struct ArrayDef {
+    /// The array's name.
+    pub name: &'static str,
+    /// Value references of its elements in the table, in order.
+    pub elements: &'static [u32],
+    /// Its description.
+    pub description: &'static str,
 }
 
 /// What the FMI plumbing knows of one model, as a `static` beside the model.
@@ -58,6 +74,9 @@ pub struct ModelInfo {
     pub state_code: Option<u32>,
     /// What the model's dynamic state is called in messages ("estimator", ...).
     pub state_name: &'static str,
+    /// The vectors FMI 3.0 publishes as arrays (in the order of their value references:
+    /// appended only, never reordered).
+    pub arrays: &'static [ArrayDef],
     /// The bindings' generated texts ([`Generated::new`] in the `static`).
     pub generated: Generated,
 }

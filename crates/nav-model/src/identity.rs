@@ -7,7 +7,7 @@
 //! the same table.
 
 use relnav_core::nav::PARAMS;
-use relnav_fmi::model::{DefaultExperiment, Generated, ModelInfo};
+use relnav_fmi::model::{ArrayDef, DefaultExperiment, Generated, ModelInfo};
 use relnav_fmi::variables::VarDef;
 use std::sync::LazyLock;
 
@@ -22,6 +22,57 @@ uncertainty, from its thrust and range/azimuth/elevation measurements, by a Kalm
 (EKF, UKF, or the sliding-window adaptive AQUKF), a particle filter (SIR, regularised, \
 unscented, genetic or cloud-genetic) or the robust H-infinity filter designed by an LMI";
 
+/// The vectors relnav3.fmu publishes as arrays (FMI 3.0; relnav.fmu keeps the scalars).
+static ARRAYS: &[ArrayDef] = &[
+    ArrayDef {
+        name: "thrust",
+        elements: &[vr::THRUST_X, vr::THRUST_Y, vr::THRUST_Z],
+        description: "Thrust on the chaser (x, y, z), held over the step",
+    },
+    ArrayDef {
+        name: "measurement",
+        elements: &[vr::RANGE, vr::AZIMUTH, vr::ELEVATION],
+        description: "Measured range, azimuth atan2(y, x) in [0, 2 pi) and elevation asin(z / range), taken at the step's start time",
+    },
+    ArrayDef {
+        name: "camera",
+        elements: &[vr::CAMERA_AZIMUTH, vr::CAMERA_ELEVATION],
+        description: "Camera line of sight: azimuth and elevation (the radio's convention), taken at the step's start time",
+    },
+    ArrayDef {
+        name: "gnss_position",
+        elements: &[vr::GNSS_X, vr::GNSS_Y, vr::GNSS_Z],
+        description: "Relative GNSS: relative position in the I/O frame, taken at the step's start time",
+    },
+    ArrayDef {
+        name: "gnss_velocity",
+        elements: &[vr::GNSS_VX, vr::GNSS_VY, vr::GNSS_VZ],
+        description: "Relative GNSS: relative velocity in the I/O frame, taken at the step's start time",
+    },
+    ArrayDef {
+        name: "position",
+        elements: &[vr::X, vr::Y, vr::Z],
+        description: "Estimated relative position (x, y, z)",
+    },
+    ArrayDef {
+        name: "velocity",
+        elements: &[vr::VX, vr::VY, vr::VZ],
+        description: "Estimated relative velocity (vx, vy, vz)",
+    },
+    ArrayDef {
+        name: "sigma",
+        elements: &[
+            vr::SIGMA_X,
+            vr::SIGMA_Y,
+            vr::SIGMA_Z,
+            vr::SIGMA_VX,
+            vr::SIGMA_VY,
+            vr::SIGMA_VZ,
+        ],
+        description: "1-sigma uncertainties of x, y, z, vx, vy, vz (from the covariance)",
+    },
+];
+
 /// relnav.fmu's static description.
 pub static INFO: LazyLock<ModelInfo> = LazyLock::new(|| ModelInfo {
     model_identifier: MODEL_IDENTIFIER,
@@ -35,6 +86,7 @@ pub static INFO: LazyLock<ModelInfo> = LazyLock::new(|| ModelInfo {
     fmi_status: vr::FMI_STATUS,
     state_code: Some(vr::FILTER),
     state_name: "estimator",
+    arrays: ARRAYS,
     generated: Generated::new(),
 });
 
@@ -208,6 +260,7 @@ mod tests {
     #[test]
     fn table_is_dense_and_holds_every_declared_parameter() {
         assert_eq!(check_table(&VARIABLES), Ok(()));
+        assert_eq!(relnav_fmi::fmi3::description::check_arrays(&INFO), Ok(()));
         assert_eq!(VARIABLES.len(), N_VARS);
         assert_eq!(
             relnav_models::params::check_declared(PARAMS, io_variables(), &VARIABLES),

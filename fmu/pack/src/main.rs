@@ -8,11 +8,14 @@
 //! `OUT_DIR/<id>/`: `modelDescription.xml` (FMI 2.0, generated from the model's variable
 //! table) and `binaries/linux64/<id>.so` (the cdylib built next to this executable —
 //! `librelnav_fmu.so` (fmu/relnav), `librelnav_plant.so`, `librelnav_guidance.so` — renamed).
-//! `relnav_system.ssp` holds the SSDs of `fmu/ssp/` (`SystemStructure.ssd`: paper 000's
+//! `relnav3.fmu` (FMI 3.0, `OUT_DIR/relnav3/`) has the FMI 3.0 description and the same
+//! library under `binaries/x86_64-linux/relnav.so` (it exports the `fmi3*` functions beside
+//! the `fmi2*` ones). `relnav_system.ssp` holds the SSDs of `fmu/ssp/` (`SystemStructure.ssd`: paper 000's
 //! example, the default; the other variants beside it, `docs/kit.md`) with the three FMUs
 //! under `resources/` (stored: an FMU is a zip already).
 
 use relnav_fmi::fmi2::description::{model_description_of, variables_markdown_of};
+use relnav_fmi::fmi3::description::model_description_of as model_description3_of;
 use relnav_fmi::model::ModelInfo;
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -39,14 +42,31 @@ fn zerr(e: zip::result::ZipError) -> String {
     format!("zip: {e}")
 }
 
+/// The FMI version of an archive: its description, its binaries' platform directory and
+/// the archive's name (FMI 3.0: `<id>3`, beside FMI 2.0's `<id>`).
+#[derive(Clone, Copy)]
+enum Version {
+    Fmi2,
+    Fmi3,
+}
+
 /// Pack one FMU from its cdylib `library` in `profile_dir`.
 fn pack_fmu(
     info: &'static ModelInfo,
     library: &str,
     profile_dir: &Path,
     out_dir: &Path,
+    version: Version,
 ) -> Result<PathBuf, String> {
     let id = info.model_identifier;
+    let (xml, platform, stem) = match version {
+        Version::Fmi2 => (model_description_of(info), "linux64", id.to_string()),
+        Version::Fmi3 => (
+            model_description3_of(info),
+            "x86_64-linux",
+            format!("{id}3"),
+        ),
+    };
     let so = profile_dir.join(library);
     if !so.exists() {
         return Err(format!(
@@ -55,11 +75,10 @@ fn pack_fmu(
         ));
     }
     let binary = std::fs::read(&so).map_err(|e| format!("read {}: {e}", so.display()))?;
-    let xml = model_description_of(info);
-    let bin_path = format!("binaries/linux64/{id}.so");
+    let bin_path = format!("binaries/{platform}/{id}.so");
 
     // unpacked tree (for masters that load a directory, e.g. the C++ harness)
-    let tree = out_dir.join(id);
+    let tree = out_dir.join(&stem);
     write(&tree.join("modelDescription.xml"), xml.as_bytes())?;
     write(&tree.join(&bin_path), &binary)?;
     #[cfg(unix)]
@@ -71,7 +90,7 @@ fn pack_fmu(
     }
 
     // the archive
-    let fmu = out_dir.join(format!("{id}.fmu"));
+    let fmu = out_dir.join(format!("{stem}.fmu"));
     let file = std::fs::File::create(&fmu).map_err(|e| format!("create {}: {e}", fmu.display()))?;
     let mut zip = zip::ZipWriter::new(file);
     let opts = zip::write::SimpleFileOptions::default()
@@ -152,12 +171,27 @@ fn run(all: bool, out: Option<PathBuf>) -> Result<Vec<PathBuf>, String> {
     let chosen = if all { &all_fmus[..] } else { &all_fmus[..1] };
     let mut written = Vec::new();
     for (info, library) in chosen {
-        written.push(pack_fmu(info, library, &profile_dir, &out_dir)?);
+        written.push(pack_fmu(
+            info,
+            library,
+            &profile_dir,
+            &out_dir,
+            Version::Fmi2,
+        )?);
     }
     if all {
         let ssp = pack_ssp(&written, &out_dir)?;
         written.push(ssp);
     }
+    // FMI 3.0: relnav3.fmu from the same library (it exports both sets of functions)
+    let (info, library) = all_fmus[0];
+    written.push(pack_fmu(
+        info,
+        library,
+        &profile_dir,
+        &out_dir,
+        Version::Fmi3,
+    )?);
     Ok(written)
 }
 

@@ -16,8 +16,8 @@ use crate::model::ModelInfo;
 use crate::variables::{Causality, VarDef, VarType, Variability, UNITS};
 use std::fmt::Write;
 
-const GUID_PLACEHOLDER: &str = "@GUID@";
-const DATE_PLACEHOLDER: &str = "@DATE@";
+pub(crate) const GUID_PLACEHOLDER: &str = "@GUID@";
+pub(crate) const DATE_PLACEHOLDER: &str = "@DATE@";
 
 /// `generationDateAndTime` (UTC, `xs:dateTime`): `SOURCE_DATE_EPOCH` when set at build
 /// time, else the commit date of `HEAD` (`git log -1 --format=%ct`), else
@@ -33,7 +33,7 @@ pub fn published_description(v: &VarDef) -> String {
     }
 }
 
-fn escape(s: &str) -> String {
+pub(crate) fn escape(s: &str) -> String {
     let mut o = String::with_capacity(s.len());
     for c in s.chars() {
         match c {
@@ -48,7 +48,7 @@ fn escape(s: &str) -> String {
     o
 }
 
-fn causality(c: Causality) -> &'static str {
+pub(crate) fn causality(c: Causality) -> &'static str {
     match c {
         Causality::Parameter => "parameter",
         Causality::Input => "input",
@@ -56,7 +56,7 @@ fn causality(c: Causality) -> &'static str {
     }
 }
 
-fn variability(v: Variability) -> &'static str {
+pub(crate) fn variability(v: Variability) -> &'static str {
     match v {
         Variability::Fixed => "fixed",
         Variability::Discrete => "discrete",
@@ -197,7 +197,7 @@ fn body(info: &ModelInfo) -> String {
 /// version), not the commit that built it, so a commit that changes nothing in the XML
 /// but its date keeps the GUID, and a binary built before such a commit still matches an
 /// archive packed after it.
-fn finish(body: &str, date: &str) -> (String, String) {
+pub(crate) fn finish(body: &str, date: &str) -> (String, String) {
     let id = uuid::Uuid::new_v5(&uuid::Uuid::NAMESPACE_URL, body.as_bytes());
     let guid = format!("{{{id}}}");
     let xml = body
@@ -327,6 +327,7 @@ mod tests {
         fmi_status: vr::FMI_STATUS,
         state_code: Some(vr::MODE),
         state_name: "test",
+        arrays: &[],
         generated: Generated::new(),
     };
 

@@ -84,5 +84,6 @@ of delay compensated by prediction), a per-axis thrust limit and a minimum impul
     fmi_status: vr::FMI_STATUS,
     state_code: None,
     state_name: "guidance",
+    arrays: &[],
     generated: Generated::new(),
 });

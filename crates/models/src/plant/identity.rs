@@ -129,5 +129,6 @@ outage; outputs the readings for relnav.fmu and the true state",
     fmi_status: vr::FMI_STATUS,
     state_code: Some(vr::TRUTH_MODEL),
     state_name: "plant",
+    arrays: &[],
     generated: Generated::new(),
 });

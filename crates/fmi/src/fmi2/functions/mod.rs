@@ -36,7 +36,7 @@ const M_GET: u32 =
     InitializationMode as u32 | StepComplete as u32 | Terminated as u32 | ErrorState as u32;
 const M_SET: u32 = Instantiated as u32 | InitializationMode as u32 | StepComplete as u32;
 
-fn panic_text(p: &(dyn std::any::Any + Send)) -> String {
+pub(crate) fn panic_text(p: &(dyn std::any::Any + Send)) -> String {
     p.downcast_ref::<&str>()
         .map(|s| (*s).to_string())
         .or_else(|| p.downcast_ref::<String>().cloned())
@@ -133,7 +133,7 @@ unsafe fn unsupported<M: Model>(c: fmi2Component, func: &str, why: &str) -> fmi2
 ///
 /// # Safety
 /// `p` is null or points to `n` readable elements.
-unsafe fn slice<'a, T>(p: *const T, n: usize, what: &str) -> Result<&'a [T], Failure> {
+pub(crate) unsafe fn slice<'a, T>(p: *const T, n: usize, what: &str) -> Result<&'a [T], Failure> {
     if n == 0 {
         return Ok(&[]);
     }
@@ -148,7 +148,11 @@ unsafe fn slice<'a, T>(p: *const T, n: usize, what: &str) -> Result<&'a [T], Fai
 ///
 /// # Safety
 /// `p` is null or points to `n` writable elements.
-unsafe fn slice_mut<'a, T>(p: *mut T, n: usize, what: &str) -> Result<&'a mut [T], Failure> {
+pub(crate) unsafe fn slice_mut<'a, T>(
+    p: *mut T,
+    n: usize,
+    what: &str,
+) -> Result<&'a mut [T], Failure> {
     if n == 0 {
         return Ok(&mut []);
     }
@@ -207,7 +211,7 @@ unsafe fn values_arg<M: Model, T: Copy>(
 
 /// A Real for a call log: shortest round-trip decimal, in exponent form when very large
 /// or small (`1e-9`, not `0.000000001`).
-fn real_arg(v: fmi2Real) -> String {
+pub(crate) fn real_arg(v: fmi2Real) -> String {
     let a = v.abs();
     if v == 0.0 || !v.is_finite() || (1e-4..1e15).contains(&a) {
         format!("{v}")

@@ -1,0 +1,815 @@
+//! Every FMI 3.0 function relnav's Co-Simulation FMUs implement, generic over the
+//! [`Model`] (not exported: [`crate::export_fmi3`] exports them, unprefixed, for one model
+//! from a shared library), and the refusal every other function of the standard returns.
+//! The binding only: C arguments and pointer checks, the panic boundary, the allowed
+//! states of each call, call logging, value references resolved through
+//! [`super::description`] (arrays expand to their elements); the instance and its checks
+//! live in [`crate::instance`], as for FMI 2.0.
+//!
+//! States: FMI 3.0's Instantiated, Initialization Mode, Step Mode, Terminated and the error
+//! state are the generic ones ([`ModelState`]; Step Mode is `StepComplete`). Event Mode is
+//! not offered (`hasEventMode="false"`): `eventModeUsed = true` is refused at
+//! instantiation, and `fmi3EnterEventMode` and `fmi3EnterStepMode` are refused.
+#![allow(non_snake_case, clippy::too_many_arguments)]
+
+use super::description::{published, token_of, Published};
+use super::types::*;
+use super::{Instance, Logger};
+use crate::fmi2::functions::{panic_text, real_arg, slice, slice_mut};
+use crate::machine::{ModelState, ANY_STATE};
+use crate::model::Model;
+use crate::status::{error, Failure, Status};
+use crate::variables::TypeClass;
+use std::ffi::{c_char, CStr};
+use std::panic::{catch_unwind, AssertUnwindSafe};
+
+use ModelState::{Error as ErrorState, InitializationMode, Instantiated, StepComplete, Terminated};
+
+const M_INSTANTIATED: u32 = Instantiated as u32;
+const M_INIT: u32 = InitializationMode as u32;
+const M_STEP: u32 = StepComplete as u32;
+const M_GET: u32 =
+    InitializationMode as u32 | StepComplete as u32 | Terminated as u32 | ErrorState as u32;
+const M_SET: u32 = Instantiated as u32 | InitializationMode as u32 | StepComplete as u32;
+
+/// Run `f` on the instance behind `c` if the call is allowed in its state (see
+/// `fmi2::functions::guarded_with`: the same rules, FMI 3.0's types).
+///
+/// # Safety
+/// `c` is null or a pointer returned by [`fmi3InstantiateCoSimulation`] and not yet freed.
+unsafe fn guarded_with<M: Model, D, F>(
+    c: fmi3Instance,
+    func: &str,
+    allowed: u32,
+    describe: D,
+    f: F,
+) -> fmi3Status
+where
+    D: FnOnce(&Instance<M>) -> Option<String>,
+    F: FnOnce(&mut Instance<M>) -> Result<(), Failure>,
+{
+    // SAFETY: by the caller's contract `c` is null or a live `Instance`.
+    let Some(inst) = (unsafe { (c as *mut Instance<M>).as_mut() }) else {
+        return fmi3Status::fmi3Error;
+    };
+    let outcome = catch_unwind(AssertUnwindSafe(|| {
+        if inst.logs_calls() {
+            if let Some(args) = describe(inst) {
+                inst.log(Status::Ok, "logCalls", &format!("{func}({args})"));
+            }
+        }
+        inst.require(func, allowed)?;
+        f(inst)
+    }));
+    match outcome {
+        Ok(Ok(())) => fmi3Status::fmi3OK,
+        Ok(Err(e)) => {
+            let category = if e.status >= Status::Error {
+                "logStatusError"
+            } else {
+                "logStatusWarning"
+            };
+            inst.log(e.status, category, &e.message);
+            inst.note_status(e.status);
+            if e.status >= Status::Error {
+                inst.state = ErrorState;
+            }
+            e.status.into()
+        }
+        Err(p) => {
+            let msg = format!("{func}: internal panic: {}", panic_text(p.as_ref()));
+            let _ = catch_unwind(AssertUnwindSafe(|| {
+                inst.log(Status::Fatal, "logStatusError", &msg)
+            }));
+            inst.note_status(Status::Fatal);
+            inst.state = ErrorState;
+            fmi3Status::fmi3Fatal
+        }
+    }
+}
+
+/// [`guarded_with`] with the call logged as `func()`.
+///
+/// # Safety
+/// As [`guarded_with`].
+unsafe fn guarded<M: Model, F>(c: fmi3Instance, func: &str, allowed: u32, f: F) -> fmi3Status
+where
+    F: FnOnce(&mut Instance<M>) -> Result<(), Failure>,
+{
+    // SAFETY: forwarded contract.
+    unsafe { guarded_with::<M, _, _>(c, func, allowed, |_| Some(String::new()), f) }
+}
+
+/// A function this FMU does not offer: `fmi3Error` and a log line saying why (an error in
+/// every state: the call sequence it belongs to cannot happen here).
+///
+/// # Safety
+/// `c` live or null.
+pub unsafe fn unsupported<M: Model>(c: fmi3Instance, func: &str, why: &str) -> fmi3Status {
+    // SAFETY: forwarded contract.
+    unsafe {
+        guarded::<M, _>(c, func, ANY_STATE, |_| {
+            Err(error(format!(
+                "{func} is not supported by this FMU ({why})"
+            )))
+        })
+    }
+}
+
+/// A C string argument for a call log: `"text"` or `NULL`.
+///
+/// # Safety
+/// `p` is null or NUL-terminated.
+unsafe fn c_arg(p: fmi3String) -> String {
+    if p.is_null() {
+        "NULL".to_string()
+    } else {
+        // SAFETY: non-null, NUL-terminated by contract.
+        format!("\"{}\"", unsafe { CStr::from_ptr(p) }.to_string_lossy())
+    }
+}
+
+// ---------------------------------------------------------------- inquiry and life cycle
+
+/// `"3.0"`.
+pub extern "C" fn fmi3GetVersion() -> *const c_char {
+    c"3.0".as_ptr()
+}
+
+/// Create a Co-Simulation instance. Returns null, with the reason sent to `logMessage`, for
+/// a null or empty name, a wrong instantiation token, `eventModeUsed` (this FMU has no
+/// Event Mode) or required intermediate variables (it provides no intermediate update).
+///
+/// # Safety
+/// String arguments are null or NUL-terminated; the callbacks are null or valid for the
+/// instance's life.
+pub unsafe fn fmi3InstantiateCoSimulation<M: Model>(
+    instanceName: fmi3String,
+    instantiationToken: fmi3String,
+    resourcePath: fmi3String,
+    visible: fmi3Boolean,
+    loggingOn: fmi3Boolean,
+    eventModeUsed: fmi3Boolean,
+    earlyReturnAllowed: fmi3Boolean,
+    _requiredIntermediateVariables: *const fmi3ValueReference,
+    nRequiredIntermediateVariables: usize,
+    instanceEnvironment: fmi3InstanceEnvironment,
+    logMessage: fmi3LogMessageCallback,
+    _intermediateUpdate: fmi3IntermediateUpdateCallback,
+) -> fmi3Instance {
+    let made = catch_unwind(AssertUnwindSafe(|| {
+        let logger = Logger::new(logMessage, instanceEnvironment);
+        let reject = |msg: &str| {
+            logger.send(fmi3Status::fmi3Error, "logStatusError", msg);
+            None
+        };
+        let name = if instanceName.is_null() {
+            None
+        } else {
+            // SAFETY: non-null, NUL-terminated by contract.
+            Some(unsafe { CStr::from_ptr(instanceName) }.to_owned())
+        };
+        let name = match name {
+            Some(n) if !n.as_bytes().is_empty() => n,
+            _ => return reject("fmi3InstantiateCoSimulation: instanceName is null or empty"),
+        };
+        let given = if instantiationToken.is_null() {
+            String::new()
+        } else {
+            // SAFETY: non-null, NUL-terminated by contract.
+            unsafe { CStr::from_ptr(instantiationToken) }
+                .to_string_lossy()
+                .into_owned()
+        };
+        let token = token_of(M::info());
+        if given != token {
+            return reject(&format!(
+                "fmi3InstantiateCoSimulation: instantiationToken {given} does not match this binary's {token}"
+            ));
+        }
+        if eventModeUsed {
+            return reject(
+                "fmi3InstantiateCoSimulation: eventModeUsed = true, but this FMU has no Event Mode (hasEventMode=\"false\")",
+            );
+        }
+        if nRequiredIntermediateVariables > 0 {
+            return reject(
+                "fmi3InstantiateCoSimulation: required intermediate variables given, but this FMU provides no intermediate update",
+            );
+        }
+        let inst = Instance::<M>::new(name, logger, loggingOn, token);
+        inst.log_call(|| {
+            format!(
+                "fmi3InstantiateCoSimulation(instanceName = \"{}\", instantiationToken = \"{given}\", resourcePath = {}, visible = {visible}, loggingOn = {loggingOn}, eventModeUsed = {eventModeUsed}, earlyReturnAllowed = {earlyReturnAllowed})",
+                inst.name.to_string_lossy(),
+                // SAFETY: null or NUL-terminated by contract.
+                unsafe { c_arg(resourcePath) },
+            )
+        });
+        Some(Box::into_raw(Box::new(inst)))
+    }));
+    match made {
+        Ok(Some(p)) => p.cast(),
+        _ => std::ptr::null_mut(),
+    }
+}
+
+/// Model Exchange is not offered: null, with the reason sent to `logMessage`.
+pub fn refuse_instantiation(
+    func: &str,
+    instanceEnvironment: fmi3InstanceEnvironment,
+    logMessage: fmi3LogMessageCallback,
+    what: &str,
+) -> fmi3Instance {
+    let _ = catch_unwind(AssertUnwindSafe(|| {
+        Logger::new(logMessage, instanceEnvironment).send(
+            fmi3Status::fmi3Error,
+            "logStatusError",
+            &format!("{func}: {what} is not supported by this FMU (Co-Simulation only)"),
+        )
+    }));
+    std::ptr::null_mut()
+}
+
+/// Release an instance (null accepted).
+///
+/// # Safety
+/// `c` is null or from [`fmi3InstantiateCoSimulation`], freed once.
+pub unsafe fn fmi3FreeInstance<M: Model>(c: fmi3Instance) {
+    let _ = catch_unwind(AssertUnwindSafe(|| {
+        if !c.is_null() {
+            // SAFETY: from Box::into_raw at instantiation; freed exactly once.
+            let inst = unsafe { Box::from_raw(c as *mut Instance<M>) };
+            inst.log_call(|| "fmi3FreeInstance()".to_string());
+            drop(inst);
+        }
+    }));
+}
+
+/// Enable or disable logging, for all categories (`nCategories == 0`) or the named ones.
+///
+/// # Safety
+/// `c` live or null; `categories` holds `nCategories` C strings.
+pub unsafe fn fmi3SetDebugLogging<M: Model>(
+    c: fmi3Instance,
+    loggingOn: fmi3Boolean,
+    nCategories: usize,
+    categories: *const fmi3String,
+) -> fmi3Status {
+    const F: &str = "fmi3SetDebugLogging";
+    // SAFETY: contracts forwarded; pointers checked in `slice`.
+    unsafe {
+        let describe = |_: &Instance<M>| {
+            let names = match slice(categories, nCategories, "categories") {
+                Ok(cats) => cats
+                    .iter()
+                    .map(|p| c_arg(*p))
+                    .collect::<Vec<_>>()
+                    .join(", "),
+                Err(_) => "NULL".to_string(),
+            };
+            Some(format!(
+                "loggingOn = {loggingOn}, nCategories = {nCategories}, categories = [{names}]"
+            ))
+        };
+        guarded_with::<M, _, _>(c, F, ANY_STATE, describe, |inst| {
+            let cats = slice(categories, nCategories, "categories")?;
+            let mut names = Vec::with_capacity(cats.len());
+            for p in cats {
+                if p.is_null() {
+                    return Err(error(format!("{F}: a category name is null")));
+                }
+                names.push(CStr::from_ptr(*p).to_string_lossy().into_owned());
+            }
+            let refs: Vec<&str> = names.iter().map(String::as_str).collect();
+            inst.set_debug_logging(F, loggingOn, &refs)
+        })
+    }
+}
+
+/// Enter Initialization Mode with the start (and optional stop) time; the tolerance is
+/// ignored (no integrator inside).
+///
+/// # Safety
+/// `c` live or null.
+pub unsafe fn fmi3EnterInitializationMode<M: Model>(
+    c: fmi3Instance,
+    toleranceDefined: fmi3Boolean,
+    tolerance: fmi3Float64,
+    startTime: fmi3Float64,
+    stopTimeDefined: fmi3Boolean,
+    stopTime: fmi3Float64,
+) -> fmi3Status {
+    const F: &str = "fmi3EnterInitializationMode";
+    // SAFETY: contract forwarded.
+    unsafe {
+        let describe = |_: &Instance<M>| {
+            Some(format!(
+                "toleranceDefined = {toleranceDefined}, tolerance = {tolerance}, startTime = {startTime}, stopTimeDefined = {stopTimeDefined}, stopTime = {stopTime}"
+            ))
+        };
+        guarded_with::<M, _, _>(c, F, M_INSTANTIATED, describe, |inst| {
+            inst.setup_experiment(F, startTime, stopTimeDefined.then_some(stopTime))?;
+            inst.enter_initialization();
+            Ok(())
+        })
+    }
+}
+
+/// Exit Initialization Mode into Step Mode: the model checks its parameters together and
+/// is built.
+///
+/// # Safety
+/// `c` live or null.
+pub unsafe fn fmi3ExitInitializationMode<M: Model>(c: fmi3Instance) -> fmi3Status {
+    // SAFETY: contract forwarded.
+    unsafe {
+        guarded::<M, _>(
+            c,
+            "fmi3ExitInitializationMode",
+            M_INIT,
+            Instance::<M>::exit_initialization,
+        )
+    }
+}
+
+/// Terminate the simulation.
+///
+/// # Safety
+/// `c` live or null.
+pub unsafe fn fmi3Terminate<M: Model>(c: fmi3Instance) -> fmi3Status {
+    // SAFETY: contract forwarded.
+    unsafe {
+        guarded::<M, _>(c, "fmi3Terminate", M_STEP, |inst| {
+            inst.terminate();
+            Ok(())
+        })
+    }
+}
+
+/// Back to the just-instantiated state (start values, nothing built); allowed in every
+/// state.
+///
+/// # Safety
+/// `c` live or null.
+pub unsafe fn fmi3Reset<M: Model>(c: fmi3Instance) -> fmi3Status {
+    // SAFETY: contract forwarded.
+    unsafe {
+        guarded::<M, _>(c, "fmi3Reset", ANY_STATE, |inst| {
+            inst.reset();
+            Ok(())
+        })
+    }
+}
+
+/// One communication step: the inputs hold at `currentCommunicationPoint`, afterwards the
+/// outputs describe its end. Never returns early, never asks for event handling or the
+/// end of the simulation.
+///
+/// # Safety
+/// `c` live or null; the four out-pointers writable or null (null is refused).
+pub unsafe fn fmi3DoStep<M: Model>(
+    c: fmi3Instance,
+    currentCommunicationPoint: fmi3Float64,
+    communicationStepSize: fmi3Float64,
+    noSetFMUStatePriorToCurrentPoint: fmi3Boolean,
+    eventHandlingNeeded: *mut fmi3Boolean,
+    terminateSimulation: *mut fmi3Boolean,
+    earlyReturn: *mut fmi3Boolean,
+    lastSuccessfulTime: *mut fmi3Float64,
+) -> fmi3Status {
+    const F: &str = "fmi3DoStep";
+    // SAFETY: contract forwarded; pointers checked.
+    unsafe {
+        let describe = |_: &Instance<M>| {
+            Some(format!(
+                "currentCommunicationPoint = {currentCommunicationPoint}, communicationStepSize = {communicationStepSize}, noSetFMUStatePriorToCurrentPoint = {noSetFMUStatePriorToCurrentPoint}"
+            ))
+        };
+        guarded_with::<M, _, _>(c, F, M_STEP, describe, |inst| {
+            let event = slice_mut(eventHandlingNeeded, 1, "eventHandlingNeeded")?;
+            let terminate = slice_mut(terminateSimulation, 1, "terminateSimulation")?;
+            let early = slice_mut(earlyReturn, 1, "earlyReturn")?;
+            let last = slice_mut(lastSuccessfulTime, 1, "lastSuccessfulTime")?;
+            let r = inst.do_step(F, currentCommunicationPoint, communicationStepSize);
+            (event[0], terminate[0], early[0], last[0]) = (false, false, false, inst.time());
+            r
+        })
+    }
+}
+
+/// Refused: this FMU has no Event Mode (`hasEventMode="false"`), so Step Mode is never left
+/// for it and never re-entered from it.
+///
+/// # Safety
+/// `c` live or null.
+pub unsafe fn fmi3EnterEventMode<M: Model>(c: fmi3Instance) -> fmi3Status {
+    // SAFETY: contract forwarded.
+    unsafe { unsupported::<M>(c, "fmi3EnterEventMode", "hasEventMode=\"false\"") }
+}
+
+/// Refused: as [`fmi3EnterEventMode`].
+///
+/// # Safety
+/// `c` live or null.
+pub unsafe fn fmi3EnterStepMode<M: Model>(c: fmi3Instance) -> fmi3Status {
+    // SAFETY: contract forwarded.
+    unsafe {
+        unsupported::<M>(
+            c,
+            "fmi3EnterStepMode",
+            "hasEventMode=\"false\": Step Mode follows fmi3ExitInitializationMode",
+        )
+    }
+}
+
+// ---------------------------------------------------------------- get / set
+
+/// How one FMI 3.0 base type maps onto the stored `f64` values.
+struct Access<T> {
+    func: &'static str,
+    class: TypeClass,
+    get: fn(f64) -> T,
+    set: fn(T) -> f64,
+    show: fn(T) -> String,
+}
+
+fn identity(v: f64) -> f64 {
+    v
+}
+fn int32_from(v: f64) -> fmi3Int32 {
+    v as fmi3Int32
+}
+fn bool_from(v: f64) -> fmi3Boolean {
+    v != 0.0
+}
+fn bool_to(v: fmi3Boolean) -> f64 {
+    if v {
+        1.0
+    } else {
+        0.0
+    }
+}
+
+/// The table variables a list of FMI 3.0 value references names, in order (an array's
+/// elements in its order), each with its label for messages; `None` for the time.
+fn expand<M: Model>(
+    refs: &[fmi3ValueReference],
+    func: &str,
+) -> Result<Vec<(Option<u32>, String)>, Failure> {
+    let info = M::info();
+    let mut out = Vec::with_capacity(refs.len());
+    for &r in refs {
+        match published(info, r) {
+            Some(Published::Scalar(v)) => out.push((Some(v), Instance::<M>::var_label(v))),
+            Some(Published::Array(a)) => {
+                for (i, &e) in a.elements.iter().enumerate() {
+                    out.push((Some(e), format!("{}[{i}] (vr {r})", a.name)));
+                }
+            }
+            Some(Published::Time) => out.push((None, format!("time (vr {r})"))),
+            None => {
+                return Err(error(format!("{func}: unknown value reference {r}")));
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// # Safety
+/// `c` live or null; `vr` holds `nvr` and `value` `nValues` elements.
+unsafe fn get_values<M: Model, T: Copy>(
+    c: fmi3Instance,
+    vr: *const fmi3ValueReference,
+    nvr: usize,
+    value: *mut T,
+    nValues: usize,
+    a: Access<T>,
+) -> fmi3Status {
+    let Access {
+        func,
+        class,
+        get,
+        show,
+        ..
+    } = a;
+    // SAFETY: contract forwarded; pointers checked.
+    unsafe {
+        guarded_with::<M, _, _>(
+            c,
+            func,
+            M_GET,
+            |_| None,
+            |inst| {
+                let refs = slice(vr, nvr, "valueReferences")?;
+                let items = expand::<M>(refs, func)?;
+                if items.len() != nValues {
+                    return Err(error(format!(
+                        "{func}: nValues = {nValues}, but the {nvr} value references hold {} values",
+                        items.len()
+                    )));
+                }
+                let out = slice_mut(value, nValues, "values")?;
+                for ((r, _), o) in items.iter().zip(out.iter_mut()) {
+                    *o = match r {
+                        Some(r) => get(inst.get(*r, func, class)?),
+                        None if class == TypeClass::Real => get(inst.time()),
+                        None => return Err(error(format!("{func}: time is a Float64"))),
+                    };
+                }
+                inst.log_call(|| {
+                    let parts: Vec<String> = items
+                        .iter()
+                        .zip(out.iter())
+                        .map(|((_, l), v)| format!("{l} = {}", show(*v)))
+                        .collect();
+                    format!("{func}(nValueReferences = {nvr}: {})", parts.join(", "))
+                });
+                Ok(())
+            },
+        )
+    }
+}
+
+/// # Safety
+/// `c` live or null; `vr` holds `nvr` and `value` `nValues` elements.
+unsafe fn set_values<M: Model, T: Copy>(
+    c: fmi3Instance,
+    vr: *const fmi3ValueReference,
+    nvr: usize,
+    value: *const T,
+    nValues: usize,
+    a: Access<T>,
+) -> fmi3Status {
+    let Access {
+        func,
+        class,
+        set,
+        show,
+        ..
+    } = a;
+    // SAFETY: contract forwarded; pointers checked.
+    unsafe {
+        guarded_with::<M, _, _>(
+            c,
+            func,
+            M_SET,
+            |_| None,
+            |inst| {
+                let refs = slice(vr, nvr, "valueReferences")?;
+                let items = expand::<M>(refs, func)?;
+                if items.len() != nValues {
+                    return Err(error(format!(
+                        "{func}: nValues = {nValues}, but the {nvr} value references hold {} values",
+                        items.len()
+                    )));
+                }
+                let vals = slice(value, nValues, "values")?;
+                inst.log_call(|| {
+                    let parts: Vec<String> = items
+                        .iter()
+                        .zip(vals.iter())
+                        .map(|((_, l), v)| format!("{l} = {}", show(*v)))
+                        .collect();
+                    format!("{func}(nValueReferences = {nvr}: {})", parts.join(", "))
+                });
+                for ((r, l), v) in items.iter().zip(vals) {
+                    match r {
+                        Some(r) => inst.set(*r, set(*v), func, class)?,
+                        None => return Err(error(format!("{func}: {l} cannot be set"))),
+                    }
+                }
+                Ok(())
+            },
+        )
+    }
+}
+
+macro_rules! get_set {
+    ($get:ident, $set:ident, $t:ty, $class:expr, $from:expr, $to:expr, $show:expr) => {
+        #[doc = concat!("`", stringify!($get), "`: scalars and arrays (an array's elements in order).")]
+        ///
+        /// # Safety
+        /// `c` live or null; `vr` holds `nvr` and `value` `nValues` elements.
+        pub unsafe fn $get<M: Model>(
+            c: fmi3Instance,
+            vr: *const fmi3ValueReference,
+            nvr: usize,
+            value: *mut $t,
+            nValues: usize,
+        ) -> fmi3Status {
+            let a = Access {
+                func: stringify!($get),
+                class: $class,
+                get: $from,
+                set: $to,
+                show: $show,
+            };
+            // SAFETY: contract forwarded.
+            unsafe { get_values::<M, $t>(c, vr, nvr, value, nValues, a) }
+        }
+
+        #[doc = concat!("`", stringify!($set), "`: scalars and arrays (an array's elements in order).")]
+        ///
+        /// # Safety
+        /// `c` live or null; `vr` holds `nvr` and `value` `nValues` elements.
+        pub unsafe fn $set<M: Model>(
+            c: fmi3Instance,
+            vr: *const fmi3ValueReference,
+            nvr: usize,
+            value: *const $t,
+            nValues: usize,
+        ) -> fmi3Status {
+            let a = Access {
+                func: stringify!($set),
+                class: $class,
+                get: $from,
+                set: $to,
+                show: $show,
+            };
+            // SAFETY: contract forwarded.
+            unsafe { set_values::<M, $t>(c, vr, nvr, value, nValues, a) }
+        }
+    };
+}
+
+get_set!(
+    fmi3GetFloat64,
+    fmi3SetFloat64,
+    fmi3Float64,
+    TypeClass::Real,
+    identity,
+    identity,
+    real_arg
+);
+get_set!(
+    fmi3GetInt32,
+    fmi3SetInt32,
+    fmi3Int32,
+    TypeClass::Integer,
+    int32_from,
+    f64::from,
+    |v: fmi3Int32| format!("{v}")
+);
+get_set!(
+    fmi3GetBoolean,
+    fmi3SetBoolean,
+    fmi3Boolean,
+    TypeClass::Boolean,
+    bool_from,
+    bool_to,
+    |v: fmi3Boolean| format!("{v}")
+);
+
+// ---------------------------------------------------------------- FMU state
+
+fn unknown_state(func: &str) -> Failure {
+    error(format!(
+        "{func}: unknown FMU state (not made by this instance, or already freed; move a state \
+         between instances with fmi3SerializeFMUState / fmi3DeserializeFMUState)"
+    ))
+}
+
+fn known<'a>(
+    s: Option<&'a crate::state::FmuState>,
+    func: &str,
+) -> Result<&'a crate::state::FmuState, Failure> {
+    s.ok_or_else(|| unknown_state(func))
+}
+
+/// Copy the instance's complete state (the bytes of [`crate::state`]); `*FMUState ==
+/// NULL` makes a new state, a state this instance made is overwritten.
+///
+/// # Safety
+/// `c` live or null; `FMUState` null or writable.
+pub unsafe fn fmi3GetFMUState<M: Model>(
+    c: fmi3Instance,
+    FMUState: *mut fmi3FMUState,
+) -> fmi3Status {
+    // SAFETY: contract forwarded; `FMUState` checked for null.
+    unsafe {
+        guarded::<M, _>(c, "fmi3GetFMUState", ANY_STATE, |inst| {
+            let out = slice_mut(FMUState, 1, "FMUState")?;
+            let bytes = inst.save_state()?;
+            out[0] = inst.states.put(out[0], bytes);
+            Ok(())
+        })
+    }
+}
+
+/// Restore a state made by this instance (refused states leave its data unchanged).
+///
+/// # Safety
+/// `c` live or null.
+pub unsafe fn fmi3SetFMUState<M: Model>(c: fmi3Instance, FMUState: fmi3FMUState) -> fmi3Status {
+    const F: &str = "fmi3SetFMUState";
+    // SAFETY: contract forwarded; the state pointer is only compared, never dereferenced.
+    unsafe {
+        guarded::<M, _>(c, F, ANY_STATE, |inst| {
+            let bytes = known(inst.states.get(FMUState), F)?.bytes().to_vec();
+            inst.restore_state(&bytes, F)
+        })
+    }
+}
+
+/// Free a state (`*FMUState == NULL` is ignored); `*FMUState` is set to NULL.
+///
+/// # Safety
+/// `c` live or null; `FMUState` null or writable.
+pub unsafe fn fmi3FreeFMUState<M: Model>(
+    c: fmi3Instance,
+    FMUState: *mut fmi3FMUState,
+) -> fmi3Status {
+    const F: &str = "fmi3FreeFMUState";
+    // SAFETY: contract forwarded; `FMUState` checked for null.
+    unsafe {
+        guarded::<M, _>(c, F, ANY_STATE, |inst| {
+            let s = slice_mut(FMUState, 1, "FMUState")?;
+            if !s[0].is_null() {
+                if !inst.states.free(s[0]) {
+                    return Err(unknown_state(F));
+                }
+                s[0] = std::ptr::null_mut();
+            }
+            Ok(())
+        })
+    }
+}
+
+/// Size in bytes of a state's serialised form.
+///
+/// # Safety
+/// `c` live or null; `size` null or writable.
+pub unsafe fn fmi3SerializedFMUStateSize<M: Model>(
+    c: fmi3Instance,
+    FMUState: fmi3FMUState,
+    size: *mut usize,
+) -> fmi3Status {
+    const F: &str = "fmi3SerializedFMUStateSize";
+    // SAFETY: contract forwarded; `size` checked for null.
+    unsafe {
+        guarded::<M, _>(c, F, ANY_STATE, |inst| {
+            let out = slice_mut(size, 1, "size")?;
+            out[0] = known(inst.states.get(FMUState), F)?.bytes().len();
+            Ok(())
+        })
+    }
+}
+
+/// Copy a state's serialised form into `serializedState` (`size` bytes, at least
+/// [`fmi3SerializedFMUStateSize`]).
+///
+/// # Safety
+/// `c` live or null; `serializedState` null or `size` writable bytes.
+pub unsafe fn fmi3SerializeFMUState<M: Model>(
+    c: fmi3Instance,
+    FMUState: fmi3FMUState,
+    serializedState: *mut fmi3Byte,
+    size: usize,
+) -> fmi3Status {
+    const F: &str = "fmi3SerializeFMUState";
+    // SAFETY: contract forwarded; pointers checked.
+    unsafe {
+        guarded::<M, _>(c, F, ANY_STATE, |inst| {
+            let b = known(inst.states.get(FMUState), F)?.bytes();
+            if size < b.len() {
+                return Err(error(format!(
+                    "{F}: the state needs {} bytes (fmi3SerializedFMUStateSize), the buffer holds {size}",
+                    b.len()
+                )));
+            }
+            let out = slice_mut(serializedState, b.len(), "serializedState")?;
+            out.copy_from_slice(b);
+            Ok(())
+        })
+    }
+}
+
+/// Make a state from serialised bytes (checked: length, CRC-32, magic, format version,
+/// token, structure); whether it fits this instance's parameters is checked by
+/// [`fmi3SetFMUState`].
+///
+/// # Safety
+/// `c` live or null; `serializedState` null or `size` readable bytes; `FMUState` null or
+/// writable.
+pub unsafe fn fmi3DeserializeFMUState<M: Model>(
+    c: fmi3Instance,
+    serializedState: *const fmi3Byte,
+    size: usize,
+    FMUState: *mut fmi3FMUState,
+) -> fmi3Status {
+    const F: &str = "fmi3DeserializeFMUState";
+    // SAFETY: contract forwarded; pointers checked.
+    unsafe {
+        guarded::<M, _>(c, F, ANY_STATE, |inst| {
+            let out = slice_mut(FMUState, 1, "FMUState")?;
+            if serializedState.is_null() {
+                return Err(error(format!("{F}: serializedState is null")));
+            }
+            let bytes = slice(serializedState, size, "serializedState")?;
+            inst.check_state(bytes, F)?;
+            out[0] = inst.states.put(out[0], bytes.to_vec());
+            Ok(())
+        })
+    }
+}

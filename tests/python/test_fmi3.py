@@ -1,0 +1,194 @@
+"""relnav3.fmu, the FMI 3.0 Co-Simulation FMU beside relnav.fmu: fmpy validates it, its
+description publishes every FMI 2.0 parameter and the vectors as arrays, its outputs equal
+relnav.fmu's bit for bit, and it refuses what it does not offer with a logged reason."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from fmpy import read_model_description
+from fmpy.validation import validate_fmu
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "tools"))
+
+import cwtruth as cw  # noqa: E402
+import relnav_fmu as rf  # noqa: E402
+import relnav_fmu3 as rf3  # noqa: E402
+
+FMU3 = rf3.DEFAULT_FMU3
+ARRAYS = {
+    "thrust": 3,
+    "measurement": 3,
+    "camera": 2,
+    "gnss_position": 3,
+    "gnss_velocity": 3,
+    "position": 3,
+    "velocity": 3,
+    "sigma": 6,
+}
+
+
+@pytest.fixture(scope="module")
+def unzip3(tmp_path_factory) -> Path:
+    if not FMU3.exists():
+        pytest.fail(f"{FMU3} not found: build it with `bash fmu/build.sh`")
+    return rf.unpack(FMU3, tmp_path_factory.mktemp("fmu3") / "relnav3")
+
+
+@pytest.fixture(scope="module")
+def runner3(unzip3):
+    r = rf3.Slave3Runner(unzip3)
+    yield r
+    r.close()
+
+
+def test_fmpy_validates_relnav3():
+    assert validate_fmu(str(FMU3)) == []
+
+
+def test_every_fmi3_function_is_exported(unzip3):
+    # fmpy declares a wrapper for every function of the standard's fmi3FunctionTypes.h
+    import inspect
+
+    from fmpy.fmi3 import FMU3Model, FMU3ScheduledExecution, FMU3Slave
+
+    standard = {
+        name
+        for cls in (FMU3Model, FMU3Slave, FMU3ScheduledExecution)
+        for name, _ in inspect.getmembers(cls, inspect.isfunction)
+        if name.startswith("fmi3")
+    }
+    assert len(standard) >= 70
+    so = unzip3 / "binaries" / "x86_64-linux" / "relnav.so"
+    out = subprocess.run(["nm", "-D", "--defined-only", str(so)], check=True, capture_output=True, text=True).stdout
+    exported = {line.split()[-1] for line in out.splitlines() if line.strip()}
+    assert sorted(standard - exported) == []
+    # the FMI 2.0 functions and the C ABI are in the same binary
+    assert {"fmi2DoStep", "relnav_estimator_step"} <= exported
+
+
+def test_description_keeps_every_fmi2_variable(fmu_path):
+    md2 = read_model_description(str(fmu_path))
+    md3 = read_model_description(str(FMU3))
+    assert md3.fmiVersion == "3.0"
+    v3 = {v.name: v for v in md3.modelVariables}
+    elements = set()
+    for name, n in ARRAYS.items():
+        a = v3[name]
+        assert [int(d.start) for d in a.dimensions] == [n], name
+        # FMI 3.0 value references of arrays sit above every scalar's
+        assert a.valueReference >= 10_000
+    for name in ("thrust", "measurement", "position", "velocity", "sigma"):
+        elements |= {None}
+    fmi2_arrays = {
+        "thrust": ["thrust_x", "thrust_y", "thrust_z"],
+        "measurement": ["range", "azimuth", "elevation"],
+        "camera": ["camera_azimuth", "camera_elevation"],
+        "gnss_position": ["gnss_x", "gnss_y", "gnss_z"],
+        "gnss_velocity": ["gnss_vx", "gnss_vy", "gnss_vz"],
+        "position": ["x", "y", "z"],
+        "velocity": ["vx", "vy", "vz"],
+        "sigma": ["sigma_x", "sigma_y", "sigma_z", "sigma_vx", "sigma_vy", "sigma_vz"],
+    }
+    elements = {e for es in fmi2_arrays.values() for e in es}
+    types = {"Real": "Float64", "Integer": "Int32", "Boolean": "Boolean"}
+    for v in md2.modelVariables:
+        if v.name in elements:
+            assert v.name not in v3, v.name
+            continue
+        w = v3[v.name]
+        assert (w.valueReference, w.causality, w.variability) == (v.valueReference, v.causality, v.variability), v.name
+        assert w.type == types[v.type], v.name
+        assert (w.unit, w.description) == (v.unit, v.description), v.name
+        if v.causality != "output":
+            assert str(w.start) == str(v.start), v.name
+    # an array has its elements' causality and, where they agree, their unit
+    for name, es in fmi2_arrays.items():
+        src = [next(v for v in md2.modelVariables if v.name == e) for e in es]
+        assert v3[name].causality == src[0].causality
+        units = {s.unit for s in src}
+        assert v3[name].unit == (units.pop() if len(units) == 1 else None), name
+    assert v3["time"].causality == "independent"
+
+
+@pytest.mark.parametrize("filter_code", range(1, 12))
+def test_outputs_equal_relnav_fmu_bit_for_bit(runner, runner3, filter_code):
+    sc = cw.paper000_scenario(frame=2, times=np.arange(0.0, 61.0))
+    params = {**sc.params, "filter": filter_code}
+    if filter_code == 9:
+        params["hinf_period"] = 1.0
+    if 4 <= filter_code <= 8:
+        params["particles"] = 200
+    z = sc.measurements(3)
+    out2 = runner.run(params, sc.times, sc.thrust, z, sc.valid)
+    out3 = runner3.run(params, sc.times, sc.thrust, z, sc.valid)
+    # (the H-infinity filter publishes no covariance: its sigmas are NaN in both)
+    assert np.isfinite(out3[:, :6]).all()
+    assert np.array_equal(out2.view(np.uint64), out3.view(np.uint64))
+
+
+def test_state_round_trip_continues_bit_for_bit(runner3):
+    sc = cw.paper000_scenario(frame=2, times=np.arange(0.0, 41.0))
+    z = sc.measurements(1)
+    r = runner3
+    r.instantiate()
+    try:
+        r.initialize({**sc.params, "filter": "ukf"})
+        r.simulate(sc.times[:21], sc.thrust[:20], z[:20], sc.valid[:20])
+        state = r.fmu.getFMUState()
+        blob = r.fmu.serializeFMUState(state)
+        first = r.simulate(sc.times[20:], sc.thrust[20:], z[20:], sc.valid[20:])
+        restored = r.fmu.deserializeFMUState(blob)
+        r.fmu.setFMUState(restored)
+        again = r.simulate(sc.times[20:], sc.thrust[20:], z[20:], sc.valid[20:])
+        r.fmu.freeFMUState(state)
+        r.fmu.freeFMUState(restored)
+    finally:
+        r.free_instance()
+    assert np.array_equal(first.view(np.uint64), again.view(np.uint64))
+
+
+def test_refusals_are_logged(runner3):
+    r = runner3
+    # no Event Mode: the instantiation that asks for it is refused with the reason
+    r.log.records.clear()
+    with pytest.raises(Exception):
+        r.instantiate(eventModeUsed=True)
+    r.instantiated = False
+    assert any("hasEventMode" in m for _, _, m in r.log.records), r.log.text()
+    r.instantiate()
+    try:
+        from fmpy.fmi3 import fmi3ValueReference, fmi3Float64
+
+        # a step before initialisation, an unknown value reference, a short value array
+        with pytest.raises(Exception):
+            r.fmu.doStep(0.0, 1.0)
+        r.fmu.reset()
+        r.initialize({"filter": "ekf"})
+        with pytest.raises(Exception):
+            r.fmu.getFloat64([12345])
+        r.fmu.reset()
+        r.initialize({"filter": "ekf"})
+        vrs = (fmi3ValueReference * 1)(r.vr["position"])
+        vals = (fmi3Float64 * 2)()
+        with pytest.raises(Exception, match="status 3"):
+            r.fmu.fmi3GetFloat64(r.fmu.component, vrs, 1, vals, 2)
+        r.fmu.reset()
+        r.initialize({"filter": "ekf"})
+        with pytest.raises(Exception):
+            r.fmu.enterEventMode()
+        text = r.log.text()
+        assert "illegal call sequence" in text
+        assert "unknown value reference 12345" in text
+        assert "the 1 value references hold 3 values" in text
+        assert "fmi3EnterEventMode is not supported" in text
+        # the time is readable
+        r.fmu.reset()
+        r.initialize({"filter": "ekf"}, start_time=5.0)
+        assert r.fmu.getFloat64([9999]) == [5.0]
+    finally:
+        r.free_instance()
