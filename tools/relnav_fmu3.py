@@ -9,15 +9,22 @@ the outputs at every communication point, shape (N+1, 12), in the order of
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import numpy as np
 from fmpy import read_model_description
 from fmpy.fmi3 import FMU3Slave
 
-from relnav_fmu import _CODES, REPO_ROOT
+from relnav_fmu import _CODES, REPO_ROOT, SlaveRunner
 
 DEFAULT_FMU3 = REPO_ROOT / "target" / "fmu" / "relnav3.fmu"
+
+
+def locate_fmu3() -> Path:
+    """The built FMI 3.0 FMU: $RELNAV_FMU3 if set, else target/fmu/relnav3.fmu."""
+    env = os.environ.get("RELNAV_FMU3")
+    return Path(env) if env else DEFAULT_FMU3
 
 OUTPUT_ARRAYS = ["position", "velocity", "sigma"]
 
@@ -48,8 +55,9 @@ class LogCapture3:
         return "\n".join(f"[{s}] {c}: {m}" for s, c, m in self.records)
 
 
-class Slave3Runner:
-    """Run scenarios through one loaded FMU3Slave; each run is a fresh instantiation."""
+class Slave3Runner(SlaveRunner):
+    """Run scenarios through one loaded FMU3Slave; each run is a fresh instantiation
+    (``run`` and ``close`` are :class:`relnav_fmu.SlaveRunner`'s)."""
 
     def __init__(self, unzipdir: Path, logging_on: bool = False) -> None:
         self.unzipdir = Path(unzipdir)
@@ -78,10 +86,6 @@ class Slave3Runner:
         if self.instantiated:
             self.fmu.fmi3FreeInstance(self.fmu.component)
             self.instantiated = False
-
-    def close(self) -> None:
-        self.free_instance()
-        self.fmu.freeLibrary()
 
     def set_params(self, params: dict) -> None:
         """Set parameters by name (code parameters also take their item names)."""
@@ -119,14 +123,4 @@ class Slave3Runner:
             self.fmu.setBoolean([valid_vr], [bool(valid[k])])
             self.fmu.doStep(currentCommunicationPoint=times[k], communicationStepSize=times[k + 1] - times[k])
             out[k + 1] = self.outputs()
-        return out
-
-    def run(self, params: dict, times, thrust, meas, valid) -> np.ndarray:
-        self.instantiate()
-        try:
-            self.initialize(params, start_time=float(times[0]))
-            out = self.simulate(times, thrust, meas, valid)
-            self.fmu.terminate()
-        finally:
-            self.free_instance()
         return out

@@ -19,6 +19,7 @@ sys.path.insert(0, str(REPO_ROOT / "tools"))
 
 import cwtruth as cw  # noqa: E402
 import relnav_fmu as rf  # noqa: E402
+import relnav_fmu3 as rf3  # noqa: E402
 
 RUNS = cw.PAPER000_RUNS
 SEEDS = list(range(RUNS))
@@ -34,23 +35,38 @@ def pytest_report_header(config):
     return f"relnav FMU: {path} MISSING - build it with `bash fmu/build.sh`"
 
 
-@pytest.fixture(scope="session")
-def fmu_path() -> Path:
-    path = rf.locate_fmu()
+def _built(path: Path, env: str) -> Path:
     if not path.is_file():
         pytest.fail(
-            f"relnav FMU not found at {path}.\n"
+            f"FMU not found at {path}.\n"
             "Build it first: `bash fmu/build.sh` from the repository root "
-            "(scripts/test.sh does this), or point $RELNAV_FMU at an .fmu file.",
+            f"(scripts/test.sh does this), or point ${env} at an .fmu file.",
             pytrace=False,
         )
     return path
 
 
 @pytest.fixture(scope="session")
+def fmu_path() -> Path:
+    return _built(rf.locate_fmu(), "RELNAV_FMU")
+
+
+@pytest.fixture(scope="session")
+def fmu3_path() -> Path:
+    """relnav3.fmu, the FMI 3.0 FMU."""
+    return _built(rf3.locate_fmu3(), "RELNAV_FMU3")
+
+
+@pytest.fixture(scope="session")
 def unzipdir(fmu_path, tmp_path_factory) -> Path:
     """The FMU extracted once for the whole session."""
     return rf.unpack(fmu_path, tmp_path_factory.mktemp("fmu") / "relnav")
+
+
+@pytest.fixture(scope="session")
+def unzip3(fmu3_path, tmp_path_factory) -> Path:
+    """relnav3.fmu extracted once for the whole session."""
+    return rf.unpack(fmu3_path, tmp_path_factory.mktemp("fmu3") / "relnav3")
 
 
 @pytest.fixture(scope="session")

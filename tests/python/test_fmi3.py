@@ -19,7 +19,6 @@ import cwtruth as cw  # noqa: E402
 import relnav_fmu as rf  # noqa: E402
 import relnav_fmu3 as rf3  # noqa: E402
 
-FMU3 = rf3.DEFAULT_FMU3
 ARRAYS = {
     "thrust": 3,
     "measurement": 3,
@@ -33,21 +32,14 @@ ARRAYS = {
 
 
 @pytest.fixture(scope="module")
-def unzip3(tmp_path_factory) -> Path:
-    if not FMU3.exists():
-        pytest.fail(f"{FMU3} not found: build it with `bash fmu/build.sh`")
-    return rf.unpack(FMU3, tmp_path_factory.mktemp("fmu3") / "relnav3")
-
-
-@pytest.fixture(scope="module")
 def runner3(unzip3):
     r = rf3.Slave3Runner(unzip3)
     yield r
     r.close()
 
 
-def test_fmpy_validates_relnav3():
-    assert validate_fmu(str(FMU3)) == []
+def test_fmpy_validates_relnav3(fmu3_path):
+    assert validate_fmu(str(fmu3_path)) == []
 
 
 def test_every_fmi3_function_is_exported(unzip3):
@@ -71,9 +63,9 @@ def test_every_fmi3_function_is_exported(unzip3):
     assert {"fmi2DoStep", "relnav_estimator_step"} <= exported
 
 
-def test_description_keeps_every_fmi2_variable(fmu_path):
+def test_description_keeps_every_fmi2_variable(fmu_path, fmu3_path):
     md2 = read_model_description(str(fmu_path))
-    md3 = read_model_description(str(FMU3))
+    md3 = read_model_description(str(fmu3_path))
     assert md3.fmiVersion == "3.0"
     v3 = {v.name: v for v in md3.modelVariables}
     elements = set()

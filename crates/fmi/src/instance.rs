@@ -18,7 +18,8 @@ use crate::state::{decode, encode, Snapshot, StateRegistry};
 use crate::status::{error, Failure, Status};
 use crate::variables::{start_values, Causality, TypeClass, VarDef, VarType};
 use relnav_core::numerics::state::{refuse, StateError};
-use std::ffi::CString;
+use std::ffi::{c_void, CString};
+use std::panic::{catch_unwind, AssertUnwindSafe};
 
 /// What the get/set dispatch needs of one variable, derived from its [`VarDef`] (so the
 /// table stays the one source; [`access_of`]): its [`TypeClass`] and the states (bit mask
@@ -481,6 +482,163 @@ impl<M: Model, B: Binding> FmuInstance<M, B> {
 
 fn refused(func: &str, e: StateError) -> Failure {
     error(format!("{func}: state refused: {e}"))
+}
+
+/// The text of a caught panic.
+fn panic_text(p: &(dyn std::any::Any + Send)) -> String {
+    p.downcast_ref::<&str>()
+        .map(|s| (*s).to_string())
+        .or_else(|| p.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "unknown panic".to_string())
+}
+
+/// The boundary of every call a binding forwards: call logging, the allowed-states check,
+/// the failure's log line and the error state, and no panic past it.
+impl<M: Model, B: Binding> FmuInstance<M, B> {
+    /// Run the call `func`: log it under `logCalls` as `func(args)` with `args` from
+    /// `describe` (evaluated only when that category is on; `None`: `f` logs the call
+    /// itself), refuse it outside the states of `allowed`, run `f`. A failure is logged
+    /// (`logStatusError` or `logStatusWarning`), recorded in `fmi_status` and, from Error
+    /// on, puts the instance in the error state; a panic is caught, logged and ends as
+    /// [`Status::Fatal`]. Returns the status the binding converts to its C type.
+    pub fn call<D, F>(&mut self, func: &str, allowed: u32, describe: D, f: F) -> Status
+    where
+        D: FnOnce(&Self) -> Option<String>,
+        F: FnOnce(&mut Self) -> Result<(), Failure>,
+    {
+        let outcome = catch_unwind(AssertUnwindSafe(|| {
+            if self.logs_calls() {
+                if let Some(args) = describe(self) {
+                    self.log(Status::Ok, "logCalls", &format!("{func}({args})"));
+                }
+            }
+            self.require(func, allowed)?;
+            f(self)
+        }));
+        match outcome {
+            Ok(Ok(())) => Status::Ok,
+            Ok(Err(e)) => {
+                let category = if e.status >= Status::Error {
+                    "logStatusError"
+                } else {
+                    "logStatusWarning"
+                };
+                self.log(e.status, category, &e.message);
+                self.note_status(e.status);
+                if e.status >= Status::Error {
+                    self.state = ModelState::Error;
+                }
+                e.status
+            }
+            Err(p) => {
+                let msg = format!("{func}: internal panic: {}", panic_text(p.as_ref()));
+                let _ = catch_unwind(AssertUnwindSafe(|| {
+                    self.log(Status::Fatal, "logStatusError", &msg)
+                }));
+                self.note_status(Status::Fatal);
+                self.state = ModelState::Error;
+                Status::Fatal
+            }
+        }
+    }
+}
+
+/// The FMU-state calls of both bindings on opaque handles (the pointers the master holds;
+/// never dereferenced here, only looked up in [`StateRegistry`]). `func` names the call,
+/// `size_call` the binding's size inquiry in a message.
+impl<M: Model, B: Binding> FmuInstance<M, B> {
+    /// The refusal of a handle this instance did not make (or has freed).
+    fn unknown_state(func: &str, transfer: &str) -> Failure {
+        error(format!(
+            "{func}: unknown FMU state (not made by this instance, or already freed; move a \
+             state between instances with {transfer})"
+        ))
+    }
+
+    fn state_bytes(&self, h: *mut c_void, func: &str, transfer: &str) -> Result<&[u8], Failure> {
+        self.states
+            .get(h)
+            .map(|s| s.bytes())
+            .ok_or_else(|| Self::unknown_state(func, transfer))
+    }
+
+    /// Copy the instance's state into `*slot` (a new state for null, else the state it
+    /// names, which this instance made, overwritten).
+    pub fn get_fmu_state(&mut self, slot: &mut *mut c_void) -> Result<(), Failure> {
+        let bytes = self.save_state()?;
+        *slot = self.states.put(*slot, bytes);
+        Ok(())
+    }
+
+    /// Restore the state `h` made by this instance.
+    pub fn set_fmu_state(
+        &mut self,
+        h: *mut c_void,
+        func: &str,
+        transfer: &str,
+    ) -> Result<(), Failure> {
+        let bytes = self.state_bytes(h, func, transfer)?.to_vec();
+        self.restore_state(&bytes, func)
+    }
+
+    /// Free the state `*slot` (null is ignored) and set `*slot` to null.
+    pub fn free_fmu_state(
+        &mut self,
+        slot: &mut *mut c_void,
+        func: &str,
+        transfer: &str,
+    ) -> Result<(), Failure> {
+        if !slot.is_null() {
+            if !self.states.free(*slot) {
+                return Err(Self::unknown_state(func, transfer));
+            }
+            *slot = std::ptr::null_mut();
+        }
+        Ok(())
+    }
+
+    /// The size in bytes of the state `h`'s serialised form.
+    pub fn fmu_state_size(
+        &self,
+        h: *mut c_void,
+        func: &str,
+        transfer: &str,
+    ) -> Result<usize, Failure> {
+        Ok(self.state_bytes(h, func, transfer)?.len())
+    }
+
+    /// The serialised form of the state `h` for a buffer of `size` bytes (refused when it
+    /// does not fit; `size_call` names the size inquiry).
+    pub fn serialized_fmu_state(
+        &self,
+        h: *mut c_void,
+        size: usize,
+        func: &str,
+        transfer: &str,
+        size_call: &str,
+    ) -> Result<&[u8], Failure> {
+        let b = self.state_bytes(h, func, transfer)?;
+        if size < b.len() {
+            return Err(error(format!(
+                "{func}: the state needs {} bytes ({size_call}), the buffer holds {size}",
+                b.len()
+            )));
+        }
+        Ok(b)
+    }
+
+    /// A state from serialised `bytes` (checked: length, CRC-32, magic, format version,
+    /// GUID, structure) into `*slot` (new for null, else overwritten).
+    pub fn deserialize_fmu_state(
+        &mut self,
+        bytes: &[u8],
+        slot: &mut *mut c_void,
+        func: &str,
+    ) -> Result<(), Failure> {
+        self.check_state(bytes, func)?;
+        *slot = self.states.put(*slot, bytes.to_vec());
+        Ok(())
+    }
 }
 
 #[cfg(test)]

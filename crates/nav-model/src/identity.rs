@@ -22,6 +22,23 @@ uncertainty, from its thrust and range/azimuth/elevation measurements, by a Kalm
 (EKF, UKF, or the sliding-window adaptive AQUKF), a particle filter (SIR, regularised, \
 unscented, genetic or cloud-genetic) or the robust H-infinity filter designed by an LMI";
 
+/// The estimate outputs in table order: the state `x .. vz`, then its 1-sigma
+/// `sigma_x .. sigma_vz`.
+pub const ESTIMATE: [u32; 12] = [
+    vr::X,
+    vr::Y,
+    vr::Z,
+    vr::VX,
+    vr::VY,
+    vr::VZ,
+    vr::SIGMA_X,
+    vr::SIGMA_Y,
+    vr::SIGMA_Z,
+    vr::SIGMA_VX,
+    vr::SIGMA_VY,
+    vr::SIGMA_VZ,
+];
+
 /// The vectors relnav3.fmu publishes as arrays (FMI 3.0; relnav.fmu keeps the scalars).
 static ARRAYS: &[ArrayDef] = &[
     ArrayDef {
@@ -51,24 +68,17 @@ static ARRAYS: &[ArrayDef] = &[
     },
     ArrayDef {
         name: "position",
-        elements: &[vr::X, vr::Y, vr::Z],
+        elements: ESTIMATE.split_at(3).0,
         description: "Estimated relative position (x, y, z)",
     },
     ArrayDef {
         name: "velocity",
-        elements: &[vr::VX, vr::VY, vr::VZ],
+        elements: ESTIMATE.split_at(6).0.split_at(3).1,
         description: "Estimated relative velocity (vx, vy, vz)",
     },
     ArrayDef {
         name: "sigma",
-        elements: &[
-            vr::SIGMA_X,
-            vr::SIGMA_Y,
-            vr::SIGMA_Z,
-            vr::SIGMA_VX,
-            vr::SIGMA_VY,
-            vr::SIGMA_VZ,
-        ],
+        elements: ESTIMATE.split_at(6).1,
         description: "1-sigma uncertainties of x, y, z, vx, vy, vz (from the covariance)",
     },
 ];

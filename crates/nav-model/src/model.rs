@@ -3,7 +3,7 @@
 //! outputs, through the navigator's safe Rust methods (as the kit's models call their
 //! plant and guidance law).
 
-use crate::identity::{vr, INFO, N_VARS, VARIABLES};
+use crate::identity::{vr, ESTIMATE, INFO, N_VARS, VARIABLES};
 use crate::params::config_of;
 use relnav_core::estimators::{AdaptiveQ, AqParams, ImmParams, MAX_MODES};
 use relnav_core::hinf::{DesignRoute, HinfDesignInfo};
@@ -84,20 +84,7 @@ impl Diagnostics {
 /// contiguous range, the state then its 1-sigma (checked at compile time).
 const ESTIMATE_OUTPUTS: std::ops::Range<usize> = vr::X as usize..vr::X as usize + 12;
 const _: () = {
-    let order = [
-        vr::X,
-        vr::Y,
-        vr::Z,
-        vr::VX,
-        vr::VY,
-        vr::VZ,
-        vr::SIGMA_X,
-        vr::SIGMA_Y,
-        vr::SIGMA_Z,
-        vr::SIGMA_VX,
-        vr::SIGMA_VY,
-        vr::SIGMA_VZ,
-    ];
+    let order = ESTIMATE;
     let mut i = 0;
     while i < 12 {
         assert!(order[i] == vr::X + i as u32);

@@ -64,6 +64,49 @@ pub(crate) fn variability(v: Variability) -> &'static str {
     }
 }
 
+/// `<UnitDefinitions>` with the units of [`UNITS`] that `used` accepts, in that list's
+/// order (both versions' descriptions).
+pub(crate) fn write_units(x: &mut String, used: impl Fn(&str) -> bool) {
+    let _ = writeln!(x, "  <UnitDefinitions>");
+    for (name, [kg, m, s, rad]) in UNITS.iter().filter(|(u, _)| used(u)) {
+        let mut attrs = String::new();
+        for (n, e) in [("kg", kg), ("m", m), ("s", s), ("rad", rad)] {
+            if *e != 0 {
+                let _ = write!(attrs, r#" {n}="{e}""#);
+            }
+        }
+        let _ = writeln!(
+            x,
+            r#"    <Unit name="{}"><BaseUnit{attrs}/></Unit>"#,
+            escape(name)
+        );
+    }
+    let _ = writeln!(x, "  </UnitDefinitions>");
+}
+
+/// `<LogCategories>` of [`LOG_CATEGORIES`].
+pub(crate) fn write_log_categories(x: &mut String) {
+    let _ = writeln!(x, "  <LogCategories>");
+    for (n, d) in LOG_CATEGORIES {
+        let _ = writeln!(
+            x,
+            r#"    <Category name="{n}" description="{}"/>"#,
+            escape(d)
+        );
+    }
+    let _ = writeln!(x, "  </LogCategories>");
+}
+
+/// `<DefaultExperiment>` of the model.
+pub(crate) fn write_default_experiment(x: &mut String, info: &ModelInfo) {
+    let e = info.default_experiment;
+    let _ = writeln!(
+        x,
+        r#"  <DefaultExperiment startTime="{}" stopTime="{}" stepSize="{}"/>"#,
+        e.start, e.stop, e.step
+    );
+}
+
 fn body(info: &ModelInfo) -> String {
     let mut x = String::new();
     // write! into a String cannot fail; the results are ignored deliberately.
@@ -81,42 +124,14 @@ fn body(info: &ModelInfo) -> String {
         r#"  <CoSimulation modelIdentifier="{}" needsExecutionTool="false" canHandleVariableCommunicationStepSize="true" canInterpolateInputs="false" maxOutputDerivativeOrder="0" canRunAsynchronuously="false" canBeInstantiatedOnlyOncePerProcess="false" canNotUseMemoryManagementFunctions="true" canGetAndSetFMUstate="true" canSerializeFMUstate="true" providesDirectionalDerivative="false"/>"#,
         info.model_identifier
     );
-    let _ = writeln!(x, "  <UnitDefinitions>");
-    // the units the table uses, in the order of the master list
-    let used = UNITS.iter().filter(|(u, _)| {
+    // the units the table uses
+    write_units(&mut x, |u| {
         info.variables
             .iter()
-            .any(|v| matches!(v.ty, VarType::Real(w) if w == *u))
+            .any(|v| matches!(v.ty, VarType::Real(w) if w == u))
     });
-    for (name, [kg, m, s, rad]) in used {
-        let mut attrs = String::new();
-        for (n, e) in [("kg", kg), ("m", m), ("s", s), ("rad", rad)] {
-            if *e != 0 {
-                let _ = write!(attrs, r#" {n}="{e}""#);
-            }
-        }
-        let _ = writeln!(
-            x,
-            r#"    <Unit name="{}"><BaseUnit{attrs}/></Unit>"#,
-            escape(name)
-        );
-    }
-    let _ = writeln!(x, "  </UnitDefinitions>");
-    let _ = writeln!(x, "  <LogCategories>");
-    for (n, d) in LOG_CATEGORIES {
-        let _ = writeln!(
-            x,
-            r#"    <Category name="{n}" description="{}"/>"#,
-            escape(d)
-        );
-    }
-    let _ = writeln!(x, "  </LogCategories>");
-    let e = info.default_experiment;
-    let _ = writeln!(
-        x,
-        r#"  <DefaultExperiment startTime="{}" stopTime="{}" stepSize="{}"/>"#,
-        e.start, e.stop, e.step
-    );
+    write_log_categories(&mut x);
+    write_default_experiment(&mut x, info);
     let _ = writeln!(x, "  <ModelVariables>");
     for v in info.variables {
         let _ = writeln!(

@@ -8,12 +8,11 @@
 //! `time` is [`TIME_VR`]. The table's elements of an array are not published as scalars.
 
 use crate::fmi2::description::{
-    causality, escape, finish, published_description, variability, DATE_PLACEHOLDER,
-    GENERATION_DATE, GUID_PLACEHOLDER,
+    causality, escape, finish, published_description, variability, write_default_experiment,
+    write_log_categories, write_units, DATE_PLACEHOLDER, GENERATION_DATE, GUID_PLACEHOLDER,
 };
-use crate::logging::LOG_CATEGORIES;
 use crate::model::{ArrayDef, ModelInfo};
-use crate::variables::{Causality, VarDef, VarType, UNITS};
+use crate::variables::{Causality, VarDef, VarType};
 use std::fmt::Write;
 
 /// Value reference of array 0 (array `k` is `ARRAY_VR_BASE + k`): above every table.
@@ -195,43 +194,16 @@ fn body(info: &'static ModelInfo) -> String {
         r#"  <CoSimulation modelIdentifier="{}" needsExecutionTool="false" canBeInstantiatedOnlyOncePerProcess="false" canGetAndSetFMUState="true" canSerializeFMUState="true" providesDirectionalDerivatives="false" providesAdjointDerivatives="false" providesPerElementDependencies="false" canHandleVariableCommunicationStepSize="true" maxOutputDerivativeOrder="0" providesIntermediateUpdate="false" mightReturnEarlyFromDoStep="false" canReturnEarlyAfterIntermediateUpdate="false" hasEventMode="false" providesEvaluateDiscreteStates="false"/>"#,
         info.model_identifier
     );
-    let _ = writeln!(x, "  <UnitDefinitions>");
-    let used = UNITS.iter().filter(|(u, _)| {
+    // the units the published variables use (an array's where its elements agree)
+    write_units(&mut x, |u| {
         info.variables
             .iter()
             .filter(|v| !in_array(info, v.vr))
-            .any(|v| matches!(v.ty, VarType::Real(w) if w == *u))
-            || info.arrays.iter().any(|a| array_unit(info, a) == *u)
+            .any(|v| matches!(v.ty, VarType::Real(w) if w == u))
+            || info.arrays.iter().any(|a| array_unit(info, a) == u)
     });
-    for (name, [kg, m, s, rad]) in used {
-        let mut attrs = String::new();
-        for (n, e) in [("kg", kg), ("m", m), ("s", s), ("rad", rad)] {
-            if *e != 0 {
-                let _ = write!(attrs, r#" {n}="{e}""#);
-            }
-        }
-        let _ = writeln!(
-            x,
-            r#"    <Unit name="{}"><BaseUnit{attrs}/></Unit>"#,
-            escape(name)
-        );
-    }
-    let _ = writeln!(x, "  </UnitDefinitions>");
-    let _ = writeln!(x, "  <LogCategories>");
-    for (n, d) in LOG_CATEGORIES {
-        let _ = writeln!(
-            x,
-            r#"    <Category name="{n}" description="{}"/>"#,
-            escape(d)
-        );
-    }
-    let _ = writeln!(x, "  </LogCategories>");
-    let e = info.default_experiment;
-    let _ = writeln!(
-        x,
-        r#"  <DefaultExperiment startTime="{}" stopTime="{}" stepSize="{}"/>"#,
-        e.start, e.stop, e.step
-    );
+    write_log_categories(&mut x);
+    write_default_experiment(&mut x, info);
     let _ = writeln!(x, "  <ModelVariables>");
     let _ = writeln!(
         x,
@@ -320,26 +292,8 @@ pub fn model_description_of(info: &'static ModelInfo) -> &'static str {
 mod tests {
     use super::*;
     use crate::model::{DefaultExperiment, Generated};
-    use crate::variables::{CodeItem, CodeList, VarType, Variability};
-
-    static CODES: CodeList = CodeList {
-        name: "Codes",
-        c_type: "codes",
-        c_prefix: "CODES_",
-        c_enum: false,
-        items: &[
-            CodeItem {
-                name: "a",
-                code: 1,
-                description: "first",
-            },
-            CodeItem {
-                name: "c",
-                code: 3,
-                description: "third",
-            },
-        ],
-    };
+    use crate::variables::tests::CODES;
+    use crate::variables::{VarType, Variability};
 
     crate::variables! {
         MODE = 0: "mode", Parameter, Fixed, VarType::Code(&CODES), 3.0, "A <code>";

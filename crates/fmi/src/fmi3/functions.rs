@@ -15,10 +15,10 @@
 use super::description::{published, token_of, Published};
 use super::types::*;
 use super::{Instance, Logger};
-use crate::fmi2::functions::{panic_text, real_arg, slice, slice_mut};
+use crate::fmi2::functions::{real_arg, slice, slice_mut, Access};
 use crate::machine::{ModelState, ANY_STATE};
 use crate::model::Model;
-use crate::status::{error, Failure, Status};
+use crate::status::{error, Failure};
 use crate::variables::TypeClass;
 use std::ffi::{c_char, CStr};
 use std::panic::{catch_unwind, AssertUnwindSafe};
@@ -32,8 +32,8 @@ const M_GET: u32 =
     InitializationMode as u32 | StepComplete as u32 | Terminated as u32 | ErrorState as u32;
 const M_SET: u32 = Instantiated as u32 | InitializationMode as u32 | StepComplete as u32;
 
-/// Run `f` on the instance behind `c` if the call is allowed in its state (see
-/// `fmi2::functions::guarded_with`: the same rules, FMI 3.0's types).
+/// Run `f` on the instance behind `c` through its call boundary
+/// ([`crate::instance::FmuInstance::call`]; `fmi3Error` for a null instance).
 ///
 /// # Safety
 /// `c` is null or a pointer returned by [`fmi3InstantiateCoSimulation`] and not yet freed.
@@ -49,42 +49,9 @@ where
     F: FnOnce(&mut Instance<M>) -> Result<(), Failure>,
 {
     // SAFETY: by the caller's contract `c` is null or a live `Instance`.
-    let Some(inst) = (unsafe { (c as *mut Instance<M>).as_mut() }) else {
-        return fmi3Status::fmi3Error;
-    };
-    let outcome = catch_unwind(AssertUnwindSafe(|| {
-        if inst.logs_calls() {
-            if let Some(args) = describe(inst) {
-                inst.log(Status::Ok, "logCalls", &format!("{func}({args})"));
-            }
-        }
-        inst.require(func, allowed)?;
-        f(inst)
-    }));
-    match outcome {
-        Ok(Ok(())) => fmi3Status::fmi3OK,
-        Ok(Err(e)) => {
-            let category = if e.status >= Status::Error {
-                "logStatusError"
-            } else {
-                "logStatusWarning"
-            };
-            inst.log(e.status, category, &e.message);
-            inst.note_status(e.status);
-            if e.status >= Status::Error {
-                inst.state = ErrorState;
-            }
-            e.status.into()
-        }
-        Err(p) => {
-            let msg = format!("{func}: internal panic: {}", panic_text(p.as_ref()));
-            let _ = catch_unwind(AssertUnwindSafe(|| {
-                inst.log(Status::Fatal, "logStatusError", &msg)
-            }));
-            inst.note_status(Status::Fatal);
-            inst.state = ErrorState;
-            fmi3Status::fmi3Fatal
-        }
+    match unsafe { (c as *mut Instance<M>).as_mut() } {
+        Some(inst) => inst.call(func, allowed, describe, f).into(),
+        None => fmi3Status::fmi3Error,
     }
 }
 
@@ -425,15 +392,6 @@ pub unsafe fn fmi3EnterStepMode<M: Model>(c: fmi3Instance) -> fmi3Status {
 
 // ---------------------------------------------------------------- get / set
 
-/// How one FMI 3.0 base type maps onto the stored `f64` values.
-struct Access<T> {
-    func: &'static str,
-    class: TypeClass,
-    get: fn(f64) -> T,
-    set: fn(T) -> f64,
-    show: fn(T) -> String,
-}
-
 fn identity(v: f64) -> f64 {
     v
 }
@@ -476,6 +434,45 @@ fn expand<M: Model>(
     Ok(out)
 }
 
+/// The expanded value references of a get or set ([`expand`]) after the count check:
+/// `nValues` must equal the values they hold.
+///
+/// # Safety
+/// `vr` is null or holds `nvr` elements.
+unsafe fn items<M: Model>(
+    vr: *const fmi3ValueReference,
+    nvr: usize,
+    nValues: usize,
+    func: &str,
+) -> Result<Vec<(Option<u32>, String)>, Failure> {
+    // SAFETY: forwarded contract; null is checked in `slice`.
+    let refs = unsafe { slice(vr, nvr, "valueReferences")? };
+    let items = expand::<M>(refs, func)?;
+    if items.len() != nValues {
+        return Err(error(format!(
+            "{func}: nValues = {nValues}, but the {nvr} value references hold {} values",
+            items.len()
+        )));
+    }
+    Ok(items)
+}
+
+/// `func(nValueReferences = n: name = value, ...)` for the call log.
+fn values_log<T: Copy>(
+    func: &str,
+    nvr: usize,
+    items: &[(Option<u32>, String)],
+    vals: &[T],
+    show: fn(T) -> String,
+) -> String {
+    let parts: Vec<String> = items
+        .iter()
+        .zip(vals)
+        .map(|((_, l), v)| format!("{l} = {}", show(*v)))
+        .collect();
+    format!("{func}(nValueReferences = {nvr}: {})", parts.join(", "))
+}
+
 /// # Safety
 /// `c` live or null; `vr` holds `nvr` and `value` `nValues` elements.
 unsafe fn get_values<M: Model, T: Copy>(
@@ -501,14 +498,7 @@ unsafe fn get_values<M: Model, T: Copy>(
             M_GET,
             |_| None,
             |inst| {
-                let refs = slice(vr, nvr, "valueReferences")?;
-                let items = expand::<M>(refs, func)?;
-                if items.len() != nValues {
-                    return Err(error(format!(
-                        "{func}: nValues = {nValues}, but the {nvr} value references hold {} values",
-                        items.len()
-                    )));
-                }
+                let items = items::<M>(vr, nvr, nValues, func)?;
                 let out = slice_mut(value, nValues, "values")?;
                 for ((r, _), o) in items.iter().zip(out.iter_mut()) {
                     *o = match r {
@@ -517,14 +507,7 @@ unsafe fn get_values<M: Model, T: Copy>(
                         None => return Err(error(format!("{func}: time is a Float64"))),
                     };
                 }
-                inst.log_call(|| {
-                    let parts: Vec<String> = items
-                        .iter()
-                        .zip(out.iter())
-                        .map(|((_, l), v)| format!("{l} = {}", show(*v)))
-                        .collect();
-                    format!("{func}(nValueReferences = {nvr}: {})", parts.join(", "))
-                });
+                inst.log_call(|| values_log(func, nvr, &items, out, show));
                 Ok(())
             },
         )
@@ -556,23 +539,9 @@ unsafe fn set_values<M: Model, T: Copy>(
             M_SET,
             |_| None,
             |inst| {
-                let refs = slice(vr, nvr, "valueReferences")?;
-                let items = expand::<M>(refs, func)?;
-                if items.len() != nValues {
-                    return Err(error(format!(
-                        "{func}: nValues = {nValues}, but the {nvr} value references hold {} values",
-                        items.len()
-                    )));
-                }
+                let items = items::<M>(vr, nvr, nValues, func)?;
                 let vals = slice(value, nValues, "values")?;
-                inst.log_call(|| {
-                    let parts: Vec<String> = items
-                        .iter()
-                        .zip(vals.iter())
-                        .map(|((_, l), v)| format!("{l} = {}", show(*v)))
-                        .collect();
-                    format!("{func}(nValueReferences = {nvr}: {})", parts.join(", "))
-                });
+                inst.log_call(|| values_log(func, nvr, &items, vals, show));
                 for ((r, l), v) in items.iter().zip(vals) {
                     match r {
                         Some(r) => inst.set(*r, set(*v), func, class)?,
@@ -663,19 +632,8 @@ get_set!(
 
 // ---------------------------------------------------------------- FMU state
 
-fn unknown_state(func: &str) -> Failure {
-    error(format!(
-        "{func}: unknown FMU state (not made by this instance, or already freed; move a state \
-         between instances with fmi3SerializeFMUState / fmi3DeserializeFMUState)"
-    ))
-}
-
-fn known<'a>(
-    s: Option<&'a crate::state::FmuState>,
-    func: &str,
-) -> Result<&'a crate::state::FmuState, Failure> {
-    s.ok_or_else(|| unknown_state(func))
-}
+/// How a state moves between instances, for the messages that refuse a handle.
+const TRANSFER: &str = "fmi3SerializeFMUState / fmi3DeserializeFMUState";
 
 /// Copy the instance's complete state (the bytes of [`crate::state`]); `*FMUState ==
 /// NULL` makes a new state, a state this instance made is overwritten.
@@ -690,9 +648,7 @@ pub unsafe fn fmi3GetFMUState<M: Model>(
     unsafe {
         guarded::<M, _>(c, "fmi3GetFMUState", ANY_STATE, |inst| {
             let out = slice_mut(FMUState, 1, "FMUState")?;
-            let bytes = inst.save_state()?;
-            out[0] = inst.states.put(out[0], bytes);
-            Ok(())
+            inst.get_fmu_state(&mut out[0])
         })
     }
 }
@@ -706,8 +662,7 @@ pub unsafe fn fmi3SetFMUState<M: Model>(c: fmi3Instance, FMUState: fmi3FMUState)
     // SAFETY: contract forwarded; the state pointer is only compared, never dereferenced.
     unsafe {
         guarded::<M, _>(c, F, ANY_STATE, |inst| {
-            let bytes = known(inst.states.get(FMUState), F)?.bytes().to_vec();
-            inst.restore_state(&bytes, F)
+            inst.set_fmu_state(FMUState, F, TRANSFER)
         })
     }
 }
@@ -725,13 +680,7 @@ pub unsafe fn fmi3FreeFMUState<M: Model>(
     unsafe {
         guarded::<M, _>(c, F, ANY_STATE, |inst| {
             let s = slice_mut(FMUState, 1, "FMUState")?;
-            if !s[0].is_null() {
-                if !inst.states.free(s[0]) {
-                    return Err(unknown_state(F));
-                }
-                s[0] = std::ptr::null_mut();
-            }
-            Ok(())
+            inst.free_fmu_state(&mut s[0], F, TRANSFER)
         })
     }
 }
@@ -750,7 +699,7 @@ pub unsafe fn fmi3SerializedFMUStateSize<M: Model>(
     unsafe {
         guarded::<M, _>(c, F, ANY_STATE, |inst| {
             let out = slice_mut(size, 1, "size")?;
-            out[0] = known(inst.states.get(FMUState), F)?.bytes().len();
+            out[0] = inst.fmu_state_size(FMUState, F, TRANSFER)?;
             Ok(())
         })
     }
@@ -771,13 +720,13 @@ pub unsafe fn fmi3SerializeFMUState<M: Model>(
     // SAFETY: contract forwarded; pointers checked.
     unsafe {
         guarded::<M, _>(c, F, ANY_STATE, |inst| {
-            let b = known(inst.states.get(FMUState), F)?.bytes();
-            if size < b.len() {
-                return Err(error(format!(
-                    "{F}: the state needs {} bytes (fmi3SerializedFMUStateSize), the buffer holds {size}",
-                    b.len()
-                )));
-            }
+            let b = inst.serialized_fmu_state(
+                FMUState,
+                size,
+                F,
+                TRANSFER,
+                "fmi3SerializedFMUStateSize",
+            )?;
             let out = slice_mut(serializedState, b.len(), "serializedState")?;
             out.copy_from_slice(b);
             Ok(())
@@ -807,9 +756,7 @@ pub unsafe fn fmi3DeserializeFMUState<M: Model>(
                 return Err(error(format!("{F}: serializedState is null")));
             }
             let bytes = slice(serializedState, size, "serializedState")?;
-            inst.check_state(bytes, F)?;
-            out[0] = inst.states.put(out[0], bytes.to_vec());
-            Ok(())
+            inst.deserialize_fmu_state(bytes, &mut out[0], F)
         })
     }
 }

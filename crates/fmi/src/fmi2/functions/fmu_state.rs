@@ -4,21 +4,8 @@ use super::*;
 
 // ---------------------------------------------------------------- FMU state
 
-/// The refusal of a state pointer this instance did not make (or has freed).
-fn unknown_state(func: &str) -> Failure {
-    error(format!(
-        "{func}: unknown FMU state (not made by this instance, or already freed; move a state \
-         between instances with fmi2SerializeFMUstate / fmi2DeSerializeFMUstate)"
-    ))
-}
-
-/// The state behind a pointer if this instance made it ([`unknown_state`] otherwise).
-fn known<'a>(
-    s: Option<&'a crate::state::FmuState>,
-    func: &str,
-) -> Result<&'a crate::state::FmuState, Failure> {
-    s.ok_or_else(|| unknown_state(func))
-}
+/// How a state moves between instances, for the messages that refuse a handle.
+const TRANSFER: &str = "fmi2SerializeFMUstate / fmi2DeSerializeFMUstate";
 
 /// Copy the instance's complete state (`canGetAndSetFMUstate="true"`; the bytes of
 /// [`crate::state`]). `*FMUstate == NULL` allocates a new state; a state this instance
@@ -35,9 +22,7 @@ pub unsafe fn fmi2GetFMUstate<M: Model>(
     unsafe {
         guarded::<M, _>(c, "fmi2GetFMUstate", ANY_STATE, |inst| {
             let out = slice_mut(FMUstate, 1, "FMUstate")?;
-            let bytes = inst.save_state()?;
-            out[0] = inst.states.put(out[0], bytes);
-            Ok(())
+            inst.get_fmu_state(&mut out[0])
         })
     }
 }
@@ -52,8 +37,7 @@ pub unsafe fn fmi2SetFMUstate<M: Model>(c: fmi2Component, FMUstate: fmi2FMUstate
     // SAFETY: contract forwarded; the state pointer is only compared, never dereferenced.
     unsafe {
         guarded::<M, _>(c, F, ANY_STATE, |inst| {
-            let bytes = known(inst.states.get(FMUstate), F)?.bytes().to_vec();
-            inst.restore_state(&bytes, F)
+            inst.set_fmu_state(FMUstate, F, TRANSFER)
         })
     }
 }
@@ -71,13 +55,7 @@ pub unsafe fn fmi2FreeFMUstate<M: Model>(
     unsafe {
         guarded::<M, _>(c, F, ANY_STATE, |inst| {
             let s = slice_mut(FMUstate, 1, "FMUstate")?;
-            if !s[0].is_null() {
-                if !inst.states.free(s[0]) {
-                    return Err(unknown_state(F));
-                }
-                s[0] = std::ptr::null_mut();
-            }
-            Ok(())
+            inst.free_fmu_state(&mut s[0], F, TRANSFER)
         })
     }
 }
@@ -96,7 +74,7 @@ pub unsafe fn fmi2SerializedFMUstateSize<M: Model>(
     unsafe {
         guarded::<M, _>(c, F, ANY_STATE, |inst| {
             let out = slice_mut(size, 1, "size")?;
-            out[0] = known(inst.states.get(FMUstate), F)?.bytes().len();
+            out[0] = inst.fmu_state_size(FMUstate, F, TRANSFER)?;
             Ok(())
         })
     }
@@ -117,13 +95,13 @@ pub unsafe fn fmi2SerializeFMUstate<M: Model>(
     // SAFETY: contract forwarded; pointers checked.
     unsafe {
         guarded::<M, _>(c, F, ANY_STATE, |inst| {
-            let b = known(inst.states.get(FMUstate), F)?.bytes();
-            if size < b.len() {
-                return Err(error(format!(
-                    "{F}: the state needs {} bytes (fmi2SerializedFMUstateSize), the buffer holds {size}",
-                    b.len()
-                )));
-            }
+            let b = inst.serialized_fmu_state(
+                FMUstate,
+                size,
+                F,
+                TRANSFER,
+                "fmi2SerializedFMUstateSize",
+            )?;
             let out = slice_mut(serializedState.cast::<u8>(), b.len(), "serializedState")?;
             out.copy_from_slice(b);
             Ok(())
@@ -155,9 +133,7 @@ pub unsafe fn fmi2DeSerializeFMUstate<M: Model>(
                 return Err(error(format!("{F}: serializedState is null")));
             }
             let bytes = slice(serializedState.cast::<u8>(), size, "serializedState")?;
-            inst.check_state(bytes, F)?;
-            out[0] = inst.states.put(out[0], bytes.to_vec());
-            Ok(())
+            inst.deserialize_fmu_state(bytes, &mut out[0], F)
         })
     }
 }

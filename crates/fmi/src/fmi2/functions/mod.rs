@@ -14,7 +14,7 @@ use super::types::*;
 use super::{Instance, Logger};
 use crate::machine::{ModelState, ANY_STATE};
 use crate::model::Model;
-use crate::status::{error, Failure, Status};
+use crate::status::{error, Failure};
 use crate::variables::TypeClass;
 use std::ffi::{c_char, c_int, CStr};
 use std::panic::{catch_unwind, AssertUnwindSafe};
@@ -35,13 +35,6 @@ const M_STEP: u32 = StepComplete as u32;
 const M_GET: u32 =
     InitializationMode as u32 | StepComplete as u32 | Terminated as u32 | ErrorState as u32;
 const M_SET: u32 = Instantiated as u32 | InitializationMode as u32 | StepComplete as u32;
-
-pub(crate) fn panic_text(p: &(dyn std::any::Any + Send)) -> String {
-    p.downcast_ref::<&str>()
-        .map(|s| (*s).to_string())
-        .or_else(|| p.downcast_ref::<String>().cloned())
-        .unwrap_or_else(|| "unknown panic".to_string())
-}
 
 /// Run `f` on the instance behind `c` if the call is allowed in its state; errors are
 /// logged and put the instance in the error state; panics never cross into C. The call
@@ -75,42 +68,9 @@ where
     F: FnOnce(&mut Instance<M>) -> Result<(), Failure>,
 {
     // SAFETY: by the caller's contract `c` is null or a live `Instance`.
-    let Some(inst) = (unsafe { (c as *mut Instance<M>).as_mut() }) else {
-        return fmi2Status::fmi2Error;
-    };
-    let outcome = catch_unwind(AssertUnwindSafe(|| {
-        if inst.logs_calls() {
-            if let Some(args) = describe(inst) {
-                inst.log(Status::Ok, "logCalls", &format!("{func}({args})"));
-            }
-        }
-        inst.require(func, allowed)?;
-        f(inst)
-    }));
-    match outcome {
-        Ok(Ok(())) => fmi2Status::fmi2OK,
-        Ok(Err(e)) => {
-            let category = if e.status >= Status::Error {
-                "logStatusError"
-            } else {
-                "logStatusWarning"
-            };
-            inst.log(e.status, category, &e.message);
-            inst.note_status(e.status);
-            if e.status >= Status::Error {
-                inst.state = ErrorState;
-            }
-            e.status.into()
-        }
-        Err(p) => {
-            let msg = format!("{func}: internal panic: {}", panic_text(p.as_ref()));
-            let _ = catch_unwind(AssertUnwindSafe(|| {
-                inst.log(Status::Fatal, "logStatusError", &msg)
-            }));
-            inst.note_status(Status::Fatal);
-            inst.state = ErrorState;
-            fmi2Status::fmi2Fatal
-        }
+    match unsafe { (c as *mut Instance<M>).as_mut() } {
+        Some(inst) => inst.call(func, allowed, describe, f).into(),
+        None => fmi2Status::fmi2Error,
     }
 }
 

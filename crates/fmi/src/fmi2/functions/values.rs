@@ -4,18 +4,19 @@ use super::*;
 
 // ---------------------------------------------------------------- get / set
 
-/// How one FMI base type maps onto the stored `f64` values.
-struct Access<T> {
-    /// Function name (`fmi2GetReal` or `fmi2SetReal`, ...).
-    func: &'static str,
+/// How one FMI base type maps onto the stored `f64` values (both bindings' typed gets
+/// and sets).
+pub(crate) struct Access<T> {
+    /// Function name (`fmi2GetReal` or `fmi3SetFloat64`, ...).
+    pub(crate) func: &'static str,
     /// Which variable types it reads or writes.
-    class: TypeClass,
+    pub(crate) class: TypeClass,
     /// Stored value -> FMI value.
-    get: fn(f64) -> T,
+    pub(crate) get: fn(f64) -> T,
     /// FMI value -> stored value.
-    set: fn(T) -> f64,
+    pub(crate) set: fn(T) -> f64,
     /// FMI value for the call log.
-    show: fn(T) -> String,
+    pub(crate) show: fn(T) -> String,
 }
 
 fn real_to_f64(v: fmi2Real) -> f64 {
