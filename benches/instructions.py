@@ -52,8 +52,10 @@ def main():
         gen = {n: callgrind([kp, "none", str(n)])[0] for n in (n1, n2)}  # the measurements alone
         for f in ("ekf", "ukf"):
             # the bare step and the same step through the navigator, the C ABI and the FMU cycle
+            # (FMI 2.0 and FMI 3.0)
             for mode, name in ((f, f"{f}_step"), (f"nav-{f}", f"navigator_step_{f}"),
-                               (f"capi-{f}", f"capi_step_{f}"), (f"fmu-{f}", f"fmu_cycle_{f}")):
+                               (f"capi-{f}", f"capi_step_{f}"), (f"fmu-{f}", f"fmu_cycle_{f}"),
+                               (f"fmu3-{f}", f"fmu3_cycle_{f}")):
                 i1, _ = callgrind([kp, mode, str(n1)])
                 i2, _ = callgrind([kp, mode, str(n2)])
                 out["instructions"][name] = ((i2 - gen[n2]) - (i1 - gen[n1])) / (n2 - n1)

@@ -86,6 +86,11 @@ for k in ("ekf", "ukf"):
     # biases this difference either way; the paired row below is the goal's figure
     print(f"| fmu_cycle_{k} - {k}_step (FMI overhead: set 3 inputs, doStep, get 12 outputs), "
           f"difference of the two medians | {m['fmu_cycle_' + k] - m[k + '_step']:.0f} ns | {di} | |")
+    if f"fmu3_cycle_{k}" in icount and f"fmu_cycle_{k}" in icount:
+        o2 = icount[f"fmu_cycle_{k}"] - icount[f"navigator_step_{k}"]
+        o3 = icount[f"fmu3_cycle_{k}"] - icount[f"navigator_step_{k}"]
+        print(f"| FMI 3.0 / FMI 2.0 cycle overhead over the navigator step, {k.upper()} (instructions, "
+              f"same run: arrays in and out against scalars) | | {o3:.0f} / {o2:.0f} = {o3 / o2:.2f}x | <= 1x |")
     if k in paired:
         pk = paired[k]
         print(f"| the same overhead paired: median over {pk['batches']} interleaved batches of 600 steps of "

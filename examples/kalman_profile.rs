@@ -7,8 +7,9 @@
 //! `nav-ekf` / `capi-ekf` / `fmu-ekf` (and `-ukf`) run the same steps through the
 //! navigator (`ecc-ekf`: the navigator on the elliptic model, e = 0.1), the C ABI (`relnav_estimator_step`) and one FMU master cycle (`fmi2SetReal` of
 //! the three measurements, `fmi2DoStep`, `fmi2GetReal` of the 12 estimate outputs: the
-//! `fmu_cycle_*` criterion bench); their counts less the bare filter's are the layers'
-//! overheads.
+//! `fmu_cycle_*` criterion bench; `fmu3-ekf` / `fmu3-ukf` the same cycle through the FMI 3.0
+//! functions, arrays in and out: `fmu3_cycle_*`); their counts less the bare filter's are
+//! the layers' overheads.
 //! `sensor-<s>-ekf` (and `-ukf`, `-hinf`: the H-infinity filter designed for all four sensors,
 //! `-hinffixed` the same without track initiation;
 //! `s` = `radio`, `camera`, `gnss`, `velocity` or `none`)
@@ -43,6 +44,8 @@ use std::time::Instant;
 
 // relnav.fmu's fmi2* functions in this binary, as the FMU's shared library exports them
 relnav_fmi::export_fmi2!(relnav_nav_model::RelnavFmu);
+// and its fmi3* functions (relnav3.fmu: the same library)
+relnav_fmi::export_fmi3!(relnav_nav_model::RelnavFmu);
 
 /// relnav.fmu's GUID.
 fn guid() -> &'static str {
@@ -222,6 +225,63 @@ fn run_fmu(kind: FilterKind, steps: usize) -> Vec<f64> {
     y.to_vec()
 }
 
+/// `steps` FMI 3.0 master cycles (`fmi3SetFloat64` of the `measurement` array,
+/// `fmi3DoStep`, `fmi3GetFloat64` of `position`, `velocity` and `sigma`: the same 12
+/// values); the last outputs.
+fn run_fmu3(kind: FilterKind, steps: usize) -> Vec<f64> {
+    use relnav_fmi::fmi3::description::{token_of, vr_of};
+    let info = &*relnav_nav_model::INFO;
+    let token = std::ffi::CString::new(token_of(info)).unwrap();
+    let zs = measurements(steps);
+    // SAFETY: valid arguments; the instance is freed below.
+    let comp = unsafe {
+        fmi3InstantiateCoSimulation(
+            c"profile".as_ptr(),
+            token.as_ptr(),
+            std::ptr::null(),
+            false,
+            false,
+            false,
+            false,
+            std::ptr::null(),
+            0,
+            std::ptr::null_mut(),
+            None,
+            None,
+        )
+    };
+    assert!(!comp.is_null());
+    let meas = [vr_of(info, "measurement").unwrap()];
+    let outs = ["position", "velocity", "sigma"].map(|n| vr_of(info, n).unwrap());
+    let mut y = [0.0; 12];
+    let (mut event, mut terminate, mut early, mut last) = (false, false, false, 0.0);
+    // SAFETY: a live instance, matching lengths.
+    unsafe {
+        fmi3SetInt32(comp, &vr::FILTER, 1, &(kind as i32), 1);
+        fmi3EnterInitializationMode(comp, false, 0.0, 0.0, false, 0.0);
+        fmi3ExitInitializationMode(comp);
+        fmi3SetBoolean(comp, &vr::MEASUREMENT_VALID, 1, &true, 1);
+        for (k, z) in zs.iter().enumerate() {
+            fmi3SetFloat64(comp, meas.as_ptr(), 1, black_box(z.as_ptr()), 3);
+            let st = fmi3DoStep(
+                comp,
+                k as f64,
+                1.0,
+                true,
+                &mut event,
+                &mut terminate,
+                &mut early,
+                &mut last,
+            );
+            assert_eq!(st, relnav_fmi::fmi3::types::fmi3Status::fmi3OK);
+            fmi3GetFloat64(comp, outs.as_ptr(), 3, y.as_mut_ptr(), 12);
+            black_box(&y);
+        }
+        fmi3FreeInstance(comp);
+    }
+    y.to_vec()
+}
+
 /// Wall-clock figures of one filter from [`time_layers`], ns per step.
 struct Timing {
     /// Minimum, 10th percentile and median of the bare step, the navigator's and the FMU cycle.
@@ -386,6 +446,7 @@ fn layered(which: &str, steps: usize) -> Option<Vec<f64>> {
         "ecc" => Some(run_nav(kind, steps, 0.1)),
         "capi" => Some(run_capi(kind, steps)),
         "fmu" => Some(run_fmu(kind, steps)),
+        "fmu3" => Some(run_fmu3(kind, steps)),
         _ => None,
     }
 }

@@ -14,6 +14,7 @@ use std::cell::Cell;
 
 // relnav.fmu's fmi2* functions in this binary, as the FMU's shared library exports them
 relnav_fmi::export_fmi2!(relnav_nav_model::RelnavFmu);
+relnav_fmi::export_fmi3!(relnav_nav_model::RelnavFmu);
 
 /// relnav.fmu's GUID.
 fn guid() -> &'static str {
@@ -219,6 +220,98 @@ fn hinf_steps_do_not_allocate() {
 fn fmu_do_step_does_not_allocate() {
     for (filter, law) in [(1, 2), (3, 2), (3, 1), (5, 2), (8, 2), (9, 2), (10, 2)] {
         fmu_cycles_do_not_allocate(filter, law);
+    }
+}
+
+/// The same through FMI 3.0 (`relnav3.fmu`): set the `measurement` array and its flag,
+/// `fmi3DoStep`, get the `position`, `velocity` and `sigma` arrays and the 6x6
+/// `covariance` in one call.
+#[test]
+fn fmi3_do_step_does_not_allocate() {
+    use relnav_fmi::fmi3::description::{token_of, vr_of};
+    use relnav_fmi::fmi3::types::fmi3Status;
+    let info = &*relnav_nav_model::INFO;
+    let token = std::ffi::CString::new(token_of(info)).unwrap();
+    for filter in [1, 2, 3, 5, 9, 10] {
+        // SAFETY: valid arguments; the instance is freed below.
+        let c = unsafe {
+            fmi3InstantiateCoSimulation(
+                c"alloc".as_ptr(),
+                token.as_ptr(),
+                std::ptr::null(),
+                false,
+                false,
+                false,
+                false,
+                std::ptr::null(),
+                0,
+                std::ptr::null_mut(),
+                None,
+                None,
+            )
+        };
+        assert!(!c.is_null());
+        let meas = [vr_of(info, "measurement").unwrap()];
+        let outs = ["position", "velocity", "sigma", "covariance"].map(|n| vr_of(info, n).unwrap());
+        let mut y = [0.0; 48];
+        let (mut event, mut terminate, mut early, mut last) = (false, false, false, 0.0);
+        // SAFETY: a live instance, arrays of matching lengths.
+        unsafe {
+            assert_eq!(
+                fmi3SetInt32(
+                    c,
+                    [vr::FILTER, vr::PARTICLES].as_ptr(),
+                    2,
+                    [filter, 300].as_ptr(),
+                    2
+                ),
+                fmi3Status::fmi3OK
+            );
+            assert_eq!(
+                fmi3EnterInitializationMode(c, false, 0.0, 0.0, false, 0.0),
+                fmi3Status::fmi3OK
+            );
+            assert_eq!(fmi3ExitInitializationMode(c), fmi3Status::fmi3OK);
+        }
+        let n = allocations(|| {
+            for k in 0..200 {
+                let z = measurement(k);
+                // SAFETY: as above.
+                unsafe {
+                    assert_eq!(
+                        fmi3SetFloat64(c, meas.as_ptr(), 1, z.as_ptr(), 3),
+                        fmi3Status::fmi3OK
+                    );
+                    assert_eq!(
+                        fmi3SetBoolean(c, &vr::MEASUREMENT_VALID, 1, &true, 1),
+                        fmi3Status::fmi3OK
+                    );
+                    assert_eq!(
+                        fmi3DoStep(
+                            c,
+                            k as f64,
+                            1.0,
+                            true,
+                            &mut event,
+                            &mut terminate,
+                            &mut early,
+                            &mut last
+                        ),
+                        fmi3Status::fmi3OK
+                    );
+                    assert_eq!(
+                        fmi3GetFloat64(c, outs.as_ptr(), 4, y.as_mut_ptr(), 48),
+                        fmi3Status::fmi3OK
+                    );
+                }
+            }
+        });
+        // SAFETY: freed once.
+        unsafe { fmi3FreeInstance(c) };
+        assert_eq!(
+            n, 0,
+            "filter {filter}: {n} allocations in 200 fmi3DoStep cycles"
+        );
     }
 }
 

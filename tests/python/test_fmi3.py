@@ -184,3 +184,42 @@ def test_refusals_are_logged(runner3):
         assert r.fmu.getFloat64([9999]) == [5.0]
     finally:
         r.free_instance()
+
+
+@pytest.mark.parametrize("filter_name", ["ekf", "ukf", "aqukf", "pf", "imm", "rekf", "hinf"])
+def test_covariance_is_symmetric_positive_definite_with_sigma_squared_diagonal(runner3, filter_name):
+    sc = cw.paper000_scenario(frame=3, times=np.arange(0.0, 31.0))
+    z = sc.measurements(2)
+    params = {**sc.params, "filter": filter_name}
+    if filter_name == "hinf":
+        params["hinf_period"] = 1.0
+    if filter_name == "pf":
+        params["particles"] = 300
+    r = runner3
+    cov_vr, sigma_vr = r.vr["covariance"], r.vr["sigma"]
+    assert [int(d.start) for d in r.vars["covariance"].dimensions] == [6, 6]
+    r.instantiate()
+    try:
+        r.fmu.enterInitializationMode(startTime=0.0)
+        r.set_params(params)
+        # in Initialization Mode: the initial sigmas' diagonal
+        seen = [(np.array(r.fmu.getFloat64([cov_vr], nValues=36)), np.array(r.fmu.getFloat64([sigma_vr], nValues=6)))]
+        r.fmu.exitInitializationMode()
+        for k in range(len(sc.times) - 1):
+            r.fmu.setFloat64([r.vr["thrust"], r.vr["measurement"]], list(sc.thrust[k]) + list(z[k]))
+            r.fmu.setBoolean([r.vr["measurement_valid"]], [bool(sc.valid[k])])
+            r.fmu.doStep(sc.times[k], sc.times[k + 1] - sc.times[k])
+            # both in one call, as a master reads a step's outputs
+            both = np.array(r.fmu.getFloat64([cov_vr, sigma_vr], nValues=42))
+            seen.append((both[:36], both[36:]))
+    finally:
+        r.free_instance()
+    for cov, sigma in seen:
+        p = cov.reshape(6, 6)
+        if filter_name == "hinf":
+            # no covariance, as its sigmas say
+            assert np.isnan(p).all() and np.isnan(sigma).all()
+            continue
+        assert np.array_equal(p, p.T)
+        np.linalg.cholesky(p)
+        assert np.array_equal(np.sqrt(np.diag(p)), sigma)

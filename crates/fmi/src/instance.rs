@@ -274,6 +274,11 @@ impl<M: Model, B: Binding> FmuInstance<M, B> {
         self.state = ModelState::Instantiated;
     }
 
+    /// The values of the model's computed output `index` ([`Model::computed`]).
+    pub fn computed(&self, index: usize, out: &mut [f64]) {
+        self.model.computed(&self.values, index, out);
+    }
+
     /// Terminate.
     pub fn terminate(&mut self) {
         self.state = ModelState::Terminated;

@@ -56,6 +56,33 @@ pub struct ArrayDef {
     pub description: &'static str,
 }
 
+/// A Float64 output array FMI 3.0 publishes that the table does not hold (FMI 2.0 has no
+/// place for it): the model computes its values when they are read ([`Model::computed`]),
+/// from its state once built and from the parameters before. Continuous, row-major.
+#[derive(Debug, Clone, Copy)]
+pub struct ComputedDef {
+    /// The array's name.
+    pub name: &'static str,
+    /// Its dimensions (row-major; the product is the number of values).
+    pub dims: &'static [usize],
+    /// Its unit (empty: none; the description names the units of mixed arrays).
+    pub unit: &'static str,
+    /// Its description.
+    pub description: &'static str,
+}
+
+impl ComputedDef {
+    /// The number of values.
+    pub fn len(&self) -> usize {
+        self.dims.iter().product()
+    }
+
+    /// Whether it holds no value.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
 /// What the FMI plumbing knows of one model, as a `static` beside the model.
 #[derive(Debug)]
 pub struct ModelInfo {
@@ -77,6 +104,9 @@ pub struct ModelInfo {
     /// The vectors FMI 3.0 publishes as arrays (in the order of their value references:
     /// appended only, never reordered).
     pub arrays: &'static [ArrayDef],
+    /// The outputs FMI 3.0 publishes beyond the table, computed by the model on request
+    /// ([`Model::computed`]; in the order of their value references, appended only).
+    pub computed: &'static [ComputedDef],
     /// The bindings' generated texts ([`Generated::new`] in the `static`).
     pub generated: Generated,
 }
@@ -130,6 +160,14 @@ pub trait Model: Sized {
 
     /// Drop what [`Model::initialize`] built.
     fn reset(&mut self);
+
+    /// The values of the computed output `index` of [`ModelInfo::computed`] into `out`
+    /// (its length): from the built model, or from `values` (the parameters) before it
+    /// is built. The default is for models without computed outputs.
+    fn computed(&self, values: &[f64], index: usize, out: &mut [f64]) {
+        let _ = (values, index);
+        out.fill(f64::NAN);
+    }
 
     /// Whether [`Model::initialize`] has built the model (parameters are then fixed).
     fn is_built(&self) -> bool;

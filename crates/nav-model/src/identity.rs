@@ -7,7 +7,7 @@
 //! the same table.
 
 use relnav_core::nav::PARAMS;
-use relnav_fmi::model::{ArrayDef, DefaultExperiment, Generated, ModelInfo};
+use relnav_fmi::model::{ArrayDef, ComputedDef, DefaultExperiment, Generated, ModelInfo};
 use relnav_fmi::variables::VarDef;
 use std::sync::LazyLock;
 
@@ -83,6 +83,14 @@ static ARRAYS: &[ArrayDef] = &[
     },
 ];
 
+/// The outputs relnav3.fmu computes beyond the table (FMI 3.0 only).
+static COMPUTED: &[ComputedDef] = &[ComputedDef {
+    name: "covariance",
+    dims: &[6, 6],
+    unit: "",
+    description: "Covariance of the estimate (x, y, z, vx, vy, vz) in the I/O frame, row-major (m2, m2/s, m2/s2): its diagonal is sigma squared; NaN for the H-infinity filter, which has none",
+}];
+
 /// relnav.fmu's static description.
 pub static INFO: LazyLock<ModelInfo> = LazyLock::new(|| ModelInfo {
     model_identifier: MODEL_IDENTIFIER,
@@ -97,6 +105,7 @@ pub static INFO: LazyLock<ModelInfo> = LazyLock::new(|| ModelInfo {
     state_code: Some(vr::FILTER),
     state_name: "estimator",
     arrays: ARRAYS,
+    computed: COMPUTED,
     generated: Generated::new(),
 });
 

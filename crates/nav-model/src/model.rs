@@ -343,6 +343,28 @@ impl Model for RelnavFmu {
         self.nav = None;
     }
 
+    /// The covariance (the one computed output): the navigator's in the I/O frame once
+    /// built, before that the diagonal of the published initial sigmas squared.
+    fn computed(&self, values: &[f64], _index: usize, out: &mut [f64]) {
+        let p = match &self.nav {
+            Some(nav) => nav.covariance(),
+            None => {
+                let s = |i: usize| values[ESTIMATE[6 + i] as usize];
+                // uncorrelated; all NaN where the sigmas are (the H-infinity filter)
+                relnav_core::types::Mat6::from_fn(|i, j| {
+                    if i == j {
+                        s(i) * s(i)
+                    } else {
+                        0.0 * s(i) * s(j)
+                    }
+                })
+            }
+        };
+        for (k, o) in out.iter_mut().enumerate().take(36) {
+            *o = p[(k / 6, k % 6)];
+        }
+    }
+
     fn is_built(&self) -> bool {
         self.nav.is_some()
     }

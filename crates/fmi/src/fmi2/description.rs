@@ -343,6 +343,7 @@ mod tests {
         state_code: Some(vr::MODE),
         state_name: "test",
         arrays: &[],
+        computed: &[],
         generated: Generated::new(),
     };
 

@@ -4,14 +4,15 @@
 //! ([`crate::fmi2::description`]: a UUID v5 of the body without its token and date).
 //!
 //! Value references: a scalar keeps its FMI 2.0 value reference (its index in the table);
-//! array `k` of [`ModelInfo::arrays`] is [`ARRAY_VR_BASE`]` + k`; the independent variable
-//! `time` is [`TIME_VR`]. The table's elements of an array are not published as scalars.
+//! array `k` of [`ModelInfo::arrays`] is [`ARRAY_VR_BASE`]` + k`, computed output `k` of
+//! [`ModelInfo::computed`] [`COMPUTED_VR_BASE`]` + k`; the independent variable `time` is
+//! [`TIME_VR`]. The table's elements of an array are not published as scalars.
 
 use crate::fmi2::description::{
     causality, escape, finish, published_description, variability, write_default_experiment,
     write_log_categories, write_units, DATE_PLACEHOLDER, GENERATION_DATE, GUID_PLACEHOLDER,
 };
-use crate::model::{ArrayDef, ModelInfo};
+use crate::model::{ArrayDef, ComputedDef, ModelInfo};
 use crate::variables::{Causality, VarDef, VarType};
 use std::fmt::Write;
 
@@ -19,6 +20,8 @@ use std::fmt::Write;
 pub const ARRAY_VR_BASE: u32 = 10_000;
 /// Value reference of the independent variable `time`.
 pub const TIME_VR: u32 = 9_999;
+/// Value reference of computed output 0 (output `k` is `COMPUTED_VR_BASE + k`).
+pub const COMPUTED_VR_BASE: u32 = 20_000;
 
 /// What an FMI 3.0 value reference names.
 #[derive(Debug, Clone, Copy)]
@@ -27,8 +30,36 @@ pub enum Published {
     Scalar(u32),
     /// An array ([`ModelInfo::arrays`]).
     Array(&'static ArrayDef),
+    /// A computed output ([`ModelInfo::computed`]) and its index there.
+    Computed(&'static ComputedDef, usize),
     /// The independent variable.
     Time,
+}
+
+/// The FMI 3.0 value reference of the array or computed output called `name`.
+pub fn vr_of(info: &ModelInfo, name: &str) -> Option<u32> {
+    let array = info.arrays.iter().position(|a| a.name == name);
+    let computed = info.computed.iter().position(|c| c.name == name);
+    array
+        .map(|k| ARRAY_VR_BASE + k as u32)
+        .or(computed.map(|k| COMPUTED_VR_BASE + k as u32))
+}
+
+impl Published {
+    /// The number of values it holds.
+    #[inline(always)]
+    pub fn len(&self) -> usize {
+        match self {
+            Published::Scalar(_) | Published::Time => 1,
+            Published::Array(a) => a.elements.len(),
+            Published::Computed(c, _) => c.len(),
+        }
+    }
+
+    /// Whether it holds no value (never: every published variable holds at least one).
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
 }
 
 /// Whether the table's variable `vr` is an element of an array (then not a scalar of FMI
@@ -38,9 +69,16 @@ pub fn in_array(info: &ModelInfo, vr: u32) -> bool {
 }
 
 /// What the FMI 3.0 value reference `vr` names, if anything.
+#[inline(always)]
 pub fn published(info: &'static ModelInfo, vr: u32) -> Option<Published> {
     if vr == TIME_VR {
         return Some(Published::Time);
+    }
+    if let Some(k) = vr.checked_sub(COMPUTED_VR_BASE) {
+        return info
+            .computed
+            .get(k as usize)
+            .map(|c| Published::Computed(c, k as usize));
     }
     if let Some(k) = vr.checked_sub(ARRAY_VR_BASE) {
         return info.arrays.get(k as usize).map(Published::Array);
@@ -69,8 +107,18 @@ pub fn array_unit(info: &ModelInfo, a: &ArrayDef) -> &'static str {
 /// Check a model's arrays: elements exist, are distinct and in one array only, share
 /// causality, variability and type class; the tables stay below [`TIME_VR`].
 pub fn check_arrays(info: &ModelInfo) -> Result<(), String> {
-    if info.variables.len() >= TIME_VR as usize {
-        return Err("the table reaches the FMI 3.0 value references of time and arrays".into());
+    if info.variables.len() >= TIME_VR as usize
+        || info.arrays.len() >= (COMPUTED_VR_BASE - ARRAY_VR_BASE) as usize
+    {
+        return Err("the table or the arrays reach the next FMI 3.0 value references".into());
+    }
+    for c in info.computed {
+        if c.is_empty() || info.variables.iter().any(|v| v.name == c.name) {
+            return Err(format!(
+                "computed output {}: empty, or a scalar has its name",
+                c.name
+            ));
+        }
     }
     for a in info.arrays {
         let Some(first) = a.elements.first().and_then(|r| info.lookup(*r)) else {
@@ -135,7 +183,7 @@ struct Var<'a> {
     description: &'a str,
     unit: &'a str,
     starts: &'a [String],
-    dims: Option<usize>,
+    dims: &'a [usize],
 }
 
 fn variable(x: &mut String, p: &Var<'_>) {
@@ -166,15 +214,14 @@ fn variable(x: &mut String, p: &Var<'_>) {
         causality(v.causality),
         variability(v.variability),
     );
-    match p.dims {
-        None => {
-            let _ = writeln!(x, "{head}/>");
-        }
-        Some(n) => {
-            let _ = writeln!(x, "{head}>");
+    if p.dims.is_empty() {
+        let _ = writeln!(x, "{head}/>");
+    } else {
+        let _ = writeln!(x, "{head}>");
+        for n in p.dims {
             let _ = writeln!(x, r#"      <Dimension start="{n}"/>"#);
-            let _ = writeln!(x, "    </{tag}>");
         }
+        let _ = writeln!(x, "    </{tag}>");
     }
 }
 
@@ -201,6 +248,7 @@ fn body(info: &'static ModelInfo) -> String {
             .filter(|v| !in_array(info, v.vr))
             .any(|v| matches!(v.ty, VarType::Real(w) if w == u))
             || info.arrays.iter().any(|a| array_unit(info, a) == u)
+            || info.computed.iter().any(|c| c.unit == u)
     });
     write_log_categories(&mut x);
     write_default_experiment(&mut x, info);
@@ -224,7 +272,7 @@ fn body(info: &'static ModelInfo) -> String {
                 description: &published_description(v),
                 unit,
                 starts: &[start_text(v)],
-                dims: None,
+                dims: &[],
             },
         );
         if v.causality == Causality::Output {
@@ -251,12 +299,31 @@ fn body(info: &'static ModelInfo) -> String {
                 description: a.description,
                 unit: array_unit(info, a),
                 starts: &starts,
-                dims: Some(a.elements.len()),
+                dims: &[a.elements.len()],
             },
         );
         if first.causality == Causality::Output {
             outputs.push(vr);
         }
+    }
+    for (k, c) in info.computed.iter().enumerate() {
+        let vr = COMPUTED_VR_BASE + k as u32;
+        let _ = writeln!(
+            x,
+            r#"    <Float64 name="{}" valueReference="{vr}" description="{}" causality="output" variability="continuous"{}>"#,
+            c.name,
+            escape(c.description),
+            if c.unit.is_empty() {
+                String::new()
+            } else {
+                format!(r#" unit="{}""#, escape(c.unit))
+            }
+        );
+        for n in c.dims {
+            let _ = writeln!(x, r#"      <Dimension start="{n}"/>"#);
+        }
+        let _ = writeln!(x, "    </Float64>");
+        outputs.push(vr);
     }
     let _ = writeln!(x, "  </ModelVariables>");
     let _ = writeln!(x, "  <ModelStructure>");
@@ -318,6 +385,13 @@ mod tests {
         },
     ];
 
+    static COMPUTED: &[ComputedDef] = &[ComputedDef {
+        name: "cov",
+        dims: &[2, 2],
+        unit: "m2/s",
+        description: "A matrix",
+    }];
+
     static INFO: ModelInfo = ModelInfo {
         model_identifier: "test_model",
         description: "A model for tests",
@@ -331,6 +405,7 @@ mod tests {
         state_code: Some(vr::MODE),
         state_name: "test",
         arrays: ARRAYS,
+        computed: COMPUTED,
         generated: Generated::new(),
     };
 
@@ -345,7 +420,6 @@ mod tests {
         assert!(xml.contains(
             r#"<Float64 name="u" valueReference="10000" description="Inputs" causality="input" variability="discrete" unit="m" start="0.5 -1">"#
         ));
-        assert_eq!(xml.matches(r#"<Dimension start="2"/>"#).count(), 2);
         // mixed units: none on the array; outputs have no start
         assert!(xml.contains(
             r#"<Float64 name="state" valueReference="10001" description="Position [m] and velocity [m/s]" causality="output" variability="continuous">"#
@@ -358,6 +432,13 @@ mod tests {
         assert!(xml.contains(r#"<Output valueReference="10001" dependencies=""/>"#));
         assert!(xml.contains(r#"<Output valueReference="6" dependencies=""/>"#));
         assert!(xml.contains(r#"causality="independent""#));
+        // a computed output: its own reference, two dimensions, its unit declared
+        assert!(xml.contains(
+            r#"<Float64 name="cov" valueReference="20000" description="A matrix" causality="output" variability="continuous" unit="m2/s">"#
+        ));
+        assert_eq!(xml.matches(r#"<Dimension start="2"/>"#).count(), 4);
+        assert!(xml.contains(r#"<Output valueReference="20000" dependencies=""/>"#));
+        assert!(xml.contains(r#"<Unit name="m2/s">"#));
         // m is used by the array u, m/s by no published variable
         assert!(xml.contains(r#"<Unit name="m">"#));
         assert!(!xml.contains(r#"<Unit name="m/s">"#));
@@ -375,6 +456,13 @@ mod tests {
         assert!(published(&INFO, 10_002).is_none());
         assert!(published(&INFO, 7).is_none());
         assert!(matches!(published(&INFO, TIME_VR), Some(Published::Time)));
+        assert!(
+            matches!(published(&INFO, 20_000), Some(Published::Computed(c, 0)) if c.len() == 4)
+        );
+        assert!(published(&INFO, 20_001).is_none());
+        assert_eq!(vr_of(&INFO, "state"), Some(10_001));
+        assert_eq!(vr_of(&INFO, "cov"), Some(20_000));
+        assert_eq!(vr_of(&INFO, "mode"), None);
     }
 
     #[test]
@@ -415,6 +503,7 @@ mod tests {
                 state_code: None,
                 state_name: "t",
                 arrays,
+                computed: &[],
                 generated: Generated::new(),
             }));
             assert!(check_arrays(info).is_err_and(|e| e.contains(why)), "{why}");

@@ -409,68 +409,78 @@ fn bool_to(v: fmi3Boolean) -> f64 {
     }
 }
 
-/// The table variables a list of FMI 3.0 value references names, in order (an array's
-/// elements in its order), each with its label for messages; `None` for the time.
-fn expand<M: Model>(
-    refs: &[fmi3ValueReference],
-    func: &str,
-) -> Result<Vec<(Option<u32>, String)>, Failure> {
-    let info = M::info();
-    let mut out = Vec::with_capacity(refs.len());
-    for &r in refs {
-        match published(info, r) {
-            Some(Published::Scalar(v)) => out.push((Some(v), Instance::<M>::var_label(v))),
-            Some(Published::Array(a)) => {
-                for (i, &e) in a.elements.iter().enumerate() {
-                    out.push((Some(e), format!("{}[{i}] (vr {r})", a.name)));
-                }
-            }
-            Some(Published::Time) => out.push((None, format!("time (vr {r})"))),
-            None => {
-                return Err(error(format!("{func}: unknown value reference {r}")));
-            }
-        }
+/// The most values a computed output may hold (the covariance holds 36; checked by
+/// [`super::description::check_arrays`]).
+pub(crate) const MAX_COMPUTED: usize = 64;
+
+/// `name (vr r)` or `name[i] (vr r)` for messages.
+fn label_of<M: Model>(r: fmi3ValueReference, i: usize) -> String {
+    match published(M::info(), r) {
+        Some(Published::Scalar(v)) => Instance::<M>::var_label(v),
+        Some(Published::Array(a)) => format!("{}[{i}] (vr {r})", a.name),
+        Some(Published::Computed(c, _)) => format!("{}[{i}] (vr {r})", c.name),
+        Some(Published::Time) => format!("time (vr {r})"),
+        None => format!("vr {r} (unknown)"),
     }
-    Ok(out)
 }
 
-/// The expanded value references of a get or set ([`expand`]) after the count check:
-/// `nValues` must equal the values they hold.
-///
-/// # Safety
-/// `vr` is null or holds `nvr` elements.
-unsafe fn items<M: Model>(
-    vr: *const fmi3ValueReference,
-    nvr: usize,
-    nValues: usize,
-    func: &str,
-) -> Result<Vec<(Option<u32>, String)>, Failure> {
-    // SAFETY: forwarded contract; null is checked in `slice`.
-    let refs = unsafe { slice(vr, nvr, "valueReferences")? };
-    let items = expand::<M>(refs, func)?;
-    if items.len() != nValues {
-        return Err(error(format!(
-            "{func}: nValues = {nValues}, but the {nvr} value references hold {} values",
-            items.len()
-        )));
+/// The computed output `k` into `dst` (its length), converted by `get`: out of the step
+/// cycle's hot path.
+#[cold]
+#[inline(never)]
+fn computed_into<M: Model, T>(inst: &Instance<M>, k: usize, dst: &mut [T], get: fn(f64) -> T) {
+    let mut buf = [0.0; MAX_COMPUTED];
+    let n = dst.len().min(MAX_COMPUTED);
+    inst.computed(k, &mut buf[..n]);
+    for (o, v) in dst.iter_mut().zip(&buf) {
+        *o = get(*v);
     }
-    Ok(items)
+}
+
+/// The refusal of a get or set whose `nValues` is not the count of values its known
+/// references hold (an unknown one is refused before).
+fn count_mismatch<M: Model>(refs: &[fmi3ValueReference], nValues: usize, func: &str) -> Failure {
+    let info = M::info();
+    let n: usize = refs
+        .iter()
+        .filter_map(|&r| published(info, r))
+        .map(|p| p.len())
+        .sum();
+    error(format!(
+        "{func}: nValues = {nValues}, but the {} value references hold {n} values",
+        refs.len()
+    ))
+}
+
+fn unknown_reference(r: fmi3ValueReference, func: &str) -> Failure {
+    error(format!("{func}: unknown value reference {r}"))
+}
+
+/// Each value of the (known) `refs` in order: `(value reference, element index)`.
+fn elements<M: Model>(refs: &[fmi3ValueReference]) -> impl Iterator<Item = (u32, usize)> + '_ {
+    let info = M::info();
+    refs.iter().flat_map(move |&r| {
+        let n = published(info, r).map_or(0, |p| p.len());
+        (0..n).map(move |i| (r, i))
+    })
 }
 
 /// `func(nValueReferences = n: name = value, ...)` for the call log.
-fn values_log<T: Copy>(
+fn values_log<M: Model, T: Copy>(
     func: &str,
-    nvr: usize,
-    items: &[(Option<u32>, String)],
+    refs: &[fmi3ValueReference],
     vals: &[T],
     show: fn(T) -> String,
 ) -> String {
-    let parts: Vec<String> = items
-        .iter()
+    let parts: Vec<String> = elements::<M>(refs)
         .zip(vals)
-        .map(|((_, l), v)| format!("{l} = {}", show(*v)))
+        .map(|((r, i), v)| format!("{} = {}", label_of::<M>(r, i), show(*v)))
         .collect();
-    format!("{func}(nValueReferences = {nvr}: {})", parts.join(", "))
+    format!(
+        "{func}(nValueReferences = {}: {})",
+        refs.len(),
+        parts.join(", ")
+    )
 }
 
 /// # Safety
@@ -498,16 +508,37 @@ unsafe fn get_values<M: Model, T: Copy>(
             M_GET,
             |_| None,
             |inst| {
-                let items = items::<M>(vr, nvr, nValues, func)?;
+                let refs = slice(vr, nvr, "valueReferences")?;
                 let out = slice_mut(value, nValues, "values")?;
-                for ((r, _), o) in items.iter().zip(out.iter_mut()) {
-                    *o = match r {
-                        Some(r) => get(inst.get(*r, func, class)?),
-                        None if class == TypeClass::Real => get(inst.time()),
-                        None => return Err(error(format!("{func}: time is a Float64"))),
+                let info = M::info();
+                let mut at = 0;
+                for &r in refs {
+                    // each reference resolved once, its values written where they go
+                    let p = published(info, r).ok_or_else(|| unknown_reference(r, func))?;
+                    let n = p.len();
+                    let Some(dst) = out.get_mut(at..at + n) else {
+                        return Err(count_mismatch::<M>(refs, nValues, func));
                     };
+                    match p {
+                        Published::Scalar(v) => dst[0] = get(inst.get(v, func, class)?),
+                        Published::Array(a) => {
+                            for (o, &e) in dst.iter_mut().zip(a.elements) {
+                                *o = get(inst.get(e, func, class)?);
+                            }
+                        }
+                        Published::Time | Published::Computed(..) if class != TypeClass::Real => {
+                            let what = label_of::<M>(r, 0);
+                            return Err(error(format!("{func}: {what} is a Float64")));
+                        }
+                        Published::Time => dst[0] = get(inst.time()),
+                        Published::Computed(_, k) => computed_into(inst, k, dst, get),
+                    }
+                    at += n;
                 }
-                inst.log_call(|| values_log(func, nvr, &items, out, show));
+                if at != nValues {
+                    return Err(count_mismatch::<M>(refs, nValues, func));
+                }
+                inst.log_call(|| values_log::<M, T>(func, refs, out, show));
                 Ok(())
             },
         )
@@ -539,14 +570,38 @@ unsafe fn set_values<M: Model, T: Copy>(
             M_SET,
             |_| None,
             |inst| {
-                let items = items::<M>(vr, nvr, nValues, func)?;
+                let refs = slice(vr, nvr, "valueReferences")?;
                 let vals = slice(value, nValues, "values")?;
-                inst.log_call(|| values_log(func, nvr, &items, vals, show));
-                for ((r, l), v) in items.iter().zip(vals) {
-                    match r {
-                        Some(r) => inst.set(*r, set(*v), func, class)?,
-                        None => return Err(error(format!("{func}: {l} cannot be set"))),
+                let info = M::info();
+                // every reference known and the count right before anything is set
+                let mut total = 0;
+                for &r in refs {
+                    total += published(info, r)
+                        .ok_or_else(|| unknown_reference(r, func))?
+                        .len();
+                }
+                if total != nValues {
+                    return Err(count_mismatch::<M>(refs, nValues, func));
+                }
+                inst.log_call(|| values_log::<M, T>(func, refs, vals, show));
+                let mut at = 0;
+                for &r in refs {
+                    let Some(p) = published(info, r) else {
+                        continue;
+                    };
+                    match p {
+                        Published::Scalar(t) => inst.set(t, set(vals[at]), func, class)?,
+                        Published::Array(a) => {
+                            for (&e, v) in a.elements.iter().zip(&vals[at..]) {
+                                inst.set(e, set(*v), func, class)?;
+                            }
+                        }
+                        Published::Time | Published::Computed(..) => {
+                            let what = label_of::<M>(r, 0);
+                            return Err(error(format!("{func}: {what} cannot be set")));
+                        }
                     }
+                    at += p.len();
                 }
                 Ok(())
             },

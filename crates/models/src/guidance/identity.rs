@@ -85,5 +85,6 @@ of delay compensated by prediction), a per-axis thrust limit and a minimum impul
     state_code: None,
     state_name: "guidance",
     arrays: &[],
+    computed: &[],
     generated: Generated::new(),
 });

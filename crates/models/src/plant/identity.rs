@@ -130,5 +130,6 @@ outage; outputs the readings for relnav.fmu and the true state",
     state_code: Some(vr::TRUTH_MODEL),
     state_name: "plant",
     arrays: &[],
+    computed: &[],
     generated: Generated::new(),
 });
