@@ -229,27 +229,11 @@ fn run_fmu(kind: FilterKind, steps: usize) -> Vec<f64> {
 /// `fmi3DoStep`, `fmi3GetFloat64` of `position`, `velocity` and `sigma`: the same 12
 /// values); the last outputs.
 fn run_fmu3(kind: FilterKind, steps: usize) -> Vec<f64> {
-    use relnav_fmi::fmi3::description::{token_of, vr_of};
+    use relnav_fmi::fmi3::description::vr_of;
     let info = &*relnav_nav_model::INFO;
-    let token = std::ffi::CString::new(token_of(info)).unwrap();
     let zs = measurements(steps);
-    // SAFETY: valid arguments; the instance is freed below.
-    let comp = unsafe {
-        fmi3InstantiateCoSimulation(
-            c"profile".as_ptr(),
-            token.as_ptr(),
-            std::ptr::null(),
-            false,
-            false,
-            false,
-            false,
-            std::ptr::null(),
-            0,
-            std::ptr::null_mut(),
-            None,
-            None,
-        )
-    };
+    let comp =
+        relnav_fmi::fmi3::functions::instantiate_plain::<relnav_nav_model::RelnavFmu>(c"profile");
     assert!(!comp.is_null());
     let meas = [vr_of(info, "measurement").unwrap()];
     let outs = ["position", "velocity", "sigma"].map(|n| vr_of(info, n).unwrap());

@@ -228,28 +228,12 @@ fn fmu_do_step_does_not_allocate() {
 /// `covariance` in one call.
 #[test]
 fn fmi3_do_step_does_not_allocate() {
-    use relnav_fmi::fmi3::description::{token_of, vr_of};
+    use relnav_fmi::fmi3::description::vr_of;
     use relnav_fmi::fmi3::types::fmi3Status;
     let info = &*relnav_nav_model::INFO;
-    let token = std::ffi::CString::new(token_of(info)).unwrap();
     for filter in [1, 2, 3, 5, 9, 10] {
-        // SAFETY: valid arguments; the instance is freed below.
-        let c = unsafe {
-            fmi3InstantiateCoSimulation(
-                c"alloc".as_ptr(),
-                token.as_ptr(),
-                std::ptr::null(),
-                false,
-                false,
-                false,
-                false,
-                std::ptr::null(),
-                0,
-                std::ptr::null_mut(),
-                None,
-                None,
-            )
-        };
+        let c =
+            relnav_fmi::fmi3::functions::instantiate_plain::<relnav_nav_model::RelnavFmu>(c"alloc");
         assert!(!c.is_null());
         let meas = [vr_of(info, "measurement").unwrap()];
         let outs = ["position", "velocity", "sigma", "covariance"].map(|n| vr_of(info, n).unwrap());

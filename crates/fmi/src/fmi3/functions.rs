@@ -181,6 +181,32 @@ pub unsafe fn fmi3InstantiateCoSimulation<M: Model>(
     }
 }
 
+/// A Co-Simulation instance of `M` named `name` as the simplest master makes it: its own
+/// instantiation token, no resource path, no logger, no Event Mode, no early return (the
+/// in-process benches and tests that call the functions as a master would). Null if refused.
+pub fn instantiate_plain<M: Model>(name: &CStr) -> fmi3Instance {
+    let Ok(token) = std::ffi::CString::new(token_of(M::info())) else {
+        return std::ptr::null_mut();
+    };
+    // SAFETY: valid NUL-terminated strings, null pointers where the standard allows them.
+    unsafe {
+        fmi3InstantiateCoSimulation::<M>(
+            name.as_ptr(),
+            token.as_ptr(),
+            std::ptr::null(),
+            false,
+            false,
+            false,
+            false,
+            std::ptr::null(),
+            0,
+            std::ptr::null_mut(),
+            None,
+            None,
+        )
+    }
+}
+
 /// Model Exchange is not offered: null, with the reason sent to `logMessage`.
 pub fn refuse_instantiation(
     func: &str,
