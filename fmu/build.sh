@@ -6,6 +6,7 @@
 #   relnav_guidance.fmu  the hold-point guidance law (fmu/guidance)
 #   relnav_system.ssp    the closed GNC loop of the three (fmu/ssp/*.ssd)
 #   relnav3.fmu          the estimator as FMI 3.0 (the same library as relnav.fmu)
+#   relnav_plant3.fmu, relnav_guidance3.fmu   the kit as FMI 3.0 (the same libraries)
 #
 # (and each FMU unpacked in target/fmu/<id>/). The three cdylibs and the packer
 # `relnav-fmu` (fmu/pack) are default members of the workspace: the plain release build

@@ -201,6 +201,164 @@ def _empty(n: int) -> dict:
     return out
 
 
+def _release(slaves: dict, tmp: str) -> None:
+    """Free every instance (best effort, on the way out) and the unpacked files."""
+    for s in slaves.values():
+        try:
+            s.freeInstance()
+        except Exception:  # noqa: BLE001 - best effort on the way out
+            pass
+    shutil.rmtree(tmp, ignore_errors=True)
+
+
+def _jacobi(sysm: System, slaves: dict, n: int, getv, transfer, enter) -> tuple[dict, float]:
+    """The fixed-step Jacobi scheme every master here runs (module documentation), once the
+    parameters are set: ``enter`` each slave into initialisation, transfer, exit, transfer;
+    record row 0; then per step every slave steps, the outputs go to the inputs and the
+    recorded variables (``getv(component, name)``) are read. Returns the records and the
+    stepping loop's wall time."""
+    h, t0 = sysm.step, sysm.start
+    for s in slaves.values():
+        enter(s)
+    transfer()
+    for s in slaves.values():
+        s.exitInitializationMode()
+    transfer()
+    values = _empty(n)
+
+    def record(k: int) -> None:
+        for key in values:
+            values[key][k] = getv(*key)
+
+    record(0)
+    t_loop = time.perf_counter()
+    for k in range(n):
+        tc = t0 + k * h
+        for s in slaves.values():
+            s.doStep(currentCommunicationPoint=tc, communicationStepSize=h)
+        transfer()
+        record(k + 1)
+    loop = time.perf_counter() - t_loop
+    for s in slaves.values():
+        s.terminate()
+    return values, loop
+
+
+# ------------------------------------------------------------------------ fmpy, FMI 3.0
+# The FMI 2.0 scalars each FMI 3.0 FMU of the kit publishes as one array, in order, by
+# model identifier (declared in the models' `ArrayDef`s; written here independently, and
+# checked against the FMUs by tests/python/test_fmi3.py).
+FMI3_ARRAYS = {
+    "relnav": {
+        "thrust": THRUST,
+        "measurement": ["range", "azimuth", "elevation"],
+        "camera": ["camera_azimuth", "camera_elevation"],
+        "gnss_position": ["gnss_x", "gnss_y", "gnss_z"],
+        "gnss_velocity": ["gnss_vx", "gnss_vy", "gnss_vz"],
+        "position": ESTIMATE[:3],
+        "velocity": ESTIMATE[3:],
+        "sigma": SIGMA,
+    },
+    "relnav_plant": {
+        "thrust": THRUST,
+        "measurement": ["range", "azimuth", "elevation"],
+        "camera": ["camera_azimuth", "camera_elevation"],
+        "gnss_position": ["gnss_x", "gnss_y", "gnss_z"],
+        "gnss_velocity": ["gnss_vx", "gnss_vy", "gnss_vz"],
+        "true_position": TRUTH[:3],
+        "true_velocity": TRUTH[3:],
+    },
+    "relnav_guidance": {
+        "position": ESTIMATE[:3],
+        "velocity": ESTIMATE[3:],
+        "thrust": THRUST,
+    },
+}
+
+
+def run_fmpy3(fmu_dir: Path, ssp: Path, variant: str = "paper000", steps: int | None = None) -> Run:
+    """The system of ``ssp``'s ``variant`` with the kit's FMI 3.0 FMUs
+    (``<fmu_dir>/<id>3.fmu``), over fmpy's ``FMU3Slave``, by the same Jacobi scheme as
+    :func:`run_fmpy`: the SSD's parameters and scalar connections, each scalar that FMI 3.0
+    publishes in an array (:data:`FMI3_ARRAYS`) read and written through its array."""
+    from fmpy import extract, read_model_description
+    from fmpy.fmi3 import FMU3Slave
+
+    t_all = time.perf_counter()
+    sysm = read_system(ssp, variant)
+    n = sysm.steps if steps is None else steps
+    h, t0 = sysm.step, sysm.start
+    tmp = tempfile.mkdtemp(prefix="relnav-system-fmpy3-")
+    slaves, vars3, where = {}, {}, {}
+    try:
+        for c in sysm.components.values():
+            ident = Path(c.source).stem
+            unzip = extract(str(Path(fmu_dir) / f"{ident}3.fmu"), unzipdir=str(Path(tmp) / c.name))
+            md = read_model_description(unzip)
+            vars3[c.name] = {v.name: v for v in md.modelVariables}
+            # scalar name -> (FMI 3.0 variable, element index or None)
+            where[c.name] = {name: (name, None) for name in vars3[c.name]}
+            for array, elements in FMI3_ARRAYS[ident].items():
+                for i, e in enumerate(elements):
+                    where[c.name][e] = (array, i)
+            s = FMU3Slave(
+                guid=md.guid,
+                unzipDirectory=unzip,
+                modelIdentifier=md.coSimulation.modelIdentifier,
+                instanceName=c.name,
+            )
+            s.instantiate()
+            slaves[c.name] = s
+
+        def length(comp: str, var: str) -> int:
+            return int(np.prod([int(d.start) for d in vars3[comp][var].dimensions])) if vars3[comp][var].dimensions else 1
+
+        def get_var(comp: str, var: str) -> list:
+            v, s = vars3[comp][var], slaves[comp]
+            k = length(comp, var)
+            if v.type == "Float64":
+                return s.getFloat64([v.valueReference], nValues=k)
+            if v.type == "Int32":
+                return s.getInt32([v.valueReference], nValues=k)
+            return s.getBoolean([v.valueReference], nValues=k)
+
+        def set_var(comp: str, var: str, values: list) -> None:
+            v, s = vars3[comp][var], slaves[comp]
+            if v.type == "Float64":
+                s.setFloat64([v.valueReference], [float(x) for x in values])
+            elif v.type == "Int32":
+                s.setInt32([v.valueReference], [int(x) for x in values])
+            else:
+                s.setBoolean([v.valueReference], [bool(x) for x in values])
+
+        def getv(comp: str, name: str):
+            var, i = where[comp][name]
+            vals = get_var(comp, var)
+            return vals[0 if i is None else i]
+
+        for c in sysm.components.values():
+            for name, (_, value) in c.params.items():
+                set_var(c.name, name, [value])
+
+        def transfer() -> None:
+            # outputs first, then inputs, a whole array at a time
+            vals = [getv(a, ac) for a, ac, _, _ in sysm.connections]
+            pending: dict = {}
+            for (_, _, b, bc), v in zip(sysm.connections, vals):
+                var, i = where[b][bc]
+                if (b, var) not in pending:
+                    pending[(b, var)] = list(get_var(b, var))
+                pending[(b, var)][0 if i is None else i] = v
+            for (b, var), values in pending.items():
+                set_var(b, var, values)
+
+        values, loop = _jacobi(sysm, slaves, n, getv, transfer, lambda s: s.enterInitializationMode(startTime=t0))
+    finally:
+        _release(slaves, tmp)
+    times = t0 + h * np.arange(n + 1)
+    return Run("fmpy (FMI 3.0)", variant, times, values, loop, time.perf_counter() - t_all, sysm)
+
+
 # ------------------------------------------------------------------------------- fmpy
 def run_fmpy(ssp: Path, variant: str = "paper000", steps: int | None = None, overrides: dict | None = None) -> Run:
     """The system run by this module's master over fmpy's ``FMU2Slave`` (Jacobi, as the
@@ -258,8 +416,6 @@ def run_fmpy(ssp: Path, variant: str = "paper000", steps: int | None = None, ove
                 setv(c.name, name, value)
         for (comp, name), value in (overrides or {}).items():
             setv(comp, name, value)
-        for s in slaves.values():
-            s.enterInitializationMode()
 
         def transfer() -> None:
             # outputs first, then inputs: every input gets its source's current output
@@ -267,34 +423,9 @@ def run_fmpy(ssp: Path, variant: str = "paper000", steps: int | None = None, ove
             for (_, _, b, bc), v in zip(sysm.connections, vals):
                 setv(b, bc, v)
 
-        transfer()
-        for s in slaves.values():
-            s.exitInitializationMode()
-        transfer()
-        values = _empty(n)
-
-        def record(k: int) -> None:
-            for key in values:
-                values[key][k] = getv(*key)
-
-        record(0)
-        t_loop = time.perf_counter()
-        for k in range(n):
-            tc = t0 + k * h
-            for s in slaves.values():
-                s.doStep(currentCommunicationPoint=tc, communicationStepSize=h)
-            transfer()
-            record(k + 1)
-        loop = time.perf_counter() - t_loop
-        for s in slaves.values():
-            s.terminate()
+        values, loop = _jacobi(sysm, slaves, n, getv, transfer, lambda s: s.enterInitializationMode())
     finally:
-        for s in slaves.values():
-            try:
-                s.freeInstance()
-            except Exception:  # noqa: BLE001 - best effort on the way out
-                pass
-        shutil.rmtree(tmp, ignore_errors=True)
+        _release(slaves, tmp)
     times = t0 + h * np.arange(n + 1)
     return Run("fmpy", variant, times, values, loop, time.perf_counter() - t_all, sysm)
 

@@ -38,8 +38,27 @@ def runner3(unzip3):
     r.close()
 
 
-def test_fmpy_validates_relnav3(fmu3_path):
-    assert validate_fmu(str(fmu3_path)) == []
+@pytest.mark.parametrize("ident", ["relnav3", "relnav_plant3", "relnav_guidance3"])
+def test_fmpy_validates_the_fmi3_fmus(fmu3_path, ident):
+    path = fmu3_path.parent / f"{ident}.fmu"
+    assert validate_fmu(str(path)) == []
+    md = read_model_description(str(path))
+    assert md.fmiVersion == "3.0" and md.coSimulation is not None
+
+
+def test_kit_arrays_are_the_tool_s(fmu3_path):
+    # tools/relnav_system.py's independent list of which scalars each array holds: the
+    # FMUs publish exactly those arrays, of those lengths, and hide those scalars
+    import relnav_system as rs
+
+    for ident, arrays in rs.FMI3_ARRAYS.items():
+        v3 = {v.name: v for v in read_model_description(str(fmu3_path.parent / f"{ident}3.fmu")).modelVariables}
+        v2 = {v.name for v in read_model_description(str(fmu3_path.parent / f"{ident}.fmu")).modelVariables}
+        published = {name for name, v in v3.items() if v.dimensions and name != "covariance"}
+        assert published == set(arrays), ident
+        for name, elements in arrays.items():
+            assert [int(d.start) for d in v3[name].dimensions] == [len(elements)], (ident, name)
+            assert set(elements) <= v2 and not set(elements) & set(v3), (ident, name)
 
 
 def test_every_fmi3_function_is_exported(unzip3):

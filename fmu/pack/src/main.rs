@@ -8,9 +8,10 @@
 //! `OUT_DIR/<id>/`: `modelDescription.xml` (FMI 2.0, generated from the model's variable
 //! table) and `binaries/linux64/<id>.so` (the cdylib built next to this executable —
 //! `librelnav_fmu.so` (fmu/relnav), `librelnav_plant.so`, `librelnav_guidance.so` — renamed).
-//! `relnav3.fmu` (FMI 3.0, `OUT_DIR/relnav3/`) has the FMI 3.0 description and the same
-//! library under `binaries/x86_64-linux/relnav.so` (it exports the `fmi3*` functions beside
-//! the `fmi2*` ones). `relnav_system.ssp` holds the SSDs of `fmu/ssp/` (`SystemStructure.ssd`: paper 000's
+//! `relnav3.fmu` (FMI 3.0, `OUT_DIR/relnav3/`; with `--all` also `relnav_plant3.fmu` and
+//! `relnav_guidance3.fmu`) has the FMI 3.0 description and the same library under
+//! `binaries/x86_64-linux/<id>.so` (each exports the `fmi3*` functions beside the `fmi2*`
+//! ones). `relnav_system.ssp` holds the SSDs of `fmu/ssp/` (`SystemStructure.ssd`: paper 000's
 //! example, the default; the other variants beside it, `docs/kit.md`) with the three FMUs
 //! under `resources/` (stored: an FMU is a zip already).
 
@@ -169,29 +170,20 @@ fn run(all: bool, out: Option<PathBuf>) -> Result<Vec<PathBuf>, String> {
     let out_dir = out.unwrap_or_else(|| target_dir.join("fmu"));
     let all_fmus = fmus();
     let chosen = if all { &all_fmus[..] } else { &all_fmus[..1] };
-    let mut written = Vec::new();
-    for (info, library) in chosen {
-        written.push(pack_fmu(
-            info,
-            library,
-            &profile_dir,
-            &out_dir,
-            Version::Fmi2,
-        )?);
-    }
+    let pack = |version| {
+        chosen
+            .iter()
+            .map(|(info, library)| pack_fmu(info, library, &profile_dir, &out_dir, version))
+            .collect::<Result<Vec<_>, _>>()
+    };
+    let mut written = pack(Version::Fmi2)?;
     if all {
         let ssp = pack_ssp(&written, &out_dir)?;
         written.push(ssp);
     }
-    // FMI 3.0: relnav3.fmu from the same library (it exports both sets of functions)
-    let (info, library) = all_fmus[0];
-    written.push(pack_fmu(
-        info,
-        library,
-        &profile_dir,
-        &out_dir,
-        Version::Fmi3,
-    )?);
+    // FMI 3.0: relnav3.fmu (and the kit's) from the same libraries (each exports both sets
+    // of functions)
+    written.extend(pack(Version::Fmi3)?);
     Ok(written)
 }
 

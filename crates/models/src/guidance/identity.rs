@@ -3,7 +3,7 @@
 //! relnav-core's declarations ([`relnav_core::guidance::GUIDANCE_PARAMS`]), the inputs' and
 //! outputs' here.
 
-use relnav_fmi::model::{DefaultExperiment, Generated, ModelInfo};
+use relnav_fmi::model::{ArrayDef, DefaultExperiment, Generated, ModelInfo};
 use relnav_fmi::variables::VarDef;
 use std::sync::LazyLock;
 
@@ -69,6 +69,26 @@ pub static VARIABLES: LazyLock<Vec<VarDef>> = LazyLock::new(|| {
     )
 });
 
+/// The vectors relnav_guidance3.fmu publishes as arrays (FMI 3.0; relnav_guidance.fmu keeps
+/// the scalars): relnav3.fmu's output names in, the plant's input name out.
+static ARRAYS: &[ArrayDef] = &[
+    ArrayDef {
+        name: "position",
+        elements: &[io::vr::X, io::vr::Y, io::vr::Z],
+        description: "Estimated relative position at the step's start (relnav's position)",
+    },
+    ArrayDef {
+        name: "velocity",
+        elements: &[io::vr::VX, io::vr::VY, io::vr::VZ],
+        description: "Estimated relative velocity at the step's start (relnav's velocity)",
+    },
+    ArrayDef {
+        name: "thrust",
+        elements: &[io::vr::THRUST_X, io::vr::THRUST_Y, io::vr::THRUST_Z],
+        description: "Thrust commanded for the next step (x, y, z)",
+    },
+];
+
 /// relnav_guidance.fmu's static description.
 pub static INFO: LazyLock<ModelInfo> = LazyLock::new(|| ModelInfo {
     model_identifier: "relnav_guidance",
@@ -84,7 +104,7 @@ of delay compensated by prediction), a per-axis thrust limit and a minimum impul
     fmi_status: vr::FMI_STATUS,
     state_code: None,
     state_name: "guidance",
-    arrays: &[],
+    arrays: ARRAYS,
     computed: &[],
     generated: Generated::new(),
 });

@@ -135,6 +135,7 @@ mod tests {
     #[test]
     fn table_is_dense_and_the_defaults_are_the_laws() {
         assert_eq!(check_table(&VARIABLES), Ok(()));
+        assert_eq!(relnav_fmi::fmi3::description::check_arrays(&INFO), Ok(()));
         assert_eq!(VARIABLES.len(), identity::N_VARS);
         assert_eq!(
             crate::params::check_declared(GUIDANCE_PARAMS, identity::io_variables(), &VARIABLES),

@@ -2,7 +2,7 @@
 //! its variable table (value reference = index): the parameters' rows from relnav-core's
 //! declarations ([`relnav_core::plant::PLANT_PARAMS`]), the inputs' and outputs' here.
 
-use relnav_fmi::model::{DefaultExperiment, Generated, ModelInfo};
+use relnav_fmi::model::{ArrayDef, DefaultExperiment, Generated, ModelInfo};
 use relnav_fmi::variables::VarDef;
 use std::sync::LazyLock;
 
@@ -110,6 +110,47 @@ pub const N_VARS: usize = 69;
 pub static VARIABLES: LazyLock<Vec<VarDef>> =
     LazyLock::new(|| crate::params::table(relnav_core::plant::PLANT_PARAMS, io::VARIABLES, N_VARS));
 
+/// The vectors relnav_plant3.fmu publishes as arrays (FMI 3.0; relnav_plant.fmu keeps the
+/// scalars): the names relnav3.fmu's inputs have, so that a master connects them directly.
+static ARRAYS: &[ArrayDef] = &[
+    ArrayDef {
+        name: "thrust",
+        elements: &[io::vr::THRUST_X, io::vr::THRUST_Y, io::vr::THRUST_Z],
+        description: "Thrust on the chaser (x, y, z), held over the step",
+    },
+    ArrayDef {
+        name: "measurement",
+        elements: &[io::vr::RANGE, io::vr::AZIMUTH, io::vr::ELEVATION],
+        description:
+            "Measured range, azimuth and elevation at the last measurement time (held between)",
+    },
+    ArrayDef {
+        name: "camera",
+        elements: &[io::vr::CAMERA_AZIMUTH, io::vr::CAMERA_ELEVATION],
+        description: "Camera line of sight: azimuth and elevation at the last camera time",
+    },
+    ArrayDef {
+        name: "gnss_position",
+        elements: &[io::vr::GNSS_X, io::vr::GNSS_Y, io::vr::GNSS_Z],
+        description: "Relative GNSS position at the last GNSS time",
+    },
+    ArrayDef {
+        name: "gnss_velocity",
+        elements: &[io::vr::GNSS_VX, io::vr::GNSS_VY, io::vr::GNSS_VZ],
+        description: "Relative GNSS velocity at the last GNSS time",
+    },
+    ArrayDef {
+        name: "true_position",
+        elements: &[io::vr::TRUE_X, io::vr::TRUE_Y, io::vr::TRUE_Z],
+        description: "True relative position (x, y, z)",
+    },
+    ArrayDef {
+        name: "true_velocity",
+        elements: &[io::vr::TRUE_VX, io::vr::TRUE_VY, io::vr::TRUE_VZ],
+        description: "True relative velocity (vx, vy, vz)",
+    },
+];
+
 /// relnav_plant.fmu's static description.
 pub static INFO: LazyLock<ModelInfo> = LazyLock::new(|| ModelInfo {
     model_identifier: "relnav_plant",
@@ -129,7 +170,7 @@ outage; outputs the readings for relnav.fmu and the true state",
     fmi_status: vr::FMI_STATUS,
     state_code: Some(vr::TRUTH_MODEL),
     state_name: "plant",
-    arrays: &[],
+    arrays: ARRAYS,
     computed: &[],
     generated: Generated::new(),
 });

@@ -237,6 +237,7 @@ mod tests {
     #[test]
     fn table_is_dense_and_the_defaults_are_the_plants() {
         assert_eq!(check_table(&VARIABLES), Ok(()));
+        assert_eq!(relnav_fmi::fmi3::description::check_arrays(&INFO), Ok(()));
         assert_eq!(VARIABLES.len(), identity::N_VARS);
         assert_eq!(
             crate::params::check_declared(PLANT_PARAMS, identity::io_variables(), &VARIABLES),
