@@ -1,4 +1,4 @@
-// A small reader for FMI 2.0 modelDescription.xml: enough XML (elements, attributes,
+// A small reader for FMI 2.0 (and, read_model_description3, FMI 3.0) modelDescription.xml: enough XML (elements, attributes,
 // comments, processing instructions, the predefined and numeric entities) to get the GUID,
 // the co-simulation model identifier and each ScalarVariable's name, value reference,
 // causality, variability, base type and start value.
@@ -191,6 +191,67 @@ inline ModelDescription read_model_description(const std::string& path) {
         }
     }
     if (md.guid.empty()) throw std::runtime_error(path + ": no guid attribute");
+    return md;
+}
+
+// An FMI 3.0 variable: its name, value reference, causality, type element (Float64, Int32,
+// Boolean, ...) and number of values (the product of its Dimension starts; 1 for a scalar).
+struct Variable3 {
+    std::string name;
+    unsigned int value_reference = 0;
+    std::string causality;
+    std::string type;
+    size_t size = 1;
+};
+
+struct ModelDescription3 {
+    std::string fmi_version;
+    std::string instantiation_token;
+    std::string cs_model_identifier;
+    std::map<std::string, Variable3> variables;
+
+    const Variable3& at(const std::string& name) const {
+        auto it = variables.find(name);
+        if (it == variables.end()) throw std::runtime_error("modelDescription.xml has no variable named " + name);
+        return it->second;
+    }
+};
+
+inline ModelDescription3 read_model_description3(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw std::runtime_error("cannot open " + path);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    const std::vector<XmlElement> tags = xml_tags(ss.str());
+    ModelDescription3 md;
+    bool in_vars = false;
+    std::string open;  // the variable whose Dimension children follow
+    for (const XmlElement& t : tags) {
+        if (t.name == "fmiModelDescription") {
+            md.fmi_version = t.attrs.count("fmiVersion") ? t.attrs.at("fmiVersion") : "";
+            md.instantiation_token = t.attrs.count("instantiationToken") ? t.attrs.at("instantiationToken") : "";
+        } else if (t.name == "CoSimulation") {
+            md.cs_model_identifier = t.attrs.count("modelIdentifier") ? t.attrs.at("modelIdentifier") : "";
+        } else if (t.name == "ModelVariables") {
+            in_vars = true;
+        } else if (t.name == "/ModelVariables") {
+            in_vars = false;
+        } else if (in_vars && t.name == "Dimension" && !open.empty()) {
+            md.variables[open].size *= static_cast<size_t>(std::stoul(t.attrs.at("start")));
+        } else if (in_vars && !t.name.empty() && t.name[0] != '/' && t.attrs.count("valueReference")) {
+            Variable3 v;
+            v.name = t.attrs.at("name");
+            v.value_reference = static_cast<unsigned int>(std::stoul(t.attrs.at("valueReference")));
+            v.causality = t.attrs.count("causality") ? t.attrs.at("causality") : "local";
+            v.type = t.name;
+            if (md.variables.count(v.name)) throw std::runtime_error("duplicate variable " + v.name);
+            md.variables[v.name] = v;
+            open = t.self_closing ? std::string() : v.name;
+        } else if (in_vars && !t.name.empty() && t.name[0] == '/') {
+            open.clear();
+        }
+    }
+    if (md.instantiation_token.empty()) throw std::runtime_error(path + ": no instantiationToken attribute");
     return md;
 }
 
