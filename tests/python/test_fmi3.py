@@ -44,6 +44,8 @@ def test_fmpy_validates_the_fmi3_fmus(fmu3_path, ident):
     assert validate_fmu(str(path)) == []
     md = read_model_description(str(path))
     assert md.fmiVersion == "3.0" and md.coSimulation is not None
+    # relnav applies measurements in Event Mode; the plant and the guidance law have none
+    assert md.coSimulation.hasEventMode == (ident == "relnav3")
 
 
 def test_kit_arrays_are_the_tool_s(fmu3_path):
@@ -165,12 +167,7 @@ def test_state_round_trip_continues_bit_for_bit(runner3):
 
 def test_refusals_are_logged(runner3):
     r = runner3
-    # no Event Mode: the instantiation that asks for it is refused with the reason
     r.log.records.clear()
-    with pytest.raises(Exception):
-        r.instantiate(eventModeUsed=True)
-    r.instantiated = False
-    assert any("hasEventMode" in m for _, _, m in r.log.records), r.log.text()
     r.instantiate()
     try:
         from fmpy.fmi3 import fmi3ValueReference, fmi3Float64
@@ -190,13 +187,14 @@ def test_refusals_are_logged(runner3):
             r.fmu.fmi3GetFloat64(r.fmu.component, vrs, 1, vals, 2)
         r.fmu.reset()
         r.initialize({"filter": "ekf"})
+        # Event Mode only for an instance made with eventModeUsed
         with pytest.raises(Exception):
             r.fmu.enterEventMode()
         text = r.log.text()
         assert "illegal call sequence" in text
         assert "unknown value reference 12345" in text
         assert "the 1 value references hold 3 values" in text
-        assert "fmi3EnterEventMode is not supported" in text
+        assert "fmi3EnterEventMode: the instance was made with eventModeUsed = false" in text
         # the time is readable
         r.fmu.reset()
         r.initialize({"filter": "ekf"}, start_time=5.0)
@@ -307,3 +305,99 @@ def test_fmutool_check_is_clean(fmu3_path):
     out = subprocess.run([str(exe), "-input", str(fmu3_path), "-check"], capture_output=True, text=True, timeout=120)
     text = out.stdout + out.stderr
     assert "compliant with FMI-3.0" in text and "No semantic error against the FMI-3 standard" in text, text
+
+
+# ------------------------------------------------------------------------ Event Mode
+def _event_run(r, params, times, thrust, meas, arrival):
+    """relnav3 with eventModeUsed: each measurement applied in Event Mode at its arrival
+    time, `arrival` s after the communication point (0: at it), the flag cleared after; the
+    outputs at every whole communication point."""
+    r.instantiate(eventModeUsed=True)
+    try:
+        r.fmu.enterInitializationMode(startTime=float(times[0]))
+        r.set_params(params)
+        r.fmu.exitInitializationMode()  # into Event Mode
+        out = [r.outputs()]
+        tv, mv, vv = r.vr["thrust"], r.vr["measurement"], r.vr["measurement_valid"]
+        for k in range(len(times) - 1):
+            # the arrival time and the step lengths as relnav.fmu's master computes them
+            t, tm = float(times[k]), float(times[k] + arrival)
+            r.fmu.setFloat64([tv], list(thrust[k]))
+            if arrival > 0.0:
+                r.fmu.enterStepMode()
+                r.fmu.doStep(t, tm - t)
+                r.fmu.enterEventMode()
+            r.fmu.setFloat64([mv], list(meas[k]))
+            r.fmu.setBoolean([vv], [True])
+            discrete = r.fmu.updateDiscreteStates()
+            assert not any(discrete[:5])
+            r.fmu.setBoolean([vv], [False])
+            r.fmu.enterStepMode()
+            r.fmu.doStep(tm, float(times[k + 1]) - tm)
+            out.append(r.outputs())
+            r.fmu.enterEventMode()
+        r.fmu.terminate()
+    finally:
+        r.free_instance()
+    return np.array(out)
+
+
+def _fmi2_run(runner, params, times, thrust, meas, arrival):
+    """The same measurements through relnav.fmu: with `arrival` > 0 a step to the arrival
+    time without measurement, then one from it with the measurement (taken at its start)."""
+    if arrival == 0.0:
+        return runner.run(params, times, thrust, meas, np.ones(len(times) - 1, bool))
+    fine = np.sort(np.concatenate([times, times[:-1] + arrival]))
+    n = len(times) - 1
+    th = np.repeat(np.asarray(thrust, float), 2, axis=0)
+    z = np.zeros((2 * n, 3))
+    z[1::2] = meas
+    valid = np.tile([False, True], n)
+    return runner.run(params, fine, th, z, valid)[::2]
+
+
+@pytest.mark.parametrize("filter_name", ["ekf", "ukf", "imm", "pf"])
+@pytest.mark.parametrize("arrival", [0.0, 0.4])
+def test_event_mode_applies_a_measurement_at_its_arrival_time(runner, runner3, filter_name, arrival):
+    """A measurement applied in Event Mode at its arrival time gives what relnav.fmu gives
+    when a communication point is put at that time (the same update at the same time, then
+    the same prediction), bit for bit: also for the EKF and UKF, whose step fuses the
+    update and the prediction and whose Event Mode runs them one after the other."""
+    sc = cw.paper000_scenario(frame=2, times=np.arange(0.0, 41.0))
+    params = {**sc.params, "filter": filter_name}
+    if filter_name == "pf":
+        params["particles"] = 200
+    z = sc.measurements(4)
+    ev = _event_run(runner3, params, sc.times, sc.thrust, z, arrival)
+    ref = _fmi2_run(runner, params, sc.times, sc.thrust, z, arrival)
+    assert ev.shape == ref.shape
+    assert np.array_equal(ev.view(np.uint64), ref.view(np.uint64))
+
+
+def test_event_mode_call_sequence(runner3):
+    r = runner3
+    r.log.records.clear()
+    r.instantiate(eventModeUsed=True)
+    try:
+        r.fmu.enterInitializationMode(startTime=0.0)
+        r.fmu.exitInitializationMode()
+        # in Event Mode: no step, no second Event Mode; out of it: no discrete update
+        with pytest.raises(Exception):
+            r.fmu.doStep(0.0, 1.0)
+        r.fmu.reset()
+        r.fmu.enterInitializationMode(startTime=0.0)
+        r.fmu.exitInitializationMode()
+        r.fmu.enterStepMode()
+        with pytest.raises(Exception):
+            r.fmu.updateDiscreteStates()
+        r.fmu.reset()
+        r.fmu.enterInitializationMode(startTime=0.0)
+        r.fmu.exitInitializationMode()
+        # a parameter cannot be set in Event Mode
+        with pytest.raises(Exception):
+            r.fmu.setInt32([r.vr["filter"]], [2])
+    finally:
+        r.free_instance()
+    text = r.log.text()
+    assert text.count("illegal call sequence") == 2, text
+    assert "cannot be set in state EventMode" in text, text

@@ -43,7 +43,7 @@ pub const fn access_of(def: &VarDef) -> VarAccess {
         class: TypeClass::of(&def.ty),
         direct_set: match (def.causality, def.ty) {
             (Causality::Input, VarType::Code(_)) => 0,
-            (Causality::Input, _) => ModelState::StepComplete as u8,
+            (Causality::Input, _) => ModelState::StepComplete as u8 | ModelState::EventMode as u8,
             (Causality::Parameter | Causality::Output, _) => 0,
         },
     }
@@ -56,7 +56,7 @@ fn settable(def: &VarDef, state: ModelState) -> bool {
         ModelState::Instantiated | ModelState::InitializationMode => {
             def.causality != Causality::Output
         }
-        ModelState::StepComplete => def.causality == Causality::Input,
+        ModelState::StepComplete | ModelState::EventMode => def.causality == Causality::Input,
         ModelState::Terminated | ModelState::Error => false,
     }
 }
@@ -92,6 +92,8 @@ pub struct FmuInstance<M: Model, B: Binding> {
     guid: &'static str,
     /// The FMU states handed out.
     pub states: StateRegistry,
+    /// Initialisation ends in Event Mode, not Step Mode (FMI 3.0's `eventModeUsed`).
+    pub event_mode_used: bool,
 }
 
 impl<M: Model, B: Binding> FmuInstance<M, B> {
@@ -112,6 +114,7 @@ impl<M: Model, B: Binding> FmuInstance<M, B> {
             stop_time: None,
             guid,
             states: StateRegistry::default(),
+            event_mode_used: false,
         };
         inst.set_start_values();
         inst
@@ -229,9 +232,38 @@ impl<M: Model, B: Binding> FmuInstance<M, B> {
             .model
             .initialize(&mut self.values, self.time)
             .map_err(error)?;
-        self.state = ModelState::StepComplete;
+        self.state = if self.event_mode_used {
+            ModelState::EventMode
+        } else {
+            ModelState::StepComplete
+        };
         self.log(Status::Ok, "logInfo", &info);
         Ok(())
+    }
+
+    /// Enter Event Mode (from Step Mode, when the instance uses it).
+    pub fn enter_event_mode(&mut self, func: &str) -> Result<(), Failure> {
+        if !self.event_mode_used {
+            return Err(error(format!(
+                "{func}: the instance was made with eventModeUsed = false"
+            )));
+        }
+        self.state = ModelState::EventMode;
+        Ok(())
+    }
+
+    /// Enter Step Mode (from Event Mode).
+    pub fn enter_step_mode(&mut self) {
+        self.state = ModelState::StepComplete;
+    }
+
+    /// Apply the inputs at the current time, no time passing (Event Mode's
+    /// `fmi3UpdateDiscreteStates`; [`Model::event_update`]).
+    pub fn event_update(&mut self, func: &str) -> Result<(), Failure> {
+        let t = self.time;
+        self.model
+            .event_update(&mut self.values, t)
+            .map_err(|e| error(format!("{func} at t = {t}: {e}")))
     }
 
     /// One communication step `func(tc, h)`: the inputs hold at `tc`; the outputs

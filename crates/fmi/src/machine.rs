@@ -1,7 +1,8 @@
 //! The states of an instance's life cycle, shared by the bindings: each FMI version's
 //! state machine maps onto them (FMI 2.0 co-simulation: the same five states; FMI 3.0
-//! co-simulation: its Step Mode is [`ModelState::StepComplete`]). Each binding keeps, per
-//! function, the mask of the states it is allowed in (`FmuInstance::require`).
+//! co-simulation: its Step Mode is [`ModelState::StepComplete`], its Event Mode
+//! [`ModelState::EventMode`]). Each binding keeps, per function, the mask of the states it
+//! is allowed in (`FmuInstance::require`).
 //!
 //! The codes are bit flags (for the masks) and are written into saved FMU states
 //! (`docs/state-format.md`), so they never change; a state a later binding needs (FMI 3.0's
@@ -21,19 +22,23 @@ pub enum ModelState {
     Terminated = 8,
     /// After a call failed with an error.
     Error = 16,
+    /// FMI 3.0's Event Mode: inputs set and applied at the current time
+    /// (`fmi3UpdateDiscreteStates`), no time passes.
+    EventMode = 32,
 }
 
 /// Mask of every state.
-pub const ANY_STATE: u32 = 31;
+pub const ANY_STATE: u32 = 63;
 
 impl ModelState {
     /// Every state, in the order of their codes.
-    pub const ALL: [ModelState; 5] = [
+    pub const ALL: [ModelState; 6] = [
         ModelState::Instantiated,
         ModelState::InitializationMode,
         ModelState::StepComplete,
         ModelState::Terminated,
         ModelState::Error,
+        ModelState::EventMode,
     ];
 
     /// The state of a code, if it is one.

@@ -104,6 +104,9 @@ pub struct ModelInfo {
     /// The vectors FMI 3.0 publishes as arrays (in the order of their value references:
     /// appended only, never reordered).
     pub arrays: &'static [ArrayDef],
+    /// Whether FMI 3.0's Event Mode applies inputs between steps ([`Model::event_update`];
+    /// `hasEventMode`).
+    pub has_event_mode: bool,
     /// The outputs FMI 3.0 publishes beyond the table, computed by the model on request
     /// ([`Model::computed`]; in the order of their value references, appended only).
     pub computed: &'static [ComputedDef],
@@ -160,6 +163,14 @@ pub trait Model: Sized {
 
     /// Drop what [`Model::initialize`] built.
     fn reset(&mut self);
+
+    /// Apply the inputs at time `t` without advancing time (FMI 3.0's Event Mode; models
+    /// with [`ModelInfo::has_event_mode`]); the outputs then describe `t`. The default is
+    /// for models without Event Mode.
+    fn event_update(&mut self, values: &mut [f64], t: f64) -> Result<(), String> {
+        let _ = (values, t);
+        Err("this model has no Event Mode".to_string())
+    }
 
     /// The values of the computed output `index` of [`ModelInfo::computed`] into `out`
     /// (its length): from the built model, or from `values` (the parameters) before it

@@ -241,7 +241,7 @@ pub fn decode<'a>(
     };
     r.finish()?;
     let needs = match mode {
-        ModelState::StepComplete | ModelState::Terminated => Some(true),
+        ModelState::StepComplete | ModelState::Terminated | ModelState::EventMode => Some(true),
         ModelState::Instantiated | ModelState::InitializationMode => Some(false),
         ModelState::Error => None,
     };

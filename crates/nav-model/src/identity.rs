@@ -105,6 +105,7 @@ pub static INFO: LazyLock<ModelInfo> = LazyLock::new(|| ModelInfo {
     state_code: Some(vr::FILTER),
     state_name: "estimator",
     arrays: ARRAYS,
+    has_event_mode: true,
     computed: COMPUTED,
     generated: Generated::new(),
 });

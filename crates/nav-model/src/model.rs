@@ -93,6 +93,19 @@ const _: () = {
     assert!(ESTIMATE_OUTPUTS.end <= N_VARS);
 };
 
+/// The readings the inputs flag as fresh.
+fn readings_of(values: &[f64]) -> Readings {
+    let v = |r: u32| values[r as usize];
+    let flag = |r: u32| v(r) != 0.0;
+    Readings {
+        radio: flag(vr::MEASUREMENT_VALID).then(|| [vr::RANGE, vr::AZIMUTH, vr::ELEVATION].map(v)),
+        camera: flag(vr::CAMERA_VALID).then(|| [vr::CAMERA_AZIMUTH, vr::CAMERA_ELEVATION].map(v)),
+        gnss_position: flag(vr::GNSS_VALID).then(|| [vr::GNSS_X, vr::GNSS_Y, vr::GNSS_Z].map(v)),
+        gnss_velocity: flag(vr::GNSS_VELOCITY_VALID)
+            .then(|| [vr::GNSS_VX, vr::GNSS_VY, vr::GNSS_VZ].map(v)),
+    }
+}
+
 /// The estimate outputs (`ESTIMATE_OUTPUTS`: the state, then its 1-sigma).
 fn write_outputs(values: &mut [f64], x: &[f64; 6], sigma: &[f64; 6]) {
     if let Some((xs, ss)) = values
@@ -320,19 +333,8 @@ impl Model for RelnavFmu {
         let Some(nav) = self.nav.as_mut() else {
             return Err("the estimator is not initialised".to_string());
         };
-        let v = |r: u32| values[r as usize];
-        let thrust = [vr::THRUST_X, vr::THRUST_Y, vr::THRUST_Z].map(v);
-        let flag = |r: u32| v(r) != 0.0;
-        let readings = Readings {
-            radio: flag(vr::MEASUREMENT_VALID)
-                .then(|| [vr::RANGE, vr::AZIMUTH, vr::ELEVATION].map(v)),
-            camera: flag(vr::CAMERA_VALID)
-                .then(|| [vr::CAMERA_AZIMUTH, vr::CAMERA_ELEVATION].map(v)),
-            gnss_position: flag(vr::GNSS_VALID)
-                .then(|| [vr::GNSS_X, vr::GNSS_Y, vr::GNSS_Z].map(v)),
-            gnss_velocity: flag(vr::GNSS_VELOCITY_VALID)
-                .then(|| [vr::GNSS_VX, vr::GNSS_VY, vr::GNSS_VZ].map(v)),
-        };
+        let thrust = [vr::THRUST_X, vr::THRUST_Y, vr::THRUST_Z].map(|r| values[r as usize]);
+        let readings = readings_of(values);
         nav.step_readings(&thrust, &readings, h)
             .map_err(|e| e.message)?;
         publish(nav, values, self.diagnostics);
@@ -341,6 +343,17 @@ impl Model for RelnavFmu {
 
     fn reset(&mut self) {
         self.nav = None;
+    }
+
+    /// The flagged readings applied at `t` (no prediction: `Navigator::update_readings`).
+    fn event_update(&mut self, values: &mut [f64], _t: f64) -> Result<(), String> {
+        let Some(nav) = self.nav.as_mut() else {
+            return Err("the estimator is not initialised".to_string());
+        };
+        nav.update_readings(&readings_of(values))
+            .map_err(|e| e.message)?;
+        publish(nav, values, self.diagnostics);
+        Ok(())
     }
 
     /// The covariance (the one computed output): the navigator's in the I/O frame once

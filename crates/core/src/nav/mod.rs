@@ -626,46 +626,9 @@ impl Navigator {
         // transactional
         let saved = self.filter.snapshot();
         let last = self.last_update;
-        self.pending.iter_mut().for_each(|r| *r = None);
         let mut nis = [f64::NAN; 4];
         let mut updated = false;
-        let mut result = match measurement {
-            Some(z) => self.update_checked(z).map(|u| {
-                nis[0] = u.nis;
-                updated = true;
-            }),
-            None => Ok(()),
-        };
-        for (i, z) in declared.iter().enumerate() {
-            if result.is_err() {
-                break;
-            }
-            if let Some(z) = z {
-                result = match self.declared[i].apply(&mut self.filter, z) {
-                    Ok(r) => {
-                        nis[i + 1] = r.nis;
-                        updated = true;
-                        Ok(())
-                    }
-                    Err(e) => Err(NavError::from(e)),
-                };
-            }
-        }
-        for (i, z) in readings.iter().enumerate() {
-            if result.is_err() {
-                break;
-            }
-            if let (Some(z), Some(s)) = (z, self.sensors.get(i)) {
-                result = match s.apply(&mut self.filter, z) {
-                    Ok(r) => {
-                        self.pending[i] = Some(r);
-                        updated = true;
-                        Ok(())
-                    }
-                    Err(e) => Err(NavError::from(e)),
-                };
-            }
-        }
+        let result = self.apply_updates(measurement, &declared, readings, &mut nis, &mut updated);
         let result = result.and_then(|()| self.predict_checked(thrust, dt));
         match (&result, saved) {
             (Ok(()), _) => {
@@ -683,6 +646,80 @@ impl Navigator {
             }
         }
         result
+    }
+
+    /// The updates of a step or an event, in order (the radio, the declared sensors, the
+    /// added ones), each reading checked before: the NIS of each into `nis`, `updated` once
+    /// one has changed the filter; the added sensors' reports wait in `pending`. Stops at
+    /// the first failure (the caller restores).
+    fn apply_updates(
+        &mut self,
+        measurement: Option<&[f64; 3]>,
+        declared: &[Option<&[f64]>; 3],
+        readings: &[Option<&[f64]>],
+        nis: &mut [f64; 4],
+        updated: &mut bool,
+    ) -> Result<(), NavError> {
+        self.pending.iter_mut().for_each(|r| *r = None);
+        if let Some(z) = measurement {
+            let u = self.update_checked(z)?;
+            nis[0] = u.nis;
+            *updated = true;
+        }
+        for (i, z) in declared.iter().enumerate() {
+            if let Some(z) = z {
+                let r = self.declared[i].apply(&mut self.filter, z)?;
+                nis[i + 1] = r.nis;
+                *updated = true;
+            }
+        }
+        for (i, z) in readings.iter().enumerate() {
+            if let (Some(z), Some(s)) = (z, self.sensors.get(i)) {
+                self.pending[i] = Some(s.apply(&mut self.filter, z)?);
+                *updated = true;
+            }
+        }
+        Ok(())
+    }
+
+    /// The declared sensors' `readings` ([`Readings`]) applied at the current time, with no
+    /// prediction (a measurement that arrives inside a step: FMI 3.0's Event Mode): every
+    /// reading checked before anything changes; all or none applied.
+    pub fn update_readings(&mut self, readings: &Readings) -> Result<(), NavError> {
+        let declared = [
+            readings.camera.as_ref().map(|z| &z[..]),
+            readings.gnss_position.as_ref().map(|z| &z[..]),
+            readings.gnss_velocity.as_ref().map(|z| &z[..]),
+        ];
+        let radio = readings.radio.as_ref();
+        if radio.is_none() && declared.iter().all(Option::is_none) {
+            return Ok(());
+        }
+        if let Some(z) = radio {
+            Self::check_measurement(z)?;
+        }
+        for (s, z) in self.declared.iter().zip(&declared) {
+            if let Some(z) = z {
+                s.check(z).map_err(NavError::invalid)?;
+            }
+        }
+        self.check_not_failed()?;
+        self.tallied(|nav| {
+            let saved = nav.filter.snapshot();
+            let last = nav.last_update;
+            let mut nis = [f64::NAN; 4];
+            let mut updated = false;
+            let result = nav.apply_updates(radio, &declared, &[], &mut nis, &mut updated);
+            match (&result, saved) {
+                (Ok(()), _) => nav.step_nis = nis,
+                (Err(_), Snapshot::None) => nav.failed |= updated,
+                (Err(_), s) => {
+                    nav.filter.restore(&s);
+                    nav.last_update = last;
+                }
+            }
+            result
+        })
     }
 
     /// [`Navigator::step_all`] with exactly one reading (of a declared or an added sensor)

@@ -753,6 +753,58 @@ fn declared_sensors_through_step_readings() {
     assert!(nav.step_nis().iter().all(|v| v.is_nan()));
 }
 
+/// `Navigator::update_readings` (FMI 3.0's Event Mode) then `Navigator::predict` is the
+/// step: the same estimate, bit for bit, in every filter but the H-infinity one, with one
+/// reading and with several (radio, camera and GNSS position together); a bad reading is
+/// refused with nothing changed, and no reading is no update.
+#[test]
+fn update_readings_then_predict_is_the_step() {
+    for code in [1, 2, 3, 10, 4, 5, 6, 7, 8] {
+        let (cfg, x) = setup(code);
+        let (mut stepped, mut split) =
+            (Navigator::new(&cfg).unwrap(), Navigator::new(&cfg).unwrap());
+        let mut rng = ChaCha8Rng::seed_from_u64(5);
+        let mut x = x;
+        for k in 0..40 {
+            let z = radio(&cfg, &x, &mut rng);
+            let p = noisy(Vec3::new(x[1], x[0], -x[2]), cfg.sigma_gnss, &mut rng);
+            let r = if k % 3 == 0 {
+                Readings {
+                    radio: Some(z),
+                    camera: Some([z[1], z[2]]),
+                    gnss_position: Some(p),
+                    ..Default::default()
+                }
+            } else {
+                Readings {
+                    radio: Some(z),
+                    ..Default::default()
+                }
+            };
+            let thrust = [0.5, -0.2, 0.1];
+            stepped.step_readings(&thrust, &r, 1.0).unwrap();
+            split.update_readings(&r).unwrap();
+            split.predict(&thrust, 1.0).unwrap();
+            assert_eq!(
+                (stepped.state(), stepped.covariance()),
+                (split.state(), split.covariance()),
+                "filter {code}, step {k}"
+            );
+            x = propagate(cfg.mean_motion, &x, 1.0);
+        }
+        let before = (split.state(), split.covariance());
+        let bad = Readings {
+            radio: Some([1000.0, 0.1, 0.1]),
+            camera: Some([0.1, 2.0]),
+            ..Default::default()
+        };
+        let e = split.update_readings(&bad).unwrap_err();
+        assert!(e.message.contains("camera"), "{}", e.message);
+        split.update_readings(&Readings::default()).unwrap();
+        assert_eq!((split.state(), split.covariance()), before);
+    }
+}
+
 /// The declared sensors' own noise densities: a Kalman filter told a Student-t camera
 /// (or a contaminated-Gaussian GNSS) takes the Gaussian of its variance, so its update
 /// is the one told the Gaussian of that sigma; a particle filter weighs with the density

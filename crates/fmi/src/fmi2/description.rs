@@ -343,6 +343,7 @@ mod tests {
         state_code: Some(vr::MODE),
         state_name: "test",
         arrays: &[],
+        has_event_mode: false,
         computed: &[],
         generated: Generated::new(),
     };

@@ -238,8 +238,8 @@ fn body(info: &'static ModelInfo) -> String {
     );
     let _ = writeln!(
         x,
-        r#"  <CoSimulation modelIdentifier="{}" needsExecutionTool="false" canBeInstantiatedOnlyOncePerProcess="false" canGetAndSetFMUState="true" canSerializeFMUState="true" providesDirectionalDerivatives="false" providesAdjointDerivatives="false" providesPerElementDependencies="false" canHandleVariableCommunicationStepSize="true" maxOutputDerivativeOrder="0" providesIntermediateUpdate="false" mightReturnEarlyFromDoStep="false" canReturnEarlyAfterIntermediateUpdate="false" hasEventMode="false" providesEvaluateDiscreteStates="false"/>"#,
-        info.model_identifier
+        r#"  <CoSimulation modelIdentifier="{}" needsExecutionTool="false" canBeInstantiatedOnlyOncePerProcess="false" canGetAndSetFMUState="true" canSerializeFMUState="true" providesDirectionalDerivatives="false" providesAdjointDerivatives="false" providesPerElementDependencies="false" canHandleVariableCommunicationStepSize="true" maxOutputDerivativeOrder="0" providesIntermediateUpdate="false" mightReturnEarlyFromDoStep="false" canReturnEarlyAfterIntermediateUpdate="false" hasEventMode="{}" providesEvaluateDiscreteStates="false"/>"#,
+        info.model_identifier, info.has_event_mode
     );
     // the units the published variables use (an array's where its elements agree)
     write_units(&mut x, |u| {
@@ -405,6 +405,7 @@ mod tests {
         state_code: Some(vr::MODE),
         state_name: "test",
         arrays: ARRAYS,
+        has_event_mode: true,
         computed: COMPUTED,
         generated: Generated::new(),
     };
@@ -503,6 +504,7 @@ mod tests {
                 state_code: None,
                 state_name: "t",
                 arrays,
+                has_event_mode: false,
                 computed: &[],
                 generated: Generated::new(),
             }));

@@ -89,7 +89,7 @@ macro_rules! export_fmi3 {
             // SAFETY: the caller's contract is the generic function's.
             unsafe { $crate::fmi3::functions::fmi3ExitInitializationMode::<$model>(instance) }
         }
-        #[doc = concat!("`fmi3EnterEventMode` (FMI 3.0) of `", stringify!($model), "`: refused (no Event Mode).")]
+        #[doc = concat!("`fmi3EnterEventMode` (FMI 3.0) of `", stringify!($model), "`: Event Mode (models with it).")]
         #[doc = ""]
         #[doc = "# Safety"]
         #[doc = "The arguments follow the FMI 3.0 standard (live instance or null, arrays of the given length)."]
@@ -98,7 +98,7 @@ macro_rules! export_fmi3 {
             // SAFETY: the caller's contract is the generic function's.
             unsafe { $crate::fmi3::functions::fmi3EnterEventMode::<$model>(instance) }
         }
-        #[doc = concat!("`fmi3EnterStepMode` (FMI 3.0) of `", stringify!($model), "`: refused (no Event Mode).")]
+        #[doc = concat!("`fmi3EnterStepMode` (FMI 3.0) of `", stringify!($model), "`: Event Mode (models with it).")]
         #[doc = ""]
         #[doc = "# Safety"]
         #[doc = "The arguments follow the FMI 3.0 standard (live instance or null, arrays of the given length)."]
@@ -575,14 +575,14 @@ macro_rules! export_fmi3 {
             // SAFETY: the caller's contract is the generic function's.
             unsafe { $crate::fmi3::functions::unsupported::<$model>(instance, "fmi3EvaluateDiscreteStates", "providesEvaluateDiscreteStates=\"false\"") }
         }
-        #[doc = concat!("`fmi3UpdateDiscreteStates` (FMI 3.0) of `", stringify!($model), "`: refused (hasEventMode='false').")]
+        #[doc = concat!("`fmi3UpdateDiscreteStates` (FMI 3.0) of `", stringify!($model), "`: apply the inputs set in Event Mode.")]
         #[doc = ""]
         #[doc = "# Safety"]
-        #[doc = "`instance` is a live instance or null."]
+        #[doc = "The arguments follow the FMI 3.0 standard (live instance or null, arrays of the given length)."]
         #[no_mangle]
-        pub unsafe extern "C" fn fmi3UpdateDiscreteStates(instance: $crate::fmi3::types::fmi3Instance, _a: *mut bool, _b: *mut bool, _c: *mut bool, _d: *mut bool, _e: *mut bool, _t: *mut f64) -> $crate::fmi3::types::fmi3Status {
+        pub unsafe extern "C" fn fmi3UpdateDiscreteStates(instance: $crate::fmi3::types::fmi3Instance, discreteStatesNeedUpdate: *mut bool, terminateSimulation: *mut bool, nominalsOfContinuousStatesChanged: *mut bool, valuesOfContinuousStatesChanged: *mut bool, nextEventTimeDefined: *mut bool, nextEventTime: *mut f64) -> $crate::fmi3::types::fmi3Status {
             // SAFETY: the caller's contract is the generic function's.
-            unsafe { $crate::fmi3::functions::unsupported::<$model>(instance, "fmi3UpdateDiscreteStates", "hasEventMode=\"false\"") }
+            unsafe { $crate::fmi3::functions::fmi3UpdateDiscreteStates::<$model>(instance, discreteStatesNeedUpdate, terminateSimulation, nominalsOfContinuousStatesChanged, valuesOfContinuousStatesChanged, nextEventTimeDefined, nextEventTime) }
         }
         #[doc = concat!("`fmi3EnterContinuousTimeMode` (FMI 3.0) of `", stringify!($model), "`: refused (Co-Simulation only).")]
         #[doc = ""]

@@ -7,9 +7,10 @@
 //! live in [`crate::instance`], as for FMI 2.0.
 //!
 //! States: FMI 3.0's Instantiated, Initialization Mode, Step Mode, Terminated and the error
-//! state are the generic ones ([`ModelState`]; Step Mode is `StepComplete`). Event Mode is
-//! not offered (`hasEventMode="false"`): `eventModeUsed = true` is refused at
-//! instantiation, and `fmi3EnterEventMode` and `fmi3EnterStepMode` are refused.
+//! state are the generic ones ([`ModelState`]; Step Mode is `StepComplete`, Event Mode
+//! `EventMode`). Event Mode is for models with it ([`crate::model::ModelInfo::has_event_mode`]
+//! and an instance made with `eventModeUsed`): `fmi3UpdateDiscreteStates` applies the inputs
+//! set there at the current time ([`crate::model::Model::event_update`]).
 #![allow(non_snake_case, clippy::too_many_arguments)]
 
 use super::description::{published, token_of, Published};
@@ -23,14 +24,21 @@ use crate::variables::TypeClass;
 use std::ffi::{c_char, CStr};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
-use ModelState::{Error as ErrorState, InitializationMode, Instantiated, StepComplete, Terminated};
+use ModelState::{
+    Error as ErrorState, EventMode, InitializationMode, Instantiated, StepComplete, Terminated,
+};
 
 const M_INSTANTIATED: u32 = Instantiated as u32;
 const M_INIT: u32 = InitializationMode as u32;
 const M_STEP: u32 = StepComplete as u32;
-const M_GET: u32 =
-    InitializationMode as u32 | StepComplete as u32 | Terminated as u32 | ErrorState as u32;
-const M_SET: u32 = Instantiated as u32 | InitializationMode as u32 | StepComplete as u32;
+const M_EVENT: u32 = EventMode as u32;
+const M_GET: u32 = InitializationMode as u32
+    | StepComplete as u32
+    | EventMode as u32
+    | Terminated as u32
+    | ErrorState as u32;
+const M_SET: u32 =
+    Instantiated as u32 | InitializationMode as u32 | StepComplete as u32 | EventMode as u32;
 
 /// Run `f` on the instance behind `c` through its call boundary
 /// ([`crate::instance::FmuInstance::call`]; `fmi3Error` for a null instance).
@@ -154,7 +162,7 @@ pub unsafe fn fmi3InstantiateCoSimulation<M: Model>(
                 "fmi3InstantiateCoSimulation: instantiationToken {given} does not match this binary's {token}"
             ));
         }
-        if eventModeUsed {
+        if eventModeUsed && !M::info().has_event_mode {
             return reject(
                 "fmi3InstantiateCoSimulation: eventModeUsed = true, but this FMU has no Event Mode (hasEventMode=\"false\")",
             );
@@ -164,7 +172,8 @@ pub unsafe fn fmi3InstantiateCoSimulation<M: Model>(
                 "fmi3InstantiateCoSimulation: required intermediate variables given, but this FMU provides no intermediate update",
             );
         }
-        let inst = Instance::<M>::new(name, logger, loggingOn, token);
+        let mut inst = Instance::<M>::new(name, logger, loggingOn, token);
+        inst.event_mode_used = eventModeUsed;
         inst.log_call(|| {
             format!(
                 "fmi3InstantiateCoSimulation(instanceName = \"{}\", instantiationToken = \"{given}\", resourcePath = {}, visible = {visible}, loggingOn = {loggingOn}, eventModeUsed = {eventModeUsed}, earlyReturnAllowed = {earlyReturnAllowed})",
@@ -333,7 +342,7 @@ pub unsafe fn fmi3ExitInitializationMode<M: Model>(c: fmi3Instance) -> fmi3Statu
 pub unsafe fn fmi3Terminate<M: Model>(c: fmi3Instance) -> fmi3Status {
     // SAFETY: contract forwarded.
     unsafe {
-        guarded::<M, _>(c, "fmi3Terminate", M_STEP, |inst| {
+        guarded::<M, _>(c, "fmi3Terminate", M_STEP | M_EVENT, |inst| {
             inst.terminate();
             Ok(())
         })
@@ -391,28 +400,69 @@ pub unsafe fn fmi3DoStep<M: Model>(
     }
 }
 
-/// Refused: this FMU has no Event Mode (`hasEventMode="false"`), so Step Mode is never left
-/// for it and never re-entered from it.
+/// Enter Event Mode from Step Mode (an instance made with `eventModeUsed`): the inputs set
+/// there are applied at the current time by [`fmi3UpdateDiscreteStates`].
 ///
 /// # Safety
 /// `c` live or null.
 pub unsafe fn fmi3EnterEventMode<M: Model>(c: fmi3Instance) -> fmi3Status {
+    const F: &str = "fmi3EnterEventMode";
     // SAFETY: contract forwarded.
-    unsafe { unsupported::<M>(c, "fmi3EnterEventMode", "hasEventMode=\"false\"") }
+    unsafe { guarded::<M, _>(c, F, M_STEP, |inst| inst.enter_event_mode(F)) }
 }
 
-/// Refused: as [`fmi3EnterEventMode`].
+/// Back to Step Mode from Event Mode.
 ///
 /// # Safety
 /// `c` live or null.
 pub unsafe fn fmi3EnterStepMode<M: Model>(c: fmi3Instance) -> fmi3Status {
     // SAFETY: contract forwarded.
     unsafe {
-        unsupported::<M>(
-            c,
-            "fmi3EnterStepMode",
-            "hasEventMode=\"false\": Step Mode follows fmi3ExitInitializationMode",
-        )
+        guarded::<M, _>(c, "fmi3EnterStepMode", M_EVENT, |inst| {
+            inst.enter_step_mode();
+            Ok(())
+        })
+    }
+}
+
+/// Apply the inputs set in Event Mode at the current time (relnav: the flagged readings'
+/// measurement updates, no prediction); the outputs then describe this time. Reports no
+/// further update, no end of the simulation, no changed continuous states and no next
+/// event time (the FMU schedules none).
+///
+/// # Safety
+/// `c` live or null; the six out-pointers writable or null (null is refused).
+pub unsafe fn fmi3UpdateDiscreteStates<M: Model>(
+    c: fmi3Instance,
+    discreteStatesNeedUpdate: *mut fmi3Boolean,
+    terminateSimulation: *mut fmi3Boolean,
+    nominalsOfContinuousStatesChanged: *mut fmi3Boolean,
+    valuesOfContinuousStatesChanged: *mut fmi3Boolean,
+    nextEventTimeDefined: *mut fmi3Boolean,
+    nextEventTime: *mut fmi3Float64,
+) -> fmi3Status {
+    const F: &str = "fmi3UpdateDiscreteStates";
+    // SAFETY: contract forwarded; pointers checked.
+    unsafe {
+        guarded::<M, _>(c, F, M_EVENT, |inst| {
+            let a = slice_mut(discreteStatesNeedUpdate, 1, "discreteStatesNeedUpdate")?;
+            let b = slice_mut(terminateSimulation, 1, "terminateSimulation")?;
+            let n = slice_mut(
+                nominalsOfContinuousStatesChanged,
+                1,
+                "nominalsOfContinuousStatesChanged",
+            )?;
+            let v = slice_mut(
+                valuesOfContinuousStatesChanged,
+                1,
+                "valuesOfContinuousStatesChanged",
+            )?;
+            let d = slice_mut(nextEventTimeDefined, 1, "nextEventTimeDefined")?;
+            let next = slice_mut(nextEventTime, 1, "nextEventTime")?;
+            let r = inst.event_update(F);
+            (a[0], b[0], n[0], v[0], d[0], next[0]) = (false, false, false, false, false, 0.0);
+            r
+        })
     }
 }
 

@@ -8,9 +8,11 @@
 //! What differs from FMI 2.0 for the same model: vectors of the table are array variables
 //! ([`crate::model::ArrayDef`]), the value types are FMI 3.0's (`Float64`, `Int32`,
 //! `Boolean`), the start and stop time come with `fmi3EnterInitializationMode`, and
-//! `fmi3DoStep` reports that it neither returned early nor needs event handling. Event
-//! Mode, clocks, Model Exchange and Scheduled Execution are not offered; their functions
-//! return `fmi3Error` with the reason logged.
+//! `fmi3DoStep` reports that it neither returned early nor needs event handling; a model
+//! with Event Mode applies inputs between steps there (`fmi3UpdateDiscreteStates`); outputs
+//! beyond the table are computed on request ([`crate::model::ComputedDef`]). Clocks, Model
+//! Exchange and Scheduled Execution are not offered; their functions return `fmi3Error`
+//! with the reason logged.
 
 pub mod description;
 pub mod export;

@@ -105,6 +105,7 @@ of delay compensated by prediction), a per-axis thrust limit and a minimum impul
     state_code: None,
     state_name: "guidance",
     arrays: ARRAYS,
+    has_event_mode: false,
     computed: &[],
     generated: Generated::new(),
 });

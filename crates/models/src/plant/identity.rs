@@ -171,6 +171,7 @@ outage; outputs the readings for relnav.fmu and the true state",
     state_code: Some(vr::TRUTH_MODEL),
     state_name: "plant",
     arrays: ARRAYS,
+    has_event_mode: false,
     computed: &[],
     generated: Generated::new(),
 });
