@@ -68,7 +68,9 @@ struct Fmi3Api {
 class Library {
 public:
     explicit Library(const std::string& path) {
-        handle_ = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
+        // RTLD_NODELETE: the library stays mapped after dlclose, and with it the statics it
+        // fills once (its generated description): LeakSanitizer would report them as lost
+        handle_ = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL | RTLD_NODELETE);
         if (!handle_) throw std::runtime_error(std::string("dlopen failed: ") + dlerror());
 #define RELNAV_RESOLVE(name)                                                       \
     {                                                                              \
