@@ -1,7 +1,7 @@
 //! Bounded time, no panic, for every input: the inputs that hung or panicked inside
 //! nalgebra's matrix exponential (reached from the Van Loan noise via
-//! `Navigator::predict`), the FMU steps of 1e45 and 1e300 s, random fmi2 call sequences
-//! with such steps, and the crashes the fuzz targets found (fuzz/README.md), each as a
+//! `Navigator::predict`), the FMU steps of 1e45 and 1e300 s, random fmi2 and fmi3 call
+//! sequences with such steps, and the crashes the fuzz targets found (fuzz/README.md), each as a
 //! readable Rust test.
 //!
 //! Every call runs under [`bounded`], a generous hang detector (10 s for work that takes
@@ -20,6 +20,8 @@ use std::time::Duration;
 
 // relnav.fmu's fmi2* functions in this binary, as the FMU's shared library exports them
 relnav_fmi::export_fmi2!(relnav_nav_model::RelnavFmu);
+// and its fmi3* functions (relnav3.fmu: the same library)
+relnav_fmi::export_fmi3!(relnav_nav_model::RelnavFmu);
 
 /// relnav.fmu's GUID.
 fn guid() -> &'static str {
@@ -259,6 +261,147 @@ fn random_fmi2_sequences_with_absurd_steps_return() {
                 }
                 fmi2FreeInstance(c);
             }
+        });
+    }
+}
+
+/// Random fmi3 call sequences: 300 sequences (seeded), with and without Event Mode, of
+/// parameter changes, array and scalar sets and gets with right and wrong value counts and
+/// unknown value references, Event Mode entries and discrete updates in and out of order,
+/// steps of random sizes including 1e45 and 1e300 s, FMU state round trips, over the
+/// filters 1-8. Every sequence returns; no call returns fmi3Fatal (a caught panic); after
+/// any error the master's way out (`fmi3Reset`) works.
+#[test]
+fn random_fmi3_sequences_return() {
+    use relnav_fmi::fmi3::description::{vr_of, TIME_VR};
+    use relnav_fmi::fmi3::functions::instantiate_plain;
+    use relnav_fmi::fmi3::types::fmi3Status;
+    let steps = [
+        1.0,
+        0.1,
+        10.0,
+        1e45,
+        1e300,
+        7200.0 * 999.0,
+        1e-9,
+        f64::MAX,
+        -1.0,
+        f64::NAN,
+    ];
+    let info = &*relnav_nav_model::INFO;
+    let arrays = [
+        "measurement",
+        "thrust",
+        "position",
+        "sigma",
+        "covariance",
+        "camera",
+    ]
+    .map(|n| vr_of(info, n).unwrap());
+    for seq in 0..300u64 {
+        bounded(&format!("fmi3 sequence {seq}"), move || {
+            let mut rng = ChaCha8Rng::seed_from_u64(seq);
+            let event = rng.random::<bool>();
+            let c = if event {
+                let token = CString::new(relnav_fmi::fmi3::description::token_of(info)).unwrap();
+                // SAFETY: valid strings, null pointers where the standard allows them.
+                unsafe {
+                    fmi3InstantiateCoSimulation(
+                        c"robust3".as_ptr(),
+                        token.as_ptr(),
+                        std::ptr::null(),
+                        false,
+                        false,
+                        true,
+                        false,
+                        std::ptr::null(),
+                        0,
+                        std::ptr::null_mut(),
+                        None,
+                        None,
+                    )
+                }
+            } else {
+                instantiate_plain::<relnav_nav_model::RelnavFmu>(c"robust3")
+            };
+            assert!(!c.is_null());
+            let filter: i32 = rng.random_range(1..=8);
+            let mut t = 0.0;
+            let init = |c, filter: i32| {
+                // SAFETY: live instance; one element per call.
+                unsafe {
+                    let vr = vr_named("filter");
+                    fmi3SetInt32(c, &vr, 1, &filter, 1);
+                    let vr = vr_named("particles");
+                    fmi3SetInt32(c, &vr, 1, &100, 1);
+                    fmi3EnterInitializationMode(c, false, 0.0, 0.0, false, 0.0);
+                    fmi3ExitInitializationMode(c)
+                }
+            };
+            assert_eq!(init(c, filter), fmi3Status::fmi3OK);
+            let mut buf = [0.0f64; 64];
+            for _ in 0..40 {
+                let a = arrays[rng.random_range(0..arrays.len())];
+                let n = rng.random_range(0..40usize);
+                let (mut e, mut ts, mut er, mut last) = (false, false, false, 0.0);
+                let mut flags = [false; 5];
+                let mut next = 0.0;
+                // SAFETY: live instance; `buf` holds at least `n` values and `flags` five.
+                let st = unsafe {
+                    match rng.random_range(0..10) {
+                        0 => {
+                            for v in buf.iter_mut().take(n) {
+                                *v = [1.0, -1e300, f64::NAN, 670.0][rng.random_range(0..4)];
+                            }
+                            fmi3SetFloat64(c, &a, 1, buf.as_ptr(), n)
+                        }
+                        1 => fmi3GetFloat64(c, &a, 1, buf.as_mut_ptr(), n),
+                        2 => {
+                            let r = [a, TIME_VR, 12_345, 20_001][rng.random_range(0..4)];
+                            fmi3GetFloat64(c, &r, 1, buf.as_mut_ptr(), n)
+                        }
+                        3 => {
+                            let vr = vr_named("measurement_valid");
+                            fmi3SetBoolean(c, &vr, 1, &rng.random::<bool>(), 1)
+                        }
+                        4 => fmi3EnterEventMode(c),
+                        5 => fmi3EnterStepMode(c),
+                        6 => fmi3UpdateDiscreteStates(
+                            c,
+                            &mut flags[0],
+                            &mut flags[1],
+                            &mut flags[2],
+                            &mut flags[3],
+                            &mut flags[4],
+                            &mut next,
+                        ),
+                        7 => {
+                            let mut s = std::ptr::null_mut();
+                            let got = fmi3GetFMUState(c, &mut s);
+                            let set = fmi3SetFMUState(c, s);
+                            fmi3FreeFMUState(c, &mut s);
+                            got.max(set)
+                        }
+                        _ => {
+                            let h = steps[rng.random_range(0..steps.len())];
+                            let st = fmi3DoStep(c, t, h, true, &mut e, &mut ts, &mut er, &mut last);
+                            if st == fmi3Status::fmi3OK {
+                                t += h;
+                            }
+                            st
+                        }
+                    }
+                };
+                assert_ne!(st, fmi3Status::fmi3Fatal, "fmi3 sequence {seq}");
+                if st == fmi3Status::fmi3Error {
+                    // SAFETY: live instance.
+                    assert_eq!(unsafe { fmi3Reset(c) }, fmi3Status::fmi3OK);
+                    init(c, filter);
+                    t = 0.0;
+                }
+            }
+            // SAFETY: freed once.
+            unsafe { fmi3FreeInstance(c) };
         });
     }
 }
