@@ -52,13 +52,13 @@ def codes(md) -> dict[str, dict[str, int]]:
     """The Integer parameters that select a method, from a modelDescription read by
     fmpy: ``{"filter": {"ekf": 1, ...}, "frame": {...}, ...}``.
 
-    relnav declares them as FMI Integers (libcosim and Ecos cannot set Enumerations)
-    whose description ends in ``Codes: 1 ekf, 2 ukf, ...``.
+    relnav declares them as FMI Integers (libcosim and Ecos cannot set Enumerations; FMI
+    3.0's Int32) whose description ends in ``Codes: 1 ekf, 2 ukf, ...``.
     """
     out = {}
     for v in md.modelVariables:
         m = _CODES.search(v.description or "")
-        if v.type == "Integer" and m:
+        if v.type in ("Integer", "Int32") and m:
             out[v.name] = {name: int(code) for code, name in (item.split(" ") for item in m.group(1).split(", "))}
     return out
 

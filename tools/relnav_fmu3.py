@@ -16,7 +16,7 @@ import numpy as np
 from fmpy import read_model_description
 from fmpy.fmi3 import FMU3Slave
 
-from relnav_fmu import _CODES, REPO_ROOT, SlaveRunner
+from relnav_fmu import REPO_ROOT, SlaveRunner, codes
 
 DEFAULT_FMU3 = REPO_ROOT / "target" / "fmu" / "relnav3.fmu"
 
@@ -27,16 +27,6 @@ def locate_fmu3() -> Path:
     return Path(env) if env else DEFAULT_FMU3
 
 OUTPUT_ARRAYS = ["position", "velocity", "sigma"]
-
-
-def codes3(md) -> dict[str, dict[str, int]]:
-    """The Int32 parameters that select a method: ``{"filter": {"ekf": 1, ...}, ...}``."""
-    out = {}
-    for v in md.modelVariables:
-        m = _CODES.search(v.description or "")
-        if v.type == "Int32" and m:
-            out[v.name] = {name: int(code) for code, name in (item.split(" ") for item in m.group(1).split(", "))}
-    return out
 
 
 class LogCapture3:
@@ -64,7 +54,7 @@ class Slave3Runner(SlaveRunner):
         self.md = read_model_description(str(self.unzipdir))
         self.vars = {v.name: v for v in self.md.modelVariables}
         self.vr = {name: v.valueReference for name, v in self.vars.items()}
-        self.codes = codes3(self.md)
+        self.codes = codes(self.md)
         self.log = LogCapture3()
         self.logging_on = logging_on
         self.fmu = FMU3Slave(

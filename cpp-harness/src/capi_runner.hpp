@@ -7,6 +7,9 @@
 
 #include <relnav.h>
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -66,6 +69,25 @@ inline Trace run_capi(const Paper000& p, const std::vector<Vec3>& z, int filter,
     }
     relnav_estimator_free(est);
     return tr;
+}
+
+// Largest relative difference between two traces (states and sigmas); exact zeros count
+// as equal (the FMU masters compare the FMUs against the C ABI with it).
+inline double max_rel_diff(const Trace& a, const Trace& b) {
+    if (a.state.size() != b.state.size()) return std::numeric_limits<double>::infinity();
+    double m = 0.0;
+    auto upd = [&m](double p, double q) {
+        if (p == q) return;
+        const double scale = std::max(std::fabs(p), std::fabs(q));
+        m = std::max(m, std::isfinite(scale) && scale > 0 ? std::fabs(p - q) / scale
+                                                          : std::numeric_limits<double>::infinity());
+    };
+    for (size_t k = 0; k < a.state.size(); ++k)
+        for (size_t i = 0; i < 6; ++i) {
+            upd(a.state[k][i], b.state[k][i]);
+            upd(a.sigma[k][i], b.sigma[k][i]);
+        }
+    return m;
 }
 
 }  // namespace harness

@@ -16,10 +16,9 @@
 #include "fmi3_minimal.hpp"
 #include "model_description.hpp"
 #include "scenario.hpp"
+#include "shared_object.hpp"
 
 #include <relnav.h>
-
-#include <dlfcn.h>
 
 #include <cmath>
 #include <cstdio>
@@ -67,29 +66,22 @@ struct Fmi3Api {
 
 class Library {
 public:
-    explicit Library(const std::string& path) {
-        // RTLD_NODELETE: the library stays mapped after dlclose, and with it the statics it
-        // fills once (its generated description): LeakSanitizer would report them as lost
-        handle_ = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL | RTLD_NODELETE);
-        if (!handle_) throw std::runtime_error(std::string("dlopen failed: ") + dlerror());
+    explicit Library(const std::string& path) : so_(path) {
 #define RELNAV_RESOLVE(name)                                                       \
     {                                                                              \
-        void* sym = dlsym(handle_, #name);                                         \
+        void* sym = so_.symbol(#name);                                             \
         if (!sym) throw std::runtime_error("the FMU does not export " #name);      \
         std::memcpy(&api.name, &sym, sizeof sym);                                  \
     }
         RELNAV_FMI3_FUNCTIONS(RELNAV_RESOLVE)
 #undef RELNAV_RESOLVE
     }
-    ~Library() {
-        if (handle_) dlclose(handle_);
-    }
-    Library(const Library&) = delete;
-    Library& operator=(const Library&) = delete;
-    Fmi3Api api;
 
 private:
-    void* handle_ = nullptr;
+    SharedObject so_;
+
+public:
+    Fmi3Api api;
 };
 
 struct Master {
@@ -191,22 +183,6 @@ void steps(const Master& m, fmi3Instance c, const Paper000& p, const std::vector
         tr.state.push_back(x);
         tr.sigma.push_back(s);
     }
-}
-
-double max_rel_diff(const Trace& a, const Trace& b) {
-    if (a.state.size() != b.state.size()) return std::numeric_limits<double>::infinity();
-    double m = 0.0;
-    auto upd = [&m](double p, double q) {
-        if (p == q) return;
-        const double scale = std::max(std::fabs(p), std::fabs(q));
-        m = std::max(m, scale > 0 ? std::fabs(p - q) / scale : std::numeric_limits<double>::infinity());
-    };
-    for (size_t k = 0; k < a.state.size(); ++k)
-        for (size_t i = 0; i < 6; ++i) {
-            upd(a.state[k][i], b.state[k][i]);
-            upd(a.sigma[k][i], b.sigma[k][i]);
-        }
-    return m;
 }
 
 void accuracy_and_equivalence(const Master& m, int runs) {

@@ -13,10 +13,10 @@
 #include "fmi2_minimal.hpp"
 #include "model_description.hpp"
 #include "scenario.hpp"
+#include "shared_object.hpp"
 
 #include <relnav.h>
 
-#include <dlfcn.h>
 
 #include <algorithm>
 #include <cmath>
@@ -96,13 +96,11 @@ struct Fmi2Api {
 
 class FmuLibrary {
 public:
-    explicit FmuLibrary(const std::string& path) {
-        handle_ = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
-        if (!handle_) throw std::runtime_error(std::string("dlopen failed: ") + dlerror());
+    explicit FmuLibrary(const std::string& path) : so_(path) {
         int missing = 0;
 #define RELNAV_RESOLVE(name)                                                         \
     {                                                                                \
-        void* sym = dlsym(handle_, #name);                                           \
+        void* sym = so_.symbol(#name);                                               \
         if (!sym) {                                                                  \
             record_failure(__FILE__, __LINE__, "the FMU does not export " #name);    \
             ++missing;                                                               \
@@ -114,15 +112,12 @@ public:
         std::printf("resolved %d fmi2 functions from %s (%d missing)\n", 34 - missing, path.c_str(), missing);
         if (missing) throw std::runtime_error("incomplete FMU");
     }
-    ~FmuLibrary() {
-        if (handle_) dlclose(handle_);
-    }
-    FmuLibrary(const FmuLibrary&) = delete;
-    FmuLibrary& operator=(const FmuLibrary&) = delete;
-    Fmi2Api api;
 
 private:
-    void* handle_ = nullptr;
+    SharedObject so_;
+
+public:
+    Fmi2Api api;
 };
 
 // ---------------------------------------------------------------------- one FMU instance --
@@ -267,23 +262,6 @@ Trace run_fmu(Context& cx, Slave& s, const Paper000& p, const std::vector<Vec3>&
     CHECK(std::fabs(last - p.steps * p.dt) < 1e-9);
     EXPECT_FMI(cx.api->fmi2Terminate(s.get()), fmi2::OK);
     return tr;
-}
-
-// Largest relative difference between two traces (states and sigmas); exact zeros count as equal.
-double max_rel_diff(const Trace& a, const Trace& b) {
-    if (a.state.size() != b.state.size()) return std::numeric_limits<double>::infinity();
-    double m = 0.0;
-    auto upd = [&m](double p, double q) {
-        if (p == q) return;
-        const double scale = std::max(std::fabs(p), std::fabs(q));
-        m = std::max(m, std::isfinite(scale) && scale > 0 ? std::fabs(p - q) / scale : std::numeric_limits<double>::infinity());
-    };
-    for (size_t k = 0; k < a.state.size(); ++k)
-        for (size_t i = 0; i < 6; ++i) {
-            upd(a.state[k][i], b.state[k][i]);
-            upd(a.sigma[k][i], b.sigma[k][i]);
-        }
-    return m;
 }
 
 bool identical(const Trace& a, const Trace& b) {

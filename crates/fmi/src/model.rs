@@ -30,6 +30,9 @@ pub struct DefaultExperiment {
 pub struct Generated {
     pub(crate) fmi2: OnceLock<(String, String)>,
     pub(crate) fmi3: OnceLock<(String, String)>,
+    /// FMI 3.0: per table row, whether an array holds it (built once; the scalar gets and
+    /// sets of every step look it up)
+    pub(crate) in_array: OnceLock<Vec<bool>>,
 }
 
 impl Generated {
@@ -38,6 +41,7 @@ impl Generated {
         Self {
             fmi2: OnceLock::new(),
             fmi3: OnceLock::new(),
+            in_array: OnceLock::new(),
         }
     }
 }

@@ -65,7 +65,16 @@ impl Published {
 /// Whether the table's variable `vr` is an element of an array (then not a scalar of FMI
 /// 3.0).
 pub fn in_array(info: &ModelInfo, vr: u32) -> bool {
-    info.arrays.iter().any(|a| a.elements.contains(&vr))
+    let rows = info.generated.in_array.get_or_init(|| {
+        let mut rows = vec![false; info.variables.len()];
+        for e in info.arrays.iter().flat_map(|a| a.elements) {
+            if let Some(r) = rows.get_mut(*e as usize) {
+                *r = true;
+            }
+        }
+        rows
+    });
+    rows.get(vr as usize).copied().unwrap_or(false)
 }
 
 /// What the FMI 3.0 value reference `vr` names, if anything.

@@ -16,7 +16,7 @@
 use super::description::{published, token_of, Published};
 use super::types::*;
 use super::{Instance, Logger};
-use crate::fmi2::functions::{real_arg, slice, slice_mut, Access};
+use crate::fmi2::functions::{c_arg, real_arg, slice, slice_mut, Access};
 use crate::machine::{ModelState, ANY_STATE};
 use crate::model::Model;
 use crate::status::{error, Failure};
@@ -88,19 +88,6 @@ pub unsafe fn unsupported<M: Model>(c: fmi3Instance, func: &str, why: &str) -> f
                 "{func} is not supported by this FMU ({why})"
             )))
         })
-    }
-}
-
-/// A C string argument for a call log: `"text"` or `NULL`.
-///
-/// # Safety
-/// `p` is null or NUL-terminated.
-unsafe fn c_arg(p: fmi3String) -> String {
-    if p.is_null() {
-        "NULL".to_string()
-    } else {
-        // SAFETY: non-null, NUL-terminated by contract.
-        format!("\"{}\"", unsafe { CStr::from_ptr(p) }.to_string_lossy())
     }
 }
 

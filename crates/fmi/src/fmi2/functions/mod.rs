@@ -127,7 +127,7 @@ pub(crate) unsafe fn slice_mut<'a, T>(
 ///
 /// # Safety
 /// `p` is null or NUL-terminated.
-unsafe fn c_arg(p: fmi2String) -> String {
+pub(crate) unsafe fn c_arg(p: fmi2String) -> String {
     if p.is_null() {
         "NULL".to_string()
     } else {
