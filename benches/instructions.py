@@ -14,6 +14,7 @@ Usage: instructions.py [--no-callgrind] [--no-throughput] [--runs R]
 import argparse
 import json
 import pathlib
+import platform
 import re
 import shutil
 import subprocess
@@ -23,8 +24,14 @@ root = pathlib.Path(__file__).resolve().parent.parent
 rel = root / "target" / "release"
 
 
+# without address-space randomisation where setarch can switch it off: the instructions of
+# memcpy and the allocator depend on the addresses they get, which would move a count by
+# tens of instructions from one run to the next
+NO_ASLR = ["setarch", platform.machine(), "-R"] if shutil.which("setarch") else []
+
+
 def callgrind(args):
-    p = subprocess.run(["valgrind", "--tool=callgrind", "--callgrind-out-file=/dev/null", *args],
+    p = subprocess.run([*NO_ASLR, "valgrind", "--tool=callgrind", "--callgrind-out-file=/dev/null", *args],
                        capture_output=True, text=True, check=True)
     return int(p.stderr.split("Collected : ")[1].split()[0]), p.stdout
 

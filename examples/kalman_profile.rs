@@ -217,8 +217,11 @@ fn fmu_cycles(comp: fmi2Component, zs: &[[f64; 3]]) -> [f64; 12] {
 
 /// `steps` FMU master cycles; the last outputs.
 fn run_fmu(kind: FilterKind, steps: usize) -> Vec<f64> {
-    let zs = measurements(steps);
+    // instantiated before the measurements are drawn: the one-time work (the description,
+    // the GUID) then meets the same heap whatever `steps` is, and cancels in the difference
+    // of two runs
     let comp = fmu_instance(kind);
+    let zs = measurements(steps);
     let y = fmu_cycles(comp, &zs);
     // SAFETY: freed once.
     unsafe { fmi2FreeInstance(comp) };
@@ -231,10 +234,11 @@ fn run_fmu(kind: FilterKind, steps: usize) -> Vec<f64> {
 fn run_fmu3(kind: FilterKind, steps: usize) -> Vec<f64> {
     use relnav_fmi::fmi3::description::vr_of;
     let info = &*relnav_nav_model::INFO;
-    let zs = measurements(steps);
+    // instantiated first, as in `run_fmu`
     let comp =
         relnav_fmi::fmi3::functions::instantiate_plain::<relnav_nav_model::RelnavFmu>(c"profile");
     assert!(!comp.is_null());
+    let zs = measurements(steps);
     let meas = [vr_of(info, "measurement").unwrap()];
     let outs = ["position", "velocity", "sigma"].map(|n| vr_of(info, n).unwrap());
     let mut y = [0.0; 12];

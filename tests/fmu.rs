@@ -775,3 +775,98 @@ fn bad_particle_filter_parameters_are_refused() {
         fmi2FreeInstance(c);
     }
 }
+
+/// FMI 3.0 array gets and sets: the one-slice path a master's usual call takes gives what
+/// the element-by-element path gives (a set before initialisation takes the checked path,
+/// one in Step Mode the plain stores); a set with an unknown reference or the wrong
+/// number of values changes nothing; a get that mixes arrays with a scalar or the time
+/// reads each in order.
+#[test]
+fn fmi3_array_access_is_all_or_nothing() {
+    use relnav_fmi::fmi3::description::{vr_of, TIME_VR};
+    use relnav_fmi::fmi3::functions::*;
+    use relnav_fmi::fmi3::types::{fmi3Instance, fmi3Status};
+    use relnav_nav_model::RelnavFmu as M;
+    let [thrust, meas, pos, vel] =
+        ["thrust", "measurement", "position", "velocity"].map(|n| vr_of(&INFO, n).unwrap());
+    let get = |c: fmi3Instance, refs: &[u32], n: usize| {
+        let mut out = vec![f64::NAN; n];
+        // SAFETY: live instance, arrays of the lengths passed.
+        let st = unsafe { fmi3GetFloat64::<M>(c, refs.as_ptr(), refs.len(), out.as_mut_ptr(), n) };
+        (st, out)
+    };
+    let set = |c: fmi3Instance, refs: &[u32], vals: &[f64]| {
+        // SAFETY: as above.
+        unsafe { fmi3SetFloat64::<M>(c, refs.as_ptr(), refs.len(), vals.as_ptr(), vals.len()) }
+    };
+    let c = instantiate_plain::<M>(c"arrays");
+    assert!(!c.is_null());
+    // before initialisation and in it: the checked path (read back in initialisation)
+    assert_eq!(set(c, &[thrust], &[0.1, 0.2, 0.3]), fmi3Status::fmi3OK);
+    // SAFETY: live instance.
+    unsafe {
+        assert_eq!(
+            fmi3EnterInitializationMode::<M>(c, false, 0.0, 0.0, false, 0.0),
+            fmi3Status::fmi3OK
+        );
+    }
+    assert_eq!(get(c, &[thrust], 3).1, [0.1, 0.2, 0.3]);
+    assert_eq!(set(c, &[thrust], &[0.4, 0.5, 0.6]), fmi3Status::fmi3OK);
+    assert_eq!(get(c, &[thrust], 3).1, [0.4, 0.5, 0.6]);
+    // SAFETY: live instance.
+    unsafe {
+        assert_eq!(fmi3ExitInitializationMode::<M>(c), fmi3Status::fmi3OK);
+    }
+    // Step Mode: plain stores, one array or several in one call
+    assert_eq!(set(c, &[thrust], &[1.0, 2.0, 3.0]), fmi3Status::fmi3OK);
+    let z = [900.0, 0.5, 0.25];
+    assert_eq!(
+        set(c, &[meas, thrust], &[z[0], z[1], z[2], 4.0, 5.0, 6.0]),
+        fmi3Status::fmi3OK
+    );
+    assert_eq!(
+        get(c, &[thrust, meas], 6).1,
+        [4.0, 5.0, 6.0, z[0], z[1], z[2]]
+    );
+    // refused: nothing changes (an unknown reference, one value short, one too many)
+    for (refs, n) in [
+        (&[thrust, 12_345][..], 4),
+        (&[thrust, meas][..], 5),
+        (&[thrust][..], 4),
+    ] {
+        let vals = vec![-7.0; n];
+        assert_eq!(set(c, refs, &vals), fmi3Status::fmi3Error, "{refs:?} {n}");
+        // the refusal puts the instance in the error state, where gets still answer
+        assert_eq!(
+            get(c, &[thrust, meas], 6).1,
+            [4.0, 5.0, 6.0, z[0], z[1], z[2]]
+        );
+        // SAFETY: live instance.
+        unsafe {
+            assert_eq!(fmi3Reset::<M>(c), fmi3Status::fmi3OK);
+            assert_eq!(
+                fmi3EnterInitializationMode::<M>(c, false, 0.0, 0.0, false, 0.0),
+                fmi3Status::fmi3OK
+            );
+            assert_eq!(fmi3ExitInitializationMode::<M>(c), fmi3Status::fmi3OK);
+        }
+        assert_eq!(
+            set(c, &[thrust, meas], &[4.0, 5.0, 6.0, z[0], z[1], z[2]]),
+            fmi3Status::fmi3OK
+        );
+    }
+    // arrays read alone and among other references agree
+    let (st, both) = get(c, &[pos, vel], 6);
+    assert_eq!(st, fmi3Status::fmi3OK);
+    let (st, mixed) = get(c, &[vel, TIME_VR, pos], 7);
+    assert_eq!(st, fmi3Status::fmi3OK);
+    assert_eq!(mixed, [&both[3..], &[0.0][..], &both[..3]].concat());
+    // one value short or too many: refused
+    assert_eq!(get(c, &[pos, vel], 5).0, fmi3Status::fmi3Error);
+    assert_eq!(get(c, &[pos, vel], 7).0, fmi3Status::fmi3Error);
+    // SAFETY: live instance; freed once.
+    unsafe {
+        assert_eq!(fmi3Reset::<M>(c), fmi3Status::fmi3OK);
+        fmi3FreeInstance::<M>(c);
+    }
+}

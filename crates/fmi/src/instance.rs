@@ -13,7 +13,7 @@
 use crate::binding::Binding;
 use crate::logging::{LOG_CALLS, LOG_CATEGORIES};
 use crate::machine::ModelState;
-use crate::model::Model;
+use crate::model::{Model, ModelInfo};
 use crate::state::{decode, encode, Snapshot, StateRegistry};
 use crate::status::{error, Failure, Status};
 use crate::variables::{start_values, Causality, TypeClass, VarDef, VarType};
@@ -34,6 +34,54 @@ pub struct VarAccess {
     pub class: TypeClass,
     /// States in which a set is a plain store.
     pub direct_set: u8,
+}
+
+/// An array of the model ([`ModelInfo::arrays`]) as one slice of the values: its elements
+/// are consecutive value references of one base type with one [`VarAccess`].
+#[derive(Debug, Clone, Copy)]
+struct Run {
+    /// `values[start..end]`; an empty range past the end (`start > end`) for an array that
+    /// is no run, or not of the table's class.
+    start: u32,
+    end: u32,
+    /// States in which its elements take a plain store.
+    direct_set: u8,
+}
+
+impl Run {
+    const NONE: Run = Run {
+        start: 1,
+        end: 0,
+        direct_set: 0,
+    };
+
+    /// Array `elements` as a run of base type `class`, or [`Run::NONE`].
+    fn of(info: &ModelInfo, elements: &[u32], class: TypeClass) -> Self {
+        let access = |r: &u32| info.lookup(*r).map(access_of);
+        let Some(first) = elements.first().and_then(access) else {
+            return Run::NONE;
+        };
+        let one_run = first.class == class
+            && elements.windows(2).all(|w| w[1] == w[0].wrapping_add(1))
+            && elements.iter().all(|r| access(r) == Some(first));
+        match (one_run, u32::try_from(elements.len())) {
+            (true, Ok(n)) => Run {
+                start: elements[0],
+                end: elements[0].saturating_add(n),
+                direct_set: first.direct_set,
+            },
+            _ => Run::NONE,
+        }
+    }
+}
+
+/// The index of `class` in [`FmuInstance`]'s run tables.
+const fn class_index(class: TypeClass) -> usize {
+    match class {
+        TypeClass::Real => 0,
+        TypeClass::Integer => 1,
+        TypeClass::Boolean => 2,
+    }
 }
 
 /// A variable's [`VarAccess`]: a set is direct for an input in a step, unless the input
@@ -83,6 +131,9 @@ pub struct FmuInstance<M: Model, B: Binding> {
     /// [`access_of`] every variable, by value reference (built once from the model's
     /// table): the get/set dispatch's one indexed load per value.
     access: Box<[VarAccess]>,
+    /// Each of the model's arrays as a [`Run`] of each base type (FMI 3.0), by
+    /// [`class_index`].
+    runs: [Box<[Run]>; 3],
     model: M,
     time: f64,
     start_time: f64,
@@ -108,6 +159,13 @@ impl<M: Model, B: Binding> FmuInstance<M, B> {
             state: ModelState::Instantiated,
             values: Vec::new(),
             access: M::info().variables.iter().map(access_of).collect(),
+            runs: [TypeClass::Real, TypeClass::Integer, TypeClass::Boolean].map(|class| {
+                let info = M::info();
+                info.arrays
+                    .iter()
+                    .map(|a| Run::of(info, a.elements, class))
+                    .collect()
+            }),
             model: M::new(),
             time: 0.0,
             start_time: 0.0,
@@ -377,6 +435,27 @@ impl<M: Model, B: Binding> FmuInstance<M, B> {
             }
             _ => self.set_checked(r, value, func, class),
         }
+    }
+
+    /// The values of array `k` of [`ModelInfo::arrays`] when it is one slice of the
+    /// values of base type `class` (else the caller reads element by element with
+    /// [`FmuInstance::get`]).
+    #[inline(always)]
+    pub fn array_run(&self, k: usize, class: TypeClass) -> Option<&[f64]> {
+        let run = self.runs[class_index(class)].get(k)?;
+        self.values.get(run.start as usize..run.end as usize)
+    }
+
+    /// The values of array `k` to write, when it is one slice of the values of base type
+    /// `class` whose elements take a plain store in this state (else the caller writes
+    /// element by element with [`FmuInstance::set`]).
+    #[inline(always)]
+    pub fn array_run_mut(&mut self, k: usize, class: TypeClass) -> Option<&mut [f64]> {
+        let run = self.runs[class_index(class)].get(k)?;
+        if u32::from(run.direct_set) & self.state as u32 == 0 {
+            return None;
+        }
+        self.values.get_mut(run.start as usize..run.end as usize)
     }
 
     /// [`FmuInstance::set`] with every check: type, causality and state, code lists, the
@@ -683,6 +762,64 @@ mod tests {
     use super::*;
     use crate::variables::tests::CODES;
     use crate::variables::Variability;
+
+    mod table {
+        use crate::variables::VarType;
+        crate::variables! {
+            A0 = 0: "a0", Input, Discrete, VarType::Real("m"), 0.0, "Input a[0]";
+            A1 = 1: "a1", Input, Discrete, VarType::Real("m"), 0.0, "Input a[1]";
+            B = 2: "b", Output, Continuous, VarType::Real("m"), 0.0, "Output b";
+            N = 3: "n", Input, Discrete, VarType::Integer, 0.0, "Input n";
+            C = 4: "c", Output, Continuous, VarType::Real("m"), 0.0, "Output c";
+        }
+    }
+
+    /// An array is a run exactly when its elements are consecutive value references of
+    /// the class asked for with one access.
+    #[test]
+    fn runs_are_consecutive_elements_with_one_access() {
+        use crate::model::{DefaultExperiment, Generated};
+        use table::vr;
+        let info = ModelInfo {
+            model_identifier: "runs",
+            description: "",
+            variables: table::VARIABLES,
+            default_experiment: DefaultExperiment {
+                start: 0.0,
+                stop: 1.0,
+                step: 0.1,
+            },
+            fmi_status: vr::N,
+            state_code: None,
+            state_name: "runs",
+            arrays: &[],
+            has_event_mode: false,
+            computed: &[],
+            generated: Generated::new(),
+        };
+        let range = |r: Run| (r.start, r.end, r.direct_set);
+        let input = access_of(&table::VARIABLES[0]).direct_set;
+        // elements, class asked for, (start, end, direct_set) of the run if it is one
+        type Case = (&'static [u32], TypeClass, Option<(u32, u32, u8)>);
+        let cases: [Case; 8] = [
+            (&[vr::A0, vr::A1], TypeClass::Real, Some((0, 2, input))),
+            (&[vr::B], TypeClass::Real, Some((2, 3, 0))),
+            (&[vr::A0, vr::A1], TypeClass::Integer, None),
+            (&[vr::A1, vr::A0], TypeClass::Real, None),
+            (&[vr::A1, vr::B], TypeClass::Real, None),
+            (&[vr::B, vr::C], TypeClass::Real, None),
+            (&[vr::C, 5], TypeClass::Real, None),
+            (&[], TypeClass::Real, None),
+        ];
+        for (elements, class, want) in cases {
+            let got = Run::of(&info, elements, class);
+            assert_eq!(
+                (got.start <= got.end).then(|| range(got)),
+                want,
+                "{elements:?} {class:?}"
+            );
+        }
+    }
 
     /// The access table's direct stores are exactly the sets the full path accepts with
     /// no other check or effect, for every causality, type and state.

@@ -13,7 +13,7 @@
 //! set there at the current time ([`crate::model::Model::event_update`]).
 #![allow(non_snake_case, clippy::too_many_arguments)]
 
-use super::description::{published, token_of, Published};
+use super::description::{published, token_of, Published, ARRAY_VR_BASE};
 use super::types::*;
 use super::{Instance, Logger};
 use crate::fmi2::functions::{c_arg, real_arg, slice, slice_mut, Access};
@@ -376,15 +376,30 @@ pub unsafe fn fmi3DoStep<M: Model>(
             ))
         };
         guarded_with::<M, _, _>(c, F, M_STEP, describe, |inst| {
-            let event = slice_mut(eventHandlingNeeded, 1, "eventHandlingNeeded")?;
-            let terminate = slice_mut(terminateSimulation, 1, "terminateSimulation")?;
-            let early = slice_mut(earlyReturn, 1, "earlyReturn")?;
-            let last = slice_mut(lastSuccessfulTime, 1, "lastSuccessfulTime")?;
+            if eventHandlingNeeded.is_null()
+                || terminateSimulation.is_null()
+                || earlyReturn.is_null()
+                || lastSuccessfulTime.is_null()
+            {
+                return Err(null_out_pointer(F));
+            }
+            // non-null (above), writable by the caller's contract; the flags before the
+            // step, so that only one pointer lives across it
+            (*eventHandlingNeeded, *terminateSimulation, *earlyReturn) = (false, false, false);
             let r = inst.do_step(F, currentCommunicationPoint, communicationStepSize);
-            (event[0], terminate[0], early[0], last[0]) = (false, false, false, inst.time());
+            *lastSuccessfulTime = inst.time();
             r
         })
     }
+}
+
+/// The refusal of a `fmi3DoStep` with a null out-pointer.
+#[cold]
+fn null_out_pointer(func: &str) -> Failure {
+    error(format!(
+        "{func}: eventHandlingNeeded, terminateSimulation, earlyReturn and \
+         lastSuccessfulTime must not be null"
+    ))
 }
 
 /// Enter Event Mode from Step Mode (an instance made with `eventModeUsed`): the inputs set
@@ -573,6 +588,10 @@ unsafe fn get_values<M: Model, T: Copy>(
             |inst| {
                 let refs = slice(vr, nvr, "valueReferences")?;
                 let out = slice_mut(value, nValues, "values")?;
+                if get_runs(inst, refs, out, get, class) {
+                    inst.log_call(|| values_log::<M, T>(func, refs, out, show));
+                    return Ok(());
+                }
                 let info = M::info();
                 let mut at = 0;
                 for &r in refs {
@@ -608,6 +627,83 @@ unsafe fn get_values<M: Model, T: Copy>(
     }
 }
 
+/// The master's usual read, when it is one: every reference an array that is one slice of
+/// the values, and `out` holds their values. Reads them into `out` and says whether it did
+/// (otherwise `out` may hold some of them).
+#[inline(always)]
+fn get_runs<M: Model, T>(
+    inst: &Instance<M>,
+    refs: &[fmi3ValueReference],
+    out: &mut [T],
+    get: fn(f64) -> T,
+    class: TypeClass,
+) -> bool {
+    let mut rest = out;
+    for &r in refs {
+        let Some(src) = inst.array_run(r.wrapping_sub(ARRAY_VR_BASE) as usize, class) else {
+            return false;
+        };
+        let Some((dst, tail)) = rest.split_at_mut_checked(src.len()) else {
+            return false;
+        };
+        for (o, v) in dst.iter_mut().zip(src) {
+            *o = get(*v);
+        }
+        rest = tail;
+    }
+    rest.is_empty()
+}
+
+/// The master's usual write, when it is one: every reference an array that is one slice of
+/// the values and takes plain stores now, and `vals` holds their values. Writes them and
+/// says whether it did (otherwise nothing is written).
+#[inline(always)]
+fn set_runs<M: Model, T: Copy>(
+    inst: &mut Instance<M>,
+    refs: &[fmi3ValueReference],
+    vals: &[T],
+    set: fn(T) -> f64,
+    class: TypeClass,
+) -> bool {
+    if let [r] = refs {
+        // one array: checked and written at once
+        let k = r.wrapping_sub(ARRAY_VR_BASE) as usize;
+        return match inst.array_run_mut(k, class) {
+            Some(dst) if dst.len() == vals.len() => {
+                for (x, v) in dst.iter_mut().zip(vals) {
+                    *x = set(*v);
+                }
+                true
+            }
+            _ => false,
+        };
+    }
+    // every reference and the count checked before anything is written
+    let mut total = 0;
+    for &r in refs {
+        match inst.array_run_mut(r.wrapping_sub(ARRAY_VR_BASE) as usize, class) {
+            Some(dst) => total += dst.len(),
+            None => return false,
+        }
+    }
+    if total != vals.len() {
+        return false;
+    }
+    let mut rest = vals;
+    for &r in refs {
+        if let Some(dst) = inst.array_run_mut(r.wrapping_sub(ARRAY_VR_BASE) as usize, class) {
+            let Some((now, later)) = rest.split_at_checked(dst.len()) else {
+                break; // not reached: the counts were checked above
+            };
+            for (x, v) in dst.iter_mut().zip(now) {
+                *x = set(*v);
+            }
+            rest = later;
+        }
+    }
+    true
+}
+
 /// # Safety
 /// `c` live or null; `vr` holds `nvr` and `value` `nValues` elements.
 unsafe fn set_values<M: Model, T: Copy>(
@@ -635,6 +731,10 @@ unsafe fn set_values<M: Model, T: Copy>(
             |inst| {
                 let refs = slice(vr, nvr, "valueReferences")?;
                 let vals = slice(value, nValues, "values")?;
+                if set_runs(inst, refs, vals, set, class) {
+                    inst.log_call(|| values_log::<M, T>(func, refs, vals, show));
+                    return Ok(());
+                }
                 let info = M::info();
                 // every reference known and the count right before anything is set
                 let mut total = 0;

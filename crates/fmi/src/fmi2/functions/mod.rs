@@ -98,7 +98,7 @@ pub(crate) unsafe fn slice<'a, T>(p: *const T, n: usize, what: &str) -> Result<&
         return Ok(&[]);
     }
     if p.is_null() {
-        return Err(error(format!("{what} is null")));
+        return Err(null_argument(what));
     }
     // SAFETY: non-null, `n` elements by contract.
     Ok(unsafe { std::slice::from_raw_parts(p, n) })
@@ -117,10 +117,17 @@ pub(crate) unsafe fn slice_mut<'a, T>(
         return Ok(&mut []);
     }
     if p.is_null() {
-        return Err(error(format!("{what} is null")));
+        return Err(null_argument(what));
     }
     // SAFETY: non-null, `n` elements by contract.
     Ok(unsafe { std::slice::from_raw_parts_mut(p, n) })
+}
+
+/// The refusal of a null array argument (out of the get/set paths).
+#[cold]
+#[inline(never)]
+fn null_argument(what: &str) -> Failure {
+    error(format!("{what} is null"))
 }
 
 /// A C string argument for a call log: `"text"` or `NULL`.
