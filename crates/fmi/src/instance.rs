@@ -437,13 +437,37 @@ impl<M: Model, B: Binding> FmuInstance<M, B> {
         }
     }
 
-    /// The values of array `k` of [`ModelInfo::arrays`] when it is one slice of the
-    /// values of base type `class` (else the caller reads element by element with
-    /// [`FmuInstance::get`]).
+    /// Read the arrays `ks` of [`ModelInfo::arrays`] one after the other into `out`,
+    /// converted by `conv`, when each is one slice of the values of base type `class` and
+    /// `out` holds exactly their values; says whether it did (otherwise `out` may hold
+    /// some of them, and the caller reads element by element).
     #[inline(always)]
-    pub fn array_run(&self, k: usize, class: TypeClass) -> Option<&[f64]> {
-        let run = self.runs[class_index(class)].get(k)?;
-        self.values.get(run.start as usize..run.end as usize)
+    pub fn read_runs<T>(
+        &self,
+        ks: impl Iterator<Item = usize>,
+        out: &mut [T],
+        conv: fn(f64) -> T,
+        class: TypeClass,
+    ) -> bool {
+        // the tables in locals: the loop keeps them in registers
+        let (runs, values) = (&self.runs[class_index(class)][..], &self.values[..]);
+        let mut rest = out;
+        for k in ks {
+            let Some(src) = runs
+                .get(k)
+                .and_then(|run| values.get(run.start as usize..run.end as usize))
+            else {
+                return false;
+            };
+            let Some((dst, tail)) = rest.split_at_mut_checked(src.len()) else {
+                return false;
+            };
+            for (o, v) in dst.iter_mut().zip(src) {
+                *o = conv(*v);
+            }
+            rest = tail;
+        }
+        rest.is_empty()
     }
 
     /// The values of array `k` to write, when it is one slice of the values of base type

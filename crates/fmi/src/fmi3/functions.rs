@@ -588,7 +588,9 @@ unsafe fn get_values<M: Model, T: Copy>(
             |inst| {
                 let refs = slice(vr, nvr, "valueReferences")?;
                 let out = slice_mut(value, nValues, "values")?;
-                if get_runs(inst, refs, out, get, class) {
+                // the master's usual read: arrays that are each one slice of the values
+                let arrays = refs.iter().map(|r| r.wrapping_sub(ARRAY_VR_BASE) as usize);
+                if inst.read_runs(arrays, out, get, class) {
                     inst.log_call(|| values_log::<M, T>(func, refs, out, show));
                     return Ok(());
                 }
@@ -625,33 +627,6 @@ unsafe fn get_values<M: Model, T: Copy>(
             },
         )
     }
-}
-
-/// The master's usual read, when it is one: every reference an array that is one slice of
-/// the values, and `out` holds their values. Reads them into `out` and says whether it did
-/// (otherwise `out` may hold some of them).
-#[inline(always)]
-fn get_runs<M: Model, T>(
-    inst: &Instance<M>,
-    refs: &[fmi3ValueReference],
-    out: &mut [T],
-    get: fn(f64) -> T,
-    class: TypeClass,
-) -> bool {
-    let mut rest = out;
-    for &r in refs {
-        let Some(src) = inst.array_run(r.wrapping_sub(ARRAY_VR_BASE) as usize, class) else {
-            return false;
-        };
-        let Some((dst, tail)) = rest.split_at_mut_checked(src.len()) else {
-            return false;
-        };
-        for (o, v) in dst.iter_mut().zip(src) {
-            *o = get(*v);
-        }
-        rest = tail;
-    }
-    rest.is_empty()
 }
 
 /// The master's usual write, when it is one: every reference an array that is one slice of
