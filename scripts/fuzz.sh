@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Fuzz the C ABI and the FMU with cargo-fuzz (fuzz/README.md).
+# Fuzz the C ABI, the FMU (FMI 2.0 and FMI 3.0 functions) and saved-state restores with
+# cargo-fuzz (fuzz/README.md).
 #
 #   bash scripts/fuzz.sh smoke            # every target for RELNAV_FUZZ_SMOKE_SECONDS (20) s, side by side
 #   bash scripts/fuzz.sh long RUNS        # each target for RUNS executions (10^7: hours)
@@ -26,7 +27,7 @@ if ! command -v cargo >/dev/null 2>&1 && [ -x "$HOME/.cargo/bin/cargo" ]; then
     PATH="$HOME/.cargo/bin:$PATH"
 fi
 mode="${1:-smoke}"
-TARGETS=(capi fmi state)
+TARGETS=(capi fmi fmi3 state)
 
 if ! rustup toolchain list 2>/dev/null | grep -q '^nightly' \
     || ! cargo +nightly --version >/dev/null 2>&1 \
