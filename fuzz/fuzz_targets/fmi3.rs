@@ -766,19 +766,9 @@ unsafe fn step(r: &mut Run, op: &Op) {
                 let mut flags = [true; 5];
                 let mut next = SENTINEL;
                 let fp = flags.as_mut_ptr();
-                let ptr = |i: usize| {
-                    if nulls & (1 << i) != 0 {
-                        null_mut()
-                    } else {
-                        fp.add(i)
-                    }
-                };
+                let ptr = |i: usize| out_ptr(fp, nulls, i);
                 let (a, b, n, v, d) = (ptr(0), ptr(1), ptr(2), ptr(3), ptr(4));
-                let t: *mut f64 = if nulls & (1 << 5) != 0 {
-                    null_mut()
-                } else {
-                    &mut next
-                };
+                let t = out_ptr(&mut next, nulls >> 5, 0);
                 let st = r.call_in(&[Event], || fmi3UpdateDiscreteStates(c, a, b, n, v, d, t));
                 if nulls != 0 {
                     assert_eq!(st, fmi3Error, "a null out-pointer accepted");
@@ -1015,19 +1005,9 @@ unsafe fn step(r: &mut Run, op: &Op) {
                 let mut flags = [true; 3];
                 let mut last = SENTINEL;
                 let fp = flags.as_mut_ptr();
-                let ptr = |i: usize| {
-                    if nulls & (1 << i) != 0 {
-                        null_mut()
-                    } else {
-                        fp.add(i)
-                    }
-                };
+                let ptr = |i: usize| out_ptr(fp, nulls, i);
                 let (ev, term, early) = (ptr(0), ptr(1), ptr(2));
-                let lp: *mut f64 = if nulls & (1 << 3) != 0 {
-                    null_mut()
-                } else {
-                    &mut last
-                };
+                let lp = out_ptr(&mut last, nulls >> 3, 0);
                 let nsp = *no_set_prior;
                 let st = r.call_in(&[Step], || fmi3DoStep(c, t, h, nsp, ev, term, early, lp));
                 if nulls != 0 {
@@ -1339,6 +1319,16 @@ unsafe fn step(r: &mut Run, op: &Op) {
                 }
             }
         }
+    }
+}
+
+/// Out-pointer `i` past `base`, or null where bit `i` of `nulls` is set (a master passing
+/// a null out-pointer).
+fn out_ptr<T>(base: *mut T, nulls: u8, i: usize) -> *mut T {
+    if nulls & (1 << i) != 0 {
+        null_mut()
+    } else {
+        base.wrapping_add(i)
     }
 }
 
