@@ -749,3 +749,105 @@ fn particle_update_with_an_extreme_prior_fails_cleanly_or_stays_finite() {
         }
     });
 }
+
+/// Found by the `fmi3` fuzz target: in Event Mode, a relative GNSS velocity reading with a
+/// component of -f64::MAX (finite, so accepted) left a particle filter's estimate at
+/// -inf, and `fmi3UpdateDiscreteStates` reported success (a step refuses such an estimate
+/// in its prediction; the discrete update has none). Now, for every filter, the update
+/// either is refused or leaves a finite estimate.
+#[test]
+fn event_mode_updates_never_leave_a_non_finite_estimate() {
+    use relnav_fmi::fmi3::description::vr_of;
+    use relnav_fmi::fmi3::functions::*;
+    use relnav_fmi::fmi3::types::{fmi3Instance, fmi3Status};
+    use relnav_nav_model::{vr, RelnavFmu as M};
+    let info = &*relnav_nav_model::INFO;
+    let [pos_vel, camera, gnss_v] = [
+        vec![
+            vr_of(info, "position").unwrap(),
+            vr_of(info, "velocity").unwrap(),
+        ],
+        vec![vr_of(info, "camera").unwrap()],
+        vec![vr_of(info, "gnss_velocity").unwrap()],
+    ];
+    let get = |c: fmi3Instance, refs: &[u32], n: usize| {
+        let mut out = vec![f64::NAN; n];
+        // SAFETY: live instance, arrays of the lengths passed.
+        let st = unsafe { fmi3GetFloat64::<M>(c, refs.as_ptr(), refs.len(), out.as_mut_ptr(), n) };
+        (st, out)
+    };
+    for filter in [1, 2, 3, 4, 5, 6, 7, 8, 10, 11] {
+        for extreme in [-f64::MAX, f64::MAX, 1e300] {
+            let token = CString::new(relnav_fmi::fmi3::description::token_of(info)).unwrap();
+            // SAFETY: valid strings, null pointers where the standard allows them; then a
+            // live instance and arrays of the lengths passed.
+            unsafe {
+                let c = fmi3InstantiateCoSimulation::<M>(
+                    c"event".as_ptr(),
+                    token.as_ptr(),
+                    std::ptr::null(),
+                    false,
+                    false,
+                    true,
+                    false,
+                    std::ptr::null(),
+                    0,
+                    std::ptr::null_mut(),
+                    None,
+                    None,
+                );
+                assert!(!c.is_null());
+                let ints = [filter, 8];
+                let refs = [vr::FILTER, vr::PARTICLES];
+                assert_eq!(
+                    fmi3SetInt32::<M>(c, refs.as_ptr(), 2, ints.as_ptr(), 2),
+                    fmi3Status::fmi3OK
+                );
+                assert_eq!(
+                    fmi3EnterInitializationMode::<M>(c, false, 0.0, 0.0, false, 0.0),
+                    fmi3Status::fmi3OK
+                );
+                assert_eq!(fmi3ExitInitializationMode::<M>(c), fmi3Status::fmi3OK); // Event Mode
+                let (_, x) = get(c, &pos_vel, 6);
+                let r = (x[0] * x[0] + x[1] * x[1]).sqrt();
+                // the fuzz input's line of sight: azimuth 99 rad off, elevation 1.46 times
+                let los = [
+                    x[1].atan2(x[0]) + 25439.0 / 256.0,
+                    x[2].atan2(r) * (1.0 + 15201.0 / 32768.0),
+                ];
+                assert_eq!(
+                    fmi3SetFloat64::<M>(c, camera.as_ptr(), 1, los.as_ptr(), 2),
+                    fmi3Status::fmi3OK
+                );
+                let v = [x[3], x[4] * (1.0 + 23907.0 / 32768.0), extreme];
+                assert_eq!(
+                    fmi3SetFloat64::<M>(c, gnss_v.as_ptr(), 1, v.as_ptr(), 3),
+                    fmi3Status::fmi3OK
+                );
+                let flags = [true, true];
+                let valid = [vr::CAMERA_VALID, vr::GNSS_VELOCITY_VALID];
+                assert_eq!(
+                    fmi3SetBoolean::<M>(c, valid.as_ptr(), 2, flags.as_ptr(), 2),
+                    fmi3Status::fmi3OK
+                );
+                // the readings stay set: each discrete update applies them again
+                for k in 0..3 {
+                    let (mut a, mut b, mut n, mut w, mut d, mut t) =
+                        (true, true, true, true, true, 0.0);
+                    let st = fmi3UpdateDiscreteStates::<M>(
+                        c, &mut a, &mut b, &mut n, &mut w, &mut d, &mut t,
+                    );
+                    if st != fmi3Status::fmi3OK {
+                        assert_eq!(st, fmi3Status::fmi3Error, "filter {filter}, {extreme:e}");
+                        break;
+                    }
+                    let (gst, x) = get(c, &pos_vel, 6);
+                    assert_eq!(gst, fmi3Status::fmi3OK);
+                    let finite = x.iter().all(|v| v.is_finite());
+                    assert!(finite, "filter {filter}, {extreme:e}, update {k}: {x:?}");
+                }
+                fmi3FreeInstance::<M>(c);
+            }
+        }
+    }
+}
