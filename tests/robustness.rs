@@ -271,6 +271,29 @@ fn random_fmi2_sequences_with_absurd_steps_return() {
 /// steps of random sizes including 1e45 and 1e300 s, FMU state round trips, over the
 /// filters 1-8. Every sequence returns; no call returns fmi3Fatal (a caught panic); after
 /// any error the master's way out (`fmi3Reset`) works.
+/// A relnav3.fmu instance made with `eventModeUsed` (its initialisation ends in Event Mode).
+fn instantiate_event_mode(name: &CStr) -> relnav_fmi::fmi3::types::fmi3Instance {
+    let info = &*relnav_nav_model::INFO;
+    let token = CString::new(relnav_fmi::fmi3::description::token_of(info)).unwrap();
+    // SAFETY: valid strings, null pointers where the standard allows them.
+    unsafe {
+        fmi3InstantiateCoSimulation(
+            name.as_ptr(),
+            token.as_ptr(),
+            std::ptr::null(),
+            false,
+            false,
+            true,
+            false,
+            std::ptr::null(),
+            0,
+            std::ptr::null_mut(),
+            None,
+            None,
+        )
+    }
+}
+
 #[test]
 fn random_fmi3_sequences_return() {
     use relnav_fmi::fmi3::description::{vr_of, TIME_VR};
@@ -303,24 +326,7 @@ fn random_fmi3_sequences_return() {
             let mut rng = ChaCha8Rng::seed_from_u64(seq);
             let event = rng.random::<bool>();
             let c = if event {
-                let token = CString::new(relnav_fmi::fmi3::description::token_of(info)).unwrap();
-                // SAFETY: valid strings, null pointers where the standard allows them.
-                unsafe {
-                    fmi3InstantiateCoSimulation(
-                        c"robust3".as_ptr(),
-                        token.as_ptr(),
-                        std::ptr::null(),
-                        false,
-                        false,
-                        true,
-                        false,
-                        std::ptr::null(),
-                        0,
-                        std::ptr::null_mut(),
-                        None,
-                        None,
-                    )
-                }
+                instantiate_event_mode(c"robust3")
             } else {
                 instantiate_plain::<relnav_nav_model::RelnavFmu>(c"robust3")
             };
@@ -778,24 +784,9 @@ fn event_mode_updates_never_leave_a_non_finite_estimate() {
     };
     for filter in [1, 2, 3, 4, 5, 6, 7, 8, 10, 11] {
         for extreme in [-f64::MAX, f64::MAX, 1e300] {
-            let token = CString::new(relnav_fmi::fmi3::description::token_of(info)).unwrap();
-            // SAFETY: valid strings, null pointers where the standard allows them; then a
-            // live instance and arrays of the lengths passed.
+            let c = instantiate_event_mode(c"event");
+            // SAFETY: a live instance and arrays of the lengths passed.
             unsafe {
-                let c = fmi3InstantiateCoSimulation::<M>(
-                    c"event".as_ptr(),
-                    token.as_ptr(),
-                    std::ptr::null(),
-                    false,
-                    false,
-                    true,
-                    false,
-                    std::ptr::null(),
-                    0,
-                    std::ptr::null_mut(),
-                    None,
-                    None,
-                );
                 assert!(!c.is_null());
                 let ints = [filter, 8];
                 let refs = [vr::FILTER, vr::PARTICLES];
