@@ -758,9 +758,10 @@ fn particle_update_with_an_extreme_prior_fails_cleanly_or_stays_finite() {
 
 /// Found by the `fmi3` fuzz target: in Event Mode, a relative GNSS velocity reading with a
 /// component of -f64::MAX (finite, so accepted) left a particle filter's estimate at
-/// -inf, and `fmi3UpdateDiscreteStates` reported success (a step refuses such an estimate
-/// in its prediction; the discrete update has none). Now, for every filter, the update
-/// either is refused or leaves a finite estimate.
+/// -inf, and `fmi3UpdateDiscreteStates` reported success (a step's prediction refused
+/// it; the discrete update has none, and the particle filters' generic sensor update did
+/// not check its estimate). Now, for every filter, the update either is refused or leaves
+/// a finite estimate.
 #[test]
 fn event_mode_updates_never_leave_a_non_finite_estimate() {
     use relnav_fmi::fmi3::description::vr_of;

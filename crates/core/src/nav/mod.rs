@@ -710,18 +710,6 @@ impl Navigator {
             let mut nis = [f64::NAN; 4];
             let mut updated = false;
             let result = nav.apply_updates(radio, &declared, &[], &mut nis, &mut updated);
-            // no prediction follows to refuse an estimate the updates left non-finite (an
-            // extreme but finite reading): refused here, as a step refuses it
-            let result = result.and_then(|()| {
-                if nav.filter.state().iter().all(|v| v.is_finite()) {
-                    Ok(())
-                } else {
-                    Err(NavError {
-                        kind: NavErrorKind::Numerical,
-                        message: "the readings' updates left a non-finite estimate".into(),
-                    })
-                }
-            });
             match (&result, saved) {
                 (Ok(()), _) => nav.step_nis = nis,
                 (Err(_), Snapshot::None) => nav.failed |= updated,

@@ -83,6 +83,11 @@ impl ParticleFilter {
         self.set_predictive()?;
         let max = self.weigh(&lik, fresh);
         self.finish_update(&lik, Some(max), fresh, false)?;
+        // an extreme but finite reading can carry the estimate past double precision: a
+        // failed update, as the radio's first update refuses non-finite particles
+        if !crate::numerics::all_finite(self.mean.as_slice()) {
+            return Err(FilterError::NonFinite("estimate after the sensor update"));
+        }
         let innovation = sensor
             .measure(&self.mean)
             .map_or_else(SVector::zeros, |zh| sensor.residual(z, &zh));
