@@ -47,7 +47,7 @@ impl Discretization {
 }
 
 /// One discrete step of the model: `X+ = phi X + gamma a + w`, `cov(w) = q`.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct DiscreteModel {
     /// Start time of the step [s from the dynamics' epoch] (a time-varying model's steps
     /// differ by it; the CW model's do not).
@@ -119,17 +119,18 @@ impl Dynamics {
 
     /// [`RelativeDynamics::step`] for a caller stepping forward, which keeps `memo` between
     /// its steps (the elliptic model's Kepler anchor; the same result, bit for bit).
-    pub fn step_with(
+    pub fn step_into(
         &self,
         memo: &mut KeplerMemo,
         t: f64,
         dt: f64,
         qc: &Mat3,
         method: Discretization,
-    ) -> DiscreteModel {
+        out: &mut DiscreteModel,
+    ) {
         match self {
-            Dynamics::Cw(m) => m.step(t, dt, qc, method),
-            Dynamics::Elliptic(m) => m.step_with(memo, t, dt, qc, method),
+            Dynamics::Cw(m) => *out = m.step(t, dt, qc, method),
+            Dynamics::Elliptic(m) => m.step_into(memo, t, dt, qc, method, out),
         }
     }
 

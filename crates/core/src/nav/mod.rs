@@ -104,8 +104,9 @@ pub struct Navigator {
     step_cache: DiscreteModel,
     /// the elliptic model's Kepler anchor between steps (a cache: no result depends on it)
     kepler: KeplerMemo,
-    /// [`NavConfig::process_noise_rates`], added to every step's noise
-    q_rates: Mat6,
+    /// the diagonal of [`NavConfig::process_noise_rates`] (a diagonal matrix: the frame
+    /// conversion permutes its entries), added to every step's noise
+    q_rates: State,
     last_update: Option<UpdateInfo>,
     /// the sensors beside the radio ([`Navigator::add_sensor`]), in the order they are
     /// applied, and each one's last report
@@ -184,7 +185,7 @@ impl Navigator {
                 q: Mat6::zeros(),
             },
             kepler: KeplerMemo::default(),
-            q_rates: Mat6::zeros(),
+            q_rates: State::zeros(),
             last_update: None,
             sensors: Vec::new(),
             reports: Vec::new(),
@@ -194,7 +195,9 @@ impl Navigator {
             step_acceptance: f64::NAN,
             failed: false,
         };
-        nav.q_rates = cfg.process_noise_rates();
+        let rates = cfg.process_noise_rates();
+        debug_assert_eq!(rates, Mat6::from_diagonal(&rates.diagonal()));
+        nav.q_rates = rates.diagonal();
         nav.discrete(1.0);
         // every field is finite, but x0 near the largest double with its uncertainty can
         // still overflow (a particle filter's initial draw x0 + L eps): refuse it here rather
@@ -224,10 +227,17 @@ impl Navigator {
     fn discrete(&mut self, dt: f64) {
         if self.step_cache.dt != dt || !self.dynamics.time_invariant() {
             let qc = Mat3::identity() * self.cfg.accel_psd;
-            self.step_cache =
-                self.dynamics
-                    .step_with(&mut self.kepler, self.t, dt, &qc, self.cfg.discretization);
-            self.step_cache.q += self.q_rates * dt;
+            self.dynamics.step_into(
+                &mut self.kepler,
+                self.t,
+                dt,
+                &qc,
+                self.cfg.discretization,
+                &mut self.step_cache,
+            );
+            for (i, r) in self.q_rates.iter().enumerate() {
+                self.step_cache.q[(i, i)] += r * dt;
+            }
         }
         self.step_cache.t = self.t;
     }

@@ -1,4 +1,5 @@
-//! Run-time selection of the instruction set for the hot loops (the particle filters' blocks).
+//! Run-time selection of the instruction set for the hot loops (the particle filters' blocks,
+//! the covariance time update, the elliptic model's short step).
 //!
 //! The library is built for the x86-64 baseline (SSE2: two `f64` per vector instruction, no
 //! gathers), so that one binary (and one FMU) runs on every x86-64 machine. [`dispatch`] runs a
@@ -27,6 +28,13 @@
 //! without arithmetic, so both paths give the same bits by construction (tested against the
 //! baseline element copies). [`v3_apart`] runs such a loop compiled for v3 in a function of
 //! its own, where inlined into a large loop it would cost that loop its registers.
+//!
+//! **Valgrind.** valgrind 3.19 (Debian 12's, which the benches' instruction counts and the
+//! C++ harness's memory checks run under) does not decode the register form of the VEX
+//! `vmovq` (`66 0F D6`), which LLVM emits in v3 code to put a number beside a known zero in
+//! one vector (an array literal mixing computed values with `0.0`). Dispatched code keeps
+//! such zeros out: it writes only the nonzero entries of sparse results, whose zeros the
+//! caller sets outside. A slip shows as SIGILL under valgrind (the benches fail).
 //!
 //! `RELNAV_SIMD=baseline` in the environment (read once per process) keeps every dispatch on
 //! the baseline path: for comparing machines, or a CPU whose AVX2 is suspect.
