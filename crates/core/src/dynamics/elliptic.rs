@@ -45,7 +45,7 @@
 //!   forward keeps with its anchor ([`KeplerMemo`]), so the navigator solves Kepler's
 //!   equation once per `short_dm` of mean anomaly, not once per step.
 //! * A short step (`n dt <= (1 - e) short_span`, its span in `E` at most `short_span =
-//!   min(0.02, 0.05 acosh(1/e))`: a navigator's usual step) needs no `sin_cos` beyond its
+//!   min(0.02, 0.04 acosh(1/e))`: a navigator's usual step) needs no `sin_cos` beyond its
 //!   anchor's and no anomaly inside the step. It runs from `t0` to `t1 = t0 + dt` as the
 //!   caller's clock rounds it (`h = t1 - t0`), and its end's anomaly is `t1`'s as a step
 //!   starting there takes it, so a caller stepping forward finds it kept: one increment
@@ -58,16 +58,24 @@
 //!   target's rates there: `Gamma` is its integral, `Qd` the five-point Gauss–Lobatto rule
 //!   on `G qc G^T`. Within [`SHORT_BOUND`] = 1e-8 of the six-node panels up to `e = 0.95`
 //!   (tested); at `e = 0.99` within the order of the closed-form transition's own rounding
-//!   near apogee (the same test compares the two; figures in `docs/filters.md`). A cubic
-//!   interpolant does not do: it errs by `(n dt)^3 / 180` of the input matrix.
+//!   near apogee (the same test compares the two; figures in `docs/filters.md`).
+//! * A short step whose `w h` (the larger of the ends' true-anomaly rates times the step)
+//!   is at most [`CUBIC_SPAN`] = 1.2e-3 (a one-second step in a 2-hour orbit up to e = 0.1;
+//!   not a two-second one), for `e <= 0.95`, takes the cubic interpolant (the ends' values
+//!   and first derivatives) and the four-point Gauss–Lobatto rule instead: its errors grow
+//!   as `(w h)^3`, within [`CUBIC_BOUND`] = 1e-9 of the panels (tested; at `e = 0` about
+//!   `(w h)^3 / 360` of the input matrix, larger near perigee at high `e`). In both rules
+//!   the end's node, `G(0) = B`, enters by its three entries.
 //! * A step of one period or more is split into `k` whole periods and a remainder: over a
 //!   whole period the in-plane transition is `I + D` with `D` the along-track drift (the
 //!   fundamental matrix is periodic but for its `J` term), so `k` periods of thrust and
 //!   noise are sums over `I + i D`, `i < k`, in closed form. The work is bounded for every
 //!   input: at most two quadratures of at most `ceil(2 pi / h)` panels (26 up to e = 0.81, 111 at e = 0.99).
 //!
-//! The model reduces to CW at `e = 0` to rounding (tested); the navigator still builds the
-//! [`super::CwModel`] for `e = 0`, whose noise and input matrices are in closed form.
+//! The model reduces to CW at `e = 0` (tested): the transition to rounding, the input
+//! matrix and noise to rounding but for steps of the cubic rule, within its bound; the
+//! navigator still builds the [`super::CwModel`] for `e = 0`, whose noise and input
+//! matrices are in closed form.
 
 use super::{DiscreteModel, Discretization, RelativeDynamics};
 use crate::numerics::lanes::{axpy4, mul4};
@@ -112,7 +120,7 @@ pub const QUADRATURE_BOUND: f64 = 1e-9;
 /// from the four Gauss–Lobatto points [`LOBATTO_X`] instead of six-node panels.
 const SHORT_SPAN: f64 = 0.02;
 /// The same as a fraction of the analytic strip's half-width `acosh(1/e)`.
-const SHORT_STRIP: f64 = 0.05;
+const SHORT_STRIP: f64 = 0.04;
 /// The stated bound of the short step's quadrature error against the six-node panels
 /// (relative to each matrix's largest entry), tested for `e <= 0.95` (at `e = 0.99` the
 /// transition's own rounding sets it, see the module docs).
@@ -138,6 +146,44 @@ const HERMITE: [[f64; 6]; 3] = [
     hermite((1.0 + LOBATTO_X[2]) / 2.0),
     hermite((1.0 + LOBATTO_X[3]) / 2.0),
 ];
+
+/// Gauss–Lobatto nodes and weights on `[-1, 1]` with 4 points (the ends and
+/// `+-1/sqrt(5)`; exact for degree 5): the rule of a step whose `w h` is at most
+/// [`CUBIC_SPAN`].
+const LOBATTO4_X: [f64; 4] = [-1.0, -0.447_213_595_499_957_9, 0.447_213_595_499_957_9, 1.0];
+const LOBATTO4_W: [f64; 4] = [1.0 / 6.0, 5.0 / 6.0, 5.0 / 6.0, 1.0 / 6.0];
+
+/// The cubic Hermite basis (the ends' values and first derivatives) at the interior nodes
+/// of [`LOBATTO4_X`], in the order of [`HERMITE`] (its second-derivative weights zero).
+const CUBIC: [[f64; 6]; 2] = [
+    cubic((1.0 + LOBATTO4_X[1]) / 2.0),
+    cubic((1.0 + LOBATTO4_X[2]) / 2.0),
+];
+
+const fn cubic(s: f64) -> [f64; 6] {
+    let (s2, s3) = (s * s, s * s * s);
+    [
+        2.0 * s3 - 3.0 * s2 + 1.0,
+        s3 - 2.0 * s2 + s,
+        0.0,
+        0.0,
+        s3 - s2,
+        3.0 * s2 - 2.0 * s3,
+    ]
+}
+
+/// The largest `w h` (the target's largest angular rate at the step's ends times the step)
+/// for which a short step takes the cubic interpolant and the four-point rule
+/// ([`CUBIC`], [`LOBATTO4_W`]): their errors grow as `(w h)^3` (the interpolant's) and
+/// `(w h)^4` (the rule's on the noise), within [`CUBIC_BOUND`] of the six-node panels
+/// below it (tested). A one-second step in low orbit has `w h` about 1e-3.
+pub const CUBIC_SPAN: f64 = 1.2e-3;
+/// The largest eccentricity of the cubic rule (tested up to it; above, the transition's own
+/// rounding near apogee is of the order of its bound).
+const CUBIC_E: f64 = 0.95;
+/// The stated bound of the cubic rule's error against the six-node panels (relative to each
+/// matrix's largest entry), tested for `e <= 0.95`.
+pub const CUBIC_BOUND: f64 = 1e-9;
 
 const fn hermite(s: f64) -> [f64; 6] {
     let (s2, s3, s4, s5) = (s * s, s * s * s, s * s * s * s, s * s * s * s * s);
@@ -790,31 +836,65 @@ impl EllipticModel {
         out: &mut DiscreteModel,
     ) {
         let (end, start) = self.hermite_blocks(a0, a1, &out.phi, h);
-        let mut nodes = [start[2]; 4];
-        for (node, basis) in nodes[1..].iter_mut().zip(&HERMITE) {
+        let rho = a0.rho.max(a1.rho);
+        if self.k2 * rho * rho * h <= CUBIC_SPAN && self.e <= CUBIC_E {
+            Self::lobatto(&end, &start[1..], &CUBIC, &LOBATTO4_W, h, qc, out);
+        } else {
+            Self::lobatto(&end, &start, &HERMITE, &LOBATTO_W, h, qc, out);
+        }
+    }
+
+    /// The Lobatto rule of `N` points (`I = N - 2` interior, `basis` the interpolant's
+    /// weights there) on the interpolant of the end blocks `end` and the start blocks
+    /// `start` (the last ones of [`EllipticModel::hermite_blocks`]'s, as many as the
+    /// basis uses): [`EllipticModel::quadrature`] at the start's node and the interior
+    /// ones, the end's node (`G(0) = B`) by its entries.
+    #[inline(always)]
+    fn lobatto<const I: usize, const N: usize>(
+        end: &EndBlocks,
+        start: &[Packed],
+        basis: &[[f64; 6]; I],
+        weights: &[f64; N],
+        h: f64,
+        qc: Option<&Mat3>,
+        out: &mut DiscreteModel,
+    ) {
+        let last = start[start.len() - 1];
+        let mut nodes = [last; N];
+        for (node, basis) in nodes[1..=I].iter_mut().zip(basis) {
             *node = end.combine([basis[0], basis[1], basis[2]]);
-            for (bk, &c) in start.iter().zip(&basis[3..]) {
+            for (bk, &c) in start.iter().zip(&basis[6 - start.len()..]) {
                 for (v, x) in node.iter_mut().zip(bk) {
                     *v += c * x;
                 }
             }
         }
-        let w = LOBATTO_W.map(|w| 0.5 * h * w);
-        let values = nodes.into_iter().zip([w[4], w[1], w[2], w[3]]);
-        Self::quadrature(values, qc, &mut out.gamma, &mut out.q);
+        let w = weights.map(|w| 0.5 * h * w);
+        let mut wn = w;
+        wn[0] = w[N - 1];
+        let values = nodes.into_iter().zip(wn).take(I + 1);
+        let diagonal = Self::quadrature(values, qc, &mut out.gamma, &mut out.q);
         // the end's node, G(0) = B, by its entries: w0 on the velocity rows of gamma,
         // w0 qc on the velocity block of the noise
         let w0 = w[0];
         for i in 3..6 {
             out.gamma[(i, i - 3)] += w0;
         }
-        if let Some(qc) = qc {
-            let sym = (qc + qc.transpose()) * 0.5;
-            for i in 3..6 {
-                for j in 3..6 {
-                    out.q[(i, j)] += w0 * sym[(i - 3, j - 3)];
+        match (qc, diagonal) {
+            (_, Some(d)) => {
+                for (i, di) in d.iter().enumerate() {
+                    out.q[(3 + i, 3 + i)] += w0 * di;
                 }
             }
+            (Some(qc), None) => {
+                let sym = (qc + qc.transpose()) * 0.5;
+                for i in 3..6 {
+                    for j in 3..6 {
+                        out.q[(i, j)] += w0 * sym[(i - 3, j - 3)];
+                    }
+                }
+            }
+            (None, None) => {}
         }
     }
 
@@ -860,7 +940,7 @@ impl EllipticModel {
         qc: Option<&Mat3>,
         gamma: &mut Mat63,
         q: &mut Mat6,
-    ) {
+    ) -> Option<[f64; 3]> {
         // a diagonal density (every caller in relnav) is summed per axis and per block, on
         // four-lane columns (all 16 in-plane entries, `q_in[k][j]`, the lower triangle read)
         let diagonal = qc.map(|m| {
@@ -912,6 +992,7 @@ impl EllipticModel {
         } else if qc.is_some() {
             *q = (q_full + q_full.transpose()) * 0.5;
         }
+        diagonal.flatten()
     }
 
     /// [`EllipticModel::quadrature`] by [`EllipticModel::panel_nodes`] from `a0` to `a1`.
@@ -952,9 +1033,7 @@ impl EllipticModel {
             // the zeros (the in-plane and normal motions do not couple) set here: packing a
             // number with a zero in the dispatched code takes a `vmovq` that valgrind 3.19
             // cannot decode
-            out.phi = Mat6::zeros();
-            out.gamma = Mat63::zeros();
-            out.q = Mat6::zeros();
+            zero_coupling(out, qc.is_some());
             crate::numerics::simd::dispatch(
                 #[inline(always)]
                 || {
@@ -1029,6 +1108,28 @@ fn rows_pt(m: &Matrix4<f64>) -> Matrix4<f64> {
         -m.row(3),
         m.row(2).into_owned(),
     ])
+}
+
+/// Sets the entries of a step's matrices that couple the in-plane (x, y) and normal (z)
+/// motions, all zero, and without `noise` the whole noise: the short step writes every
+/// other entry.
+fn zero_coupling(out: &mut DiscreteModel, noise: bool) {
+    for p in [0, 1, 3, 4] {
+        for z in [2, 5] {
+            out.phi[(p, z)] = 0.0;
+            out.phi[(z, p)] = 0.0;
+            out.q[(p, z)] = 0.0;
+            out.q[(z, p)] = 0.0;
+        }
+        out.gamma[(p, 2)] = 0.0;
+    }
+    for z in [2, 5] {
+        out.gamma[(z, 0)] = 0.0;
+        out.gamma[(z, 1)] = 0.0;
+    }
+    if !noise {
+        out.q = Mat6::zeros();
+    }
 }
 
 /// `a b` for 4x4 matrices, a column of `a` times an entry of `b` at a time: always inlined,
@@ -1325,6 +1426,7 @@ mod tests {
         let cw = CwModel::new(n);
         for (t0, dt) in [
             (0.0, 1.0),
+            (0.0, 2.0),
             (100.0, 60.0),
             (1e4, 1000.0),
             (3.0, 5400.0),
@@ -1338,8 +1440,15 @@ mod tests {
                 rel(&s.q, &c.q),
             );
             eprintln!("e = 0, dt {dt}: phi {ep:.1e} gamma {eg:.1e} q {eq:.1e}");
+            // the transition in closed form: to rounding; the input matrix and noise too,
+            // but for a step short enough for the cubic rule (dt 1 here), within its bound
+            let quadrature = if n * dt <= CUBIC_SPAN {
+                CUBIC_BOUND
+            } else {
+                1e-12
+            };
             assert!(
-                ep < 1e-12 && eg < 1e-12 && eq < 1e-12,
+                ep < 1e-12 && eg < quadrature && eq < quadrature,
                 "dt {dt}: {ep:e} {eg:e} {eq:e}"
             );
             assert_eq!(ell.continuous_a(t0), {
@@ -1412,12 +1521,20 @@ mod tests {
         let mut worst = [0.0f64; 3];
         // at e = 0.99: the rule against the panels, the transition against its halves
         let mut near_one = [0.0f64; 2];
-        for e in [0.001, 0.005, 0.1, 0.5, 0.81, 0.95, 0.99] {
+        // the cubic rule's steps (w h <= CUBIC_SPAN): their worst error, their count
+        let (mut cubic, mut cubic_steps) = (0.0f64, 0);
+        for e in [0.001, 0.005, 0.1, 0.3, 0.5, 0.7, 0.81, 0.9, 0.95, 0.99] {
             let short = EllipticModel::new(n, e, 0.0);
             for k in 0..240 {
                 let e0 = -PI + TAU * k as f64 / 240.0;
                 let a0 = short.at_e(e0);
-                for frac in [0.001, 0.005, 0.01, 0.03, 0.1, 0.25, 1.0] {
+                // steps at the cubic rule's bound (w h just below and just above it)
+                let w0 = short.k2 * a0.rho * a0.rho;
+                let at_bound = [0.99, 1.01].map(|f| f * CUBIC_SPAN / w0 * n / short.short_dm);
+                for frac in [0.001, 0.005, 0.01, 0.03, 0.1, 0.25, 1.0]
+                    .into_iter()
+                    .chain(at_bound.into_iter().filter(|&f| f <= 1.0))
+                {
                     let dm = frac * short.short_dm;
                     let a1 = short.advanced(&a0, dm).0;
                     // against the full solve of the same mean anomaly, in ulps of E scaled
@@ -1446,6 +1563,11 @@ mod tests {
                     } = step;
                     let (gr, qr) = short.panel_quadrature(&a0, &a1, Some(&qc));
                     let err = rel(&g, &gr).max(rel(&q, &qr));
+                    let rho = a0.rho.max(a1.rho);
+                    if short.k2 * rho * rho * dm / n <= CUBIC_SPAN && e <= CUBIC_E {
+                        cubic = cubic.max(err);
+                        cubic_steps += 1;
+                    }
                     if e < 0.99 {
                         worst[1] = worst[1].max(rel(&g, &gr));
                         worst[2] = worst[2].max(rel(&q, &qr));
@@ -1462,8 +1584,13 @@ mod tests {
         }
         eprintln!(
             "short steps: end anomaly {:.2} x 4 ulps (scaled); Hermite rule vs six-node panels: \
-             gamma {:.1e} q {:.1e}; at e = 0.99 {:.1e}, the transition against its halves {:.1e}",
+             gamma {:.1e} q {:.1e}; at e = 0.99 {:.1e}, the transition against its halves \
+             {:.1e}; the cubic rule's {cubic_steps} steps {cubic:.1e}",
             worst[0], worst[1], worst[2], near_one[0], near_one[1]
+        );
+        assert!(
+            cubic < CUBIC_BOUND && cubic_steps > 1000,
+            "{cubic} {cubic_steps}"
         );
         assert!(worst[0] < 2.0, "{worst:?}");
         assert!(

@@ -18,8 +18,8 @@ mod elliptic;
 
 pub use cw::CwModel;
 pub use elliptic::{
-    eccentric_anomaly, kepler_iterations, EllipticModel, KeplerMemo, KEPLER_ITERATIONS,
-    QUADRATURE_BOUND, SHORT_BOUND,
+    eccentric_anomaly, kepler_iterations, EllipticModel, KeplerMemo, CUBIC_BOUND, CUBIC_SPAN,
+    KEPLER_ITERATIONS, QUADRATURE_BOUND, SHORT_BOUND,
 };
 
 use crate::types::{Mat3, Mat6, Mat63, State, Vec3};
