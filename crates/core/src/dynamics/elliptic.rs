@@ -173,10 +173,10 @@ const fn cubic(s: f64) -> [f64; 6] {
 }
 
 /// The largest `w h` (the target's largest angular rate at the step's ends times the step)
-/// for which a short step takes the cubic interpolant and the four-point rule
-/// ([`CUBIC`], [`LOBATTO4_W`]): their errors grow as `(w h)^3` (the interpolant's) and
-/// `(w h)^4` (the rule's on the noise), within [`CUBIC_BOUND`] of the six-node panels
-/// below it (tested). A one-second step in low orbit has `w h` about 1e-3.
+/// for which a short step takes the cubic interpolant and the four-point Gauss–Lobatto
+/// rule instead of the quintic one and five points: their errors grow as `(w h)^3` (the
+/// interpolant's) and `(w h)^4` (the rule's on the noise), within [`CUBIC_BOUND`] of the
+/// six-node panels below it (tested). A one-second step in low orbit has `w h` about 1e-3.
 pub const CUBIC_SPAN: f64 = 1.2e-3;
 /// The largest eccentricity of the cubic rule (tested up to it; above, the transition's own
 /// rounding near apogee is of the order of its bound).
