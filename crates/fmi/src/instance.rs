@@ -446,7 +446,7 @@ impl<M: Model, B: Binding> FmuInstance<M, B> {
         &self,
         ks: impl Iterator<Item = usize>,
         out: &mut [T],
-        conv: fn(f64) -> T,
+        copy: impl Fn(&mut [T], &[f64]),
         class: TypeClass,
     ) -> bool {
         // the tables in locals: the loop keeps them in registers
@@ -462,9 +462,7 @@ impl<M: Model, B: Binding> FmuInstance<M, B> {
             let Some((dst, tail)) = rest.split_at_mut_checked(src.len()) else {
                 return false;
             };
-            for (o, v) in dst.iter_mut().zip(src) {
-                *o = conv(*v);
-            }
+            copy(dst, src);
             rest = tail;
         }
         rest.is_empty()

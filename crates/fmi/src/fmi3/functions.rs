@@ -561,9 +561,36 @@ fn values_log<M: Model, T: Copy>(
     )
 }
 
+/// A value type of the get functions: how a run of stored values reaches the master's
+/// buffer (a plain copy for Float64, element by element through the conversion otherwise).
+trait Run: Copy {
+    fn read_run(dst: &mut [Self], src: &[f64], conv: fn(f64) -> Self);
+}
+
+impl Run for f64 {
+    #[inline(always)]
+    fn read_run(dst: &mut [f64], src: &[f64], _: fn(f64) -> f64) {
+        dst.copy_from_slice(src);
+    }
+}
+
+macro_rules! run_by_element {
+    ($($t:ty),*) => {$(
+        impl Run for $t {
+            #[inline(always)]
+            fn read_run(dst: &mut [$t], src: &[f64], conv: fn(f64) -> $t) {
+                for (o, v) in dst.iter_mut().zip(src) {
+                    *o = conv(*v);
+                }
+            }
+        }
+    )*};
+}
+run_by_element!(i32, bool);
+
 /// # Safety
 /// `c` live or null; `vr` holds `nvr` and `value` `nValues` elements.
-unsafe fn get_values<M: Model, T: Copy>(
+unsafe fn get_values<M: Model, T: Run>(
     c: fmi3Instance,
     vr: *const fmi3ValueReference,
     nvr: usize,
@@ -590,7 +617,7 @@ unsafe fn get_values<M: Model, T: Copy>(
                 let out = slice_mut(value, nValues, "values")?;
                 // the master's usual read: arrays that are each one slice of the values
                 let arrays = refs.iter().map(|r| r.wrapping_sub(ARRAY_VR_BASE) as usize);
-                if inst.read_runs(arrays, out, get, class) {
+                if inst.read_runs(arrays, out, |d, s| T::read_run(d, s, get), class) {
                     inst.log_call(|| values_log::<M, T>(func, refs, out, show));
                     return Ok(());
                 }
