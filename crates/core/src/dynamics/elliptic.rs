@@ -722,7 +722,7 @@ impl EllipticModel {
     fn phi_with(&self, end: &EndFactor, a0: &Anomaly, a1: &Anomaly, j: f64, phi: &mut Mat6) {
         let mut left = end.la;
         left.set_column(3, &(end.la.column(3) + end.lb * j));
-        let inplane = mul44(&left, &self.scale_cols(a0, &cols_p(&self.psi_inv(a0))));
+        let inplane = left * self.scale_cols(a0, &cols_p(&self.psi_inv(a0)));
         let (sd, cd) = sin_cos_difference(a1, a0);
         let normal = end.unz * Matrix2::new(cd, sd, -sd, cd) * self.scaling(a0);
         assemble(&inplane, &normal, phi);
@@ -1050,12 +1050,11 @@ impl EllipticModel {
             return;
         }
         let a0 = self.start(t0, memo);
-        (out.phi, out.gamma, out.q) = self.long_parts(&a0, t0, dt, qc);
+        (out.phi, out.gamma, out.q) = self.long_parts(a0, t0, dt, qc);
     }
 
     /// A step longer than the short step's bound.
-    fn long_parts(&self, a0: &Anomaly, t0: f64, dt: f64, qc: Option<&Mat3>) -> (Mat6, Mat63, Mat6) {
-        let a0 = *a0;
+    fn long_parts(&self, a0: Anomaly, t0: f64, dt: f64, qc: Option<&Mat3>) -> (Mat6, Mat63, Mat6) {
         let period = self.period();
         let whole = (dt / period).floor();
         if whole.is_nan() || whole < 1.0 {
@@ -1130,21 +1129,6 @@ fn zero_coupling(out: &mut DiscreteModel, noise: bool) {
     if !noise {
         out.q = Mat6::zeros();
     }
-}
-
-/// `a b` for 4x4 matrices, a column of `a` times an entry of `b` at a time: always inlined,
-/// so that the short step's vector instructions reach it (nalgebra's product is a call).
-#[inline(always)]
-fn mul44(a: &Matrix4<f64>, b: &Matrix4<f64>) -> Matrix4<f64> {
-    let (a, b) = (&a.data.0, &b.data.0);
-    let out = b.map(|bj| {
-        let mut o = mul4(a[0], [bj[0]; 4]);
-        for (ak, &bkj) in a[1..].iter().zip(&bj[1..]) {
-            axpy4(&mut o, ak, bkj);
-        }
-        o
-    });
-    Matrix4::from_data(nalgebra::ArrayStorage(out))
 }
 
 /// `m P`, likewise.
