@@ -54,7 +54,7 @@ impl From<NavError> for Failure {
             NavErrorKind::Numerical => relnav_status::RELNAV_ERROR_NUMERICAL,
             NavErrorKind::InvalidState => relnav_status::RELNAV_ERROR_INVALID_STATE,
         };
-        Failure(status, e.message)
+        Failure(status, e.message.into())
     }
 }
 

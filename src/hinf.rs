@@ -137,7 +137,7 @@ impl From<relnav_core::hinf::HinfError> for Failure {
             K::Infeasible => relnav_status::RELNAV_ERROR_INFEASIBLE,
             K::SolverFailed => relnav_status::RELNAV_ERROR_NUMERICAL,
         };
-        Failure(status, e.message)
+        Failure(status, e.message.into())
     }
 }
 

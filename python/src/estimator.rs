@@ -378,7 +378,7 @@ impl Estimator {
                 let err = nav_error(
                     py,
                     NavError {
-                        message: format!("step {i}: {}", e.message),
+                        message: format!("step {i}: {}", e.message).into(),
                         ..e
                     },
                 );

@@ -138,7 +138,7 @@ impl Frame {
     /// (the velocity block is the position block shifted by 3).
     fn state_map(self) -> [(usize, f64); 6] {
         let m = self.axis_map();
-        std::array::from_fn(|i| {
+        core::array::from_fn(|i| {
             let (j, s) = m[i % 3];
             (j + 3 * (i / 3), s)
         })
@@ -151,7 +151,7 @@ impl Frame {
     /// instead of the full congruence's 432 multiplications).
     pub fn variances_from_canonical(self, p: &Mat6) -> [f64; 6] {
         let m = self.state_map();
-        std::array::from_fn(|i| {
+        core::array::from_fn(|i| {
             let (j, s) = m[i];
             s * p[(j, j)] * s
         })

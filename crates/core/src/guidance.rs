@@ -51,7 +51,7 @@ crate::config! {
         description: "Hill-frame convention of the estimate, the hold point and the thrust (as relnav's frame)",
     },
     mean_motion: f64 {
-        elements: [("mean_motion", 1, "rad/s", 2.0 * std::f64::consts::PI / 7200.0, "")],
+        elements: [("mean_motion", 1, "rad/s", 2.0 * core::f64::consts::PI / 7200.0, "")],
         rule: Rule::Interval { lo: closed(1e-9), hi: closed(0.1), why: " rad/s" },
         c: false, scenario: None, slot: None,
         description: "Mean motion of the target's orbit, 2 pi / period (1e-9..0.1)",

@@ -17,14 +17,22 @@
 //! heavy-tailed density carries *less* information per sample than a Gaussian of the same
 //! variance would suggest, but more than `1 / variance` for the mixture and Student-t.
 
+#[cfg(not(feature = "std"))]
+use crate::math::Float;
+#[cfg(feature = "std")]
 use rand::Rng;
+#[cfg(feature = "std")]
 use rand_distr::{Distribution, StandardNormal, StudentT};
 
 /// A zero-mean noise density (see the module table). In scenario files it is written as
 /// `noise = { model = "mixture", zeta = 0.2, scale = 10.0 }` (snake-case model names,
 /// unknown keys rejected).
-#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize, serde::Deserialize)]
-#[serde(tag = "model", rename_all = "snake_case", deny_unknown_fields)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[cfg_attr(feature = "std", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(
+    feature = "std",
+    serde(tag = "model", rename_all = "snake_case", deny_unknown_fields)
+)]
 pub enum NoiseModel {
     /// Gaussian.
     #[default]
@@ -54,24 +62,26 @@ pub enum NoiseModel {
 
 impl NoiseModel {
     /// Check the parameters; the message names the bad one.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), crate::message::Message> {
         match *self {
             NoiseModel::Mixture { zeta, scale } => {
                 if !(0.0..1.0).contains(&zeta) {
-                    return Err(format!("noise.zeta must lie in [0, 1) (got {zeta})"));
+                    return Err(crate::msg!("noise.zeta must lie in [0, 1) (got {zeta})"));
                 }
                 if !(scale.is_finite() && scale >= 1.0) {
-                    return Err(format!("noise.scale must be finite and >= 1 (got {scale})"));
+                    return Err(crate::msg!(
+                        "noise.scale must be finite and >= 1 (got {scale})"
+                    ));
                 }
             }
             NoiseModel::StudentT { dof } => {
                 if !(dof.is_finite() && dof > 2.0) {
-                    return Err(format!("noise.dof must be finite and > 2 (got {dof})"));
+                    return Err(crate::msg!("noise.dof must be finite and > 2 (got {dof})"));
                 }
             }
             NoiseModel::Ar1 { phi } => {
                 if !(0.0..1.0).contains(&phi) {
-                    return Err(format!("noise.phi must lie in [0, 1) (got {phi})"));
+                    return Err(crate::msg!("noise.phi must lie in [0, 1) (got {phi})"));
                 }
             }
             NoiseModel::Gaussian | NoiseModel::Uniform | NoiseModel::Laplace => {}
@@ -142,7 +152,7 @@ impl NoiseModel {
     /// Log of the density at `v` for scale `sigma` (the AR(1) model gives its stationary
     /// marginal).
     pub fn log_density(&self, v: f64, sigma: f64) -> f64 {
-        let ln2pi = (2.0 * std::f64::consts::PI).ln();
+        let ln2pi = (2.0 * core::f64::consts::PI).ln();
         match *self {
             NoiseModel::Gaussian | NoiseModel::Ar1 { .. } => {
                 let u = v / sigma;
@@ -151,7 +161,7 @@ impl NoiseModel {
             NoiseModel::Mixture { zeta, scale } => {
                 let g = |s: f64| {
                     let u = v / s;
-                    (-0.5 * u * u).exp() / (s * (2.0 * std::f64::consts::PI).sqrt())
+                    (-0.5 * u * u).exp() / (s * (2.0 * core::f64::consts::PI).sqrt())
                 };
                 ((1.0 - zeta) * g(sigma) + zeta * g(scale * sigma)).ln()
             }
@@ -159,7 +169,7 @@ impl NoiseModel {
                 let u = v / sigma;
                 ln_gamma((dof + 1.0) / 2.0)
                     - ln_gamma(dof / 2.0)
-                    - 0.5 * (dof * std::f64::consts::PI).ln()
+                    - 0.5 * (dof * core::f64::consts::PI).ln()
                     - sigma.ln()
                     - (dof + 1.0) / 2.0 * (1.0 + u * u / dof).ln()
             }
@@ -172,12 +182,13 @@ impl NoiseModel {
                 }
             }
             NoiseModel::Laplace => {
-                let b = sigma / std::f64::consts::SQRT_2;
+                let b = sigma / core::f64::consts::SQRT_2;
                 -(2.0 * b).ln() - v.abs() / b
             }
         }
     }
 
+    #[cfg(feature = "std")]
     /// Draw one sample with scale `sigma`. `state` carries the previous sample of the
     /// AR(1) model (start it at a stationary draw, see [`NoiseModel::initial_state`]).
     pub fn sample<R: Rng + ?Sized>(&self, sigma: f64, state: &mut f64, rng: &mut R) -> f64 {
@@ -202,7 +213,7 @@ impl NoiseModel {
             }
             NoiseModel::Laplace => {
                 let u: f64 = rng.random::<f64>() - 0.5;
-                let b = sigma / std::f64::consts::SQRT_2;
+                let b = sigma / core::f64::consts::SQRT_2;
                 -b * u.signum() * (1.0 - 2.0 * u.abs()).max(f64::MIN_POSITIVE).ln()
             }
             NoiseModel::Ar1 { phi } => {
@@ -212,6 +223,7 @@ impl NoiseModel {
         }
     }
 
+    #[cfg(feature = "std")]
     /// A stationary starting state for [`NoiseModel::sample`] (0 for white models).
     pub fn initial_state<R: Rng + ?Sized>(&self, sigma: f64, rng: &mut R) -> f64 {
         match self {
@@ -236,7 +248,7 @@ fn ln_gamma(x: f64) -> f64 {
         1.505_632_735_149_311_6e-7,
     ];
     if x < 0.5 {
-        let pi = std::f64::consts::PI;
+        let pi = core::f64::consts::PI;
         return (pi / (pi * x).sin()).ln() - ln_gamma(1.0 - x);
     }
     let x = x - 1.0;
@@ -245,7 +257,7 @@ fn ln_gamma(x: f64) -> f64 {
     for (i, c) in C.iter().enumerate().skip(1) {
         a += c / (x + i as f64);
     }
-    0.5 * (2.0 * std::f64::consts::PI).ln() + (x + 0.5) * t.ln() - t + a.ln()
+    0.5 * (2.0 * core::f64::consts::PI).ln() + (x + 0.5) * t.ln() - t + a.ln()
 }
 
 /// Fisher information (times sigma^2) of the unit contaminated Gaussian,
@@ -254,7 +266,7 @@ fn mixture_fisher(zeta: f64, scale: f64) -> f64 {
     if zeta == 0.0 || scale == 1.0 {
         return 1.0;
     }
-    let c = 1.0 / (2.0 * std::f64::consts::PI).sqrt();
+    let c = 1.0 / (2.0 * core::f64::consts::PI).sqrt();
     let f = |v: f64| {
         let g1 = c * (-0.5 * v * v).exp();
         let u = v / scale;
@@ -354,7 +366,7 @@ mod tests {
     #[test]
     fn lanczos_gamma() {
         assert!((ln_gamma(5.0) - 24f64.ln()).abs() < 1e-12);
-        assert!((ln_gamma(0.5) - std::f64::consts::PI.sqrt().ln()).abs() < 1e-12);
+        assert!((ln_gamma(0.5) - core::f64::consts::PI.sqrt().ln()).abs() < 1e-12);
     }
 
     #[test]

@@ -274,7 +274,7 @@ mod tests {
         let a = rp / (1.0 - e);
         let vp = (MU_EARTH * (1.0 + e) / rp).sqrt();
         let x0 = State::from_row_slice(&[rp, 0.0, 0.0, 0.0, vp, 0.0]);
-        let period = 2.0 * std::f64::consts::PI * (a.powi(3) / MU_EARTH).sqrt();
+        let period = 2.0 * core::f64::consts::PI * (a.powi(3) / MU_EARTH).sqrt();
         let err = |steps: usize| {
             let h = period / steps as f64;
             let mut x = x0;

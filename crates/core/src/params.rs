@@ -69,6 +69,7 @@ impl CodeList {
             .find(|it| it.name.eq_ignore_ascii_case(name))
     }
 
+    #[cfg(feature = "std")]
     /// `1 ekf, 2 ukf, ...`: the codes with their names.
     pub fn codes(&self) -> String {
         let parts: Vec<String> = self
@@ -79,6 +80,7 @@ impl CodeList {
         parts.join(", ")
     }
 
+    #[cfg(feature = "std")]
     /// `ekf, ukf, ...`: the names alone.
     pub fn names(&self) -> String {
         let parts: Vec<&str> = self.items.iter().map(|it| it.name).collect();
@@ -131,8 +133,8 @@ impl Value {
     }
 }
 
-impl std::fmt::Display for Value {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+impl core::fmt::Display for Value {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         match self {
             Value::Real(v) => f.write_str(&num(*v)),
             Value::Int(v) => write!(f, "{v}"),
@@ -196,6 +198,7 @@ pub enum Rule {
 }
 
 impl Rule {
+    #[cfg(feature = "std")]
     /// The rule in words (`"> 0"`, `"in (0, 1]"`, `"1..=512"`), empty for [`Rule::Any`].
     pub fn words(&self) -> String {
         match self {
@@ -210,7 +213,7 @@ impl Rule {
     }
 
     /// Check one element's value; the message names it as `name`.
-    pub fn check(&self, name: &str, v: Value) -> Result<(), String> {
+    pub fn check(&self, name: &str, v: Value) -> Result<(), crate::message::Message> {
         let x = v.as_f64();
         match *self {
             Rule::Any => Ok(()),
@@ -218,21 +221,27 @@ impl Rule {
                 if x.is_finite() {
                     Ok(())
                 } else {
-                    Err(format!("{name} must be finite (got {v})"))
+                    Err(named(name, crate::msg!(" must be finite (got {v})")))
                 }
             }
             Rule::Positive => {
                 if x.is_finite() && x > 0.0 {
                     Ok(())
                 } else {
-                    Err(format!("{name} must be finite and > 0 (got {v})"))
+                    Err(named(
+                        name,
+                        crate::msg!(" must be finite and > 0 (got {v})"),
+                    ))
                 }
             }
             Rule::NonNegative => {
                 if x.is_finite() && x >= 0.0 {
                     Ok(())
                 } else {
-                    Err(format!("{name} must be finite and >= 0 (got {v})"))
+                    Err(named(
+                        name,
+                        crate::msg!(" must be finite and >= 0 (got {v})"),
+                    ))
                 }
             }
             Rule::Interval { lo, hi, why } => {
@@ -242,26 +251,53 @@ impl Rule {
                     Ok(())
                 } else if hi.at == f64::INFINITY {
                     let op = if lo.closed { ">=" } else { ">" };
-                    Err(format!(
-                        "{name} must be finite and {op} {} (got {v}){why}",
-                        num(lo.at)
+                    Err(named(
+                        name,
+                        crate::msg!(" must be finite and {op} {} (got {v}){why}", num(lo.at)),
                     ))
                 } else {
-                    Err(format!(
-                        "{name} must lie in {} (got {v}){why}",
-                        interval_words(&lo, &hi).trim_start_matches("in ")
-                    ))
+                    Err(named(name, interval_message(&lo, &hi, v, why)))
                 }
             }
             Rule::Count { lo, hi } => match v {
                 Value::Int(i) if (lo..=hi).contains(&i) => Ok(()),
-                _ if hi == lo + 1 => Err(format!("{name} must be {lo} or {hi} (got {v})")),
-                _ => Err(format!("{name} must lie in {lo}..={hi} (got {v})")),
+                _ if hi == lo + 1 => {
+                    Err(named(name, crate::msg!(" must be {lo} or {hi} (got {v})")))
+                }
+                _ => Err(named(
+                    name,
+                    crate::msg!(" must lie in {lo}..={hi} (got {v})"),
+                )),
             },
         }
     }
 }
 
+/// `name` followed by `rest` (the parameter's name stays in the message without `std`).
+fn named(name: &str, rest: crate::message::Message) -> crate::message::Message {
+    let mut m = crate::message::Message::text(name);
+    m.push(&rest);
+    m
+}
+
+/// " must lie in (lo, hi] (got v)" and the rule's reason.
+#[cfg(feature = "std")]
+fn interval_message(lo: &End, hi: &End, v: Value, why: &str) -> crate::message::Message {
+    crate::msg!(
+        " must lie in {} (got {v}){why}",
+        interval_words(lo, hi).trim_start_matches("in ")
+    )
+}
+
+/// " must lie in its interval" and the rule's reason (no numbers without `std`).
+#[cfg(not(feature = "std"))]
+fn interval_message(_: &End, _: &End, _: Value, why: &str) -> crate::message::Message {
+    let mut m = crate::message::Message::text(" must lie in its interval");
+    m.push(why);
+    m
+}
+
+#[cfg(feature = "std")]
 fn interval_words(lo: &End, hi: &End) -> String {
     if hi.at == f64::INFINITY {
         return format!("{} {}", if lo.closed { ">=" } else { ">" }, num(lo.at));
@@ -307,11 +343,11 @@ pub struct Param<C: 'static> {
     pub get: fn(&C, usize) -> Value,
     /// Store element `i` (the type's own check only: a code of its list, a count that
     /// fits; the [`Rule`] is checked by [`Param::check`]).
-    pub set: fn(&mut C, usize, Value) -> Result<(), String>,
+    pub set: fn(&mut C, usize, Value) -> Result<(), crate::message::Message>,
 }
 
-impl<C> std::fmt::Debug for Param<C> {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+impl<C> core::fmt::Debug for Param<C> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         f.debug_struct("Param")
             .field("name", &self.name)
             .field("kind", &self.kind)
@@ -332,7 +368,7 @@ impl<C> Param<C> {
     }
 
     /// Check every element of this parameter in `c` against its [`Rule`].
-    pub fn check(&self, c: &C) -> Result<(), String> {
+    pub fn check(&self, c: &C) -> Result<(), crate::message::Message> {
         for (i, e) in self.elements.iter().enumerate() {
             self.rule.check(e.name, (self.get)(c, i))?;
         }
@@ -343,13 +379,14 @@ impl<C> Param<C> {
     /// outside its rule (a negative C `int`) is refused with the rule's message, anything
     /// the type cannot hold (an unknown code, a flag other than 0 or 1) with the type's.
     /// The other rules are checked when the whole configuration is validated.
-    pub fn assign(&self, c: &mut C, i: usize, v: Value) -> Result<(), String> {
+    pub fn assign(&self, c: &mut C, i: usize, v: Value) -> Result<(), crate::message::Message> {
         if let (Kind::Count, Some(e)) = (self.kind, self.elements.get(i)) {
             self.rule.check(e.name, v)?;
         }
         (self.set)(c, i, v)
     }
 
+    #[cfg(feature = "std")]
     /// The name a saved state gives element `i`: the field's name, with `[i]` for an array.
     pub fn setting_name(&self, i: usize) -> String {
         if self.elements.len() == 1 {
@@ -369,7 +406,7 @@ pub trait Field: Sized {
     /// Element `i`.
     fn get(&self, i: usize) -> Value;
     /// Store element `i`, refusing what the type cannot hold (`name` names it).
-    fn set(&mut self, i: usize, v: Value, name: &str) -> Result<(), String>;
+    fn set(&mut self, i: usize, v: Value, name: &str) -> Result<(), crate::message::Message>;
 }
 
 impl Field for f64 {
@@ -378,7 +415,7 @@ impl Field for f64 {
     fn get(&self, _: usize) -> Value {
         Value::Real(*self)
     }
-    fn set(&mut self, _: usize, v: Value, _: &str) -> Result<(), String> {
+    fn set(&mut self, _: usize, v: Value, _: &str) -> Result<(), crate::message::Message> {
         *self = v.as_f64();
         Ok(())
     }
@@ -390,7 +427,7 @@ impl<const N: usize> Field for [f64; N] {
     fn get(&self, i: usize) -> Value {
         Value::Real(<[f64]>::get(self, i).copied().unwrap_or(f64::NAN))
     }
-    fn set(&mut self, i: usize, v: Value, _: &str) -> Result<(), String> {
+    fn set(&mut self, i: usize, v: Value, _: &str) -> Result<(), crate::message::Message> {
         if let Some(x) = <[f64]>::get_mut(self, i) {
             *x = v.as_f64();
         }
@@ -405,14 +442,14 @@ impl Field for usize {
         Value::Int(i64::try_from(*self).unwrap_or(i64::MAX))
     }
     /// A negative or fractional count is refused here; its range is the [`Rule`]'s.
-    fn set(&mut self, _: usize, v: Value, name: &str) -> Result<(), String> {
+    fn set(&mut self, _: usize, v: Value, name: &str) -> Result<(), crate::message::Message> {
         match v {
             Value::Int(i) => {
                 *self = usize::try_from(i)
-                    .map_err(|_| format!("{name} must be a count >= 0 (got {i})"))?;
+                    .map_err(|_| crate::msg!("{name} must be a count >= 0 (got {i})"))?;
                 Ok(())
             }
-            Value::Real(x) => Err(format!("{name} must be an integer (got {})", num(x))),
+            Value::Real(x) => Err(crate::msg!("{name} must be an integer (got {})", num(x))),
         }
     }
 }
@@ -424,13 +461,13 @@ impl Field for u64 {
         Value::Int(*self as i64)
     }
     /// The 64 bits of the integer (a negative `i64` is the seed with those bits).
-    fn set(&mut self, _: usize, v: Value, name: &str) -> Result<(), String> {
+    fn set(&mut self, _: usize, v: Value, name: &str) -> Result<(), crate::message::Message> {
         match v {
             Value::Int(i) => {
                 *self = i as u64;
                 Ok(())
             }
-            Value::Real(x) => Err(format!("{name} must be an integer (got {})", num(x))),
+            Value::Real(x) => Err(crate::msg!("{name} must be an integer (got {})", num(x))),
         }
     }
 }
@@ -441,11 +478,11 @@ impl Field for bool {
     fn get(&self, _: usize) -> Value {
         Value::Int(i64::from(*self))
     }
-    fn set(&mut self, _: usize, v: Value, name: &str) -> Result<(), String> {
+    fn set(&mut self, _: usize, v: Value, name: &str) -> Result<(), crate::message::Message> {
         match v {
             Value::Int(0) => *self = false,
             Value::Int(1) => *self = true,
-            other => return Err(format!("{name} must be 0 or 1 (got {other})")),
+            other => return Err(crate::msg!("{name} must be 0 or 1 (got {other})")),
         }
         Ok(())
     }
@@ -537,10 +574,13 @@ macro_rules! codes {
             fn get(&self, _: usize) -> $crate::params::Value {
                 $crate::params::Value::Int(i64::from(*self as i32))
             }
-            fn set(&mut self, _: usize, v: $crate::params::Value, name: &str) -> Result<(), String> {
+            fn set(&mut self, _: usize, v: $crate::params::Value, name: &str) -> Result<(), $crate::message::Message> {
                 let code = v.as_int().and_then(|c| i32::try_from(c).ok());
                 *self = code.and_then(Self::from_code).ok_or_else(|| {
-                    format!("unknown {name} code {v} (allowed: {})", $list.codes())
+                    #[cfg(feature = "std")]
+                    return $crate::msg!("unknown {name} code {v} (allowed: {})", $list.codes());
+                    #[cfg(not(feature = "std"))]
+                    return $crate::message::Message::text("unknown code of ").push(name).clone();
                 })?;
                 Ok(())
             }

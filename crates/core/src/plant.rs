@@ -83,7 +83,7 @@ crate::config! {
         description: "Truth of the relative motion",
     },
     mean_motion: f64 {
-        elements: [("mean_motion", 2, "rad/s", 2.0 * std::f64::consts::PI / 7200.0, "")],
+        elements: [("mean_motion", 2, "rad/s", 2.0 * core::f64::consts::PI / 7200.0, "")],
         rule: Rule::Interval { lo: closed(1e-9), hi: closed(0.1), why: " rad/s" },
         c: false, scenario: None, slot: None,
         description: "Mean motion of the target's orbit, 2 pi / period (1e-9..0.1)",
@@ -106,8 +106,8 @@ crate::config! {
         description: "True initial relative state (x, y, z, vx, vy, vz) in the I/O frame",
     },
     inclination: f64 {
-        elements: [("inclination", 10, "rad", 51.6 * std::f64::consts::PI / 180.0, "")],
-        rule: Rule::Interval { lo: closed(0.0), hi: closed(std::f64::consts::PI), why: " rad" },
+        elements: [("inclination", 10, "rad", 51.6 * core::f64::consts::PI / 180.0, "")],
+        rule: Rule::Interval { lo: closed(0.0), hi: closed(core::f64::consts::PI), why: " rad" },
         c: false, scenario: None, slot: None,
         description: "truth_model two_body_j2 and two_body: inclination of the target's orbit (in [0, pi]; perigee at the ascending node)",
     },
@@ -127,7 +127,7 @@ crate::config! {
         description: "Range measurement noise, 1 sigma of the Gaussian (nominal sigma of the other noise models; > 0)",
     },
     sigma_angle: f64 {
-        elements: [("sigma_angle", 14, "rad", 0.01 * std::f64::consts::PI / 180.0, "")],
+        elements: [("sigma_angle", 14, "rad", 0.01 * core::f64::consts::PI / 180.0, "")],
         rule: Rule::Positive, c: false, scenario: None, slot: None,
         description: "Azimuth and elevation measurement noise, 1 sigma of the Gaussian (nominal sigma of the other noise models; > 0)",
     },

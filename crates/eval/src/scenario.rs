@@ -901,7 +901,7 @@ impl Scenario {
             }
             let n = self.orbit.mean_motion()? * (1.0 + f.orbit_rate_error);
             f.nav_config(self, n)
-                .and_then(|c| c.validate().map_err(|e| e.message))
+                .and_then(|c| c.validate().map_err(|e| String::from(e.message)))
                 .map_err(|e| format!("filter \"{}\": {e}", f.label))?;
         }
         Ok(())

@@ -186,7 +186,7 @@ impl PreparedFilter {
             seed,
             ..self.config
         };
-        build_filter_with(&cfg, &self.options).map_err(|e| e.message)
+        build_filter_with(&cfg, &self.options).map_err(|e| e.message.into())
     }
 }
 

@@ -228,7 +228,7 @@ impl Model for RelnavFmu {
         if let Some((partner, loose)) = permissive_partner(def.vr, value) {
             values[partner as usize] = loose;
         }
-        config_of(&values).map(|_| ()).map_err(|e| e.message)
+        config_of(&values).map(|_| ()).map_err(|e| e.message.into())
     }
 
     /// Outputs before the first step: the initial estimate and its 1-sigma; `ess` is the

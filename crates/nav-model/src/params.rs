@@ -41,7 +41,9 @@ mod tests {
         use relnav_core::estimators::pf::MAX_THREADS;
         let mut values = start_values(&VARIABLES);
         values[vr::PF_THREADS as usize] = -1.0;
-        let e = config_of(&values).map(|_| ()).map_err(|e| e.message);
+        let e = config_of(&values)
+            .map(|_| ())
+            .map_err(|e| String::from(e.message));
         assert_eq!(
             e,
             Err(format!("pf_threads must lie in 0..={MAX_THREADS} (got -1)"))

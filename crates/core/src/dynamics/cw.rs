@@ -28,6 +28,8 @@
 //! only so the paper can be reproduced literally.
 
 use super::{DiscreteModel, Discretization, RelativeDynamics};
+#[cfg(not(feature = "std"))]
+use crate::math::Float;
 use crate::types::{Mat3, Mat6, Mat63, State, Vec3};
 
 /// The CW model for one mean motion `n` [rad/s].
@@ -61,7 +63,7 @@ impl CwModel {
 
     /// Mean motion of a circular orbit of period `period` [s]: `n = 2 pi / period`.
     pub fn from_period(period: f64) -> Self {
-        Self::new(2.0 * std::f64::consts::PI / period)
+        Self::new(2.0 * core::f64::consts::PI / period)
     }
 
     /// The continuous system matrix `A` (canonical frame).
@@ -212,7 +214,7 @@ impl CwModel {
     /// along-track, normal); `process_noise(psd, t) = sum_i psd_i axes_i` (linear in `psd`).
     pub fn process_noise_axes(&self, t: f64) -> [Mat6; 3] {
         if (self.n * t).abs() < NOISE_SERIES_THETA {
-            std::array::from_fn(|i| {
+            core::array::from_fn(|i| {
                 let mut m0 = Mat6::zeros();
                 m0[(3 + i, 3 + i)] = 1.0;
                 self.noise_series(m0, t)
@@ -389,7 +391,7 @@ mod tests {
     use super::*;
     use approx::assert_relative_eq;
 
-    const N: f64 = 2.0 * std::f64::consts::PI / 7200.0;
+    const N: f64 = 2.0 * core::f64::consts::PI / 7200.0;
 
     /// Reference: integrate X' = A X + B a with classical RK4 at a tiny step.
     fn rk4(model: &CwModel, x0: &State, a: &Vec3, t: f64, steps: usize) -> State {

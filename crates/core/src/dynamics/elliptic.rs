@@ -78,10 +78,12 @@
 //! matrices are in closed form.
 
 use super::{DiscreteModel, Discretization, RelativeDynamics};
+#[cfg(not(feature = "std"))]
+use crate::math::Float;
 use crate::numerics::lanes::{axpy4, mul4};
 use crate::types::{Mat3, Mat6, Mat63, State, Vec3};
+use core::f64::consts::{PI, TAU};
 use nalgebra::{Matrix2, Matrix4, Matrix4x2, SMatrix, Vector2, Vector4};
-use std::f64::consts::{PI, TAU};
 
 /// Halley iterations of [`eccentric_anomaly`] at eccentricity `e`, fixed per eccentricity
 /// band: from Danby's starter every mean anomaly converges to double precision in at most

@@ -190,7 +190,7 @@ mod tests {
     /// model gives.
     #[test]
     fn cw_steps_do_not_depend_on_their_start_time() {
-        let cw = CwModel::new(std::f64::consts::TAU / 5400.0);
+        let cw = CwModel::new(core::f64::consts::TAU / 5400.0);
         let m = Dynamics::from(cw);
         let qc = Mat3::identity() * 1e-6;
         let a = m.step(0.0, 10.0, &qc, Discretization::Exact);

@@ -32,6 +32,7 @@
 //! unchanged) only when every remaining member fails. Every member is allocated at
 //! construction: a step allocates nothing.
 
+pub use super::MAX_BANK;
 use super::{finite, Estimator, FilterError, SensorUpdate, UpdateInfo};
 use crate::dynamics::DiscreteModel;
 use crate::numerics::state::{refuse, Persist, Reader, StateError, Writer};
@@ -40,9 +41,6 @@ use crate::sensors::{MeasurementModel, Sensor};
 use crate::types::{Mat6, State, Vec3};
 use nalgebra::{SMatrix, SVector};
 
-/// The largest number of members.
-pub const MAX_BANK: usize = 9;
-
 /// Each member's standard deviation along the line of sight, as a fraction `s` of the
 /// prior's.
 pub const MEMBER_SPREAD: f64 = 0.5;
@@ -50,19 +48,7 @@ pub const MEMBER_SPREAD: f64 = 0.5;
 /// A member whose weight falls below this fraction of the largest is dropped.
 pub const DROP_RATIO: f64 = 1e-12;
 
-/// What a bank needs of its members beyond [`Estimator`]: a small snapshot to undo a step,
-/// and a reset to a new prior (the members' own reset: the AQUKF's adaptation and the IMM's
-/// mode probabilities start again).
-pub trait Member: Estimator + Clone + std::fmt::Debug {
-    /// What [`Member::save`] keeps.
-    type Saved: Clone + std::fmt::Debug;
-    /// The member as it is now.
-    fn save(&self) -> Self::Saved;
-    /// Back to `s` (from [`Member::save`] of this member).
-    fn restore(&mut self, s: &Self::Saved);
-    /// Back to the start at `(x, p)`.
-    fn reset(&mut self, x: State, p: Mat6);
-}
+pub use super::Member;
 
 /// The Gauss-Hermite rule of `n` points for the standard normal (nodes ascending, weights
 /// summing to one): the eigenvalues of the Jacobi matrix of the probabilists' Hermite

@@ -131,8 +131,9 @@ fn propagate_blocks<const EY: bool>(phi: &Mat6, p: &Mat6, q: &Mat6) -> Mat6 {
     let g = |r: usize, c: usize| phi[(OUT_OF_PLANE[r], OUT_OF_PLANE[c])];
     // columns of F (in-plane 4 x 4; column 1 is e_1 and is not used) and of P's in-plane
     // and coupling blocks, as 4-vectors
-    let fc: [[f64; 4]; 4] = std::array::from_fn(|c| std::array::from_fn(|r| f(r, c)));
-    let pin: [[f64; 4]; 6] = std::array::from_fn(|j| std::array::from_fn(|r| p[(IN_PLANE[r], j)]));
+    let fc: [[f64; 4]; 4] = core::array::from_fn(|c| core::array::from_fn(|r| f(r, c)));
+    let pin: [[f64; 4]; 6] =
+        core::array::from_fn(|j| core::array::from_fn(|r| p[(IN_PLANE[r], j)]));
     // T = F P_i. (in-plane rows of F times P's in-plane rows, all six columns):
     // column j = sum over k in {0, 2, 3} of F_k P[k][j], plus P[y][j] in row 1 (F[1][1] = 1)
     let mut t = [[0.0; 4]; 6];

@@ -111,7 +111,7 @@ fn block_update<const D: usize, const OFF: usize>(
     // K = P H^T S^-1  <=>  K^T = S^-1 (H P): one solve per row of P H^T
     let mut k = [[0.0; 6]; D];
     for i in 0..6 {
-        let ki = chol.solve(&std::array::from_fn(|c| ph[(i, c)]));
+        let ki = chol.solve(&core::array::from_fn(|c| ph[(i, c)]));
         for (kc, v) in k.iter_mut().zip(ki) {
             kc[i] = v;
         }
@@ -121,7 +121,7 @@ fn block_update<const D: usize, const OFF: usize>(
     let pn = joseph_block::<D, OFF>(p, &k, &hb.data.0, &r.data.0);
     // nu^T S^-1 nu = |L^-1 nu|^2
     let nis = chol
-        .forward(&std::array::from_fn(|c| nu[c]))
+        .forward(&core::array::from_fn(|c| nu[c]))
         .iter()
         .map(|v| v * v)
         .sum();

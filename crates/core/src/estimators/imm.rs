@@ -42,6 +42,8 @@
 
 use super::{finite, Ekf, Estimator, FilterError, SensorUpdate, UpdateInfo};
 use crate::dynamics::{DiscreteModel, Dynamics, RelativeDynamics};
+#[cfg(not(feature = "std"))]
+use crate::math::Float;
 use crate::numerics::state::{refuse, Persist, Reader, StateError, Writer};
 use crate::numerics::symmetrize;
 use crate::sensors::{MeasurementModel, Sensor};
@@ -86,14 +88,14 @@ impl Default for ImmParams {
 
 impl ImmParams {
     /// Check the settings; the message names the offending one (with the FMU's names).
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), crate::message::Message> {
         if !(2..=MAX_MODES).contains(&self.modes) {
-            return Err(format!("imm_modes must be 2 or 3 (got {})", self.modes));
+            return Err(crate::msg!("imm_modes must be 2 or 3 (got {})", self.modes));
         }
         for j in 0..self.modes {
             let q = self.accel_psd[j];
             if !(q.is_finite() && q >= 0.0) {
-                return Err(format!(
+                return Err(crate::msg!(
                     "imm_accel_psd_{} must be finite and >= 0 (got {})",
                     j + 1,
                     crate::numerics::num(q)
@@ -101,7 +103,7 @@ impl ImmParams {
             }
             let p = self.p_stay[j];
             if !(p > 0.0 && p < 1.0) {
-                return Err(format!(
+                return Err(crate::msg!(
                     "imm_p_stay_{} must lie in (0, 1) (got {}): the probability of staying \
                      in mode {} over one second",
                     j + 1,
@@ -168,7 +170,7 @@ impl Imm {
     pub fn new(x0: State, p0: Mat6, params: ImmParams, dynamics: impl Into<Dynamics>) -> Self {
         Self {
             params,
-            modes: std::array::from_fn(|_| Ekf::new(x0, p0)),
+            modes: core::array::from_fn(|_| Ekf::new(x0, p0)),
             mu: params.stationary(),
             x: x0,
             p: p0,
@@ -315,7 +317,7 @@ impl Estimator for Imm {
             if !(c[j] > 0.0) {
                 return Err(FilterError::NonFinite("predicted mode probability"));
             }
-            let w: [f64; MAX_MODES] = std::array::from_fn(|i| pi[i][j] * self.mu[i] / c[j]);
+            let w: [f64; MAX_MODES] = core::array::from_fn(|i| pi[i][j] * self.mu[i] / c[j]);
             let mut x0 = State::zeros();
             for (f, wi) in self.modes.iter().zip(w).take(r) {
                 x0 += f.state() * wi;
@@ -446,13 +448,15 @@ impl Persist for Imm {
         for m in mu.iter_mut().take(n) {
             let v = r.finite("IMM mode probability")?;
             if !(0.0..=1.0).contains(&v) {
-                return Err(refuse(format!("IMM mode probability {v} outside [0, 1]")));
+                return Err(refuse(crate::msg!(
+                    "IMM mode probability {v} outside [0, 1]"
+                )));
             }
             *m = v;
             sum += v;
         }
         if (sum - 1.0).abs() > 1e-9 {
-            return Err(refuse(format!(
+            return Err(refuse(crate::msg!(
                 "IMM mode probabilities sum to {sum}, not 1"
             )));
         }

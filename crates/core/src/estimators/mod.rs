@@ -16,6 +16,7 @@ use crate::types::{Mat6, State, Vec3};
 use nalgebra::SVector;
 
 pub mod aqukf;
+#[cfg(feature = "std")]
 pub mod bank;
 mod covariance;
 pub mod ekf;
@@ -27,10 +28,49 @@ pub mod ukf;
 pub use aqukf::{
     AdaptationLaw, AdaptiveQ, AdaptiveUkf, AqParams, Aqukf, MAX_GATE_WINDOW, MAX_WINDOW,
 };
-pub use bank::{Bank, Member, MAX_BANK};
+#[cfg(feature = "std")]
+pub use bank::Bank;
+
+/// What a range-parameterised bank ([`bank`]) needs of its members beyond [`Estimator`]: a small snapshot to undo a step,
+/// and a reset to a new prior (the members' own reset: the AQUKF's adaptation and the IMM's
+/// mode probabilities start again).
+pub trait Member: Estimator + Clone + core::fmt::Debug {
+    /// What [`Member::save`] keeps.
+    type Saved: Clone + core::fmt::Debug;
+    /// The member as it is now.
+    fn save(&self) -> Self::Saved;
+    /// Back to `s` (from [`Member::save`] of this member).
+    fn restore(&mut self, s: &Self::Saved);
+    /// Back to the start at `(x, p)`.
+    fn reset(&mut self, x: State, p: Mat6);
+}
+
+/// The largest number of members of a range-parameterised bank ([`bank`]).
+pub const MAX_BANK: usize = 9;
 pub use ekf::Ekf;
 pub use imm::{Imm, ImmParams, MAX_MODES};
 pub use ukf::{Ukf, UkfParams};
+
+impl FilterError {
+    /// The reason in words (as `Display` writes it; without `std`, without numbers).
+    pub fn message(&self) -> crate::message::Message {
+        use crate::message::Message;
+        match self {
+            FilterError::Geometry(g) => g.message(),
+            FilterError::NotPositiveDefinite(what) => {
+                let mut m = Message::text(what);
+                m.push(" is not positive definite");
+                m
+            }
+            FilterError::NonFinite(what) => {
+                let mut m = Message::text(what);
+                m.push(" is not finite");
+                m
+            }
+            FilterError::Unsupported(why) => Message::text(why),
+        }
+    }
+}
 
 /// Why a filter step failed. The estimate is unchanged after an error.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -45,8 +85,8 @@ pub enum FilterError {
     Unsupported(&'static str),
 }
 
-impl std::fmt::Display for FilterError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+impl core::fmt::Display for FilterError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         match self {
             FilterError::Geometry(g) => write!(f, "{g}"),
             FilterError::NotPositiveDefinite(what) => {
@@ -139,7 +179,7 @@ pub(crate) fn finite<const R: usize, const C: usize>(
 /// leaves the filter as it was (the navigator relies on it instead of a snapshot).
 #[cfg(test)]
 #[allow(clippy::unwrap_used)]
-pub(crate) fn check_update_predict<F: Estimator + Clone + PartialEq + std::fmt::Debug>(
+pub(crate) fn check_update_predict<F: Estimator + Clone + PartialEq + core::fmt::Debug>(
     make: impl Fn(State, Mat6) -> F,
     update_predict: impl Fn(
         &mut F,
@@ -153,7 +193,7 @@ pub(crate) fn check_update_predict<F: Estimator + Clone + PartialEq + std::fmt::
     use crate::types::Mat3;
     let sensor =
         crate::sensors::RadioSensor::new(crate::frames::Frame::AlongRadialAntinormal, 0.5, 1.7e-4);
-    let model = CwModel::new(std::f64::consts::TAU / 7200.0);
+    let model = CwModel::new(core::f64::consts::TAU / 7200.0);
     let d = model.discretize(1.0, &(Mat3::identity() * 1e-8), Discretization::Exact);
     let accel = Vec3::new(1e-3, -2e-3, 5e-4);
     let truth = Vec3::new(505.0, 395.0, -198.0);

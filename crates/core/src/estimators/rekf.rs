@@ -24,6 +24,8 @@
 
 use super::ekf::{position_innovation, position_update};
 use super::FilterError;
+#[cfg(not(feature = "std"))]
+use crate::math::Float;
 use crate::noise::NoiseModel;
 use crate::types::{Mat3, Mat6, State, Vec3};
 

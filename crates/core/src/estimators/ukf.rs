@@ -32,6 +32,8 @@
 use super::covariance::{propagate_covariance, time_update};
 use super::{finite, Estimator, FilterError, SensorUpdate, UpdateInfo};
 use crate::dynamics::DiscreteModel;
+#[cfg(not(feature = "std"))]
+use crate::math::Float;
 use crate::numerics::cholesky::{self, chol3_lane, dot3, forward_lane, lower6, outer6};
 use crate::numerics::state::{Persist, Reader, StateError, Writer};
 use crate::numerics::symmetrize;
@@ -70,20 +72,21 @@ impl UkfParams {
     }
 
     /// Check that the parameters give a usable set of sigma points (`n + lambda > 0`).
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), crate::message::Message> {
         if !(self.alpha.is_finite() && self.beta.is_finite() && self.kappa.is_finite()) {
             return Err("UKF parameters alpha, beta and kappa must be finite".into());
         }
         if !(self.alpha > 0.0) {
-            return Err(format!(
+            return Err(crate::msg!(
                 "ukf_alpha must be > 0 (got {})",
                 crate::numerics::num(self.alpha)
             ));
         }
         if !(N as f64 + self.lambda() > 0.0) {
-            return Err(format!(
+            return Err(crate::msg!(
                 "ukf_alpha^2 (6 + ukf_kappa) must be > 0 (got alpha {}, kappa {})",
-                self.alpha, self.kappa
+                self.alpha,
+                self.kappa
             ));
         }
         Ok(())
@@ -156,7 +159,7 @@ impl Ukf {
         z: &Vec3,
     ) -> Result<(State, Mat6, UpdateInfo), FilterError> {
         let s = self.sigma_points_of(x, l);
-        let pos: [Vec3; NS] = std::array::from_fn(|i| s.fixed_view::<3, 1>(0, i).into_owned());
+        let pos: [Vec3; NS] = core::array::from_fn(|i| s.fixed_view::<3, 1>(0, i).into_owned());
         let mut dzs = [Vec3::zeros(); NS];
         let z_hat = sensor
             .unscented(&pos, &self.wm, &mut dzs)
@@ -214,7 +217,7 @@ impl Ukf {
         }
         Some(SharedPrior {
             l: *l,
-            o: std::array::from_fn(|j| l.fixed_view::<3, 1>(0, j) * self.gamma),
+            o: core::array::from_fn(|j| l.fixed_view::<3, 1>(0, j) * self.gamma),
             gamma: self.gamma,
             // the velocity columns' six points sit at the centre's position
             wm: (self.wm[0] + 6.0 * wm, wm),
@@ -348,7 +351,7 @@ impl Ukf {
         // the outer points share one weight (`Ukf::new`)
         let (wm, wc) = (self.wm[1], self.wc[1]);
         let wm7 = [self.wm[0] + 6.0 * wm, wm, wm, wm, wm, wm, wm];
-        let d: [State; 3] = std::array::from_fn(|j| l.column(j) * self.gamma);
+        let d: [State; 3] = core::array::from_fn(|j| l.column(j) * self.gamma);
         let mut zs = [SVector::<f64, D>::zeros(); 7];
         for (i, zi) in zs.iter_mut().enumerate() {
             let xi = match i {
@@ -370,7 +373,7 @@ impl Ukf {
             v
         };
         let dz: [SVector<f64, D>; 7] =
-            std::array::from_fn(|i| drop(sensor.residual(&zs[i], &z_hat)));
+            core::array::from_fn(|i| drop(sensor.residual(&zs[i], &z_hat)));
         let mut pzz = sensor.noise().cov() + dz[0] * dz[0].transpose() * (self.wc[0] + 6.0 * wc);
         let mut pxz = SMatrix::<f64, N, D>::zeros();
         for j in 0..3 {
@@ -563,7 +566,7 @@ impl SharedPrior {
             }
         }
         let o0 = outer6(&[dz[0].x, dz[0].y, dz[0].z]);
-        let p: [f64; 6] = std::array::from_fn(|k| w0 * o0[k] + w * s[k]);
+        let p: [f64; 6] = core::array::from_fn(|k| w0 * o0[k] + w * s[k]);
         let pzz_err = FilterError::NotPositiveDefinite("innovation covariance Pzz");
         let cz = chol3(&[
             r[(0, 0)] + p[0],
@@ -576,7 +579,7 @@ impl SharedPrior {
         .ok_or(pzz_err)?;
         // V's rows v_j = C^-1 (gamma d_j)
         let gw = self.gamma * w;
-        let v: [Vec3; 3] = std::array::from_fn(|j| cz.forward(&((dz[1 + j] - dz[4 + j]) * gw)));
+        let v: [Vec3; 3] = core::array::from_fn(|j| cz.forward(&((dz[1 + j] - dz[4 + j]) * gw)));
         let y = cz.forward(&nu);
         let step = Vec3::new(v[0].dot(&y), v[1].dot(&y), v[2].dot(&y));
         let m = chol3(&[
@@ -680,7 +683,7 @@ impl SharedPrior {
         let (mut cl, mut ci, mut ok) = ([[0.0; B]; 6], [[0.0; B]; 3], [false; B]);
         for i in 0..B {
             let o0 = outer6(&[dz[0][0][i], dz[0][1][i], dz[0][2][i]]);
-            let a: [f64; 6] = std::array::from_fn(|k| rl[k] + (w0 * o0[k] + w * s[k][i]));
+            let a: [f64; 6] = core::array::from_fn(|k| rl[k] + (w0 * o0[k] + w * s[k][i]));
             let (l, inv, ok_c) = chol3_lane(a);
             for k in 0..6 {
                 cl[k][i] = l[k];
@@ -728,7 +731,7 @@ impl SharedPrior {
         // M, the factor of I - V V^T
         let (mut mm, mut ok_m) = ([[0.0; B]; 6], [false; B]);
         for i in 0..B {
-            let (ml, _, okm) = chol3_lane(std::array::from_fn(|k| g[k][i]));
+            let (ml, _, okm) = chol3_lane(core::array::from_fn(|k| g[k][i]));
             let ok_s = step[0][i].is_finite() & step[1][i].is_finite() & step[2][i].is_finite();
             for k in 0..6 {
                 mm[k][i] = ml[k];
@@ -1058,7 +1061,7 @@ mod tests {
                         );
                     if k % 7 == 0 {
                         // an outlier: any direction
-                        z.y = rng.random_range(0.0..std::f64::consts::TAU);
+                        z.y = rng.random_range(0.0..core::f64::consts::TAU);
                         z.z = rng.random_range(-1.5..1.5);
                     }
                     let r = s.noise_cov() * [1.0, 10.0][k % 2];

@@ -34,12 +34,15 @@
 //! `T`). Tested in `tests/hinf.rs`.
 
 use crate::dynamics::CwModel;
+#[cfg(not(feature = "std"))]
+use crate::math::Float;
 use crate::numerics::state::{refuse, Persist, Reader, StateError, Writer};
 use crate::types::{Mat3, Mat36, Mat6, Mat63, State, Vec3};
 
 #[cfg(feature = "hinf")]
 pub mod design;
 pub mod riccati;
+#[cfg(feature = "std")]
 pub mod verify;
 
 /// Which computation designed a filter.
@@ -147,7 +150,7 @@ pub struct HinfError {
     /// What went wrong.
     pub kind: HinfErrorKind,
     /// Human-readable reason.
-    pub message: String,
+    pub message: crate::message::Message,
 }
 
 /// Category of a [`HinfError`].
@@ -162,17 +165,17 @@ pub enum HinfErrorKind {
     SolverFailed,
 }
 
-impl std::fmt::Display for HinfError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+impl core::fmt::Display for HinfError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         f.write_str(&self.message)
     }
 }
 
 impl HinfError {
-    pub(crate) fn invalid(message: String) -> Self {
+    pub(crate) fn invalid(message: impl Into<crate::message::Message>) -> Self {
         Self {
             kind: HinfErrorKind::InvalidArgument,
-            message,
+            message: message.into(),
         }
     }
 }
@@ -239,7 +242,7 @@ impl HinfSpec {
             if v.is_finite() && v > 0.0 {
                 Ok(())
             } else {
-                Err(HinfError::invalid(format!(
+                Err(HinfError::invalid(crate::msg!(
                     "{name} must be finite and > 0 (got {v})"
                 )))
             }
@@ -253,7 +256,7 @@ impl HinfSpec {
             }
             Some(b) if !b.iter().all(|v| v.is_finite()) => {
                 return Err(HinfError::invalid(
-                    "the process-noise input B must be finite".to_string(),
+                    "the process-noise input B must be finite",
                 ))
             }
             Some(_) => {}
@@ -262,19 +265,19 @@ impl HinfSpec {
             None => pos("d", self.d)?,
             Some(d) if !(d.iter().all(|v| v.is_finite()) && d.determinant() != 0.0) => {
                 return Err(HinfError::invalid(
-                    "the measurement-noise input D must be finite and invertible".to_string(),
+                    "the measurement-noise input D must be finite and invertible",
                 ))
             }
             Some(_) => {}
         }
         if !(self.delta_bar.is_finite() && self.delta_bar >= 0.0) {
-            return Err(HinfError::invalid(format!(
+            return Err(HinfError::invalid(crate::msg!(
                 "delta_bar must be finite and >= 0 (got {})",
                 self.delta_bar
             )));
         }
         if self.w0 * self.period > 0.5 {
-            return Err(HinfError::invalid(format!(
+            return Err(HinfError::invalid(crate::msg!(
                 "w0 * period = {} > 0.5: the sampling period is not small against the orbit",
                 self.w0 * self.period
             )));
@@ -283,6 +286,7 @@ impl HinfSpec {
     }
 }
 
+#[cfg(feature = "std")]
 /// Symmetric square root of a positive semidefinite matrix (eigen-decomposition; rounding
 /// below zero clipped). A matrix that is not finite, or whose decomposition does not
 /// converge within the cap of [`crate::numerics::eigen`], gives an all-NaN result, which
@@ -297,6 +301,7 @@ pub fn psd_sqrt<const N: usize>(m: &nalgebra::SMatrix<f64, N, N>) -> nalgebra::S
     nalgebra::SMatrix::<f64, N, N>::from_fn(|i, j| r[(i, j)])
 }
 
+#[cfg(feature = "std")]
 /// Noise inputs `(B, D)` from covariances: `B = Qd^(1/2)` for the process-noise
 /// covariance `Qd` of one design period and `D = R^(1/2)` for the covariance `R` of the
 /// indirect position measurement (both canonical, symmetric square roots), so that `B w`
@@ -589,12 +594,10 @@ impl HinfFilter {
         if !(m.a_f.iter().chain(m.c_f.iter()).all(|v| v.is_finite())
             && m.b_f.iter().chain(m.e_f.iter()).all(|v| v.is_finite()))
         {
-            return Err(HinfError::invalid(
-                "filter matrices must be finite".to_string(),
-            ));
+            return Err(HinfError::invalid("filter matrices must be finite"));
         }
         let c_f_inv = m.c_f.try_inverse().ok_or_else(|| {
-            HinfError::invalid("C_F is singular: the estimate cannot be initialised".to_string())
+            HinfError::invalid("C_F is singular: the estimate cannot be initialised")
         })?;
         let mut f = Self {
             m,
@@ -693,12 +696,12 @@ pub struct HinfSchedule {
 impl HinfSchedule {
     /// The true anomaly of instant `k`, `2 pi k / N` [rad].
     pub fn anomaly(k: usize) -> f64 {
-        std::f64::consts::TAU * k as f64 / SCHEDULE_POINTS as f64
+        core::f64::consts::TAU * k as f64 / SCHEDULE_POINTS as f64
     }
 
     /// The gain of the instant nearest in true anomaly to time `t`.
     pub fn gain_at(&self, t: f64) -> &Mat63 {
-        let x = self.orbit.true_anomaly(t) / std::f64::consts::TAU * SCHEDULE_POINTS as f64;
+        let x = self.orbit.true_anomaly(t) / core::f64::consts::TAU * SCHEDULE_POINTS as f64;
         // a finite index in 0..N for every input (NaN maps to 0)
         let k = (x.round().rem_euclid(SCHEDULE_POINTS as f64) as usize).min(SCHEDULE_POINTS - 1);
         &self.gains[k]
@@ -767,6 +770,7 @@ pub struct HinfAcquisition {
 }
 
 impl HinfAcquisition {
+    #[cfg(feature = "std")]
     /// For the observer gain `g` of `plant`, starting at covariance `p0`; `None` when `A -
     /// G C` is not stable (no steady state to hand over to).
     pub fn new<const M: usize>(plant: &HinfPlant<M>, g: &Gain<M>, p0: Mat6) -> Option<Self> {
@@ -1067,7 +1071,7 @@ impl HinfEstimator {
         for at in [0, 3] {
             let b = j_d.fixed_view::<3, 3>(at, at).into_owned();
             let n = pinv_psd(&b).ok_or_else(|| {
-                HinfError::invalid("the design's measurement information is not finite".into())
+                HinfError::invalid("the design's measurement information is not finite")
             })?;
             n_d.fixed_view_mut::<3, 3>(at, at).copy_from(&n);
         }
@@ -1080,7 +1084,7 @@ impl HinfEstimator {
     pub fn with_schedule(mut self, schedule: HinfSchedule) -> Result<Self, HinfError> {
         if self.acquisition.is_some() {
             return Err(HinfError::invalid(
-                "a scheduled design runs without track initiation".to_string(),
+                "a scheduled design runs without track initiation",
             ));
         }
         self.schedule = Some(schedule);
@@ -1095,6 +1099,7 @@ impl HinfEstimator {
         self.h2_norm = h2_norm;
         self
     }
+    #[cfg(feature = "std")]
     /// Start with track initiation ([`HinfAcquisition`]) from covariance `p0`. The
     /// matrices must be an observer design for `plant` (`C_F = I`, `A_F = A - B_F C`,
     /// `E_F = Gamma`).
@@ -1110,12 +1115,13 @@ impl HinfEstimator {
             || (m.e_f - plant.g).abs().max() > tol
         {
             return Err(HinfError::invalid(
-                "track initiation needs an observer-form filter of the same plant".to_string(),
+                "track initiation needs an observer-form filter of the same plant",
             ));
         }
-        self.acquisition = Some(HinfAcquisition::new(plant, &m.gain::<M>(), p0).ok_or_else(
-            || HinfError::invalid("the observer gain is not stabilising".to_string()),
-        )?);
+        self.acquisition = Some(
+            HinfAcquisition::new(plant, &m.gain::<M>(), p0)
+                .ok_or_else(|| HinfError::invalid("the observer gain is not stabilising"))?,
+        );
         Ok(self)
     }
     /// Record how the matrices were designed (reported by [`HinfEstimator::design_info`]).
@@ -1162,7 +1168,7 @@ impl crate::estimators::Estimator for HinfEstimator {
     ) -> Result<(), crate::estimators::FilterError> {
         use crate::estimators::FilterError;
         let (saved, saved_acq) = (self.filter, self.acquisition);
-        let step = std::mem::take(&mut self.pending);
+        let step = core::mem::take(&mut self.pending);
         let fused = self.set.is_some_and(|(_, _, k)| k > 1);
         let fix = if fused {
             None
@@ -1373,7 +1379,7 @@ fn check_output_map(c_f: &Mat6, c_f_inv: &Mat6) -> Result<(), StateError> {
         .any(|v| v.abs() > MAX_OUTPUT_MAP_ENTRY);
     let off = (c_f * c_f_inv - Mat6::identity()).amax();
     if big || !(off <= 1e-6) {
-        return Err(refuse(format!(
+        return Err(refuse(crate::msg!(
             "H-infinity C_F and C_F^-1 are not an inverse pair of moderate size \
              (largest entry above {MAX_OUTPUT_MAP_ENTRY:e}: {big}; |C_F C_F^-1 - I| = {off:e})"
         )));
@@ -1434,7 +1440,7 @@ impl Persist for HinfFilter {
         *b_v = r.finite_matrix("H-infinity B_V")?;
         *period = r.finite("H-infinity period")?;
         if !(*period > 0.0) {
-            return Err(refuse(format!(
+            return Err(refuse(crate::msg!(
                 "H-infinity period must be > 0 (got {period})"
             )));
         }

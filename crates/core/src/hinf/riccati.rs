@@ -137,9 +137,11 @@
 //! allocation in a trial.
 
 use super::{Gain, HinfPlant};
+#[cfg(not(feature = "std"))]
+use crate::math::Float;
 use crate::types::Mat6;
+use core::fmt;
 use nalgebra::SMatrix;
-use std::fmt;
 
 /// Relative width `g_hi / g_lo - 1` at which the bisection stops (100 times finer than
 /// the 1e-4 to which the result must equal the SDP's).
@@ -286,7 +288,7 @@ fn spectral_radius(m: &Mat6) -> Option<f64> {
         crate::numerics::eigen::MAX_SWEEPS_PER_DIM * 6,
     )?;
     let ev = schur.complex_eigenvalues();
-    let rho = ev.iter().fold(0.0_f64, |r, z| r.max(z.norm()));
+    let rho = ev.iter().fold(0.0_f64, |r, z| r.max(z.re.hypot(z.im)));
     rho.is_finite().then_some(rho)
 }
 

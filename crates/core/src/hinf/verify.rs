@@ -309,8 +309,8 @@ pub fn hinf_norm(a: &DMatrix<f64>, b: &DMatrix<f64>, c: &DMatrix<f64>) -> f64 {
         return f64::INFINITY;
     }
     let npts = 600;
-    let (lo, hi) = (1e-8f64.ln(), std::f64::consts::PI.ln());
-    let thetas: Vec<f64> = std::iter::once(0.0)
+    let (lo, hi) = (1e-8f64.ln(), core::f64::consts::PI.ln());
+    let thetas: Vec<f64> = core::iter::once(0.0)
         .chain((0..npts).map(|k| (lo + (hi - lo) * k as f64 / (npts - 1) as f64).exp()))
         .collect();
     let vals: Vec<f64> = thetas.iter().map(|t| gain_at(a, b, c, *t)).collect();

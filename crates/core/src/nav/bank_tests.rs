@@ -79,7 +79,7 @@ fn a_failed_bank_step_changes_nothing() {
 fn the_bank_reports_the_mixture() {
     let mut nav = Navigator::new(&hold(FilterKind::Ekf, 7)).unwrap();
     let r = Readings {
-        camera: Some([-std::f64::consts::FRAC_PI_2 + 1e-3, 0.0]),
+        camera: Some([-core::f64::consts::FRAC_PI_2 + 1e-3, 0.0]),
         ..Readings::default()
     };
     nav.step_readings(&[0.0; 3], &r, 1.0).unwrap();

@@ -28,15 +28,16 @@
 
 use super::error::{NavError, NavErrorKind};
 use crate::dynamics::{CwModel, Discretization, MAX_ECCENTRICITY};
-use crate::estimators::pf::resample::Resampler;
-use crate::estimators::pf::{PfInit, PfKind, PfParams, MAX_PARTICLES, MAX_THREADS};
+use crate::estimators::pf::{PfInit, PfKind, PfParams, Resampler, MAX_PARTICLES, MAX_THREADS};
 use crate::estimators::{
     AdaptationLaw, AqParams, ImmParams, UkfParams, MAX_BANK, MAX_GATE_WINDOW, MAX_MODES, MAX_WINDOW,
 };
 use crate::frames::Frame;
+#[cfg(not(feature = "std"))]
+use crate::math::Float;
 use crate::noise::NoiseModel;
 use crate::numerics::num;
-use crate::numerics::state::{crc32, Writer};
+use crate::numerics::state::Writer;
 use crate::params::{closed, open, CodeItem, CodeList, Field, Kind, Param, Rule, Value};
 
 /// `hinf_sensors` bit of the radio (or lidar).
@@ -97,6 +98,11 @@ impl FilterKind {
     pub fn is_implemented(self) -> bool {
         match self {
             FilterKind::Hinf => cfg!(feature = "hinf"),
+            FilterKind::Pf
+            | FilterKind::Rpf
+            | FilterKind::Upf
+            | FilterKind::Gapf
+            | FilterKind::Cgapf => cfg!(feature = "std"),
             _ => true,
         }
     }
@@ -348,10 +354,20 @@ macro_rules! code_field {
             fn get(&self, _: usize) -> Value {
                 Value::Int(i64::from($code(*self)))
             }
-            fn set(&mut self, _: usize, v: Value, name: &str) -> Result<(), String> {
+            fn set(
+                &mut self,
+                _: usize,
+                v: Value,
+                name: &str,
+            ) -> Result<(), crate::message::Message> {
                 let code = v.as_int().and_then(|c| i32::try_from(c).ok());
                 *self = code.and_then($from).ok_or_else(|| {
-                    format!("unknown {name} code {v} (allowed: {})", $list.codes())
+                    #[cfg(feature = "std")]
+                    return crate::msg!("unknown {name} code {v} (allowed: {})", $list.codes());
+                    #[cfg(not(feature = "std"))]
+                    return crate::message::Message::text("unknown code of ")
+                        .push(name)
+                        .clone();
                 })?;
                 Ok(())
             }
@@ -419,7 +435,7 @@ crate::config! {
         description: "Discretisation of the CW model",
     },
     mean_motion: f64 {
-        elements: [("mean_motion", 3, "rad/s", 2.0 * std::f64::consts::PI / 7200.0, "")],
+        elements: [("mean_motion", 3, "rad/s", 2.0 * core::f64::consts::PI / 7200.0, "")],
         rule: Rule::Positive, c: true, scenario: NO_KEY, slot: Some(2),
         description: "Mean motion of the target's orbit, 2 pi / period (> 0)",
     },
@@ -434,7 +450,7 @@ crate::config! {
         description: "Range measurement noise, 1 sigma of the Gaussian (nominal sigma of the other noise models; > 0)",
     },
     sigma_angle: f64 {
-        elements: [("sigma_angle", 6, "rad", 0.01 * std::f64::consts::PI / 180.0, "")],
+        elements: [("sigma_angle", 6, "rad", 0.01 * core::f64::consts::PI / 180.0, "")],
         rule: Rule::Positive, c: true, scenario: NO_KEY, slot: Some(5),
         description: "Azimuth and elevation measurement noise, 1 sigma of the Gaussian (nominal sigma of the other noise models; > 0)",
     },
@@ -785,8 +801,8 @@ impl From<Value> for Setting {
     }
 }
 
-impl std::fmt::Display for Setting {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+impl core::fmt::Display for Setting {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         match self {
             Setting::Int(v) => write!(f, "{v}"),
             Setting::Real(v) => f.write_str(&num(*v)),
@@ -817,27 +833,36 @@ impl NavConfig {
     /// rules ([`PARAMS`], in declaration order), then the rules between them.
     pub fn validate(&self) -> Result<(), NavError> {
         if !self.filter.is_implemented() {
-            let available: Vec<String> = FilterKind::ALL
-                .iter()
-                .filter(|k| k.is_implemented())
-                .map(|k| format!("{} {}", *k as i32, k.name()))
-                .collect();
-            return Err(NavError {
-                kind: NavErrorKind::NotImplemented,
-                message: format!(
+            #[cfg(feature = "std")]
+            let message = {
+                let available: Vec<String> = FilterKind::ALL
+                    .iter()
+                    .filter(|k| k.is_implemented())
+                    .map(|k| format!("{} {}", *k as i32, k.name()))
+                    .collect();
+                crate::msg!(
                     "filter {} ({}) is not implemented in relnav {}; available: {}",
                     self.filter as i32,
                     self.filter.name(),
                     crate::VERSION,
                     available.join(", ")
-                ),
+                )
+            };
+            #[cfg(not(feature = "std"))]
+            let message = crate::message::Message::text("filter ")
+                .push(self.filter.name())
+                .push(" is not in this build (the flight library)")
+                .clone();
+            return Err(NavError {
+                kind: NavErrorKind::NotImplemented,
+                message,
             });
         }
         for p in PARAMS {
             p.check(self).map_err(NavError::invalid)?;
         }
         if !(MEAN_MOTION_RANGE.0..=MEAN_MOTION_RANGE.1).contains(&self.mean_motion) {
-            return Err(NavError::invalid(format!(
+            return Err(NavError::invalid(crate::msg!(
                 "mean_motion must lie in [{:e}, {}] rad/s (got {}): an orbit's mean rate \
                  (low Earth orbit ~1.1e-3, geostationary ~7.3e-5)",
                 MEAN_MOTION_RANGE.0,
@@ -852,7 +877,7 @@ impl NavConfig {
             ("sigma_angle", self.sigma_angle),
         ] {
             if !(v * v).is_finite() || v * v == 0.0 {
-                return Err(NavError::invalid(format!(
+                return Err(NavError::invalid(crate::msg!(
                     "{name} = {} has no finite, non-zero variance",
                     num(v)
                 )));
@@ -872,7 +897,7 @@ impl NavConfig {
                 sigma
             };
             if !(self.x0[i].abs() + 100.0 * sigma <= MAX_INITIAL_MAGNITUDE) {
-                return Err(NavError::invalid(format!(
+                return Err(NavError::invalid(crate::msg!(
                     "|{n}| + 100 sigma must not exceed {MAX_INITIAL_MAGNITUDE:e} (got {n} = {}, \
                      sigma {}): the initial estimate would overflow double precision",
                     num(self.x0[i]),
@@ -881,7 +906,7 @@ impl NavConfig {
             }
         }
         if self.sigma_range0 > 0.0 && self.x0[..3].iter().all(|v| *v == 0.0) {
-            return Err(NavError::invalid(format!(
+            return Err(NavError::invalid(crate::msg!(
                 "sigma_range0 = {} is the uncertainty along x0's line of sight: x0, y0, z0 \
                  must not all be 0 (the target)",
                 num(self.sigma_range0)
@@ -895,7 +920,7 @@ impl NavConfig {
                 FilterKind::Imm,
             ];
             if !kalman.contains(&self.filter) {
-                return Err(NavError::invalid(format!(
+                return Err(NavError::invalid(crate::msg!(
                     "range_bank = {} needs a Kalman-type filter (1 ekf, 2 ukf, 3 aqukf, 10 imm; \
                      got {} {}): the particle filters carry a non-Gaussian prior themselves \
                      and the H-infinity filter's guarantee is for one estimator",
@@ -905,7 +930,7 @@ impl NavConfig {
                 )));
             }
             if self.x0[..3].iter().all(|v| *v == 0.0) {
-                return Err(NavError::invalid(format!(
+                return Err(NavError::invalid(crate::msg!(
                     "range_bank = {} splits the prior along its line of sight: x0, y0, z0 \
                      must not all be 0 (the target)",
                     self.range_bank
@@ -920,7 +945,7 @@ impl NavConfig {
         ] {
             let var = v * v * self.noise().variance_factor();
             if !var.is_finite() {
-                return Err(NavError::invalid(format!(
+                return Err(NavError::invalid(crate::msg!(
                     "{name} = {} with noise model {} has no finite variance",
                     num(v),
                     self.noise_model.name()
@@ -931,7 +956,7 @@ impl NavConfig {
             && !self.pf_move
             && !(self.accel_psd > 0.0 || self.q_pos.iter().chain(&self.q_vel).all(|q| *q > 0.0))
         {
-            return Err(NavError::invalid(format!(
+            return Err(NavError::invalid(crate::msg!(
                 "filter {} with pf_move = false needs a positive-definite process noise \
                  (accel_psd > 0, or every q_pos_* and q_vel_* > 0): its literal proposal is \
                  built on the transition density",
@@ -947,6 +972,7 @@ impl NavConfig {
         Ok(())
     }
 
+    #[cfg(feature = "std")]
     /// Every saved setting by name, in slot order: a saved state's configuration section
     /// (`docs/state-format.md`). A parameter without a slot (`pf_threads`: the results do
     /// not depend on it) is left out.
@@ -967,19 +993,42 @@ impl NavConfig {
     /// The configuration section of a saved state: the number of settings (u32) and each
     /// setting's 8 bytes ([`Setting::bits`]), in [`NavConfig::settings`] order.
     pub(super) fn write_settings(&self, w: &mut Writer<'_>) {
-        let s = self.settings();
-        w.u32(s.len() as u32);
-        for (_, v) in s {
-            w.u64(v.bits());
+        w.u32(self.settings_count() as u32);
+        self.visit_settings(|_, _, v| w.u64(v.bits()));
+    }
+
+    /// The number of saved settings ([`NavConfig::settings`]).
+    pub(super) fn settings_count(&self) -> usize {
+        PARAMS
+            .iter()
+            .filter(|p| p.slot.is_some())
+            .map(|p| p.elements.len())
+            .sum()
+    }
+
+    /// Every saved setting in slot order ([`NavConfig::settings`]): its parameter, the
+    /// element's index and its value, visited slot by slot without a list (no heap).
+    pub(super) fn visit_settings(&self, mut f: impl FnMut(&Param<NavConfig>, usize, Setting)) {
+        let mut last: Option<u16> = None;
+        while let Some((s, p)) = PARAMS
+            .iter()
+            .filter_map(|p| p.slot.map(|s| (s, p)))
+            .filter(|(s, _)| last.is_none_or(|l| *s > l))
+            .min_by_key(|(s, _)| *s)
+        {
+            for i in 0..p.elements.len() {
+                f(p, i, Setting::from((p.get)(self, i)));
+            }
+            last = Some(s);
         }
     }
 
     /// The configuration fingerprint of a saved state's header: the CRC-32 of the
     /// configuration section ([`NavConfig::settings`]).
     pub fn fingerprint(&self) -> u32 {
-        let mut b = Vec::new();
-        self.write_settings(&mut Writer::new(&mut b));
-        crc32(&b)
+        let mut h = crc32fast::Hasher::new();
+        self.write_settings(&mut Writer::into_crc(&mut h));
+        h.finalize()
     }
 
     /// The UKF's sigma-point parameters (`ukf_alpha`, `ukf_beta`, `ukf_kappa`; also the
@@ -997,14 +1046,15 @@ impl NavConfig {
     /// (which needs a usable initial position) only for filter 9.
     fn validate_hinf(&self) -> Result<(), NavError> {
         if (self.hinf_b_pos == 0.0) != (self.hinf_b_vel == 0.0) {
-            return Err(NavError::invalid(format!(
+            return Err(NavError::invalid(crate::msg!(
                 "hinf_b_pos and hinf_b_vel are set together (both > 0) or derived together \
                  (both 0) (got {} and {})",
                 num(self.hinf_b_pos),
                 num(self.hinf_b_vel)
             )));
         }
-        let hinf = |e: crate::hinf::HinfError| NavError::invalid(format!("hinf_*: {}", e.message));
+        let hinf =
+            |e: crate::hinf::HinfError| NavError::invalid(crate::msg!("hinf_*: {}", e.message));
         let mut spec = self.hinf_spec_scalars();
         // scalars 0 mean "derived": the placeholders only let the shared checks run
         spec.b_pos = if spec.b_pos > 0.0 { spec.b_pos } else { 1.0 };
@@ -1012,7 +1062,7 @@ impl NavConfig {
         spec.d = if spec.d > 0.0 { spec.d } else { 1.0 };
         spec.validate().map_err(hinf)?;
         if self.hinf_sensors & (HINF_RADIO | HINF_GNSS_POSITION) == 0 {
-            return Err(NavError::invalid(format!(
+            return Err(NavError::invalid(crate::msg!(
                 "hinf_sensors = {}: the set must hold the radio (1) or the relative GNSS position \
                  (4); a camera's line of sight leaves the range, a velocity the along-track \
                  position unobservable to a linear observer, so no design exists for them alone",
@@ -1023,7 +1073,7 @@ impl NavConfig {
             && self.eccentricity > 0.0
             && ![HINF_RADIO, HINF_GNSS_POSITION].contains(&self.hinf_sensors)
         {
-            return Err(NavError::invalid(format!(
+            return Err(NavError::invalid(crate::msg!(
                 "filter 9 (hinf) at eccentricity = {}: the design scheduled over the orbit \
                  measures one position fix; set hinf_sensors to 1 (radio) or 4 (GNSS position) \
                  (got {})",
@@ -1032,12 +1082,13 @@ impl NavConfig {
             )));
         }
         if self.filter == FilterKind::Hinf && self.eccentricity > 0.0 && self.hinf_acquisition {
-            return Err(NavError::invalid(format!(
+            return Err(NavError::invalid(crate::msg!(
                 "filter 9 (hinf) at eccentricity = {}: the design is scheduled over the orbit \
                  and runs without track initiation; set hinf_acquisition = false",
                 num(self.eccentricity)
             )));
         }
+        #[cfg(feature = "std")]
         if self.filter == FilterKind::Hinf {
             self.hinf_spec()?.validate().map_err(hinf)?;
         }
@@ -1057,6 +1108,7 @@ impl NavConfig {
         }
     }
 
+    #[cfg(feature = "std")]
     /// The H-infinity design inputs of this configuration (`w0` = `mean_motion`, canonical
     /// frame). Set scalings are used as given; zero ones are derived from the noise every
     /// other filter uses:
@@ -1085,8 +1137,7 @@ impl NavConfig {
                 return Err(NavError::invalid(
                     "hinf: the mixed design's process noise is derived from accel_psd, q_pos_* \
                      and q_vel_*, which are all 0: set one of them (or hinf_b_pos and \
-                     hinf_b_vel)"
-                        .to_string(),
+                     hinf_b_vel)",
                 ));
             }
             spec.b_matrix = Some(crate::hinf::psd_sqrt(&qd));
@@ -1104,8 +1155,7 @@ impl NavConfig {
             let r = sensor.position_covariance(&r0).ok_or_else(|| {
                 NavError::invalid(
                     "hinf: the measurement noise is derived at the initial estimate's \
-                     position, which is at zero range: set x0, y0, z0 (or hinf_d)"
-                        .to_string(),
+                     position, which is at zero range: set x0, y0, z0 (or hinf_d)",
                 )
             })?;
             spec.d_matrix = Some(crate::hinf::psd_sqrt(&r));
@@ -1128,8 +1178,7 @@ impl NavConfig {
         let at_zero = || {
             NavError::invalid(
                 "hinf: the design's measurement noise is derived at the initial estimate's \
-                 position, which is at zero range: set x0, y0, z0"
-                    .to_string(),
+                 position, which is at zero range: set x0, y0, z0",
             )
         };
         let mut j = Mat3::zeros();
@@ -1162,7 +1211,7 @@ impl NavConfig {
         }
         let r = j.try_inverse().filter(|r| r.iter().all(|v| v.is_finite()));
         r.map(|r| (r + r.transpose()) * 0.5).ok_or_else(|| {
-            NavError::invalid(format!(
+            NavError::invalid(crate::msg!(
                 "hinf_sensors = {}: the declared sensors do not fix the position at the initial \
                  estimate",
                 self.hinf_sensors
@@ -1367,6 +1416,26 @@ impl NavConfig {
 mod tests {
     use super::*;
     use crate::params::Element;
+
+    /// The configuration section, written slot by slot without a list, is the settings
+    /// list's count and values in order.
+    #[test]
+    fn settings_section_is_the_settings_list() {
+        let c = NavConfig {
+            filter: FilterKind::Imm,
+            sigma_range: 2.5,
+            ..NavConfig::default()
+        };
+        let mut b = Vec::new();
+        c.write_settings(&mut Writer::new(&mut b));
+        let list = c.settings();
+        let mut expect = (list.len() as u32).to_le_bytes().to_vec();
+        for (_, v) in &list {
+            expect.extend_from_slice(&v.bits().to_le_bytes());
+        }
+        assert_eq!(b, expect);
+        assert_eq!(c.settings_count(), list.len());
+    }
 
     /// Every declared default is one its type holds (a setter that failed would leave the
     /// placeholder) and passes validation.

@@ -9,10 +9,10 @@
 use super::*;
 use crate::frames::Frame;
 use crate::orbit::TwoBodyJ2;
+use core::f64::consts::TAU;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, StandardNormal};
-use std::f64::consts::TAU;
 
 const PERIOD: f64 = 7200.0;
 const DT: f64 = 10.0;

@@ -9,7 +9,7 @@ pub struct NavError {
     /// What went wrong.
     pub kind: NavErrorKind,
     /// Human-readable reason, naming the offending parameter or input.
-    pub message: String,
+    pub message: crate::message::Message,
 }
 
 /// Category of a [`NavError`].
@@ -26,18 +26,18 @@ pub enum NavErrorKind {
     InvalidState,
 }
 
-impl std::fmt::Display for NavError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+impl core::fmt::Display for NavError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         f.write_str(&self.message)
     }
 }
 
 impl NavError {
     /// An [`NavErrorKind::InvalidArgument`] with this message.
-    pub fn invalid(message: String) -> Self {
+    pub fn invalid(message: impl Into<crate::message::Message>) -> Self {
         Self {
             kind: NavErrorKind::InvalidArgument,
-            message,
+            message: message.into(),
         }
     }
 }
@@ -47,12 +47,12 @@ impl From<FilterError> for NavError {
         if let FilterError::Unsupported(why) = e {
             return Self {
                 kind: NavErrorKind::NotImplemented,
-                message: why.to_string(),
+                message: crate::message::Message::text(why),
             };
         }
         Self {
             kind: NavErrorKind::Numerical,
-            message: format!("filter step failed: {e}"),
+            message: e.message().prefixed("filter step failed: "),
         }
     }
 }
@@ -62,7 +62,7 @@ impl From<StateError> for NavError {
     fn from(e: StateError) -> Self {
         Self {
             kind: NavErrorKind::InvalidState,
-            message: format!("state refused: {e}"),
+            message: crate::msg!("state refused: {e}"),
         }
     }
 }

@@ -7,9 +7,13 @@ use super::config::{FilterKind, NavConfig};
 use super::error::{NavError, NavErrorKind};
 use crate::dynamics::DiscreteModel;
 use crate::estimators::aqukf::AqukfSnapshot;
-use crate::estimators::pf::{Kernel, ParticleFilter, PfInit};
+#[cfg(feature = "std")]
+use crate::estimators::pf::ParticleFilter;
+use crate::estimators::pf::{Kernel, PfInit};
+#[cfg(feature = "std")]
+use crate::estimators::Bank;
 use crate::estimators::{
-    Aqukf, Bank, Ekf, Estimator, FilterError, Imm, Member, SensorUpdate, Ukf, UpdateInfo,
+    Aqukf, Ekf, Estimator, FilterError, Imm, Member, SensorUpdate, Ukf, UpdateInfo,
 };
 use crate::hinf::HinfEstimator;
 use crate::numerics::state::{Persist, Reader, StateError, Writer};
@@ -27,6 +31,7 @@ pub enum AnyFilter {
     /// Sliding-window adaptive UKF (paper 001).
     Aqukf(Aqukf),
     /// Particle filter (codes 4-8: SIR, regularised, unscented, genetic, cloud-genetic).
+    #[cfg(feature = "std")]
     Pf(ParticleFilter),
     /// Robust H-infinity filter (code 9).
     Hinf(HinfEstimator),
@@ -35,6 +40,7 @@ pub enum AnyFilter {
     /// A range-parameterised bank of one of the Kalman-type filters above (`range_bank`
     /// members; [`crate::estimators::bank`]). Boxed: its members are allocated at
     /// construction.
+    #[cfg(feature = "std")]
     Bank(Box<Bank<AnyFilter>>),
 }
 
@@ -50,6 +56,7 @@ pub enum Snapshot {
     Hinf(HinfEstimator),
     Imm(Imm),
     /// the bank keeps its checkpoint itself ([`Bank::checkpoint`])
+    #[cfg(feature = "std")]
     Bank,
     /// particle filters are transactional themselves (see [`Navigator`])
     None,
@@ -58,6 +65,7 @@ pub enum Snapshot {
 impl AnyFilter {
     /// A snapshot to [`AnyFilter::restore`] (a bank checkpoints itself, no allocation).
     pub(super) fn snapshot(&mut self) -> Snapshot {
+        #[cfg(feature = "std")]
         if let AnyFilter::Bank(b) = self {
             b.checkpoint();
             return Snapshot::Bank;
@@ -72,6 +80,7 @@ impl AnyFilter {
             AnyFilter::Aqukf(f) => Snapshot::Aqukf(f.snapshot()),
             AnyFilter::Hinf(f) => Snapshot::Hinf(*f),
             AnyFilter::Imm(f) => Snapshot::Imm(f.clone()),
+            #[cfg(feature = "std")]
             AnyFilter::Pf(_) | AnyFilter::Bank(_) => Snapshot::None,
         }
     }
@@ -84,6 +93,7 @@ impl AnyFilter {
             (AnyFilter::Aqukf(f), Snapshot::Aqukf(g)) => f.restore(g),
             (AnyFilter::Hinf(f), Snapshot::Hinf(g)) => *f = *g,
             (AnyFilter::Imm(f), Snapshot::Imm(g)) => f.clone_from(g),
+            #[cfg(feature = "std")]
             (AnyFilter::Bank(f), Snapshot::Bank) => f.rollback(),
             _ => {}
         }
@@ -97,9 +107,11 @@ impl AnyFilter {
             AnyFilter::Ekf(_) => b"EKF ",
             AnyFilter::Ukf(_) => b"UKF ",
             AnyFilter::Aqukf(_) => b"AQUK",
+            #[cfg(feature = "std")]
             AnyFilter::Pf(_) => b"PART",
             AnyFilter::Hinf(_) => b"HINF",
             AnyFilter::Imm(_) => b"IMM ",
+            #[cfg(feature = "std")]
             AnyFilter::Bank(_) => b"BANK",
         }
     }
@@ -114,9 +126,11 @@ impl Persist for AnyFilter {
             AnyFilter::Ekf(f) => f.save_state(w),
             AnyFilter::Ukf(f) => f.save_state(w),
             AnyFilter::Aqukf(f) => f.save_state(w),
+            #[cfg(feature = "std")]
             AnyFilter::Pf(f) => f.save_state(w),
             AnyFilter::Hinf(f) => f.save_state(w),
             AnyFilter::Imm(f) => f.save_state(w),
+            #[cfg(feature = "std")]
             AnyFilter::Bank(f) => f.save_state(w),
         }
     }
@@ -127,9 +141,11 @@ impl Persist for AnyFilter {
             AnyFilter::Ekf(f) => f.load_state(r),
             AnyFilter::Ukf(f) => f.load_state(r),
             AnyFilter::Aqukf(f) => f.load_state(r),
+            #[cfg(feature = "std")]
             AnyFilter::Pf(f) => f.load_state(r),
             AnyFilter::Hinf(f) => f.load_state(r),
             AnyFilter::Imm(f) => f.load_state(r),
+            #[cfg(feature = "std")]
             AnyFilter::Bank(f) => f.load_state(r),
         }
     }
@@ -170,9 +186,11 @@ impl Member for AnyFilter {
 
     fn reset(&mut self, x: State, p: Mat6) {
         match self {
+            #[cfg(feature = "std")]
             AnyFilter::Pf(pf) => *pf = ParticleFilter::new(x, p, *pf.params()),
             AnyFilter::Aqukf(f) => f.reset(x, p),
             AnyFilter::Imm(f) => f.reset(x, p),
+            #[cfg(feature = "std")]
             AnyFilter::Bank(f) => f.reset(x, p),
             other => other.set_estimate(x, p),
         }
@@ -185,9 +203,11 @@ impl Estimator for AnyFilter {
             AnyFilter::Ekf(f) => f.predict(model, accel),
             AnyFilter::Ukf(f) => f.predict(model, accel),
             AnyFilter::Aqukf(f) => f.predict(model, accel),
+            #[cfg(feature = "std")]
             AnyFilter::Pf(f) => f.predict(model, accel),
             AnyFilter::Hinf(f) => f.predict(model, accel),
             AnyFilter::Imm(f) => f.predict(model, accel),
+            #[cfg(feature = "std")]
             AnyFilter::Bank(f) => f.predict(model, accel),
         }
     }
@@ -200,9 +220,11 @@ impl Estimator for AnyFilter {
             AnyFilter::Ekf(f) => f.update(sensor, z),
             AnyFilter::Ukf(f) => f.update(sensor, z),
             AnyFilter::Aqukf(f) => f.update(sensor, z),
+            #[cfg(feature = "std")]
             AnyFilter::Pf(f) => f.update(sensor, z),
             AnyFilter::Hinf(f) => f.update(sensor, z),
             AnyFilter::Imm(f) => f.update(sensor, z),
+            #[cfg(feature = "std")]
             AnyFilter::Bank(f) => f.update(sensor, z),
         }
     }
@@ -215,9 +237,11 @@ impl Estimator for AnyFilter {
             AnyFilter::Ekf(f) => f.update_sensor(sensor, z),
             AnyFilter::Ukf(f) => f.update_sensor(sensor, z),
             AnyFilter::Aqukf(f) => f.update_sensor(sensor, z),
+            #[cfg(feature = "std")]
             AnyFilter::Pf(f) => f.update_sensor(sensor, z),
             AnyFilter::Hinf(f) => f.update_sensor(sensor, z),
             AnyFilter::Imm(f) => f.update_sensor(sensor, z),
+            #[cfg(feature = "std")]
             AnyFilter::Bank(f) => f.update_sensor(sensor, z),
         }
     }
@@ -226,9 +250,11 @@ impl Estimator for AnyFilter {
             AnyFilter::Ekf(f) => f.state(),
             AnyFilter::Ukf(f) => f.state(),
             AnyFilter::Aqukf(f) => f.state(),
+            #[cfg(feature = "std")]
             AnyFilter::Pf(f) => f.state(),
             AnyFilter::Hinf(f) => f.state(),
             AnyFilter::Imm(f) => f.state(),
+            #[cfg(feature = "std")]
             AnyFilter::Bank(f) => f.state(),
         }
     }
@@ -237,9 +263,11 @@ impl Estimator for AnyFilter {
             AnyFilter::Ekf(f) => f.covariance(),
             AnyFilter::Ukf(f) => f.covariance(),
             AnyFilter::Aqukf(f) => f.covariance(),
+            #[cfg(feature = "std")]
             AnyFilter::Pf(f) => f.covariance(),
             AnyFilter::Hinf(f) => f.covariance(),
             AnyFilter::Imm(f) => f.covariance(),
+            #[cfg(feature = "std")]
             AnyFilter::Bank(f) => f.covariance(),
         }
     }
@@ -248,9 +276,11 @@ impl Estimator for AnyFilter {
             AnyFilter::Ekf(f) => f.set_estimate(x, p),
             AnyFilter::Ukf(f) => f.set_estimate(x, p),
             AnyFilter::Aqukf(f) => f.set_estimate(x, p),
+            #[cfg(feature = "std")]
             AnyFilter::Pf(f) => f.set_estimate(x, p),
             AnyFilter::Hinf(f) => f.set_estimate(x, p),
             AnyFilter::Imm(f) => f.set_estimate(x, p),
+            #[cfg(feature = "std")]
             AnyFilter::Bank(f) => f.set_estimate(x, p),
         }
     }
@@ -287,6 +317,12 @@ pub fn build_filter_with(cfg: &NavConfig, opts: &FilterOptions) -> Result<AnyFil
     if cfg.range_bank < 2 {
         return Ok(single);
     }
+    #[cfg(not(feature = "std"))]
+    return Err(NavError {
+        kind: NavErrorKind::NotImplemented,
+        message: "range_bank > 1 is not in this build (the flight library)".into(),
+    });
+    #[cfg(feature = "std")]
     Bank::new(
         single,
         cfg.initial_state(),
@@ -297,8 +333,7 @@ pub fn build_filter_with(cfg: &NavConfig, opts: &FilterOptions) -> Result<AnyFil
     .ok_or_else(|| {
         NavError::invalid(
             "range_bank > 1 splits the prior along its line of sight: x0's position must be \
-             away from the target and the initial covariance must spread it along it"
-                .to_string(),
+             away from the target and the initial covariance must spread it along it",
         )
     })
 }
@@ -307,6 +342,7 @@ pub fn build_filter_with(cfg: &NavConfig, opts: &FilterOptions) -> Result<AnyFil
 fn build_single(cfg: &NavConfig, opts: &FilterOptions) -> Result<AnyFilter, NavError> {
     let x0 = cfg.initial_state();
     let p0 = cfg.initial_covariance();
+    #[cfg(feature = "std")]
     if let Some(mut params) = cfg.pf_params() {
         params.init = opts.pf_init.unwrap_or(params.init);
         params.kernel = opts.pf_kernel;
@@ -351,7 +387,7 @@ fn build_single(cfg: &NavConfig, opts: &FilterOptions) -> Result<AnyFilter, NavE
         }
         other => Err(NavError {
             kind: NavErrorKind::NotImplemented,
-            message: format!("filter {} is not implemented", other.name()),
+            message: crate::msg!("filter {} is not implemented", other.name()),
         }),
     }
 }
@@ -386,14 +422,14 @@ fn open_loop_hinf<const M: usize>(
     }
     .map_err(|e| NavError {
         kind: NavErrorKind::InvalidArgument,
-        message: format!("hinf design ({}) failed: {e}", cfg.hinf_design.name()),
+        message: crate::msg!("hinf design ({}) failed: {e}", cfg.hinf_design.name()),
     })?;
-    let invalid = |e: crate::hinf::HinfError| NavError::invalid(format!("hinf: {e}"));
+    let invalid = |e: crate::hinf::HinfError| NavError::invalid(crate::msg!("hinf: {e}"));
     // the design's information C^T (D D^T)^-1 C, block diagonal (position, velocity)
     let r = plant.d * plant.d.transpose();
-    let ri = r.try_inverse().ok_or_else(|| {
-        NavError::invalid("hinf: the design's measurement noise is singular".to_string())
-    })?;
+    let ri = r
+        .try_inverse()
+        .ok_or_else(|| NavError::invalid("hinf: the design's measurement noise is singular"))?;
     let j_d = plant.c.transpose() * ri * plant.c;
     let mut f = HinfEstimator::new(d.matrices, d.gamma, x0)
         .map_err(invalid)?
@@ -517,7 +553,7 @@ fn certify_schedule(
     if !horizon.is_finite() {
         return Err(NavError {
             kind: NavErrorKind::Numerical,
-            message: format!(
+            message: crate::msg!(
                 "hinf: the scheduled gains do not keep the eccentric orbit's error system \
                  bounded over its first {steps} steps (the frozen designs' bound is {frozen})"
             ),
@@ -554,7 +590,7 @@ fn scheduled_hinf(cfg: &NavConfig, x0: crate::types::State) -> Result<AnyFilter,
     let derived_b = cfg.hinf_b_pos == 0.0 && cfg.hinf_b_vel == 0.0;
     let failed = |k: usize, e: crate::hinf::HinfError| NavError {
         kind: NavErrorKind::InvalidArgument,
-        message: format!(
+        message: crate::msg!(
             "hinf design ({}) failed at instant {k} of {SCHEDULE_POINTS} along the orbit: {e}",
             cfg.hinf_design.name()
         ),
@@ -590,7 +626,7 @@ fn scheduled_hinf(cfg: &NavConfig, x0: crate::types::State) -> Result<AnyFilter,
         if !(norm <= design.gamma * (1.0 + 1e-6)) {
             return Err(NavError {
                 kind: NavErrorKind::Numerical,
-                message: format!(
+                message: crate::msg!(
                     "hinf design at instant {k} of {SCHEDULE_POINTS} along the orbit: its \
                      gain's H-infinity norm {norm} exceeds the certified gamma {}",
                     design.gamma
@@ -604,8 +640,8 @@ fn scheduled_hinf(cfg: &NavConfig, x0: crate::types::State) -> Result<AnyFilter,
             first = Some(design);
         }
     }
-    let first = first.ok_or_else(|| NavError::invalid("no H-infinity design".to_string()))?;
-    let invalid = |e: crate::hinf::HinfError| NavError::invalid(format!("hinf: {e}"));
+    let first = first.ok_or_else(|| NavError::invalid("no H-infinity design"))?;
+    let invalid = |e: crate::hinf::HinfError| NavError::invalid(crate::msg!("hinf: {e}"));
     let mut schedule = HinfSchedule {
         gains,
         orbit: model,

@@ -30,6 +30,8 @@ mod persist;
 mod sensor_tests;
 pub mod sensors;
 
+#[cfg(not(feature = "std"))]
+use crate::math::Float;
 pub use config::{
     FilterKind, HinfDesignKind, NavConfig, NoiseKind, ResamplerSetting, Setting,
     MAX_INITIAL_MAGNITUDE, MEAN_MOTION_RANGE, PARAMS,
@@ -47,6 +49,7 @@ use crate::sensors::RadioSensor;
 use crate::types::{Mat3, Mat6, State, Vec3};
 use config::positive;
 use factory::Snapshot;
+#[cfg(feature = "std")]
 use std::sync::Arc;
 
 /// Longest accepted step, in orbital periods `2 pi / n` of the target: a prediction over
@@ -68,7 +71,7 @@ fn finite3(name: &str, v: &[f64; 3]) -> Result<(), NavError> {
     if crate::numerics::all_finite(v) {
         Ok(())
     } else {
-        Err(NavError::invalid(format!(
+        Err(NavError::invalid(crate::msg!(
             "{name} must be finite (got {v:?})"
         )))
     }
@@ -110,13 +113,13 @@ pub struct Navigator {
     last_update: Option<UpdateInfo>,
     /// the sensors beside the radio ([`Navigator::add_sensor`]), in the order they are
     /// applied, and each one's last report
-    sensors: Vec<Arc<dyn NavSensor>>,
-    reports: Vec<Option<SensorReport>>,
+    sensors: SensorList,
+    reports: ReportList,
     /// a step's new reports, committed when the step succeeds (allocated with the sensors)
-    pending: Vec<Option<SensorReport>>,
+    pending: ReportList,
     /// the declared sensors beside the radio, from the configuration: camera, relative
     /// GNSS position, relative GNSS velocity ([`Readings`])
-    declared: [Arc<dyn NavSensor>; 3],
+    declared: Declared,
     /// the last step's NIS per declared sensor (radio, camera, GNSS position, GNSS
     /// velocity), NaN where it gave no reading ([`Navigator::step_nis`])
     step_nis: [f64; 4],
@@ -145,15 +148,41 @@ pub struct Readings {
     pub gnss_velocity: Option<[f64; 3]>,
 }
 
+/// The sensors added at run time ([`Navigator::add_sensor`]); without `std` there are
+/// none (an empty array: no heap).
+#[cfg(feature = "std")]
+type SensorList = Vec<Arc<dyn NavSensor>>;
+#[cfg(not(feature = "std"))]
+type SensorList = [&'static dyn NavSensor; 0];
+/// One report per added sensor.
+#[cfg(feature = "std")]
+type ReportList = Vec<Option<SensorReport>>;
+#[cfg(not(feature = "std"))]
+type ReportList = [Option<SensorReport>; 0];
+
 /// The declared sensors beside the radio, from the configuration (noise densities
 /// `camera_noise_*` and `gnss_noise_*` scaled by `sigma_camera`, `sigma_gnss`,
-/// `sigma_gnss_velocity`; in the I/O frame).
-fn declared_sensors(cfg: &NavConfig) -> [Arc<dyn NavSensor>; 3] {
-    [
-        Arc::new(Named::new("camera", cfg.camera_sensor())),
-        Arc::new(Named::new("GNSS position", cfg.gnss_position_sensor())),
-        Arc::new(Named::new("GNSS velocity", cfg.gnss_velocity_sensor())),
-    ]
+/// `sigma_gnss_velocity`; in the I/O frame), held by value.
+#[derive(Debug, Clone)]
+struct Declared {
+    camera: Named<crate::sensors::CameraSensor, 2>,
+    gnss_position: Named<crate::sensors::Modelled<crate::sensors::CartesianSensor>, 3>,
+    gnss_velocity: Named<crate::sensors::VelocitySensor, 3>,
+}
+
+impl Declared {
+    fn new(cfg: &NavConfig) -> Self {
+        Self {
+            camera: Named::new("camera", cfg.camera_sensor()),
+            gnss_position: Named::new("GNSS position", cfg.gnss_position_sensor()),
+            gnss_velocity: Named::new("GNSS velocity", cfg.gnss_velocity_sensor()),
+        }
+    }
+
+    /// The sensors in [`Readings`] order: camera, GNSS position, GNSS velocity.
+    fn all(&self) -> [&dyn NavSensor; 3] {
+        [&self.camera, &self.gnss_position, &self.gnss_velocity]
+    }
 }
 
 impl Navigator {
@@ -187,10 +216,10 @@ impl Navigator {
             kepler: KeplerMemo::default(),
             q_rates: State::zeros(),
             last_update: None,
-            sensors: Vec::new(),
-            reports: Vec::new(),
-            pending: Vec::new(),
-            declared: declared_sensors(cfg),
+            sensors: SensorList::default(),
+            reports: ReportList::default(),
+            pending: ReportList::default(),
+            declared: Declared::new(cfg),
             step_nis: [f64::NAN; 4],
             step_acceptance: f64::NAN,
             failed: false,
@@ -205,7 +234,7 @@ impl Navigator {
         let cov_ok = matches!(nav.filter, AnyFilter::Hinf(_))
             || nav.filter.covariance().iter().all(|v| v.is_finite());
         if !(nav.filter.state().iter().all(|v| v.is_finite()) && cov_ok) {
-            return Err(NavError::invalid(format!(
+            return Err(NavError::invalid(crate::msg!(
                 "the initial estimate x0 = {:?} with sigma_pos0 = {}, sigma_vel0 = {} overflows \
                  double precision in the {} filter's initial state",
                 cfg.x0,
@@ -244,7 +273,7 @@ impl Navigator {
 
     /// The longest accepted step [s]: [`MAX_STEP_PERIODS`] orbital periods.
     pub fn max_step(&self) -> f64 {
-        MAX_STEP_PERIODS * std::f64::consts::TAU / self.cfg.mean_motion
+        MAX_STEP_PERIODS * core::f64::consts::TAU / self.cfg.mean_motion
     }
 
     /// [`Navigator::check_dt_in_full`] without a call in the common case: `0 < dt <=`
@@ -264,7 +293,7 @@ impl Navigator {
     fn check_dt_in_full(&self, dt: f64) -> Result<(), NavError> {
         positive("step size h", dt)?;
         if dt > self.max_step() {
-            return Err(NavError::invalid(format!(
+            return Err(NavError::invalid(crate::msg!(
                 "step size h = {} s is longer than {MAX_STEP_PERIODS} orbital periods ({} s at \
                  mean_motion {} rad/s), where the linearised relative motion means nothing: \
                  split the interval, or check the time unit",
@@ -276,7 +305,7 @@ impl Navigator {
         if let AnyFilter::Hinf(f) = &self.filter {
             let t = f.period();
             if (dt - t).abs() > 1e-9 * t {
-                return Err(NavError::invalid(format!(
+                return Err(NavError::invalid(crate::msg!(
                     "the hinf filter was designed for hinf_period = {} s and holds for that \
                      period only; step h = {} s refused (set hinf_period to the step size)",
                     num(t),
@@ -293,7 +322,7 @@ impl Navigator {
     fn check_measurement(z: &[f64; 3]) -> Result<(), NavError> {
         if crate::numerics::all_finite(z)
             && z[0] >= 0.0
-            && z[2].abs() <= std::f64::consts::FRAC_PI_2
+            && z[2].abs() <= core::f64::consts::FRAC_PI_2
         {
             Ok(())
         } else {
@@ -306,13 +335,13 @@ impl Navigator {
     fn check_measurement_in_full(z: &[f64; 3]) -> Result<(), NavError> {
         finite3("measurement (range, azimuth, elevation)", z)?;
         if z[0] < 0.0 {
-            return Err(NavError::invalid(format!(
+            return Err(NavError::invalid(crate::msg!(
                 "measured range must be >= 0 (got {})",
                 num(z[0])
             )));
         }
-        if z[2].abs() > std::f64::consts::FRAC_PI_2 {
-            return Err(NavError::invalid(format!(
+        if z[2].abs() > core::f64::consts::FRAC_PI_2 {
+            return Err(NavError::invalid(crate::msg!(
                 "measured elevation must lie in [-pi/2, pi/2] (got {})",
                 num(z[2])
             )));
@@ -340,7 +369,7 @@ impl Navigator {
         if self.failed {
             Err(NavError {
                 kind: NavErrorKind::Numerical,
-                message: format!(
+                message: crate::msg!(
                     "the {} particle filter failed in an earlier step (its prediction after \
                      a successful update) and its particles are no longer valid: reset the \
                      estimator",
@@ -382,6 +411,7 @@ impl Navigator {
     /// The moves a particle filter has tried and accepted so far (`None` for the others).
     fn move_counts(&self) -> Option<(u64, u64)> {
         match &self.filter {
+            #[cfg(feature = "std")]
             AnyFilter::Pf(pf) => Some(pf.move_counts()),
             _ => None,
         }
@@ -409,6 +439,7 @@ impl Navigator {
     fn update_checked(&mut self, z: &[f64; 3]) -> Result<UpdateInfo, NavError> {
         let zv = Vec3::from_row_slice(z);
         let r = match &mut self.filter {
+            #[cfg(feature = "std")]
             AnyFilter::Pf(pf) => pf.update_with(&self.sensor, &zv, &self.noise, &self.scales),
             other => other.update(&self.kalman_sensor, &zv),
         };
@@ -493,6 +524,7 @@ impl Navigator {
         result
     }
 
+    #[cfg(feature = "std")]
     /// Add a sensor beside the configured radio (any [`crate::sensors::Sensor`] through
     /// [`Named`]); returns its index among the added sensors, the position of its reading
     /// in [`Navigator::step_with`]. Sensors are configuration: a saved state does not hold
@@ -504,6 +536,7 @@ impl Navigator {
         self.sensors.len() - 1
     }
 
+    #[cfg(feature = "std")]
     /// The sensors added by [`Navigator::add_sensor`], in order.
     pub fn sensors(&self) -> &[Arc<dyn NavSensor>] {
         &self.sensors
@@ -530,7 +563,7 @@ impl Navigator {
         dt: f64,
     ) -> Result<(), NavError> {
         if readings.len() != self.sensors.len() {
-            return Err(NavError::invalid(format!(
+            return Err(NavError::invalid(crate::msg!(
                 "{} readings given for {} added sensors",
                 readings.len(),
                 self.sensors.len()
@@ -614,7 +647,7 @@ impl Navigator {
             return self.step(thrust, measurement, dt);
         }
         self.check_step(thrust, measurement, dt)?;
-        for (s, z) in self.declared.iter().zip(&declared) {
+        for (s, z) in self.declared.all().into_iter().zip(&declared) {
             if let Some(z) = z {
                 s.check(z).map_err(NavError::invalid)?;
             }
@@ -678,7 +711,10 @@ impl Navigator {
         }
         for (i, z) in declared.iter().enumerate() {
             if let Some(z) = z {
-                let r = self.declared[i].apply(&mut self.filter, z)?;
+                let Some(s) = self.declared.all().get(i).copied() else {
+                    continue;
+                };
+                let r = s.apply(&mut self.filter, z)?;
                 nis[i + 1] = r.nis;
                 *updated = true;
             }
@@ -708,7 +744,7 @@ impl Navigator {
         if let Some(z) = radio {
             Self::check_measurement(z)?;
         }
-        for (s, z) in self.declared.iter().zip(&declared) {
+        for (s, z) in self.declared.all().into_iter().zip(&declared) {
             if let Some(z) = z {
                 s.check(z).map_err(NavError::invalid)?;
             }
@@ -757,9 +793,16 @@ impl Navigator {
         let (Some((declared_i, added_i, z)), None) = (given.next(), given.next()) else {
             return Ok(false);
         };
-        let sensor = match (declared_i, added_i) {
-            (Some(i), _) => &self.declared[i],
-            (_, Some(i)) => &self.sensors[i],
+        let declared = self.declared.all();
+        let sensor: &dyn NavSensor = match (declared_i, added_i) {
+            (Some(i), _) => match declared.get(i) {
+                Some(s) => *s,
+                None => return Ok(false),
+            },
+            (_, Some(i)) => match self.sensors.get(i) {
+                Some(s) => &**s,
+                None => return Ok(false),
+            },
             _ => return Ok(false),
         };
         let accel = canonical_accel(&self.cfg, thrust);
@@ -812,7 +855,7 @@ impl Navigator {
             .cfg
             .frame
             .variances_from_canonical(self.filter.covariance());
-        std::array::from_fn(|i| {
+        core::array::from_fn(|i| {
             let v = p[i];
             if v >= 0.0 {
                 v.sqrt()
@@ -834,6 +877,7 @@ impl Navigator {
     /// for the Kalman filters, which carry no particles.
     pub fn ess(&self) -> Option<f64> {
         match &self.filter {
+            #[cfg(feature = "std")]
             AnyFilter::Pf(pf) => Some(pf.ess().clamp(1.0, pf.params().particles as f64)),
             _ => None,
         }
@@ -848,6 +892,7 @@ impl Navigator {
             match f {
                 AnyFilter::Aqukf(f) => Some(f.q_vv()),
                 // the members' weighted mean
+                #[cfg(feature = "std")]
                 AnyFilter::Bank(b) => b.weighted().map(|(w, m)| canonical(m).map(|q| q * w)).sum(),
                 _ => None,
             }
@@ -870,17 +915,18 @@ impl Navigator {
             match f {
                 AnyFilter::Imm(f) => Some((f.mode_probabilities(), f.params().modes)),
                 // a bank of IMMs: each mode's probability over the members
+                #[cfg(feature = "std")]
                 AnyFilter::Bank(b) => {
                     b.weighted().try_fold(([0.0; MAX_MODES], 0), |acc, (w, m)| {
                         let (mu, r) = canonical(m)?;
-                        Some((std::array::from_fn(|j| acc.0[j] + w * mu[j]), r))
+                        Some((core::array::from_fn(|j| acc.0[j] + w * mu[j]), r))
                     })
                 }
                 _ => None,
             }
         }
         match canonical(&self.filter) {
-            Some((mu, r)) => Some(std::array::from_fn(
+            Some((mu, r)) => Some(core::array::from_fn(
                 |j| {
                     if j < r {
                         mu[j]

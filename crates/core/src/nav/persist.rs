@@ -4,7 +4,7 @@
 use super::{FilterKind, NavError, Navigator};
 use crate::estimators::{Estimator, UpdateInfo};
 use crate::numerics::state::{
-    self, crc32, refuse, Persist, Reader, Writer, ESTIMATOR_MAGIC, KINDS,
+    self, crc32, refuse, Persist, Reader, StateError, Writer, ESTIMATOR_MAGIC, KINDS,
 };
 
 impl Navigator {
@@ -79,11 +79,23 @@ impl Navigator {
     /// window, the H-infinity matrices, ...). [`Navigator::restore_state`] on a navigator
     /// of the same configuration — this one or another, in this process or another —
     /// continues bit for bit as this one would.
+    #[cfg(feature = "std")]
     pub fn save_state(&self, out: &mut Vec<u8>) {
         let ident = self.state_ident();
         state::seal(out, ESTIMATOR_MAGIC, STATE_FORMAT_VERSION, &ident, |w| {
             self.write_state(w)
         });
+    }
+
+    /// [`Navigator::save_state`] into the start of `out` (no heap): the state's length, or
+    /// an [`NavErrorKind::InvalidArgument`] error when `out` is shorter than
+    /// [`Navigator::state_len`].
+    pub fn save_state_into(&self, out: &mut [u8]) -> Result<usize, NavError> {
+        let ident = self.state_ident();
+        state::seal_into(out, ESTIMATOR_MAGIC, STATE_FORMAT_VERSION, &ident, |w| {
+            self.write_state(w)
+        })
+        .ok_or_else(|| NavError::invalid("the buffer is shorter than the state (state_len)"))
     }
 
     /// Restore a state saved by [`Navigator::save_state`]. Refused with
@@ -106,7 +118,7 @@ impl Navigator {
         let fingerprint = id.u32("configuration fingerprint")?;
         if code != self.cfg.filter as i32 {
             let name = FilterKind::from_code(code).map_or("unknown", FilterKind::name);
-            return Err(refuse(format!(
+            return Err(refuse(crate::msg!(
                 "the state is for filter {code} ({name}), this estimator runs filter {} ({})",
                 self.cfg.filter as i32,
                 self.cfg.filter.name()
@@ -116,29 +128,48 @@ impl Navigator {
         let mut r = Reader::new(o.payload);
         r.tag(b"CONF")?;
         let conf_at = r.position();
-        let mine = self.cfg.settings();
+        let mine = self.cfg.settings_count();
         let n = r.u32("number of settings")? as usize;
-        if n != mine.len() {
-            return Err(refuse(format!(
-                "the state records {n} settings, this build has {}",
-                mine.len()
+        if n != mine {
+            return Err(refuse(crate::msg!(
+                "the state records {n} settings, this build has {mine}"
             ))
             .into());
         }
-        for (name, v) in &mine {
-            let b = r.u64(name)?;
-            if b != v.bits() {
-                return Err(refuse(format!(
-                    "the state was saved for another configuration: {name} = {} in the \
-                     state, {v} in this estimator",
-                    v.with_bits(b)
-                ))
-                .into());
+        let mut differs: Option<StateError> = None;
+        self.cfg.visit_settings(|p, i, v| {
+            if differs.is_some() {
+                return;
             }
+            match r.u64(p.name) {
+                Err(e) => differs = Some(e),
+                Ok(b) if b != v.bits() => {
+                    #[cfg(feature = "std")]
+                    let m = crate::msg!(
+                        "the state was saved for another configuration: {} = {} in the \
+                         state, {v} in this estimator",
+                        p.setting_name(i),
+                        v.with_bits(b)
+                    );
+                    #[cfg(not(feature = "std"))]
+                    let m = crate::message::Message::text(
+                        "the state was saved for another configuration: ",
+                    )
+                    .push(p.name)
+                    .push(" differs")
+                    .clone();
+                    let _ = i;
+                    differs = Some(refuse(m));
+                }
+                Ok(_) => {}
+            }
+        });
+        if let Some(e) = differs {
+            return Err(e.into());
         }
         let conf = o.payload.get(conf_at..r.position()).unwrap_or_default();
         if crc32(conf) != fingerprint || fingerprint != self.cfg.fingerprint() {
-            return Err(refuse(format!(
+            return Err(refuse(crate::msg!(
                 "configuration fingerprint {fingerprint:08x} of the header does not match the \
                  configuration it carries ({:08x})",
                 crc32(conf)

@@ -10,11 +10,11 @@ use crate::frames::Frame;
 use crate::sensors::{
     CartesianSensor, GeometryError, Linearization, Modelled, Sensor, SensorNoise,
 };
+use core::f64::consts::{FRAC_PI_2, PI, TAU};
 use nalgebra::{SMatrix, SVector};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, StandardNormal};
-use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 /// The relative velocity (canonical frame), as relative GNSS gives it.
 #[derive(Debug, Clone, Copy)]
@@ -154,7 +154,7 @@ fn radio(cfg: &NavConfig, c: &State, rng: &mut ChaCha8Rng) -> [f64; 3] {
 }
 
 fn noisy<const D: usize>(z: SVector<f64, D>, sigma: f64, rng: &mut ChaCha8Rng) -> [f64; D] {
-    std::array::from_fn(|k| {
+    core::array::from_fn(|k| {
         let g: f64 = StandardNormal.sample(rng);
         z[k] + sigma * g
     })

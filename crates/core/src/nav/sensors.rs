@@ -31,13 +31,13 @@ impl<const D: usize> From<SensorUpdate<D>> for SensorReport {
 
 /// A sensor as the navigator holds it: its name (in messages), its dimension, the check of
 /// a reading and the update of a filter with it (in the sensor's frame and SI units).
-pub trait NavSensor: Send + Sync + std::fmt::Debug {
+pub trait NavSensor: Send + Sync + core::fmt::Debug {
     /// Name, for messages.
     fn name(&self) -> &str;
     /// Number of components of a reading.
     fn dim(&self) -> usize;
     /// Whether `z` is a reading this sensor can produce (length, finiteness, domain).
-    fn check(&self, z: &[f64]) -> Result<(), String>;
+    fn check(&self, z: &[f64]) -> Result<(), crate::message::Message>;
     /// The update of `filter` with the reading `z` (checked) through the generic path
     /// ([`Estimator::update_sensor`]).
     fn apply(&self, filter: &mut AnyFilter, z: &[f64]) -> Result<SensorReport, FilterError>;
@@ -53,43 +53,64 @@ pub trait NavSensor: Send + Sync + std::fmt::Debug {
     ) -> Option<Result<SensorReport, FilterError>>;
 }
 
+/// A sensor's name: owned with `std`, a static text without.
+#[cfg(feature = "std")]
+pub type SensorName = String;
+/// A sensor's name: owned with `std`, a static text without.
+#[cfg(not(feature = "std"))]
+pub type SensorName = &'static str;
+
 /// A [`Sensor`] of `D` components with a name: a [`NavSensor`].
 #[derive(Debug, Clone)]
 pub struct Named<S, const D: usize> {
     /// Name, for messages.
-    pub name: String,
+    pub name: SensorName,
     /// The sensor.
     pub sensor: S,
 }
 
 impl<S, const D: usize> Named<S, D> {
     /// `sensor` named `name`.
+    #[cfg(feature = "std")]
     pub fn new(name: impl Into<String>, sensor: S) -> Self {
         Self {
             name: name.into(),
             sensor,
         }
     }
+
+    /// `sensor` named `name`.
+    #[cfg(not(feature = "std"))]
+    pub fn new(name: &'static str, sensor: S) -> Self {
+        Self { name, sensor }
+    }
+
+    /// `text` after this sensor's name and a colon.
+    fn named(&self, text: &str) -> crate::message::Message {
+        let mut m = crate::message::Message::text(&self.name);
+        m.push(": ");
+        m.push(text);
+        m
+    }
 }
 
-impl<const D: usize, S: Sensor<D> + Send + std::fmt::Debug> NavSensor for Named<S, D> {
+impl<const D: usize, S: Sensor<D> + Send + core::fmt::Debug> NavSensor for Named<S, D> {
     fn name(&self) -> &str {
         &self.name
     }
     fn dim(&self) -> usize {
         D
     }
-    fn check(&self, z: &[f64]) -> Result<(), String> {
+    fn check(&self, z: &[f64]) -> Result<(), crate::message::Message> {
         if z.len() != D {
-            return Err(format!(
-                "{}: a reading has {D} components (got {})",
-                self.name,
+            return Err(self.named(&crate::msg!(
+                "a reading has {D} components (got {})",
                 z.len()
-            ));
+            )));
         }
         self.sensor
             .check(&SVector::from_column_slice(z))
-            .map_err(|e| format!("{}: {e}", self.name))
+            .map_err(|e| self.named(&e))
     }
     fn apply(&self, filter: &mut AnyFilter, z: &[f64]) -> Result<SensorReport, FilterError> {
         if z.len() != D {

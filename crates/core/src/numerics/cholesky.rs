@@ -8,6 +8,8 @@
 //! ([`log_gauss`]).
 
 use super::symmetrize;
+#[cfg(not(feature = "std"))]
+use crate::math::Float;
 use crate::types::{Mat3, Mat6, State, Vec3};
 
 /// The state dimension.

@@ -14,11 +14,12 @@
 //! decomposition comes back with NaN and infinite eigenvalues and vectors. A result with a
 //! non-finite number is a `None` as well, never a silently wrong square root.
 
+#[cfg(not(feature = "std"))]
+use crate::math::Float;
 use nalgebra::allocator::Allocator;
-use nalgebra::{
-    Complex, DMatrix, DVector, DefaultAllocator, Dim, DimDiff, DimSub, OMatrix, OVector, Schur,
-    SymmetricEigen, SVD, U1,
-};
+#[cfg(feature = "std")]
+use nalgebra::{Complex, DMatrix, DVector, Schur, SVD};
+use nalgebra::{DefaultAllocator, Dim, DimDiff, DimSub, OMatrix, OVector, SymmetricEigen, U1};
 
 use super::symmetrize;
 use crate::types::Mat6;
@@ -56,6 +57,7 @@ where
     symmetric_eigen(m).map(|e| e.eigenvalues)
 }
 
+#[cfg(feature = "std")]
 /// Complex eigenvalues of a real square matrix through its real Schur form, `None` for a
 /// non-finite input or no convergence within the cap.
 pub fn complex_eigenvalues(m: &DMatrix<f64>) -> Option<DVector<Complex<f64>>> {
@@ -67,6 +69,7 @@ pub fn complex_eigenvalues(m: &DMatrix<f64>) -> Option<DVector<Complex<f64>>> {
         .filter(|ev| ev.iter().all(|z| z.re.is_finite() && z.im.is_finite()))
 }
 
+#[cfg(feature = "std")]
 /// Singular values of a complex matrix (descending), `None` for a non-finite input or no
 /// convergence within the cap.
 pub fn singular_values(m: &DMatrix<Complex<f64>>) -> Option<DVector<f64>> {

@@ -17,12 +17,17 @@ pub mod blas;
 pub(crate) mod cholesky;
 pub mod eigen;
 pub mod lanes;
+#[cfg(feature = "std")]
 pub(crate) mod moments;
 pub mod simd;
+#[cfg(feature = "std")]
 pub(crate) mod soa;
 pub mod state;
+#[cfg(feature = "std")]
 pub mod vexp;
+#[cfg(feature = "std")]
 pub mod vlog;
+#[cfg(feature = "std")]
 pub mod ziggurat;
 
 pub use lanes::{lane_sum, lane_sum_sq};
@@ -45,6 +50,7 @@ pub(crate) fn symmetrize(p: &Mat6) -> Mat6 {
 }
 
 /// A number for an error message: plain when readable, scientific when tiny or huge.
+#[cfg(feature = "std")]
 pub fn num(v: f64) -> String {
     let a = v.abs();
     if v == 0.0 || !v.is_finite() || (1e-4..1e7).contains(&a) {
@@ -52,6 +58,12 @@ pub fn num(v: f64) -> String {
     } else {
         format!("{v:e}")
     }
+}
+
+/// A number for an error message: without `std` (no float formatting) `"?"`.
+#[cfg(not(feature = "std"))]
+pub fn num(_: f64) -> &'static str {
+    "?"
 }
 
 #[cfg(test)]

@@ -390,7 +390,7 @@ impl LaneSums {
         // `x + nc` with `nc` opaque: LLVM would turn `x + (-c)` back into `x - c`, whose
         // loaded operand `x` cannot be folded into the instruction (one load more per
         // component and four particles)
-        let nc: [f64; N] = std::hint::black_box(std::array::from_fn(|k| -reference[k]));
+        let nc: [f64; N] = std::hint::black_box(core::array::from_fn(|k| -reference[k]));
         let full = n / BLOCK;
         let rem = n - full * BLOCK;
         let mut acc = Self::new();
@@ -503,10 +503,10 @@ impl LaneSums {
         for t in 0..BLOCK / 4 {
             let o = 4 * t;
             let quarter = |k: usize| -> L4 {
-                let v: L4 = std::array::from_fn(|j| blk[k][o + j]);
+                let v: L4 = core::array::from_fn(|j| blk[k][o + j]);
                 add4(v, [nc[k]; 4])
             };
-            let wq: L4 = std::array::from_fn(|j| wb[o + j]);
+            let wq: L4 = core::array::from_fn(|j| wb[o + j]);
             let dr: [L4; 3] = [quarter(R), quarter(R + 1), quarter(R + 2)];
             for c in 0..3 {
                 let dc = if diag { dr[c] } else { quarter(C + c) };
@@ -560,11 +560,11 @@ pub(crate) fn unit_moments(x: &[State], r: &State) -> Moments {
     simd::dispatch(
         #[inline(always)]
         || {
-            let rr: [f64; 6] = std::array::from_fn(|k| r[k]);
+            let rr: [f64; 6] = core::array::from_fn(|k| r[k]);
             let mut s1 = [0.0; 6];
             let mut s2 = [[0.0; 6]; 6];
             for xi in x {
-                let d: [f64; 6] = std::array::from_fn(|k| xi[k] - rr[k]);
+                let d: [f64; 6] = core::array::from_fn(|k| xi[k] - rr[k]);
                 for k in 0..6 {
                     s1[k] += d[k];
                 }

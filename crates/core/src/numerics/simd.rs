@@ -39,14 +39,18 @@
 //! `RELNAV_SIMD=baseline` in the environment (read once per process) keeps every dispatch on
 //! the baseline path: for comparing machines, or a CPU whose AVX2 is suspect.
 
+#[cfg(feature = "std")]
 use std::cell::Cell;
+#[cfg(feature = "std")]
 use std::sync::OnceLock;
 
+#[cfg(feature = "std")]
 thread_local! {
     /// Set by [`with_baseline`] on this thread.
     static FORCE_BASELINE: Cell<bool> = const { Cell::new(false) };
 }
 
+#[cfg(feature = "std")]
 /// The instruction set [`dispatch`] uses in this process (CPU detection and
 /// `RELNAV_SIMD`, once).
 fn arch() -> Option<pulp::Arch> {
@@ -57,6 +61,7 @@ fn arch() -> Option<pulp::Arch> {
     })
 }
 
+#[cfg(feature = "std")]
 /// The name of the instruction set [`dispatch`] uses on this thread now: `"x86-64-v3"` (AVX2)
 /// or `"baseline"` (for logs and the benches' headers).
 pub fn level() -> &'static str {
@@ -69,6 +74,7 @@ pub fn level() -> &'static str {
     "baseline"
 }
 
+#[cfg(feature = "std")]
 /// Runs `f` compiled for the best instruction set of this CPU (see the module documentation);
 /// the result is the same bits as `f()` on the baseline path.
 #[inline(always)]
@@ -80,15 +86,16 @@ pub fn dispatch<R>(f: impl FnOnce() -> R) -> R {
 }
 
 /// pulp's x86-64-v3 token: AVX2, FMA, BMI1/2 present ([`dispatch_v3`] hands it out only then).
-#[cfg(target_arch = "x86_64")]
+#[cfg(all(feature = "std", target_arch = "x86_64"))]
 pub use pulp::x86::V3;
 
 /// Stands for pulp's x86-64-v3 token off x86-64: never constructed ([`dispatch_v3`] hands
 /// out `None`).
-#[cfg(not(target_arch = "x86_64"))]
+#[cfg(not(all(feature = "std", target_arch = "x86_64")))]
 #[derive(Clone, Copy, Debug)]
 pub enum V3 {}
 
+#[cfg(feature = "std")]
 /// Runs `f` like [`dispatch`] (compiled for x86-64-v3 when the CPU has it, unless
 /// [`with_baseline`] or `RELNAV_SIMD=baseline` keep the baseline), handing it pulp's [`V3`]
 /// token on the v3 path and `None` on the baseline path, for explicit shuffles. Within `f`,
@@ -108,12 +115,13 @@ pub fn dispatch_v3<R>(f: impl FnOnce(Option<V3>) -> R) -> R {
 /// Runs `f` compiled for x86-64-v3 in a function of its own (never inlined into the caller):
 /// for a short shuffle loop called from inside a large [`dispatch_v3`]ed loop, whose
 /// register allocation it would otherwise disturb. One call (and pulp's inner call) per use.
-#[cfg(target_arch = "x86_64")]
+#[cfg(all(feature = "std", target_arch = "x86_64"))]
 #[inline(never)]
 pub fn v3_apart<R>(simd: V3, f: impl FnOnce() -> R) -> R {
     simd.vectorize(f)
 }
 
+#[cfg(feature = "std")]
 /// `lanes[k][at + j] = rows[j][k]` for the four rows `j` and the six components `k`: four
 /// particles into lanes `at..at + 4` of a transposed block. With the token, per pair of
 /// components `(k, k + 1)` two 128-bit loads and two 128-bit inserts give
@@ -160,6 +168,7 @@ pub fn rows_to_lanes<const B: usize>(
     }
 }
 
+#[cfg(feature = "std")]
 /// `rows[j][k] = lanes[k][at + j]`: lanes `at..at + 4` of a transposed block out into four
 /// particles, the inverse of [`rows_to_lanes`] (per pair of components two loads, the two
 /// interleaves, four 128-bit stores). The same values with and without the token.
@@ -209,6 +218,7 @@ pub fn lanes_to_rows<const B: usize>(
     }
 }
 
+#[cfg(feature = "std")]
 /// Runs `f` with every [`dispatch`] and [`dispatch_v3`] on this thread kept on the baseline
 /// path (for tests that compare the two paths bit for bit; threads `f` starts are not
 /// affected).
@@ -221,6 +231,27 @@ pub fn with_baseline<R>(f: impl FnOnce() -> R) -> R {
     }
     let _restore = Restore(FORCE_BASELINE.with(|c| c.replace(true)));
     f()
+}
+
+/// Without `std` (no CPU detection): `"baseline"`.
+#[cfg(not(feature = "std"))]
+pub fn level() -> &'static str {
+    "baseline"
+}
+
+/// Without `std` (no CPU detection): `f()` on the baseline path, the same bits as the
+/// dispatched path computes.
+#[cfg(not(feature = "std"))]
+#[inline(always)]
+pub fn dispatch<R>(f: impl FnOnce() -> R) -> R {
+    f()
+}
+
+/// Without `std` (no CPU detection): `f(None)`, the baseline path.
+#[cfg(not(feature = "std"))]
+#[inline(always)]
+pub fn dispatch_v3<R>(f: impl FnOnce(Option<V3>) -> R) -> R {
+    f(None)
 }
 
 #[cfg(test)]
@@ -245,8 +276,8 @@ mod tests {
     /// copies) move the same bits, and they are the transposes.
     #[test]
     fn v3_and_baseline_transposes_agree() {
-        let rows: [[f64; 6]; 4] = std::array::from_fn(|j| {
-            std::array::from_fn(|k| match (j + k) % 5 {
+        let rows: [[f64; 6]; 4] = core::array::from_fn(|j| {
+            core::array::from_fn(|k| match (j + k) % 5 {
                 0 => -0.0,
                 1 => f64::from_bits(0xfff8_0000_0000_0abc),
                 _ => (10 * j + k) as f64 + 0.125,
@@ -291,7 +322,7 @@ mod tests {
 
     #[test]
     fn dispatched_and_baseline_paths_agree_bit_for_bit() {
-        let x: [f64; 64] = std::array::from_fn(|i| 0.37 * i as f64 + 1e-3);
+        let x: [f64; 64] = core::array::from_fn(|i| 0.37 * i as f64 + 1e-3);
         let fast = kernel(&x);
         let base = with_baseline(|| {
             assert_eq!(level(), "baseline");

@@ -18,10 +18,10 @@ use nalgebra::SMatrix;
 /// Why a saved state was refused: a readable reason (truncated, corrupted, another format
 /// version, another configuration, an out-of-range field).
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct StateError(pub String);
+pub struct StateError(pub crate::message::Message);
 
-impl std::fmt::Display for StateError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+impl core::fmt::Display for StateError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         f.write_str(&self.0)
     }
 }
@@ -37,7 +37,7 @@ pub const KINDS: [(&[u8; 8], &str); 2] = [
 ];
 
 /// Shorthand for a [`StateError`].
-pub fn refuse(message: impl Into<String>) -> StateError {
+pub fn refuse(message: impl Into<crate::message::Message>) -> StateError {
     StateError(message.into())
 }
 
@@ -59,25 +59,64 @@ pub trait Persist {
     fn load_state(&mut self, r: &mut Reader<'_>) -> Result<(), StateError>;
 }
 
+/// Where a [`Writer`]'s bytes go.
+enum Sink<'a> {
+    /// Nowhere: the writer counts.
+    Count,
+    /// Appended to a vector.
+    #[cfg(feature = "std")]
+    Vec(&'a mut Vec<u8>),
+    /// Into a caller's buffer, from its start; what does not fit is dropped and noted.
+    Slice(&'a mut [u8]),
+    /// Into a CRC-32.
+    Crc(&'a mut crc32fast::Hasher),
+}
+
 /// Little-endian writer. [`Writer::counter`] only counts, so the size of a state is known
-/// without allocating (the C ABI's size query) and always equals what a real write gives.
+/// without allocating (the C ABI's size query) and always equals what a real write gives;
+/// [`Writer::into_slice`] writes into a caller's buffer (no heap).
 pub struct Writer<'a> {
-    out: Option<&'a mut Vec<u8>>,
+    out: Sink<'a>,
     len: usize,
+    overflow: bool,
 }
 
 impl<'a> Writer<'a> {
     /// Append to `out`.
+    #[cfg(feature = "std")]
     pub fn new(out: &'a mut Vec<u8>) -> Self {
         Self {
-            out: Some(out),
+            out: Sink::Vec(out),
             len: 0,
+            overflow: false,
+        }
+    }
+
+    /// Write into `out` from its start ([`Writer::overflowed`] tells whether all fitted).
+    pub fn into_slice(out: &'a mut [u8]) -> Self {
+        Self {
+            out: Sink::Slice(out),
+            len: 0,
+            overflow: false,
+        }
+    }
+
+    /// Feed the bytes to the CRC-32 `h`.
+    pub fn into_crc(h: &'a mut crc32fast::Hasher) -> Self {
+        Self {
+            out: Sink::Crc(h),
+            len: 0,
+            overflow: false,
         }
     }
 
     /// A writer that stores nothing and counts the bytes.
     pub fn counter() -> Writer<'static> {
-        Writer { out: None, len: 0 }
+        Writer {
+            out: Sink::Count,
+            len: 0,
+            overflow: false,
+        }
     }
 
     /// Bytes written so far by this writer.
@@ -90,12 +129,24 @@ impl<'a> Writer<'a> {
         self.len == 0
     }
 
+    /// Whether bytes were dropped because the buffer of [`Writer::into_slice`] was full.
+    pub fn overflowed(&self) -> bool {
+        self.overflow
+    }
+
     /// Raw bytes.
     pub fn bytes(&mut self, b: &[u8]) {
-        if let Some(out) = self.out.as_deref_mut() {
-            out.extend_from_slice(b);
+        match &mut self.out {
+            Sink::Count => {}
+            #[cfg(feature = "std")]
+            Sink::Vec(v) => v.extend_from_slice(b),
+            Sink::Slice(s) => match s.get_mut(self.len..self.len.saturating_add(b.len())) {
+                Some(d) => d.copy_from_slice(b),
+                None => self.overflow = true,
+            },
+            Sink::Crc(h) => h.update(b),
         }
-        self.len += b.len();
+        self.len = self.len.saturating_add(b.len());
     }
 
     /// A 4-byte ASCII section tag (checked by [`Reader::tag`]).
@@ -192,7 +243,7 @@ impl<'a> Reader<'a> {
                 self.pos += n;
                 Ok(b)
             }
-            None => Err(refuse(format!(
+            None => Err(refuse(crate::msg!(
                 "truncated: {what} needs {n} bytes at offset {}, {} left",
                 self.pos,
                 self.remaining()
@@ -214,10 +265,10 @@ impl<'a> Reader<'a> {
         if &got == t {
             Ok(())
         } else {
-            Err(refuse(format!(
+            Err(refuse(crate::msg!(
                 "expected section \"{}\" at offset {at}, found {:?}",
-                String::from_utf8_lossy(t),
-                String::from_utf8_lossy(&got)
+                core::str::from_utf8(t).unwrap_or("?"),
+                core::str::from_utf8(&got).unwrap_or("?")
             )))
         }
     }
@@ -233,7 +284,7 @@ impl<'a> Reader<'a> {
         match self.u8(what)? {
             0 => Ok(false),
             1 => Ok(true),
-            v => Err(refuse(format!(
+            v => Err(refuse(crate::msg!(
                 "{what} at offset {at} must be 0 or 1 (got {v})"
             ))),
         }
@@ -262,7 +313,8 @@ impl<'a> Reader<'a> {
     /// A `u64` count or index that must fit `usize`.
     pub fn usize(&mut self, what: &str) -> Result<usize, StateError> {
         let v = self.u64(what)?;
-        usize::try_from(v).map_err(|_| refuse(format!("{what} = {v} does not fit this machine")))
+        usize::try_from(v)
+            .map_err(|_| refuse(crate::msg!("{what} = {v} does not fit this machine")))
     }
 
     /// A count that must equal `expected` (a size the configuration fixes).
@@ -271,7 +323,7 @@ impl<'a> Reader<'a> {
         if n == expected as u64 {
             Ok(())
         } else {
-            Err(refuse(format!(
+            Err(refuse(crate::msg!(
                 "{what} is {n} in the state, {expected} in this configuration"
             )))
         }
@@ -288,7 +340,7 @@ impl<'a> Reader<'a> {
         if v.is_finite() {
             Ok(v)
         } else {
-            Err(refuse(format!("{what} must be finite (got {v})")))
+            Err(refuse(crate::msg!("{what} must be finite (got {v})")))
         }
     }
 
@@ -313,7 +365,7 @@ impl<'a> Reader<'a> {
         if m.iter().all(|v| v.is_finite()) {
             Ok(m)
         } else {
-            Err(refuse(format!("{what} must be finite")))
+            Err(refuse(crate::msg!("{what} must be finite")))
         }
     }
 
@@ -331,7 +383,7 @@ impl<'a> Reader<'a> {
     pub fn finish(&self) -> Result<(), StateError> {
         match self.remaining() {
             0 => Ok(()),
-            n => Err(refuse(format!(
+            n => Err(refuse(crate::msg!(
                 "{n} unexpected bytes after the last field (offset {})",
                 self.pos
             ))),
@@ -345,6 +397,7 @@ pub const fn header_len(ident_len: usize) -> usize {
     8 + 4 + ident_len + 8 + 4
 }
 
+#[cfg(feature = "std")]
 /// Append an envelope to `out`: `magic`, `version` (u32 LE), the identity block `ident`,
 /// the payload length (u64 LE), the CRC-32 (IEEE, u32 LE) of every header byte before it
 /// and of the payload, then the payload written by `payload`.
@@ -376,6 +429,39 @@ pub fn seal(
     if let Some(s) = out.get_mut(crc_at..body) {
         s.copy_from_slice(&crc.to_le_bytes());
     }
+}
+
+/// [`seal`] into the start of `out` (no heap): the envelope's length, or `None` (and
+/// `out` partly written) when it does not fit.
+pub fn seal_into(
+    out: &mut [u8],
+    magic: &[u8; 8],
+    version: u32,
+    ident: &[u8],
+    payload: impl FnOnce(&mut Writer<'_>),
+) -> Option<usize> {
+    let len_at = 12 + ident.len();
+    let crc_at = len_at + 8;
+    let body = crc_at + 4;
+    let (head, rest) = (out.len() >= body).then(|| out.split_at_mut(body))?;
+    let mut w = Writer::into_slice(head);
+    w.bytes(magic);
+    w.u32(version);
+    w.bytes(ident);
+    let mut w = Writer::into_slice(rest);
+    payload(&mut w);
+    if w.overflowed() {
+        return None;
+    }
+    let n = w.len();
+    head.get_mut(len_at..crc_at)?
+        .copy_from_slice(&(n as u64).to_le_bytes());
+    let mut h = crc32fast::Hasher::new();
+    h.update(head.get(..crc_at)?);
+    h.update(rest.get(..n)?);
+    head.get_mut(crc_at..body)?
+        .copy_from_slice(&h.finalize().to_le_bytes());
+    Some(body + n)
 }
 
 /// The size [`seal`] gives for `ident_len` identity bytes and what `payload` writes
@@ -411,35 +497,35 @@ pub fn open<'a>(
     let hl = header_len(ident_len);
     let mut r = Reader::new(bytes);
     let got = r.take(8, "magic").map_err(|_| {
-        refuse(format!(
+        refuse(crate::msg!(
             "truncated: {} bytes, not even the 8-byte magic of {what}",
             bytes.len()
         ))
     })?;
     if got != magic {
         if let Some((_, name)) = other.iter().find(|(m, _)| m.as_slice() == got) {
-            return Err(refuse(format!("this is {name}, not {what}")));
+            return Err(refuse(crate::msg!("this is {name}, not {what}")));
         }
-        return Err(refuse(format!(
+        return Err(refuse(crate::msg!(
             "not {what}: magic {:?}, expected {:?}",
-            String::from_utf8_lossy(got),
-            String::from_utf8_lossy(magic)
+            core::str::from_utf8(got).unwrap_or("?"),
+            core::str::from_utf8(magic).unwrap_or("?")
         )));
     }
     let v = r.u32("format version").map_err(|_| {
-        refuse(format!(
+        refuse(crate::msg!(
             "truncated: {} bytes, header of {what} is {hl}",
             bytes.len()
         ))
     })?;
     if v != version {
-        return Err(refuse(format!(
+        return Err(refuse(crate::msg!(
             "{what} has format version {v}; this build of relnav {} reads version {version} only",
             crate::VERSION
         )));
     }
     if bytes.len() < hl {
-        return Err(refuse(format!(
+        return Err(refuse(crate::msg!(
             "truncated: {} bytes, the header of {what} alone is {hl}",
             bytes.len()
         )));
@@ -449,12 +535,12 @@ pub fn open<'a>(
     let crc = r.u32("checksum")?;
     let present = (bytes.len() - hl) as u64;
     if present < n {
-        return Err(refuse(format!(
+        return Err(refuse(crate::msg!(
             "truncated: the header declares {n} payload bytes, {present} are present"
         )));
     }
     if present > n {
-        return Err(refuse(format!(
+        return Err(refuse(crate::msg!(
             "{} unexpected bytes after the declared payload of {n} bytes",
             present - n
         )));
@@ -465,7 +551,7 @@ pub fn open<'a>(
     h.update(payload);
     let actual = h.finalize();
     if actual != crc {
-        return Err(refuse(format!(
+        return Err(refuse(crate::msg!(
             "checksum mismatch (CRC-32 {actual:08x}, header says {crc:08x}): {what} is corrupted"
         )));
     }
@@ -500,6 +586,30 @@ mod tests {
             w.opt_matrix::<2, 3>(None);
         });
         out
+    }
+
+    /// `seal_into` writes what `seal` appends; a buffer one byte short is refused.
+    #[test]
+    fn seal_into_a_buffer_is_seal() {
+        let b = sample();
+        let mut buf = vec![0xAA; b.len() + 3];
+        let payload = |w: &mut Writer<'_>| {
+            w.tag(b"ABCD");
+            w.u8(7);
+            w.bool(true);
+            w.u32(0xdead_beef);
+            w.i32(-2);
+            w.u64(u64::MAX - 1);
+            w.i64(-5);
+            w.f64(-0.0);
+            w.f64(f64::from_bits(0x7ff8_0000_0000_1234));
+            w.matrix(&Matrix2x3::new(1.0, 2.0, 3.0, 4.0, 5.0, 6.0));
+            w.opt_matrix::<2, 3>(None);
+        };
+        assert_eq!(seal_into(&mut buf, M, 3, b"id", payload), Some(b.len()));
+        assert_eq!(&buf[..b.len()], &b[..]);
+        let mut short = vec![0; b.len() - 1];
+        assert_eq!(seal_into(&mut short, M, 3, b"id", payload), None);
     }
 
     #[test]

@@ -26,7 +26,7 @@
 const ROUND: f64 = 6_755_399_441_055_744.0;
 /// `2^52`: the low 52 mantissa bits of `k + TWO52` are the integer `k`, `0 <= k < 2^52`.
 const TWO52: f64 = 4_503_599_627_370_496.0;
-const LOG2E: f64 = std::f64::consts::LOG2_E;
+const LOG2E: f64 = core::f64::consts::LOG2_E;
 /// `ln 2` to 32 significant bits (fdlibm's `ln2_hi`, bits 0x3fe62e42fee00000: trailing mantissa
 /// bits zero).
 const LN2_HI: f64 = 0.693_147_180_369_123_8;
@@ -105,8 +105,8 @@ mod tests {
         for k in 0..2000 {
             for x in [
                 -(k as f64) * 1e-9,
-                -(k as f64) * std::f64::consts::LN_2 * 0.5,
-                -(k as f64) * std::f64::consts::LN_2 * 0.5 - 1e-12,
+                -(k as f64) * core::f64::consts::LN_2 * 0.5,
+                -(k as f64) * core::f64::consts::LN_2 * 0.5 - 1e-12,
             ] {
                 if x > -746.0 {
                     worst = worst.max(ulps(exp_nonpos(x), x.exp()));

@@ -140,7 +140,7 @@ impl Ziggurat {
     /// the slow paths of the failed values in order (see the module docs).
     #[inline(always)]
     pub fn fill_batch<R: RngCore + ?Sized>(&self, rng: &mut R, out: &mut [f64; Self::BATCH]) {
-        let words: [u64; Self::BATCH] = std::array::from_fn(|_| rng.next_u64());
+        let words: [u64; Self::BATCH] = core::array::from_fn(|_| rng.next_u64());
         let mut redo = false;
         for (v, &w) in out.iter_mut().zip(&words) {
             let (i, u) = split(w);
@@ -391,7 +391,7 @@ mod tests {
         if x.abs() > 6.0 {
             return if x > 0.0 { 1.0 } else { 0.0 };
         }
-        let t = x / std::f64::consts::SQRT_2;
+        let t = x / core::f64::consts::SQRT_2;
         let (mut term, mut sum) = (t, t);
         for n in 1..400 {
             term *= -t * t / n as f64;
@@ -401,7 +401,7 @@ mod tests {
                 break;
             }
         }
-        0.5 + sum / std::f64::consts::PI.sqrt()
+        0.5 + sum / core::f64::consts::PI.sqrt()
     }
 
     #[test]

@@ -2,8 +2,10 @@
 //! measurement's angles formed once ([`AngleTrig`]), and `asin` of small residual sines by
 //! its series ([`asin_small`], [`asin_series`]).
 
+#[cfg(not(feature = "std"))]
+use crate::math::Float;
 use crate::types::Vec3;
-use std::f64::consts::{PI, TAU};
+use core::f64::consts::{PI, TAU};
 
 /// Wrap an angle to `(-pi, pi]`.
 pub fn wrap_pi(a: f64) -> f64 {

@@ -10,10 +10,12 @@ use super::{
     SensorNoise, Support,
 };
 use crate::frames::Frame;
+#[cfg(not(feature = "std"))]
+use crate::math::Float;
 use crate::noise::NoiseModel;
 use crate::types::{State, Vec3};
+use core::f64::consts::FRAC_PI_2;
 use nalgebra::{SMatrix, SVector};
-use std::f64::consts::FRAC_PI_2;
 
 /// An angles-only sensor (a camera's line of sight): `z = (alpha, delta)`, the azimuth in
 /// `[0, 2 pi)` from `+x` toward `+y` and the elevation in `[-pi/2, pi/2]` of the relative
@@ -37,6 +39,7 @@ impl CameraSensor {
         }
     }
 
+    #[cfg(feature = "std")]
     /// A reading of the canonical state `x` with additive noise from the density `noise`,
     /// scaled by `sigma[i]` (azimuth, then elevation, drawn in that order; `ar` the AR(1)
     /// model's previous samples), the azimuth wrapped to `[0, 2 pi)` and the elevation
@@ -108,15 +111,16 @@ impl Sensor<2> for CameraSensor {
     fn used(&self, x: &State) -> Result<[bool; 2], GeometryError> {
         Ok([self.radio().azimuth_usable(&position(x))?, true])
     }
-    fn check(&self, z: &SVector<f64, 2>) -> Result<(), String> {
+    fn check(&self, z: &SVector<f64, 2>) -> Result<(), crate::message::Message> {
         if !(z[0].is_finite() && z[1].is_finite()) {
-            return Err(format!(
+            return Err(crate::msg!(
                 "camera azimuth and elevation must be finite (got {}, {})",
-                z[0], z[1]
+                z[0],
+                z[1]
             ));
         }
         if z[1].abs() > FRAC_PI_2 {
-            return Err(format!(
+            return Err(crate::msg!(
                 "camera elevation must lie in [-pi/2, pi/2] rad (got {})",
                 z[1]
             ));
@@ -144,6 +148,7 @@ impl VelocitySensor {
     }
 }
 
+#[cfg(feature = "std")]
 /// `v + n` with `n_i` drawn from the density `noise` scaled by `sigma[i]`, in component
 /// order (`ar`: the AR(1) model's previous samples): a noisy reading of a linear sensor
 /// (relative GNSS's position and velocity, in the truth of the evaluation engine and of the
@@ -155,7 +160,7 @@ pub fn add_noise<R: rand::Rng + ?Sized>(
     ar: &mut [f64; 3],
     rng: &mut R,
 ) -> [f64; 3] {
-    std::array::from_fn(|i| v[i] + noise.sample(sigma[i], &mut ar[i], rng))
+    core::array::from_fn(|i| v[i] + noise.sample(sigma[i], &mut ar[i], rng))
 }
 
 impl Sensor<3> for VelocitySensor {
@@ -190,7 +195,7 @@ impl Sensor<3> for VelocitySensor {
 mod tests {
     #![allow(clippy::unwrap_used)]
     use super::*;
-    use std::f64::consts::{PI, TAU};
+    use core::f64::consts::{PI, TAU};
 
     const FRAMES: [Frame; 3] = [
         Frame::RadialAlongNormal,

@@ -45,7 +45,9 @@ mod sensor;
 
 pub(crate) use angles::ASIN_SERIES_MAX;
 pub use angles::{asin_series, asin_small, wrap_2pi, wrap_pi, AngleTrig};
-pub use camera::{add_noise, CameraSensor, VelocitySensor};
+#[cfg(feature = "std")]
+pub use camera::add_noise;
+pub use camera::{CameraSensor, VelocitySensor};
 pub use cartesian::CartesianSensor;
 pub use radio::RadioSensor;
 pub use sensor::{Linearization, Modelled, Sensor, SensorNoise, Support};
@@ -64,8 +66,19 @@ pub enum GeometryError {
     ZeroRange,
 }
 
-impl std::fmt::Display for GeometryError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+impl GeometryError {
+    /// The reason in words (as `Display` writes it; without `std`, without numbers).
+    pub fn message(&self) -> crate::message::Message {
+        match self {
+            GeometryError::ZeroRange => crate::msg!(
+                "relative range below {MIN_RANGE} m: azimuth and elevation are undefined"
+            ),
+        }
+    }
+}
+
+impl core::fmt::Display for GeometryError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         match self {
             GeometryError::ZeroRange => write!(
                 f,

@@ -12,11 +12,15 @@ use super::{
     GeometryError, MeasurementModel, SevenBlock, ASIN_SERIES_MAX, MIN_RANGE, POLE_COS,
 };
 use crate::frames::Frame;
+#[cfg(not(feature = "std"))]
+use crate::math::Float;
 use crate::noise::NoiseModel;
 use crate::types::{Mat3, Mat36, Vec3};
+use core::f64::consts::{FRAC_PI_2, PI};
+#[cfg(feature = "std")]
 use rand::Rng;
+#[cfg(feature = "std")]
 use rand_distr::StandardNormal;
-use std::f64::consts::{FRAC_PI_2, PI};
 
 /// Range/azimuth/elevation sensor in a chosen I/O frame.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -175,6 +179,7 @@ impl RadioSensor {
         Vec3::new(z.x - z_hat.x, wrap_pi(z.y - z_hat.y), z.z - z_hat.z)
     }
 
+    #[cfg(feature = "std")]
     /// A noisy measurement of the canonical position `r` drawn from `rng`; the azimuth is
     /// wrapped to `[0, 2 pi)`, the elevation clamped to `[-pi/2, pi/2]` and the range to
     /// `>= 0` (a sensor never reports outside these domains, and the filters reject such
@@ -192,6 +197,7 @@ impl RadioSensor {
         ))
     }
 
+    #[cfg(feature = "std")]
     /// A measurement of the canonical position `r` with additive noise from the density
     /// `noise` (see [`crate::noise`]): `z_i = h_i(r) + v_i`, `v_i` drawn with scale
     /// `sigma_range` for the range and `sigma_angle` for each angle, in that order, `ar`
@@ -406,7 +412,7 @@ impl MeasurementModel for RadioSensor {
             rho_c >= MIN_RANGE && rxy_c > 0.0 && cn_a > 0.5 && cn_e > 0.5 && z.z.abs() <= PI;
         let (w0, w) = wm;
         let (mut rho_s, mut sa_s, mut ca_s, mut de_s) = (0.0, 0.0, 0.0, 0.0);
-        let to: [Vec3; 3] = std::array::from_fn(|j| t * o[j]);
+        let to: [Vec3; 3] = core::array::from_fn(|j| t * o[j]);
         for k in 0..6 {
             let p = if k < 3 { pc + to[k] } else { pc - to[k - 3] };
             let rxy2 = p.x * p.x + p.y * p.y;
@@ -471,7 +477,7 @@ impl MeasurementModel for RadioSensor {
         out: &mut SevenBlock<B>,
     ) {
         let t = self.frame.rotation();
-        let to: [Vec3; 3] = std::array::from_fn(|j| t * o[j]);
+        let to: [Vec3; 3] = core::array::from_fn(|j| t * o[j]);
         let (w0, w) = wm;
         let (sza, cza) = trig.az;
         let (sze, cze) = trig.el;
@@ -488,7 +494,7 @@ impl MeasurementModel for RadioSensor {
             // t * c as nalgebra's product forms it: column by column
             let (c0, c1, c2) = (c[0][i], c[1][i], c[2][i]);
             let p: [f64; 3] =
-                std::array::from_fn(|r| t[(r, 0)] * c0 + t[(r, 1)] * c1 + t[(r, 2)] * c2);
+                core::array::from_fn(|r| t[(r, 0)] * c0 + t[(r, 1)] * c1 + t[(r, 2)] * c2);
             let rxy2 = p[0] * p[0] + p[1] * p[1];
             let rho = (rxy2 + p[2] * p[2]).sqrt();
             let rxy = rxy2.sqrt();

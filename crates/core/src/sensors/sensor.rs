@@ -58,9 +58,9 @@ impl<const D: usize> SensorNoise<D> {
     }
 
     /// Check the scales (finite, > 0) and the density's parameters.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), crate::message::Message> {
         if let Some(s) = self.scales.iter().find(|s| !(**s > 0.0 && s.is_finite())) {
-            return Err(format!(
+            return Err(crate::msg!(
                 "measurement noise scales must be finite and > 0 (got {s})"
             ));
         }
@@ -175,11 +175,11 @@ pub trait Sensor<const D: usize>: Sync {
     }
     /// Whether `z` is a measurement this sensor can produce (finite, in its domain); the
     /// message names the first bad component. Default: finite.
-    fn check(&self, z: &SVector<f64, D>) -> Result<(), String> {
+    fn check(&self, z: &SVector<f64, D>) -> Result<(), crate::message::Message> {
         if z.iter().all(|v| v.is_finite()) {
             Ok(())
         } else {
-            Err(format!(
+            Err(crate::msg!(
                 "measurement must be finite (got {:?})",
                 z.as_slice()
             ))

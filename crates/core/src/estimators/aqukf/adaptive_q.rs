@@ -4,6 +4,8 @@
 //! saved state.
 
 use super::params::{AdaptationLaw, AqParams, MAX_GATE_WINDOW, MAX_WINDOW};
+#[cfg(not(feature = "std"))]
+use crate::math::Float;
 use crate::numerics::state::{refuse, Persist, Reader, StateError, Writer};
 use crate::types::{Mat6, State, Vec3};
 
@@ -15,15 +17,93 @@ pub fn chi2_quantile_wh(dof: f64, z: f64) -> f64 {
     dof * b * b * b
 }
 
-/// The standard normal quantile at `p` in (0, 1) (NaN outside).
+/// The standard normal quantile at `p` in (0, 1) (NaN outside): Wichura's algorithm AS 241
+/// (PPND16, 1988), relative error about 1e-16, as R's `qnorm` computes it. Written here
+/// rather than taken from statrs because the core also builds without `std`, which statrs
+/// needs; a unit test holds it to statrs's quantile.
+#[allow(clippy::excessive_precision)] // the published coefficients, as printed
 pub(super) fn normal_quantile(p: f64) -> f64 {
-    use statrs::distribution::{ContinuousCDF, Normal};
+    fn horner(c: &[f64; 8], r: f64) -> f64 {
+        c.iter().rev().fold(0.0, |acc, &k| acc * r + k)
+    }
+    const A: [f64; 8] = [
+        3.387132872796366608,
+        133.14166789178437745,
+        1971.5909503065514427,
+        13731.693765509461125,
+        45921.953931549871457,
+        67265.770927008700853,
+        33430.575583588128105,
+        2509.0809287301226727,
+    ];
+    const B: [f64; 8] = [
+        1.0,
+        42.313330701600911252,
+        687.1870074920579083,
+        5394.1960214247511077,
+        21213.794301586595867,
+        39307.89580009271061,
+        28729.085735721942674,
+        5226.495278852545925,
+    ];
+    const C: [f64; 8] = [
+        1.42343711074968357734,
+        4.6303378461565452959,
+        5.7694972214606914055,
+        3.64784832476320460504,
+        1.27045825245236838258,
+        0.24178072517745061177,
+        0.0227238449892691845833,
+        7.7454501427834140764e-4,
+    ];
+    const D: [f64; 8] = [
+        1.0,
+        2.05319162663775882187,
+        1.6763848301838038494,
+        0.68976733498510000455,
+        0.14810397642748007459,
+        0.0151986665636164571966,
+        5.475938084995344946e-4,
+        1.05075007164441684324e-9,
+    ];
+    const E: [f64; 8] = [
+        6.6579046435011037772,
+        5.4637849111641143699,
+        1.7848265399172913358,
+        0.29656057182850489123,
+        0.026532189526576123093,
+        0.0012426609473880784386,
+        2.71155556874348757815e-5,
+        2.01033439929228813265e-7,
+    ];
+    const F: [f64; 8] = [
+        1.0,
+        0.59983220655588793769,
+        0.13692988092273580531,
+        0.0148753612908506148525,
+        7.868691311456132591e-4,
+        1.8463183175100546818e-5,
+        1.4215117583164458887e-7,
+        2.04426310338993978564e-15,
+    ];
     if !(p > 0.0 && p < 1.0) {
         return f64::NAN;
     }
-    match Normal::new(0.0, 1.0) {
-        Ok(n) => n.inverse_cdf(p),
-        Err(_) => f64::NAN,
+    let q = p - 0.5;
+    if q.abs() <= 0.425 {
+        let r = 0.180625 - q * q;
+        return q * horner(&A, r) / horner(&B, r);
+    }
+    let r = (-(if q < 0.0 { p } else { 1.0 - p }).ln()).sqrt();
+    let v = if r <= 5.0 {
+        horner(&C, r - 1.6) / horner(&D, r - 1.6)
+    } else {
+        horner(&E, r - 5.0) / horner(&F, r - 5.0)
+    };
+    if q < 0.0 {
+        -v
+    } else {
+        v
     }
 }
 
@@ -265,7 +345,7 @@ impl Persist for AdaptiveQ {
         *head = r.usize("AQUKF window position")?;
         *len = r.usize("AQUKF window fill")?;
         if *head >= n || *len > n {
-            return Err(refuse(format!(
+            return Err(refuse(crate::msg!(
                 "AQUKF window position {head} / fill {len} out of range for window {n}"
             )));
         }
@@ -279,7 +359,7 @@ impl Persist for AdaptiveQ {
         *gate_head = r.usize("AQUKF gate position")?;
         *gate_len = r.usize("AQUKF gate fill")?;
         if *gate_head >= m || *gate_len > m {
-            return Err(refuse(format!(
+            return Err(refuse(crate::msg!(
                 "AQUKF gate position {gate_head} / fill {gate_len} out of range for gate window {m}"
             )));
         }
@@ -292,7 +372,9 @@ impl Persist for AdaptiveQ {
         *open = r.bool("AQUKF gate state")?;
         let f = r.finite("AQUKF covariance inflation")?;
         if f < 1.0 {
-            return Err(refuse(format!("AQUKF covariance inflation {f} below 1")));
+            return Err(refuse(crate::msg!(
+                "AQUKF covariance inflation {f} below 1"
+            )));
         }
         *inflation = f;
         Ok(())

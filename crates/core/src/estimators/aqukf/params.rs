@@ -77,40 +77,40 @@ impl Default for AqParams {
 
 impl AqParams {
     /// Check the settings; the message names the offending one.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), crate::message::Message> {
         if !(1..=MAX_WINDOW).contains(&self.window) {
-            return Err(format!(
+            return Err(crate::msg!(
                 "window must lie in 1..={MAX_WINDOW} (got {})",
                 self.window
             ));
         }
         if !(self.floor.is_finite() && self.floor >= 0.0) {
-            return Err(format!(
+            return Err(crate::msg!(
                 "q_vv_floor must be finite and >= 0 (got {})",
                 crate::numerics::num(self.floor)
             ));
         }
         if !(self.ceiling.is_finite() && self.ceiling >= self.floor && self.ceiling > 0.0) {
-            return Err(format!(
+            return Err(crate::msg!(
                 "q_vv_ceiling must be finite, > 0 and >= q_vv_floor (got {}, floor {})",
                 crate::numerics::num(self.ceiling),
                 crate::numerics::num(self.floor)
             ));
         }
         if !self.q_vv0.iter().all(|q| q.is_finite() && *q >= 0.0) {
-            return Err(format!(
+            return Err(crate::msg!(
                 "the initial q_vv must be finite and >= 0 (got {:?})",
                 self.q_vv0.as_slice()
             ));
         }
         if !(1..=MAX_GATE_WINDOW).contains(&self.gate_window) {
-            return Err(format!(
+            return Err(crate::msg!(
                 "aq_gate_window must lie in 1..={MAX_GATE_WINDOW} (got {})",
                 self.gate_window
             ));
         }
         if !(self.gate_quantile > 0.0 && self.gate_quantile < 1.0) {
-            return Err(format!(
+            return Err(crate::msg!(
                 "aq_gate_quantile must lie in (0, 1) (got {}): the chi-square probability \
                  of the NIS gate",
                 crate::numerics::num(self.gate_quantile)

@@ -66,7 +66,7 @@ fn window_sum_matches_eq_29() {
         let dx = State::from_fn(|_, _| 0.1 * rng.sample::<f64, _>(StandardNormal));
         let t = 1.0 + rng.random::<f64>();
         a.observe(&dx, &p_post, &p_prior, t, f64::NAN, 3.0);
-        let d: [f64; 3] = std::array::from_fn(|i| {
+        let d: [f64; 3] = core::array::from_fn(|i| {
             let v = 3 + i;
             (dx[v] * dx[v] + p_post[(v, v)] - p_prior[(v, v)]) / t
         });
@@ -173,4 +173,21 @@ fn double_integrator_noise_is_van_loan() {
     let vl = cw.van_loan_q(&Mat3::from_diagonal(&q), t);
     let di = double_integrator_q(&q, t);
     assert!((vl - di).norm() <= 1e-6 * di.norm(), "{vl} vs {di}");
+}
+
+/// AS 241 against statrs's normal quantile over the whole range, tails included.
+#[test]
+fn normal_quantile_is_statrs_quantile() {
+    use statrs::distribution::{ContinuousCDF, Normal};
+    let n = Normal::new(0.0, 1.0).unwrap();
+    let mut worst: f64 = 0.0;
+    for k in 1..2000 {
+        let p = k as f64 / 2000.0;
+        for p in [p, p * 1e-6, p * 1e-12, 1.0 - p * 1e-9] {
+            let (a, b) = (normal_quantile(p), n.inverse_cdf(p));
+            worst = worst.max((a - b).abs() / b.abs().max(1e-3));
+        }
+    }
+    assert!(worst < 1e-14, "worst relative difference {worst:e}");
+    assert!(normal_quantile(0.0).is_nan() && normal_quantile(1.0).is_nan());
 }

@@ -222,20 +222,20 @@ impl ParticleFilter {
                 },
             );
         }
-        std::mem::swap(&mut self.x, &mut self.x_tmp);
-        std::mem::swap(&mut self.loglik, &mut self.loglik_tmp);
+        core::mem::swap(&mut self.x, &mut self.x_tmp);
+        core::mem::swap(&mut self.loglik, &mut self.loglik_tmp);
         if !self.pc.is_empty() {
             for (k, &i) in self.idx.iter().enumerate() {
                 self.xbar_tmp[k] = self.xbar[i];
             }
-            std::mem::swap(&mut self.xbar, &mut self.xbar_tmp);
+            core::mem::swap(&mut self.xbar, &mut self.xbar_tmp);
             // not carried, the covariances are all equal (zero after an update): nothing
             // to reorder
             if self.params.carry_covariance {
                 for (k, &i) in self.idx.iter().enumerate() {
                     self.pc_tmp[k] = self.pc[i];
                 }
-                std::mem::swap(&mut self.pc, &mut self.pc_tmp);
+                core::mem::swap(&mut self.pc, &mut self.pc_tmp);
             }
         }
     }

@@ -111,39 +111,64 @@
 //! ([`PfParams::threads`]; see the `par` module). Below, a step allocates nothing:
 //! every buffer is sized at construction (`tests/no_alloc.rs`).
 
+#[cfg(feature = "std")]
 mod filter;
+#[cfg(feature = "std")]
 pub mod genetic;
+#[cfg(feature = "std")]
 mod likelihood;
+#[cfg(feature = "std")]
 mod moments;
+#[cfg(feature = "std")]
 mod moves;
+#[cfg(feature = "std")]
 mod par;
 mod params;
+#[cfg(feature = "std")]
 mod persist;
+#[cfg(feature = "std")]
 mod predict;
+#[cfg(feature = "std")]
 mod regularise;
+#[cfg(feature = "std")]
 pub mod resample;
+#[cfg(feature = "std")]
 mod rng;
+#[cfg(feature = "std")]
 mod sensor_update;
 #[cfg(test)]
 mod tests;
+#[cfg(feature = "std")]
 mod transition;
+#[cfg(feature = "std")]
 mod unscented;
+#[cfg(feature = "std")]
 mod update;
 
-pub use par::{CHUNK, MAX_THREADS, PARALLEL_MIN_PARTICLES};
-pub use params::{bandwidth, Kernel, PfInit, PfKind, PfParams, MAX_PARTICLES};
+#[cfg(feature = "std")]
+pub use par::{CHUNK, PARALLEL_MIN_PARTICLES};
+pub use params::{
+    bandwidth, Kernel, PfInit, PfKind, PfParams, Resampler, MAX_PARTICLES, MAX_THREADS,
+};
+#[cfg(feature = "std")]
 pub use rng::{rng_from_state, rng_state, PfRng};
 
+#[cfg(feature = "std")]
 use super::ukf::Ukf;
+#[cfg(feature = "std")]
 use crate::numerics::soa::BLOCK;
+#[cfg(feature = "std")]
 use crate::types::{Mat6, State};
+#[cfg(feature = "std")]
 use par::Pool;
+#[cfg(feature = "std")]
 use std::cell::OnceCell;
 
 /// The state dimension.
 const N: usize = 6;
 
 /// A particle filter over the canonical 6-state (see the module documentation).
+#[cfg(feature = "std")]
 #[derive(Debug, Clone)]
 pub struct ParticleFilter {
     params: PfParams,

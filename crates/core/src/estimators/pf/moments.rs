@@ -51,7 +51,7 @@ fn exp_moments_inline(
     w: &mut [f64],
 ) -> (f64, Moments) {
     exp_weights(w, logw, max);
-    let rc: [f64; N] = std::array::from_fn(|k| reference[k]);
+    let rc: [f64; N] = core::array::from_fn(|k| reference[k]);
     let mut acc = PointSums::new();
     for (xi, &wi) in x.iter().zip(w.iter()) {
         acc.add(xi, &rc, wi);

@@ -32,9 +32,6 @@ pub const CHUNK: usize = 4096;
 /// on the calling thread without allocating).
 pub const PARALLEL_MIN_PARTICLES: usize = 32_768;
 
-/// Largest accepted worker-thread count of a particle filter's own pool.
-pub const MAX_THREADS: usize = 1024;
-
 /// Where the chunks run.
 #[derive(Debug, Clone)]
 pub(super) enum Pool {
@@ -94,7 +91,7 @@ pub(super) fn chunk_generators(base: &PfRng, n: usize) -> Vec<PfRng> {
 /// yields empty slices without end, so it can be zipped with the others.
 pub(super) fn chunks_mut<T>(s: &mut [T]) -> Box<dyn Iterator<Item = &mut [T]> + '_> {
     if s.is_empty() {
-        Box::new(std::iter::repeat_with(<&mut [T]>::default))
+        Box::new(core::iter::repeat_with(<&mut [T]>::default))
     } else {
         Box::new(s.chunks_mut(CHUNK))
     }

@@ -3,10 +3,10 @@
 //! the genetic and cloud-genetic operators' settings ([`GeneticParams`], [`CloudParams`])
 //! and [`PfParams`], which holds them all.
 
-use super::par::MAX_THREADS;
-use super::resample::Resampler;
 use super::N;
 use crate::estimators::ukf::UkfParams;
+#[cfg(not(feature = "std"))]
+use crate::math::Float;
 
 /// The particle-filter variants (FMU / C ABI filter codes 4-8).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -151,24 +151,24 @@ impl PfParams {
     }
 
     /// Check the settings; the message names the bad one.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), crate::message::Message> {
         if self.particles == 0 {
             return Err("particles must be >= 1 (got 0)".into());
         }
         if self.particles > MAX_PARTICLES {
-            return Err(format!(
+            return Err(crate::msg!(
                 "particles must be <= {MAX_PARTICLES} (got {})",
                 self.particles
             ));
         }
         if !(self.threshold > 0.0 && self.threshold <= 1.0) {
-            return Err(format!(
+            return Err(crate::msg!(
                 "resample threshold must lie in (0, 1] (got {})",
                 self.threshold
             ));
         }
         if self.threads > MAX_THREADS {
-            return Err(format!(
+            return Err(crate::msg!(
                 "particle-filter threads must be <= {MAX_THREADS} (got {})",
                 self.threads
             ));
@@ -189,7 +189,8 @@ impl PfParams {
 pub const MAX_PARTICLES: usize = 2_000_000;
 
 /// Volume of the unit ball in 6 dimensions, `pi^3 / 6`.
-const UNIT_BALL_6: f64 = std::f64::consts::PI * std::f64::consts::PI * std::f64::consts::PI / 6.0;
+const UNIT_BALL_6: f64 =
+    core::f64::consts::PI * core::f64::consts::PI * core::f64::consts::PI / 6.0;
 
 /// Optimal RPF bandwidth for `n = 6` and `particles` particles.
 pub fn bandwidth(kernel: Kernel, particles: usize) -> f64 {
@@ -198,7 +199,7 @@ pub fn bandwidth(kernel: Kernel, particles: usize) -> f64 {
     match kernel {
         Kernel::Gaussian => (4.0 / (np * (n + 2.0))).powf(1.0 / (n + 4.0)),
         Kernel::Epanechnikov => {
-            let a = (8.0 * (n + 4.0) * (2.0 * std::f64::consts::PI.sqrt()).powf(n) / UNIT_BALL_6)
+            let a = (8.0 * (n + 4.0) * (2.0 * core::f64::consts::PI.sqrt()).powf(n) / UNIT_BALL_6)
                 .powf(1.0 / (n + 4.0));
             a * np.powf(-1.0 / (n + 4.0))
         }
@@ -229,7 +230,7 @@ impl Default for GeneticParams {
 
 impl GeneticParams {
     /// Check the settings.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), crate::message::Message> {
         prob("genetic crossover probability", self.crossover)?;
         prob("genetic mutation probability", self.mutation)?;
         positive("genetic mutation_scale", self.mutation_scale)
@@ -277,21 +278,22 @@ impl Default for CloudParams {
 
 impl CloudParams {
     /// Check the settings.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), crate::message::Message> {
         positive("cloud c1", self.c1)?;
         positive("cloud c2", self.c2)?;
         positive("cloud c3", self.c3)?;
         positive("cloud c4", self.c4)?;
         if !(self.mu_min > 0.0 && self.mu_min <= self.mu_max && self.mu_max < 1.0) {
-            return Err(format!(
+            return Err(crate::msg!(
                 "cloud certainties need 0 < mu_min <= mu_max < 1 (got {}, {})",
-                self.mu_min, self.mu_max
+                self.mu_min,
+                self.mu_max
             ));
         }
         prob("cloud k_crossover", self.k_crossover)?;
         prob("cloud k_mutation", self.k_mutation)?;
         if self.generations == 0 || self.generations > 100 {
-            return Err(format!(
+            return Err(crate::msg!(
                 "cloud generations must lie in 1..=100 (got {})",
                 self.generations
             ));
@@ -300,18 +302,68 @@ impl CloudParams {
     }
 }
 
-fn prob(name: &str, v: f64) -> Result<(), String> {
+fn prob(name: &str, v: f64) -> Result<(), crate::message::Message> {
     if (0.0..=1.0).contains(&v) {
         Ok(())
     } else {
-        Err(format!("{name} must lie in [0, 1] (got {v})"))
+        Err(crate::msg!("{name} must lie in [0, 1] (got {v})"))
     }
 }
 
-fn positive(name: &str, v: f64) -> Result<(), String> {
+fn positive(name: &str, v: f64) -> Result<(), crate::message::Message> {
     if v.is_finite() && v > 0.0 {
         Ok(())
     } else {
-        Err(format!("{name} must be finite and > 0 (got {v})"))
+        Err(crate::msg!("{name} must be finite and > 0 (got {v})"))
     }
 }
+
+/// Resampling schemes (codes for the C ABI / FMU: 1 multinomial, 2 systematic, 3 stratified,
+/// 4 residual). See the [`resample`](super::resample) module for the definitions and references.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[repr(i32)]
+pub enum Resampler {
+    /// `M` iid draws from the categorical distribution of the weights (paper 000's SIR).
+    Multinomial = 1,
+    /// One uniform `U`, points `(k + U) / M` (Kitagawa 1996).
+    #[default]
+    Systematic = 2,
+    /// One uniform per stratum, points `(k + U_k) / M` (Kitagawa 1996).
+    Stratified = 3,
+    /// `floor(M w_i)` deterministic copies, the rest multinomial (Liu & Chen 1998).
+    Residual = 4,
+}
+
+impl Resampler {
+    /// Every scheme, in code order.
+    pub const ALL: [Resampler; 4] = [
+        Resampler::Multinomial,
+        Resampler::Systematic,
+        Resampler::Stratified,
+        Resampler::Residual,
+    ];
+
+    /// The scheme with C ABI / FMU code `c` (1-4), or `None` for an unknown code.
+    pub fn from_code(c: i32) -> Option<Self> {
+        match c {
+            1 => Some(Resampler::Multinomial),
+            2 => Some(Resampler::Systematic),
+            3 => Some(Resampler::Stratified),
+            4 => Some(Resampler::Residual),
+            _ => None,
+        }
+    }
+
+    /// Lower-case name (`"multinomial"`, `"systematic"`, `"stratified"`, `"residual"`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Resampler::Multinomial => "multinomial",
+            Resampler::Systematic => "systematic",
+            Resampler::Stratified => "stratified",
+            Resampler::Residual => "residual",
+        }
+    }
+}
+
+/// Largest accepted worker-thread count of a particle filter's own pool.
+pub const MAX_THREADS: usize = 1024;

@@ -91,7 +91,7 @@ impl Persist for ParticleFilter {
         w.matrix(pred_mean);
         w.matrix(pred_cov);
         w.matrix(pred_l);
-        for g in std::iter::once(rng).chain(chunk_rng.iter()) {
+        for g in core::iter::once(rng).chain(chunk_rng.iter()) {
             for word in rng_state(g).unwrap_or([0; 4]) {
                 w.u64(word);
             }
@@ -210,7 +210,7 @@ impl Persist for ParticleFilter {
         *pred_mean = r.matrix("predictive mean")?;
         *pred_cov = r.matrix("predictive covariance")?;
         *pred_l = r.matrix("predictive covariance factor")?;
-        for g in std::iter::once(rng).chain(chunk_rng.iter_mut()) {
+        for g in core::iter::once(rng).chain(chunk_rng.iter_mut()) {
             let mut s = [0u64; 4];
             for word in s.iter_mut() {
                 *word = r.u64("generator state")?;

@@ -51,7 +51,7 @@ impl Estimator for ParticleFilter {
         let rng_saved = self.rng.clone();
         self.save_chunk_rngs();
         // `soa` is overwritten: current again only if the step succeeds and wrote it
-        let soa_in = std::mem::take(&mut self.soa_fresh);
+        let soa_in = core::mem::take(&mut self.soa_fresh);
         let mut fresh = false;
         let check = if self.chunked() {
             let jobs: Vec<_> = self
@@ -100,8 +100,8 @@ impl Estimator for ParticleFilter {
                 "predicted particles"
             }));
         }
-        std::mem::swap(&mut self.x, &mut self.x_tmp);
-        std::mem::swap(&mut self.xbar, &mut self.xbar_tmp);
+        core::mem::swap(&mut self.x, &mut self.x_tmp);
+        core::mem::swap(&mut self.xbar, &mut self.xbar_tmp);
         self.soa_fresh = fresh;
         self.awaiting_velocity = false;
         if self.pending {
@@ -109,7 +109,7 @@ impl Estimator for ParticleFilter {
             for (o, &i) in self.loglik_tmp.iter_mut().zip(&self.idx) {
                 *o = self.loglik[i];
             }
-            std::mem::swap(&mut self.loglik, &mut self.loglik_tmp);
+            core::mem::swap(&mut self.loglik, &mut self.loglik_tmp);
             self.pending = false;
         }
         (self.q_key, self.q_sqrt, self.q_pd) = (model.q, l, lower);

@@ -42,7 +42,7 @@ impl ParticleFilter {
         // (the attribute makes it so: without it LLVM kept the closure a function of its
         // own, compiled for the baseline, and the dispatch had no effect on the loop;
         // `identity` only because an attribute on a closure needs argument position)
-        let run_inline = std::convert::identity(
+        let run_inline = core::convert::identity(
             #[inline(always)]
             |x: &mut [State], loglik: &mut [f64], rng: &mut super::PfRng| {
                 let mut counts = (0u64, 0u64);
@@ -147,10 +147,10 @@ impl ParticleFilter {
                 for (l, &i) in self.loglik_tmp.iter_mut().zip(&self.idx) {
                     *l = self.loglik[i];
                 }
-                std::mem::swap(&mut self.loglik, &mut self.loglik_tmp);
+                core::mem::swap(&mut self.loglik, &mut self.loglik_tmp);
                 let parents = Some((&self.x[..], &self.idx[..]));
                 let sums = run(&mut self.x_tmp, parents, soa, &mut self.rng);
-                std::mem::swap(&mut self.x, &mut self.x_tmp);
+                core::mem::swap(&mut self.x, &mut self.x_tmp);
                 sums
             } else {
                 run(&mut self.x, None, soa, &mut self.rng)
@@ -211,7 +211,7 @@ impl Jitter {
         };
         let h = bandwidth(kernel, particles);
         Some(Self {
-            d: std::array::from_fn(|r| std::array::from_fn(|c| root[(r, c)] * h)),
+            d: core::array::from_fn(|r| core::array::from_fn(|c| root[(r, c)] * h)),
             lower,
             kernel,
         })

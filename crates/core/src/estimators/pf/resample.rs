@@ -42,52 +42,7 @@ use crate::numerics::{lane_sum, lane_sum_sq};
 use rand::Rng;
 use rand_distr::{Distribution, Exp1};
 
-/// Resampling schemes (codes for the C ABI / FMU: 1 multinomial, 2 systematic, 3 stratified,
-/// 4 residual). See the [module documentation](self) for the definitions and references.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-#[repr(i32)]
-pub enum Resampler {
-    /// `M` iid draws from the categorical distribution of the weights (paper 000's SIR).
-    Multinomial = 1,
-    /// One uniform `U`, points `(k + U) / M` (Kitagawa 1996).
-    #[default]
-    Systematic = 2,
-    /// One uniform per stratum, points `(k + U_k) / M` (Kitagawa 1996).
-    Stratified = 3,
-    /// `floor(M w_i)` deterministic copies, the rest multinomial (Liu & Chen 1998).
-    Residual = 4,
-}
-
-impl Resampler {
-    /// Every scheme, in code order.
-    pub const ALL: [Resampler; 4] = [
-        Resampler::Multinomial,
-        Resampler::Systematic,
-        Resampler::Stratified,
-        Resampler::Residual,
-    ];
-
-    /// The scheme with C ABI / FMU code `c` (1-4), or `None` for an unknown code.
-    pub fn from_code(c: i32) -> Option<Self> {
-        match c {
-            1 => Some(Resampler::Multinomial),
-            2 => Some(Resampler::Systematic),
-            3 => Some(Resampler::Stratified),
-            4 => Some(Resampler::Residual),
-            _ => None,
-        }
-    }
-
-    /// Lower-case name (`"multinomial"`, `"systematic"`, `"stratified"`, `"residual"`).
-    pub fn name(self) -> &'static str {
-        match self {
-            Resampler::Multinomial => "multinomial",
-            Resampler::Systematic => "systematic",
-            Resampler::Stratified => "stratified",
-            Resampler::Residual => "residual",
-        }
-    }
-}
+pub use super::params::Resampler;
 
 /// Draw `out.len()` parent indices from the normalised weights `w` (sum 1, all >= 0,
 /// `w.len() >= 1`): new particle i copies particle out[i]. `scratch` has w.len() slots
@@ -720,7 +675,7 @@ mod tests {
     fn counts_check_refuses_a_wrong_estimate() {
         let (m, u) = (100usize, 0.37);
         let step = 1.0 / m as f64;
-        let c: [f64; 8] = std::array::from_fn(|i| (i as f64 + 0.5) * 0.13);
+        let c: [f64; 8] = core::array::from_fn(|i| (i as f64 + 0.5) * 0.13);
         let mut n = [0u64; 8];
         assert!(count_below(&c, u, step, 1.0 / step, m as f64, &mut n));
         for (ci, &ni) in c.iter().zip(&n) {

@@ -45,7 +45,7 @@ impl ParticleFilter {
         sensor: &S,
         z: &SVector<f64, D>,
     ) -> Result<SensorUpdate<D>, FilterError> {
-        let fresh = std::mem::take(&mut self.soa_fresh);
+        let fresh = core::mem::take(&mut self.soa_fresh);
         self.materialise();
         let noise = sensor.noise();
         // the first step's velocity reading, after its position fix: the velocities from

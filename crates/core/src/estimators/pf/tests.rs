@@ -46,7 +46,7 @@ fn dispatched_loops_equal_baseline_bitwise() {
             .collect()
     };
     let fbits = |v: &[f64]| -> Vec<u64> { v.iter().map(|x| x.to_bits()).collect() };
-    let m = CwModel::new(2.0 * std::f64::consts::PI / 5400.0);
+    let m = CwModel::new(2.0 * core::f64::consts::PI / 5400.0);
     let mut d = m.discretize(1.0, &Mat3::zeros(), Discretization::Exact);
     d.q += Mat6::from_diagonal(&State::new(0.09, 6.25e-4, 2.5e-3, 1e-6, 1e-6, 1e-6));
     let l = chol(&d.q).expect("pd");
@@ -190,7 +190,7 @@ fn one_pass_weights_and_moments_equal_the_two_pass_ones() {
 #[test]
 fn transposed_particles_change_no_bit() {
     use crate::sensors::RadioSensor;
-    let m = CwModel::new(2.0 * std::f64::consts::PI / 5400.0);
+    let m = CwModel::new(2.0 * core::f64::consts::PI / 5400.0);
     let mut d = m.discretize(1.0, &Mat3::zeros(), Discretization::Exact);
     d.q += Mat6::from_diagonal(&State::new(0.09, 6.25e-4, 2.5e-3, 1e-6, 1e-6, 1e-6));
     let s = RadioSensor::new(crate::frames::Frame::AlongRadialAntinormal, 0.5, 1e-3);

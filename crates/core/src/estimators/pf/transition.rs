@@ -291,7 +291,7 @@ mod tests {
     /// (Euler's is not coupled either; a rotated one is) falls back to the full product.
     #[test]
     fn cw_blocks_equal_the_full_product() {
-        let m = CwModel::new(2.0 * std::f64::consts::PI / 5400.0);
+        let m = CwModel::new(2.0 * core::f64::consts::PI / 5400.0);
         for dt in [0.1, 1.0, 600.0] {
             for disc in [Discretization::Exact, Discretization::Euler] {
                 let phi = m.discretize(dt, &Mat3::zeros(), disc).phi;
@@ -314,7 +314,7 @@ mod tests {
     #[test]
     fn gathered_transition_equals_the_resampled_cloud() {
         use crate::numerics::simd::with_baseline;
-        let m = CwModel::new(2.0 * std::f64::consts::PI / 5400.0);
+        let m = CwModel::new(2.0 * core::f64::consts::PI / 5400.0);
         let mut d = m.discretize(1.0, &Mat3::zeros(), Discretization::Exact);
         d.q += Mat6::from_diagonal(&State::new(0.09, 6.25e-4, 2.5e-3, 1e-6, 1e-6, 1e-6));
         let l = chol(&d.q).expect("pd");

@@ -302,7 +302,7 @@ impl<M: MeasurementModel> Unscented<'_, M> {
             || {
                 for i in 0..BLOCK {
                     let (st, m) = (&wb.step, &wb.m);
-                    let e: [f64; N] = std::array::from_fn(|k| eps[k][i]);
+                    let e: [f64; N] = core::array::from_fn(|k| eps[k][i]);
                     let u = [
                         st[0][i] + m[0][i] * e[0],
                         st[1][i] + m[1][i] * e[0] + m[3][i] * e[1],
@@ -321,7 +321,7 @@ impl<M: MeasurementModel> Unscented<'_, M> {
                     }
                     // `|A u|^2` (A = I: `|u|^2`), summed from zero as nalgebra does
                     let up: [f64; N] = match &sd.a {
-                        Some(a) => std::array::from_fn(|r| {
+                        Some(a) => core::array::from_fn(|r| {
                             let mut y = a[(r, 0)] * u[0];
                             for j in 1..N {
                                 y += a[(r, j)] * u[j];

@@ -107,8 +107,8 @@ impl ParticleFilter {
         if !self.x_tmp.iter().all(|x| x.iter().all(|v| v.is_finite())) {
             return Err(FilterError::NonFinite(what.1));
         }
-        std::mem::swap(&mut self.x, &mut self.x_tmp);
-        std::mem::swap(&mut self.xbar, &mut self.xbar_tmp);
+        core::mem::swap(&mut self.x, &mut self.x_tmp);
+        core::mem::swap(&mut self.xbar, &mut self.xbar_tmp);
         Ok(())
     }
 
@@ -360,7 +360,7 @@ impl ParticleFilter {
     ) -> Result<UpdateInfo, FilterError> {
         let n = self.x.len();
         // whether `soa` holds the current particles (cleared: the update may change them)
-        let fresh = std::mem::take(&mut self.soa_fresh);
+        let fresh = core::mem::take(&mut self.soa_fresh);
         self.materialise();
         if self.awaiting_first {
             self.init_from_measurement(sensor, z, noise, scales)?;
@@ -464,11 +464,11 @@ impl ParticleFilter {
                     "particle weights (every likelihood is zero)",
                 ))?;
         // commit: from here on nothing can fail
-        std::mem::swap(&mut self.w, &mut self.scratch);
-        std::mem::swap(&mut self.logw, &mut self.logw_tmp);
+        core::mem::swap(&mut self.w, &mut self.scratch);
+        core::mem::swap(&mut self.logw, &mut self.logw_tmp);
         if proposed {
-            std::mem::swap(&mut self.x, &mut self.x_tmp);
-            std::mem::swap(&mut self.pc, &mut self.pc_tmp);
+            core::mem::swap(&mut self.x, &mut self.x_tmp);
+            core::mem::swap(&mut self.pc, &mut self.pc_tmp);
         }
         self.ess = self.effective_sample_size();
         let resampling = self.ess < self.params.threshold * n as f64;

@@ -207,7 +207,9 @@ fn solve_mixed<const M: usize>(
     let (xval, yval) = (xv.value(xs), y.value(xs));
     let x_inv = xval.clone().try_inverse().ok_or_else(|| HinfError {
         kind: HinfErrorKind::Infeasible,
-        message: "the solver's slack X is singular: no observer gain can be recovered".to_string(),
+        message: "the solver's slack X is singular: no observer gain can be recovered"
+            .to_string()
+            .into(),
     })?;
     let gain = &x_inv * &yval;
     let g_scaled = Gain::<M>::from_fn(|i, j| gain[(i, j)]);
@@ -231,7 +233,8 @@ fn solve_mixed<const M: usize>(
                  {max_eig:e} >= 0 at gamma {gamma_bound}, Clarabel {:?}): no observer with a \
                  certified bound was found",
                 sol.status
-            ),
+            )
+            .into(),
         });
     }
     // back to the plant's coordinates: e = S^-1 e', so G = S^-1 G'

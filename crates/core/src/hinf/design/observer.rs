@@ -155,7 +155,8 @@ pub fn design_observer_sdp<const M: usize>(
             "the solver's P violates the eliminated LMIs (Clarabel {:?}): no observer gain can \
              be reconstructed",
             sol.status
-        ),
+        )
+        .into(),
     })?;
     finish_observer(plant, period, &sol, &pv, &yv, gamma2, t0, DesignRoute::Sdp)
 }
@@ -244,7 +245,9 @@ fn finish_observer<const M: usize>(
 ) -> Result<HinfDesign, HinfError> {
     let p_inv = pv.clone().try_inverse().ok_or_else(|| HinfError {
         kind: HinfErrorKind::Infeasible,
-        message: "the solver's P is singular: no observer gain can be recovered".to_string(),
+        message: "the solver's P is singular: no observer gain can be recovered"
+            .to_string()
+            .into(),
     })?;
     let gain = &p_inv * yv;
     let g = Gain::<M>::from_fn(|i, j| gain[(i, j)]);
@@ -256,7 +259,8 @@ fn finish_observer<const M: usize>(
             message: format!(
                 "the solver's answer violates the strict LMI (largest eigenvalue {max_eig:e} \
                  >= 0): no observer with a certified gamma was found"
-            ),
+            )
+            .into(),
         });
     }
     Ok(HinfDesign {

@@ -136,7 +136,8 @@ pub fn design_paper(
                 "the solver's R, S violate the eliminated LMIs (Clarabel {:?}): no filter \
                  can be reconstructed",
                 sol.status
-            ),
+            )
+            .into(),
         })?;
     finish_paper(
         plant,
@@ -221,7 +222,9 @@ fn finish_paper(
 ) -> Result<HinfDesign, HinfError> {
     let s_inv = svv.clone().try_inverse().ok_or_else(|| HinfError {
         kind: HinfErrorKind::Infeasible,
-        message: "the solver's S is singular: no filter can be recovered".to_string(),
+        message: "the solver's S is singular: no filter can be recovered"
+            .to_string()
+            .into(),
     })?;
     let a_f = &s_inv * abv;
     let b_f = &s_inv * bbv;
@@ -244,7 +247,8 @@ fn finish_paper(
                  >= 0 at gamma {}, Clarabel {:?}): no filter with a certified gamma was found",
                 gamma2.sqrt(),
                 sol.status
-            ),
+            )
+            .into(),
         });
     }
     Ok(HinfDesign {
@@ -405,7 +409,8 @@ fn robustly_stable(plant: &HinfPlant) -> Result<(), HinfError> {
                      Ha F Ea at F = diag(+-1) vertex {mask}); Theorem 1's augmented system \
                      contains the plant state, so no filter exists — for an open-loop plant \
                      use the observer design"
-                ),
+                )
+                .into(),
             });
         }
     }

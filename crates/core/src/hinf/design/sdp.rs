@@ -164,7 +164,7 @@ pub(super) fn dm<const R: usize, const C: usize>(m: &nalgebra::SMatrix<f64, R, C
 /// svec of a symmetric matrix in Clarabel's convention: upper triangle by columns,
 /// off-diagonal entries times sqrt(2).
 fn svec(m: &DMatrix<f64>, out: &mut Vec<f64>) {
-    let s2 = std::f64::consts::SQRT_2;
+    let s2 = core::f64::consts::SQRT_2;
     for j in 0..m.ncols() {
         for i in 0..=j {
             out.push(if i == j { m[(i, j)] } else { s2 * m[(i, j)] });
@@ -252,7 +252,7 @@ impl Sdp {
             DefaultSolver::new(&p, &self.cost, &a, &b, &cones, settings).map_err(|e| {
                 HinfError {
                     kind: HinfErrorKind::SolverFailed,
-                    message: format!("Clarabel rejected the problem: {e:?}"),
+                    message: format!("Clarabel rejected the problem: {e:?}").into(),
                 }
             })?;
         crate::numerics::blas::single_thread();
@@ -271,7 +271,8 @@ impl Sdp {
                         "no filter satisfies the LMI (Clarabel: {status:?} after {} \
                          iterations)",
                         solver.solution.iterations
-                    ),
+                    )
+                    .into(),
                 })
             }
             other => Err(HinfError {
@@ -279,7 +280,8 @@ impl Sdp {
                 message: format!(
                     "Clarabel stopped with {other:?} after {} iterations",
                     solver.solution.iterations
-                ),
+                )
+                .into(),
             }),
         }
     }
@@ -355,7 +357,7 @@ pub(super) fn thin_factor(m: &DMatrix<f64>) -> DMatrix<f64> {
 /// is singular.
 pub(super) fn one_row_solution(
     psi: &DMatrix<f64>,
-    rows: std::ops::Range<usize>,
+    rows: core::ops::Range<usize>,
     v: &DMatrix<f64>,
 ) -> Option<DMatrix<f64>> {
     let rest: Vec<usize> = (0..psi.nrows()).filter(|i| !rows.contains(i)).collect();

@@ -1,6 +1,6 @@
 use super::*;
+use core::f64::consts::TAU;
 use rand::SeedableRng;
-use std::f64::consts::TAU;
 
 #[test]
 fn definitions_in_each_frame() {
@@ -192,7 +192,7 @@ fn seven_block_equals_unscented_seven_bitwise() {
         for k in 0..200 {
             let spread = [0.3, 3.0, 30.0][k % 3];
             let o: [Vec3; 3] =
-                std::array::from_fn(|_| Vec3::from_fn(|_, _| rng.random_range(-spread..spread)));
+                core::array::from_fn(|_| Vec3::from_fn(|_, _| rng.random_range(-spread..spread)));
             let wm = [(0.0, 1.0 / 6.0), (-2.0, 0.5)][k % 2];
             // every fourth measurement off the cloud by up to 0.1 rad (innovation
             // angles beyond the series' 2^-5: `libm`'s `asin` in both forms)
@@ -275,7 +275,7 @@ fn unscented_transform_equals_the_default() {
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(5);
     let weights = [
         [1.0 / 12.0; 13],
-        std::array::from_fn(|i| if i == 0 { -2.0 } else { 0.25 }),
+        core::array::from_fn(|i| if i == 0 { -2.0 } else { 0.25 }),
     ];
     for frame in [
         Frame::RadialAlongNormal,
@@ -291,7 +291,7 @@ fn unscented_transform_equals_the_default() {
                 _ => Vec3::from_fn(|_, _| rng.random_range(-1000.0..1000.0)),
             };
             let spread = [1.0, 50.0, 2000.0][k % 3];
-            let mut r: [Vec3; 13] = std::array::from_fn(|_| {
+            let mut r: [Vec3; 13] = core::array::from_fn(|_| {
                 c + Vec3::from_fn(|_, _| rng.random_range(-spread..spread))
             });
             if k % 97 == 0 {

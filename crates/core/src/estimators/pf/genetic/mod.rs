@@ -187,7 +187,8 @@ impl ParticleFilter {
                 let Some(d) = d else {
                     return;
                 };
-                let d: [[f64; 6]; 6] = std::array::from_fn(|i| std::array::from_fn(|j| d[(i, j)]));
+                let d: [[f64; 6]; 6] =
+                    core::array::from_fn(|i| core::array::from_fn(|j| d[(i, j)]));
                 let lower = (0..6).all(|i| (i + 1..6).all(|j| d[i][j] == 0.0));
                 let count = pop.select(n, g.mutation, None, |_, _, _| {});
                 pop.mutate_blocks(
@@ -303,11 +304,11 @@ impl ParticleFilter {
                         }
                     }
                     let cut = c.c3 * (gen + 1) as f64;
-                    let en: [f64; 6] = std::array::from_fn(|k| (hi[k] - lo[k]) / cut);
-                    let he: [f64; 6] = std::array::from_fn(|k| en[k] / c.c4);
+                    let en: [f64; 6] = core::array::from_fn(|k| (hi[k] - lo[k]) / cut);
+                    let he: [f64; 6] = core::array::from_fn(|k| en[k] / c.c4);
                     // components with a step density (`He > 0`); the others add nothing
                     // to the Hastings ratio
-                    let live: [bool; 6] = std::array::from_fn(|k| he[k] > 0.0);
+                    let live: [bool; 6] = core::array::from_fn(|k| he[k] > 0.0);
                     let count = pop.select(
                         n,
                         c.k_mutation,

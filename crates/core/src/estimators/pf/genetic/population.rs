@@ -205,7 +205,7 @@ impl Pop<'_> {
         best: Option<f64>,
     ) {
         const P: usize = B / 2;
-        let ln2 = std::f64::consts::LN_2;
+        let ln2 = core::f64::consts::LN_2;
         let mut c = [[0.0; B]; 6];
         let mut dd = [[0.0; P]; 6];
         let mut scratch = [[0.0; P]; 6];

@@ -4,7 +4,7 @@
 use super::B;
 use crate::estimators::pf::likelihood::ParticleLikelihood;
 use crate::types::{Mat6, State};
-use std::marker::PhantomData;
+use core::marker::PhantomData;
 
 /// The move steps' target `ln pi(x) = ln p(z | x) + ln N(x; m-, P-)` on blocks of
 /// candidates in structure-of-arrays form (`c[k][lane]`): the likelihood through
@@ -23,9 +23,9 @@ impl<'a, const D: usize, Lk: ParticleLikelihood<D>> Target<'a, Lk, D> {
         Self {
             lik,
             dim: PhantomData,
-            m: std::array::from_fn(|k| m[k]),
-            l: std::array::from_fn(|i| std::array::from_fn(|j| l[(i, j)])),
-            inv_diag: std::array::from_fn(|k| 1.0 / l[(k, k)]),
+            m: core::array::from_fn(|k| m[k]),
+            l: core::array::from_fn(|i| core::array::from_fn(|j| l[(i, j)])),
+            inv_diag: core::array::from_fn(|k| 1.0 / l[(k, k)]),
         }
     }
 

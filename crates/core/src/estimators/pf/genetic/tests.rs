@@ -60,15 +60,15 @@ fn hastings_ratio_equals_the_step_densities() {
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(9);
     for case in 0..400 {
         let en: [f64; 6] =
-            std::array::from_fn(|k| 10f64.powf(rng.random_range(-3.0..2.0)) * (k + 1) as f64);
-        let he: [f64; 6] = std::array::from_fn(|k| {
+            core::array::from_fn(|k| 10f64.powf(rng.random_range(-3.0..2.0)) * (k + 1) as f64);
+        let he: [f64; 6] = core::array::from_fn(|k| {
             if case % 7 == 0 && k == 2 {
                 0.0
             } else {
                 en[k] / rng.random_range(3.0..5.0)
             }
         });
-        let live: [bool; 6] = std::array::from_fn(|k| he[k] > 0.0);
+        let live: [bool; 6] = core::array::from_fn(|k| he[k] > 0.0);
         let mut l = Block::new(B, 0.0, 0.0);
         let mut ln_mu_back = [0.0; B];
         for lane in 0..B {
@@ -139,7 +139,7 @@ fn literal_target_is_the_likelihood_alone() {
     let m = State::new(400.0, 500.0, 200.0, 0.0, 0.0, 0.0);
     let l = Mat6::from_diagonal(&State::new(5.0, 5.0, 5.0, 0.1, 0.1, 0.1));
     let c: [[f64; B]; 6] =
-        std::array::from_fn(|k| std::array::from_fn(|i| m[k] + (i * (k + 1)) as f64));
+        core::array::from_fn(|k| core::array::from_fn(|i| m[k] + (i * (k + 1)) as f64));
     let (mut u, mut flat, mut gauss) = ([[0.0; B]; 6], [1.0; B], [0.0; B]);
     let literal = Target::<_, 3>::likelihood_only(&lik);
     let moved = Target::<_, 3>::new(&lik, &m, &l);
