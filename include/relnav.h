@@ -6,6 +6,14 @@
 #include <stddef.h>
 #include <stdint.h>
 
+// Bytes of storage that hold an estimator in every build: static storage for
+// [`relnav_estimator_init`] (`RELNAV_ESTIMATOR_STORAGE_SIZE` bytes aligned to
+// `RELNAV_ESTIMATOR_STORAGE_ALIGN`; [`relnav_estimator_storage`] gives the exact need).
+#define RELNAV_ESTIMATOR_STORAGE_SIZE 32768
+
+// The alignment of `RELNAV_ESTIMATOR_STORAGE_SIZE`'s storage, at least the estimator's.
+#define RELNAV_ESTIMATOR_STORAGE_ALIGN 16
+
 // Result of every fallible call. Values are stable.
 typedef enum relnav_status {
   // Success.
@@ -551,6 +559,35 @@ const char *relnav_last_error(void);
 // `config` is null or points to a `relnav_config`; `out` is null or writable.
 enum relnav_status relnav_estimator_new(const struct relnav_config *config,
                                         struct relnav_estimator **out);
+
+// The storage [`relnav_estimator_init`] needs: `*size` bytes aligned to `*align` (a power
+// of two).
+//
+// # Safety
+// `size` and `align` are null or writable.
+enum relnav_status relnav_estimator_storage(size_t *size, size_t *align);
+
+// Create an estimator in the caller's `storage` (`size` bytes, aligned as
+// [`relnav_estimator_storage`] says): no heap. On success `*out` holds the handle, which
+// points into `storage`; end it with [`relnav_estimator_deinit`] (not
+// [`relnav_estimator_free`]) before the storage is reused. On error `*out` is set to null
+// and the storage holds no estimator.
+//
+// # Safety
+// `storage` is null or points to `size` writable bytes that nothing else uses while the
+// estimator lives; `config` is null or points to a `relnav_config`; `out` is null or
+// writable.
+enum relnav_status relnav_estimator_init(void *storage,
+                                         size_t size,
+                                         const struct relnav_config *config,
+                                         struct relnav_estimator **out);
+
+// End an estimator made by [`relnav_estimator_init`]; its storage is the caller's again.
+// Null is accepted and ignored (`RELNAV_OK` either way).
+//
+// # Safety
+// `estimator` is null or a handle from [`relnav_estimator_init`] not yet ended.
+enum relnav_status relnav_estimator_deinit(struct relnav_estimator *estimator);
 
 // Release an estimator. Null is accepted and ignored.
 //

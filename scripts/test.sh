@@ -3,8 +3,9 @@
 #
 #   setup (scripts/setup.sh, also builds and installs the Python package relnav)
 #   -> cargo fmt --check -> cargo clippy -D warnings (workspace, every target: benches and
-#   examples are compiled and linted here) -> relnav-core without std -> cargo test (libraries, binaries, tests/)
-#   -> cargo build --release -> FMUs and SSP (fmu/build.sh: relnav.fmu, the system kit's
+#   examples are compiled and linted here) -> cargo test (libraries, binaries, tests/)
+#   -> cargo build --release -> the flight library (scripts/build-flight.sh: relnav without
+#   std, its programs checked against the release library) -> FMUs and SSP (fmu/build.sh: relnav.fmu, the system kit's
 #   relnav_plant.fmu, relnav_guidance.fmu, relnav_system.ssp)
 #   -> pytest tests/python (in .venv, two workers) -> C++ harness (cmake, build, ctest; valgrind)
 #   -> C++ harness under ASan+UBSan (second build dir) -> fuzz smoke run (scripts/fuzz.sh
@@ -157,10 +158,10 @@ stage "setup" required bash scripts/setup.sh
 start_fuzz_build
 stage "cargo fmt --check" optional cargo fmt --all -- --check
 stage "cargo clippy" optional cargo clippy --workspace --all-targets -j"$JOBS" -- -D warnings
-stage "no_std core" optional cargo build -p relnav-core --no-default-features -j"$JOBS"
 stage "cargo test" optional cargo test --workspace --exclude relnav-python --tests -j"$JOBS"
 stage "cargo test --doc" optional cargo test --workspace --exclude relnav-python --doc -j"$JOBS"
 stage "cargo build --release" required cargo build --release -j"$JOBS"
+stage "flight library" optional bash scripts/build-flight.sh -j"$JOBS"
 stage "build FMUs" required bash fmu/build.sh -j"$JOBS"
 stage "pytest tests/python" optional run_pytest
 stage "C++ harness" optional run_cpp_harness

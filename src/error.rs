@@ -1,10 +1,11 @@
 //! Status codes, the per-thread last-error message and the internal [`Failure`] that
 //! carries both to the boundary.
 
+use core::ffi::{c_char, c_int, CStr};
+use relnav_core::message::Message;
 use relnav_core::nav::{NavError, NavErrorKind};
-use std::cell::RefCell;
-use std::ffi::{c_char, c_int, CStr, CString};
-use std::panic::catch_unwind;
+#[cfg(feature = "std")]
+use std::{cell::RefCell, ffi::CString, panic::catch_unwind};
 
 /// Result of every fallible call. Values are stable.
 #[repr(C)]
@@ -33,18 +34,51 @@ pub enum relnav_status {
     RELNAV_ERROR_INVALID_STATE = 8,
 }
 
+#[cfg(feature = "std")]
 thread_local! {
     static LAST_ERROR: RefCell<CString> = RefCell::new(CString::default());
 }
 
+#[cfg(feature = "std")]
 pub(crate) fn set_last_error(msg: &str) {
     let clean: Vec<u8> = msg.bytes().filter(|b| *b != 0).collect();
     let c = CString::new(clean).unwrap_or_default();
     LAST_ERROR.with(|e| *e.borrow_mut() = c);
 }
 
+/// Without `std` (the flight library, which starts no threads): the last message in one
+/// static, NUL-terminated buffer, shared by the threads of a caller that calls relnav from
+/// several (documented in the header: the flight library is for one thread).
+#[cfg(not(feature = "std"))]
+struct LastError(core::cell::UnsafeCell<[u8; relnav_core::message::MESSAGE_CAPACITY + 1]>);
+
+// SAFETY: the flight library is documented for one thread; the buffer is only written by
+// `set_last_error` and read through the pointer `relnav_last_error` hands out.
+#[cfg(not(feature = "std"))]
+unsafe impl Sync for LastError {}
+
+#[cfg(not(feature = "std"))]
+static LAST_ERROR: LastError = LastError(core::cell::UnsafeCell::new(
+    [0; relnav_core::message::MESSAGE_CAPACITY + 1],
+));
+
+#[cfg(not(feature = "std"))]
+pub(crate) fn set_last_error(msg: &str) {
+    // SAFETY: one thread (see `LastError`); no reference to the buffer outlives this call.
+    let buf = unsafe { &mut *LAST_ERROR.0.get() };
+    let mut n = 0;
+    for (dst, b) in buf.iter_mut().zip(msg.bytes().filter(|b| *b != 0)) {
+        *dst = b;
+        n += 1;
+    }
+    let end = n.min(buf.len() - 1);
+    if let Some(z) = buf.get_mut(end) {
+        *z = 0;
+    }
+}
+
 /// An error that crosses the boundary: status plus message.
-pub(crate) struct Failure(pub(crate) relnav_status, pub(crate) String);
+pub(crate) struct Failure(pub(crate) relnav_status, pub(crate) Message);
 
 impl From<NavError> for Failure {
     fn from(e: NavError) -> Self {
@@ -54,15 +88,14 @@ impl From<NavError> for Failure {
             NavErrorKind::Numerical => relnav_status::RELNAV_ERROR_NUMERICAL,
             NavErrorKind::InvalidState => relnav_status::RELNAV_ERROR_INVALID_STATE,
         };
-        Failure(status, e.message.into())
+        Failure(status, e.message)
     }
 }
 
 pub(crate) fn null(arg: &str, func: &str) -> Failure {
-    Failure(
-        relnav_status::RELNAV_ERROR_NULL_POINTER,
-        format!("{func}: argument `{arg}` is null"),
-    )
+    let mut m = Message::text(func);
+    m.push(": argument `").push(arg).push("` is null");
+    Failure(relnav_status::RELNAV_ERROR_NULL_POINTER, m)
 }
 
 /// A static, readable name for a status code (unknown codes give `"unknown status"`).
@@ -87,5 +120,8 @@ pub extern "C" fn relnav_status_string(status: c_int) -> *const c_char {
 /// The pointer stays valid until the next failing call on the same thread.
 #[no_mangle]
 pub extern "C" fn relnav_last_error() -> *const c_char {
-    catch_unwind(|| LAST_ERROR.with(|e| e.borrow().as_ptr())).unwrap_or(c"".as_ptr())
+    #[cfg(feature = "std")]
+    return catch_unwind(|| LAST_ERROR.with(|e| e.borrow().as_ptr())).unwrap_or(c"".as_ptr());
+    #[cfg(not(feature = "std"))]
+    return LAST_ERROR.0.get().cast::<c_char>();
 }

@@ -5,6 +5,7 @@ use crate::error::{null, relnav_status, Failure};
 use crate::panic::boundary;
 use crate::ptr::{read_array, write_array};
 use relnav_core::nav::{NavConfig, Navigator};
+#[cfg(feature = "std")]
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
 /// Opaque estimator handle.
@@ -13,12 +14,12 @@ pub struct relnav_estimator {
 }
 
 /// # Safety
-/// `ptr` is null or a handle from `relnav_estimator_new` not yet freed.
+/// `ptr` is null or a live handle (`relnav_estimator_new` or `relnav_estimator_init`).
 pub(super) unsafe fn estimator_mut<'a>(
     ptr: *mut relnav_estimator,
     func: &str,
 ) -> Result<&'a mut Navigator, Failure> {
-    // SAFETY: non-null handles come from Box::into_raw in relnav_estimator_new.
+    // SAFETY: non-null handles come from relnav_estimator_new or relnav_estimator_init.
     unsafe { ptr.as_mut() }
         .map(|e| &mut e.nav)
         .ok_or_else(|| null("estimator", func))
@@ -30,7 +31,7 @@ pub(super) unsafe fn estimator_ref<'a>(
     ptr: *const relnav_estimator,
     func: &str,
 ) -> Result<&'a Navigator, Failure> {
-    // SAFETY: non-null handles come from Box::into_raw in relnav_estimator_new.
+    // SAFETY: non-null handles come from relnav_estimator_new or relnav_estimator_init.
     unsafe { ptr.as_ref() }
         .map(|e| &e.nav)
         .ok_or_else(|| null("estimator", func))
@@ -73,16 +74,127 @@ pub unsafe extern "C" fn relnav_estimator_new(
             return Err(null("out", F));
         }
         // SAFETY: `out` is non-null and writable by the caller's contract.
-        unsafe { *out = std::ptr::null_mut() };
+        unsafe { *out = core::ptr::null_mut() };
         // SAFETY: caller guarantees a valid or null pointer.
         let c = unsafe { config.as_ref() }.ok_or_else(|| null("config", F))?;
         let cfg = NavConfig::try_from(c)?;
-        let nav = Navigator::new(&cfg)?;
-        let handle = Box::into_raw(Box::new(relnav_estimator { nav }));
+        #[cfg(feature = "std")]
+        {
+            let nav = Navigator::new(&cfg)?;
+            let handle = Box::into_raw(Box::new(relnav_estimator { nav }));
+            // SAFETY: as above.
+            unsafe { *out = handle };
+            Ok(())
+        }
+        #[cfg(not(feature = "std"))]
+        {
+            let _ = cfg;
+            Err(Failure(
+                relnav_status::RELNAV_ERROR_NOT_IMPLEMENTED,
+                "relnav_estimator_new: not in this build (the flight library has no heap): \
+                 use relnav_estimator_init"
+                    .into(),
+            ))
+        }
+    })
+}
+
+/// Bytes of storage that hold an estimator in every build: static storage for
+/// [`relnav_estimator_init`] (`RELNAV_ESTIMATOR_STORAGE_SIZE` bytes aligned to
+/// `RELNAV_ESTIMATOR_STORAGE_ALIGN`; [`relnav_estimator_storage`] gives the exact need).
+pub const RELNAV_ESTIMATOR_STORAGE_SIZE: usize = 32768;
+/// The alignment of `RELNAV_ESTIMATOR_STORAGE_SIZE`'s storage, at least the estimator's.
+pub const RELNAV_ESTIMATOR_STORAGE_ALIGN: usize = 16;
+const _: () = assert!(
+    core::mem::size_of::<relnav_estimator>() <= RELNAV_ESTIMATOR_STORAGE_SIZE
+        && core::mem::align_of::<relnav_estimator>() <= RELNAV_ESTIMATOR_STORAGE_ALIGN
+);
+
+/// The storage [`relnav_estimator_init`] needs: `*size` bytes aligned to `*align` (a power
+/// of two).
+///
+/// # Safety
+/// `size` and `align` are null or writable.
+#[no_mangle]
+pub unsafe extern "C" fn relnav_estimator_storage(
+    size: *mut usize,
+    align: *mut usize,
+) -> relnav_status {
+    const F: &str = "relnav_estimator_storage";
+    boundary(F, || {
+        // SAFETY: pointer contracts are the caller's, checked for null.
+        let s = unsafe { size.as_mut() }.ok_or_else(|| null("size", F))?;
         // SAFETY: as above.
-        unsafe { *out = handle };
+        let a = unsafe { align.as_mut() }.ok_or_else(|| null("align", F))?;
+        *s = core::mem::size_of::<relnav_estimator>();
+        *a = core::mem::align_of::<relnav_estimator>();
         Ok(())
     })
+}
+
+/// Create an estimator in the caller's `storage` (`size` bytes, aligned as
+/// [`relnav_estimator_storage`] says): no heap. On success `*out` holds the handle, which
+/// points into `storage`; end it with [`relnav_estimator_deinit`] (not
+/// [`relnav_estimator_free`]) before the storage is reused. On error `*out` is set to null
+/// and the storage holds no estimator.
+///
+/// # Safety
+/// `storage` is null or points to `size` writable bytes that nothing else uses while the
+/// estimator lives; `config` is null or points to a `relnav_config`; `out` is null or
+/// writable.
+#[no_mangle]
+pub unsafe extern "C" fn relnav_estimator_init(
+    storage: *mut core::ffi::c_void,
+    size: usize,
+    config: *const relnav_config,
+    out: *mut *mut relnav_estimator,
+) -> relnav_status {
+    const F: &str = "relnav_estimator_init";
+    boundary(F, || {
+        if out.is_null() {
+            return Err(null("out", F));
+        }
+        // SAFETY: `out` is non-null and writable by the caller's contract.
+        unsafe { *out = core::ptr::null_mut() };
+        if storage.is_null() {
+            return Err(null("storage", F));
+        }
+        let place = storage.cast::<relnav_estimator>();
+        if size < core::mem::size_of::<relnav_estimator>() || !place.is_aligned() {
+            return Err(Failure(
+                relnav_status::RELNAV_ERROR_INVALID_ARGUMENT,
+                "relnav_estimator_init: the storage is smaller or less aligned than \
+                 relnav_estimator_storage says"
+                    .into(),
+            ));
+        }
+        // SAFETY: caller guarantees a valid or null pointer.
+        let c = unsafe { config.as_ref() }.ok_or_else(|| null("config", F))?;
+        let nav = Navigator::new(&NavConfig::try_from(c)?)?;
+        // SAFETY: `place` is non-null, aligned and has room for one `relnav_estimator`
+        // (checked above), writable and unused by the caller's contract.
+        unsafe { place.write(relnav_estimator { nav }) };
+        // SAFETY: as for `out` above.
+        unsafe { *out = place };
+        Ok(())
+    })
+}
+
+/// End an estimator made by [`relnav_estimator_init`]; its storage is the caller's again.
+/// Null is accepted and ignored (`RELNAV_OK` either way).
+///
+/// # Safety
+/// `estimator` is null or a handle from [`relnav_estimator_init`] not yet ended.
+#[no_mangle]
+pub unsafe extern "C" fn relnav_estimator_deinit(
+    estimator: *mut relnav_estimator,
+) -> relnav_status {
+    if !estimator.is_null() {
+        // SAFETY: the handle holds an estimator written by relnav_estimator_init and is
+        // ended exactly once by the caller's contract.
+        unsafe { core::ptr::drop_in_place(estimator) };
+    }
+    relnav_status::RELNAV_OK
 }
 
 /// Release an estimator. Null is accepted and ignored.
@@ -91,12 +203,16 @@ pub unsafe extern "C" fn relnav_estimator_new(
 /// `estimator` is null or a handle from [`relnav_estimator_new`] not yet freed.
 #[no_mangle]
 pub unsafe extern "C" fn relnav_estimator_free(estimator: *mut relnav_estimator) {
+    #[cfg(feature = "std")]
     let _ = catch_unwind(AssertUnwindSafe(|| {
         if !estimator.is_null() {
             // SAFETY: the handle came from Box::into_raw and is freed exactly once.
             drop(unsafe { Box::from_raw(estimator) });
         }
     }));
+    // without std no handle comes from relnav_estimator_new
+    #[cfg(not(feature = "std"))]
+    let _ = estimator;
 }
 
 /// Time update over `dt` seconds with `thrust` (3 doubles, [N], configured frame) held
@@ -559,6 +675,7 @@ pub unsafe extern "C" fn relnav_estimator_get_mode_probabilities(
     })
 }
 
+#[cfg(feature = "std")]
 /// How the H-infinity filter of an estimator created with filter 9 was designed: the
 /// route (Riccati bisection or SDP), the gamma-optimal stage's route and why its Riccati
 /// route was not taken if it was not, the bisection's trials, Clarabel's iterations and
@@ -583,6 +700,7 @@ pub unsafe extern "C" fn relnav_estimator_get_hinf_design(
     }
 }
 
+#[cfg(feature = "std")]
 fn design_info_of(nav: &Navigator) -> crate::hinf::relnav_hinf_design_info {
     nav.hinf_design_info()
         .map_or(crate::hinf::relnav_hinf_design_info::NONE, |i| {

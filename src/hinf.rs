@@ -137,7 +137,7 @@ impl From<relnav_core::hinf::HinfError> for Failure {
             K::Infeasible => relnav_status::RELNAV_ERROR_INFEASIBLE,
             K::SolverFailed => relnav_status::RELNAV_ERROR_NUMERICAL,
         };
-        Failure(status, e.message.into())
+        Failure(status, e.message)
     }
 }
 
@@ -167,7 +167,7 @@ pub unsafe extern "C" fn relnav_hinf_design(
 /// The Rust spec of a C spec: the scalings, or the full matrices where they are zero.
 fn spec_from_c(s: &relnav_hinf_spec) -> Result<relnav_core::hinf::HinfSpec, Failure> {
     use relnav_core::types::{Mat3, Mat6};
-    let invalid = |m: String| Failure(relnav_status::RELNAV_ERROR_INVALID_ARGUMENT, m);
+    let invalid = |m: String| Failure(relnav_status::RELNAV_ERROR_INVALID_ARGUMENT, m.into());
     if (s.b_pos == 0.0) != (s.b_vel == 0.0) {
         return Err(invalid(format!(
             "b_pos and b_vel are both > 0 (diagonal B) or both 0 (b_matrix) (got {} and {})",
@@ -207,7 +207,8 @@ fn hinf_design(s: &relnav_hinf_spec, o: &mut relnav_hinf_result) -> Result<(), F
         other => {
             return Err(Failure(
                 relnav_status::RELNAV_ERROR_INVALID_ARGUMENT,
-                format!("unknown hinf form code {other} (allowed: 1 observer, 2 paper, 3 mixed)"),
+                format!("unknown hinf form code {other} (allowed: 1 observer, 2 paper, 3 mixed)")
+                    .into(),
             ))
         }
     };
@@ -290,7 +291,7 @@ pub unsafe extern "C" fn relnav_config_hinf_spec(
 fn hinf_design(_s: &relnav_hinf_spec, _o: &mut relnav_hinf_result) -> Result<(), Failure> {
     Err(Failure(
         relnav_status::RELNAV_ERROR_NOT_IMPLEMENTED,
-        "relnav_hinf_design: this build has no `hinf` feature (no LMI solver)".to_string(),
+        "relnav_hinf_design: this build has no `hinf` feature (no LMI solver)".into(),
     ))
 }
 
@@ -356,7 +357,7 @@ pub unsafe extern "C" fn relnav_hinf_filter_step(
         if !a.iter().chain(yv.iter().flatten()).all(|v| v.is_finite()) {
             return Err(Failure(
                 relnav_status::RELNAV_ERROR_INVALID_ARGUMENT,
-                format!("{F}: y and accel must be finite"),
+                format!("{F}: y and accel must be finite").into(),
             ));
         }
         let yv = yv.map(|v| relnav_core::types::Vec3::from_row_slice(&v));

@@ -25,12 +25,14 @@
 //! restoring an estimator's state).
 
 #![allow(non_camel_case_types)]
+#![cfg_attr(not(feature = "std"), no_std)]
 
 pub mod config;
 #[rustfmt::skip]
 mod config_fields;
 pub mod error;
 pub mod estimator;
+#[cfg(feature = "std")]
 pub mod hinf;
 mod panic;
 mod ptr;
@@ -39,10 +41,11 @@ pub mod state;
 pub use config::*;
 pub use error::*;
 pub use estimator::*;
+#[cfg(feature = "std")]
 pub use hinf::*;
 pub use state::*;
 
-use std::ffi::{c_char, CStr};
+use core::ffi::{c_char, CStr};
 
 static VERSION_C: &CStr =
     match CStr::from_bytes_with_nul(concat!(env!("CARGO_PKG_VERSION"), "\0").as_bytes()) {
@@ -55,3 +58,19 @@ static VERSION_C: &CStr =
 pub extern "C" fn relnav_version() -> *const c_char {
     VERSION_C.as_ptr()
 }
+
+/// Without `std` (the flight library, `panic = "abort"`): a panic stops in place. No panic
+/// is reachable in the flight library, which `scripts/build-flight.sh` checks on a linked
+/// program (no `core::panicking` symbol).
+#[cfg(all(not(feature = "std"), not(test)))]
+#[panic_handler]
+fn panic(_: &core::panic::PanicInfo<'_>) -> ! {
+    loop {}
+}
+
+/// Without `std`: the precompiled `core` of a hosted target is built for unwinding and
+/// names this symbol in its unwind tables; the flight library aborts on panic, so nothing
+/// calls it (not in the header: `cbindgen.toml` excludes it).
+#[cfg(all(not(feature = "std"), not(test)))]
+#[no_mangle]
+pub extern "C" fn rust_eh_personality() {}

@@ -16,7 +16,7 @@ pub(crate) unsafe fn read_array<const N: usize>(
     }
     let mut out = [0.0; N];
     // SAFETY: the caller guarantees N readable doubles at a non-null `ptr`.
-    let src = unsafe { std::slice::from_raw_parts(ptr, N) };
+    let src = unsafe { core::slice::from_raw_parts(ptr, N) };
     out.copy_from_slice(src);
     Ok(out)
 }
@@ -35,7 +35,7 @@ pub(crate) unsafe fn write_array<const N: usize>(
         return Err(null(arg, func));
     }
     // SAFETY: the caller guarantees N writable doubles at a non-null `ptr`.
-    let dst = unsafe { std::slice::from_raw_parts_mut(ptr, N) };
+    let dst = unsafe { core::slice::from_raw_parts_mut(ptr, N) };
     dst.copy_from_slice(v);
     Ok(())
 }

@@ -49,23 +49,20 @@ pub unsafe extern "C" fn relnav_estimator_save(
         if cap < need {
             return Err(Failure(
                 relnav_status::RELNAV_ERROR_BUFFER_TOO_SMALL,
-                format!("{F}: the state needs {need} bytes, the buffer holds {cap}"),
-            ));
-        }
-        let mut bytes = Vec::with_capacity(need);
-        nav.save_state(&mut bytes);
-        if bytes.len() != need {
-            return Err(Failure(
-                relnav_status::RELNAV_ERROR_PANIC,
-                format!(
-                    "{F}: internal error: the state took {} bytes, {need} were counted",
-                    bytes.len()
-                ),
+                relnav_core::msg!("{F}: the state needs {need} bytes, the buffer holds {cap}"),
             ));
         }
         // SAFETY: `buf` is non-null with `cap >= need` writable bytes by contract.
-        let dst = unsafe { std::slice::from_raw_parts_mut(buf, need) };
-        dst.copy_from_slice(&bytes);
+        let dst = unsafe { core::slice::from_raw_parts_mut(buf, need) };
+        let took = nav.save_state_into(dst)?;
+        if took != need {
+            return Err(Failure(
+                relnav_status::RELNAV_ERROR_PANIC,
+                relnav_core::msg!(
+                    "{F}: internal error: the state took {took} bytes, {need} were counted"
+                ),
+            ));
+        }
         Ok(())
     })
 }
@@ -93,10 +90,10 @@ pub unsafe extern "C" fn relnav_estimator_restore(
             return Err(null("buf", F));
         }
         // SAFETY: `buf` is non-null with `len` readable bytes by contract.
-        let bytes = unsafe { std::slice::from_raw_parts(buf, len) };
+        let bytes = unsafe { core::slice::from_raw_parts(buf, len) };
         nav.restore_state(bytes).map_err(|e| {
             let mut f = Failure::from(e);
-            f.1 = format!("{F}: {}", f.1);
+            f.1 = f.1.prefixed("relnav_estimator_restore: ");
             f
         })
     })

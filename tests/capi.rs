@@ -938,3 +938,78 @@ fn get_estimate_is_state_then_sigma() {
         }
     }
 }
+
+/// An estimator in the caller's storage (`relnav_estimator_init`, the flight library's
+/// only way): the storage query and its compile-time bound, the refusals (null, too small,
+/// misaligned), and steps bit for bit those of a heap estimator, for each Kalman-type
+/// filter; `relnav_estimator_deinit` accepts null.
+#[test]
+fn estimator_in_caller_storage_is_the_heap_estimator() {
+    let (mut size, mut align) = (0usize, 0usize);
+    // SAFETY: writable pointers.
+    assert_eq!(
+        unsafe { relnav_estimator_storage(&mut size, &mut align) },
+        OK
+    );
+    assert!(size > 0 && size <= RELNAV_ESTIMATOR_STORAGE_SIZE, "{size}");
+    assert!(align.is_power_of_two() && align <= RELNAV_ESTIMATOR_STORAGE_ALIGN);
+    // SAFETY: null pointers are refused.
+    assert_eq!(
+        unsafe { relnav_estimator_storage(std::ptr::null_mut(), &mut align) },
+        relnav_status::RELNAV_ERROR_NULL_POINTER
+    );
+    #[repr(C, align(16))]
+    struct Storage([u8; RELNAV_ESTIMATOR_STORAGE_SIZE]);
+    let mut storage = Box::new(Storage([0; RELNAV_ESTIMATOR_STORAGE_SIZE]));
+    let base = storage.0.as_mut_ptr().cast::<std::ffi::c_void>();
+    let c = relnav_config_default();
+    let mut est = std::ptr::null_mut();
+    // SAFETY: the storage is live and unused; the refusals write nothing into it.
+    unsafe {
+        assert_eq!(relnav_estimator_init(base, size - 1, &c, &mut est), INVALID);
+        assert!(
+            est.is_null() && last_error().contains("storage"),
+            "{}",
+            last_error()
+        );
+        assert_eq!(
+            relnav_estimator_init(base.cast::<u8>().add(1).cast(), size, &c, &mut est),
+            INVALID
+        );
+        assert_eq!(
+            relnav_estimator_init(std::ptr::null_mut(), size, &c, &mut est),
+            relnav_status::RELNAV_ERROR_NULL_POINTER
+        );
+        assert_eq!(relnav_estimator_deinit(std::ptr::null_mut()), OK);
+    }
+    for filter in [
+        relnav_filter::RELNAV_FILTER_EKF,
+        relnav_filter::RELNAV_FILTER_UKF,
+        relnav_filter::RELNAV_FILTER_AQUKF,
+        relnav_filter::RELNAV_FILTER_IMM,
+        relnav_filter::RELNAV_FILTER_REKF,
+    ] {
+        let mut c = relnav_config_default();
+        c.filter = filter as i32;
+        let heap = Est::new(&c);
+        // SAFETY: the storage is live, aligned, large enough and unused.
+        assert_eq!(
+            unsafe { relnav_estimator_init(base, size, &c, &mut est) },
+            OK,
+            "{}",
+            last_error()
+        );
+        let placed = Est(est);
+        for k in 0..50 {
+            let zk = (k % 5 != 2).then(|| z(k));
+            assert_eq!(heap.step(zk.as_ref()), OK);
+            assert_eq!(placed.step(zk.as_ref()), OK);
+        }
+        let bits = |x: [f64; 6]| x.map(f64::to_bits);
+        assert_eq!(bits(heap.state()), bits(placed.state()), "{filter:?}");
+        assert_eq!(bits(heap.sigma()), bits(placed.sigma()), "{filter:?}");
+        std::mem::forget(placed); // not freed: it lives in `storage`
+                                  // SAFETY: made by relnav_estimator_init, ended once.
+        assert_eq!(unsafe { relnav_estimator_deinit(est) }, OK);
+    }
+}

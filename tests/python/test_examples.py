@@ -38,6 +38,9 @@ README_COMMANDS = {
     "cc -Iinclude cpp-harness/examples/quickstart.c target/release/librelnav.a -lpthread -ldl -lm -o quickstart "
     "&& ./quickstart": "test_doc_cc_commands_build_and_run",
     ".venv/bin/python examples/relnav_python_quickstart.py": "test_package_api.py::test_readme_example_runs",
+    "bash scripts/build-flight.sh": "scripts/test.sh, stage 'flight library'",
+    "cc -Iinclude cpp-harness/examples/quickstart.c target/flight/librelnav.a -lm -o quickstart_flight "
+    "&& ./quickstart_flight": "test_doc_cc_commands_build_and_run",
 }
 
 
