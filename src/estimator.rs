@@ -675,7 +675,6 @@ pub unsafe extern "C" fn relnav_estimator_get_mode_probabilities(
     })
 }
 
-#[cfg(feature = "std")]
 /// How the H-infinity filter of an estimator created with filter 9 was designed: the
 /// route (Riccati bisection or SDP), the gamma-optimal stage's route and why its Riccati
 /// route was not taken if it was not, the bisection's trials, Clarabel's iterations and
@@ -700,7 +699,6 @@ pub unsafe extern "C" fn relnav_estimator_get_hinf_design(
     }
 }
 
-#[cfg(feature = "std")]
 fn design_info_of(nav: &Navigator) -> crate::hinf::relnav_hinf_design_info {
     nav.hinf_design_info()
         .map_or(crate::hinf::relnav_hinf_design_info::NONE, |i| {

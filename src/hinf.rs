@@ -4,7 +4,16 @@
 use crate::error::{null, relnav_status, Failure};
 use crate::panic::boundary;
 use crate::ptr::{read_array, write_array};
+#[cfg(feature = "std")]
 use std::panic::{catch_unwind, AssertUnwindSafe};
+
+/// The refusal of a call the flight library (no std) does not have.
+#[cfg(not(feature = "std"))]
+fn not_in_this_build(func: &str) -> Failure {
+    let mut m = relnav_core::message::Message::text(func);
+    m.push(": not in this build (the flight library)");
+    Failure(relnav_status::RELNAV_ERROR_NOT_IMPLEMENTED, m)
+}
 
 /// Which H-infinity design `relnav_hinf_design` solves.
 #[repr(C)]
@@ -116,6 +125,7 @@ fn to_c_matrices(m: &relnav_core::hinf::HinfMatrices) -> relnav_hinf_matrices {
     o
 }
 
+#[cfg(feature = "std")]
 fn from_c_matrices(m: &relnav_hinf_matrices) -> relnav_core::hinf::HinfMatrices {
     use relnav_core::types::{Mat6, Mat63};
     relnav_core::hinf::HinfMatrices {
@@ -245,6 +255,23 @@ pub unsafe extern "C" fn relnav_config_hinf_spec(
         let c = unsafe { config.as_ref() }.ok_or_else(|| null("config", F))?;
         // SAFETY: as above.
         let o = unsafe { out.as_mut() }.ok_or_else(|| null("out", F))?;
+        #[cfg(not(feature = "std"))]
+        {
+            let _ = (c, o);
+            Err(not_in_this_build(F))
+        }
+        #[cfg(feature = "std")]
+        config_hinf_spec(c, o)
+    })
+}
+
+/// [`relnav_config_hinf_spec`] once its pointers are checked.
+#[cfg(feature = "std")]
+fn config_hinf_spec(
+    c: &crate::config::relnav_config,
+    o: &mut relnav_hinf_spec,
+) -> Result<(), Failure> {
+    {
         // validate as filter 9, whatever the configured filter
         let mut c9 = *c;
         c9.filter = relnav_core::nav::FilterKind::Hinf as i32;
@@ -284,7 +311,7 @@ pub unsafe extern "C" fn relnav_config_hinf_spec(
             d_matrix,
         };
         Ok(())
-    })
+    }
 }
 
 #[cfg(not(feature = "hinf"))]
@@ -320,12 +347,20 @@ pub unsafe extern "C" fn relnav_hinf_filter_new(
         let x = unsafe { read_array::<6>(x0, "x0", F) }?;
         // SAFETY: as above.
         let o = unsafe { out.as_mut() }.ok_or_else(|| null("out", F))?;
-        let f = relnav_core::hinf::HinfFilter::new(
-            from_c_matrices(m),
-            relnav_core::types::State::from_row_slice(&x),
-        )?;
-        *o = Box::into_raw(Box::new(relnav_hinf_filter { f }));
-        Ok(())
+        #[cfg(feature = "std")]
+        {
+            let f = relnav_core::hinf::HinfFilter::new(
+                from_c_matrices(m),
+                relnav_core::types::State::from_row_slice(&x),
+            )?;
+            *o = Box::into_raw(Box::new(relnav_hinf_filter { f }));
+            Ok(())
+        }
+        #[cfg(not(feature = "std"))]
+        {
+            let _ = (m, x, o);
+            Err(not_in_this_build(F))
+        }
     })
 }
 
@@ -357,7 +392,7 @@ pub unsafe extern "C" fn relnav_hinf_filter_step(
         if !a.iter().chain(yv.iter().flatten()).all(|v| v.is_finite()) {
             return Err(Failure(
                 relnav_status::RELNAV_ERROR_INVALID_ARGUMENT,
-                format!("{F}: y and accel must be finite").into(),
+                relnav_core::msg!("{F}: y and accel must be finite"),
             ));
         }
         let yv = yv.map(|v| relnav_core::types::Vec3::from_row_slice(&v));
@@ -391,6 +426,10 @@ pub unsafe extern "C" fn relnav_hinf_filter_get_state(
 /// `filter` is null or a handle from `relnav_hinf_filter_new` not yet freed.
 #[no_mangle]
 pub unsafe extern "C" fn relnav_hinf_filter_free(filter: *mut relnav_hinf_filter) {
+    // without std no handle comes from relnav_hinf_filter_new
+    #[cfg(not(feature = "std"))]
+    let _ = filter;
+    #[cfg(feature = "std")]
     if !filter.is_null() {
         let _ = catch_unwind(AssertUnwindSafe(|| {
             // SAFETY: the handle came from Box::into_raw and is freed once.
@@ -515,7 +554,20 @@ fn failure_code(f: relnav_core::hinf::riccati::RiccatiFailure) -> i32 {
 /// `relnav::hinf::riccati::RiccatiFailure`; `"none"` for `RELNAV_HINF_RICCATI_OK`,
 /// `"unknown Riccati failure code"` for other codes.
 #[no_mangle]
-pub extern "C" fn relnav_hinf_riccati_failure_string(code: i32) -> *const std::ffi::c_char {
+pub extern "C" fn relnav_hinf_riccati_failure_string(code: i32) -> *const core::ffi::c_char {
+    #[cfg(not(feature = "std"))]
+    return match code {
+        0 => c"none",
+        1..=4 => c"a Riccati failure (its text is not in this build: the flight library)",
+        _ => c"unknown Riccati failure code",
+    }
+    .as_ptr();
+    #[cfg(feature = "std")]
+    riccati_failure_text(code)
+}
+
+#[cfg(feature = "std")]
+fn riccati_failure_text(code: i32) -> *const core::ffi::c_char {
     use std::ffi::CString;
     use std::sync::OnceLock;
     static TEXT: OnceLock<Vec<CString>> = OnceLock::new();

@@ -32,7 +32,6 @@ pub mod config;
 mod config_fields;
 pub mod error;
 pub mod estimator;
-#[cfg(feature = "std")]
 pub mod hinf;
 mod panic;
 mod ptr;
@@ -41,7 +40,6 @@ pub mod state;
 pub use config::*;
 pub use error::*;
 pub use estimator::*;
-#[cfg(feature = "std")]
 pub use hinf::*;
 pub use state::*;
 

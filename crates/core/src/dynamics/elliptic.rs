@@ -81,6 +81,7 @@ use super::{DiscreteModel, Discretization, RelativeDynamics};
 #[cfg(not(feature = "std"))]
 use crate::math::Float;
 use crate::numerics::lanes::{axpy4, mul4};
+use crate::numerics::Owned;
 use crate::types::{Mat3, Mat6, Mat63, State, Vec3};
 use core::f64::consts::{PI, TAU};
 use nalgebra::{Matrix2, Matrix4, Matrix4x2, SMatrix, Vector2, Vector4};
@@ -614,7 +615,7 @@ impl EllipticModel {
                 -3.0 * (c * ir + e),
                 3.0 * rho + e * e - 1.0,
             ) * f,
-            v.column(1).into_owned(),
+            v.column(1).owned(),
             -v.column(0),
         ])
     }
@@ -749,9 +750,8 @@ impl EllipticModel {
         let span = a1.big_e - a0.big_e;
         // ceil of a finite, non-negative number below 2 pi / PANEL_E + 1: bounded
         let panels = if span.is_finite() {
-            (span / self.panel)
-                .ceil()
-                .clamp(1.0, (TAU / self.panel).ceil()) as usize
+            crate::numerics::clamp((span / self.panel).ceil(), 1.0, (TAU / self.panel).ceil())
+                as usize
         } else {
             1
         };
@@ -1103,12 +1103,7 @@ impl EllipticModel {
 
 /// `P^T m` for [`ya_from_canonical`]'s signed permutation `P`, without a product.
 fn rows_pt(m: &Matrix4<f64>) -> Matrix4<f64> {
-    Matrix4::from_rows(&[
-        -m.row(1),
-        m.row(0).into_owned(),
-        -m.row(3),
-        m.row(2).into_owned(),
-    ])
+    Matrix4::from_rows(&[-m.row(1), m.row(0).owned(), -m.row(3), m.row(2).owned()])
 }
 
 /// Sets the entries of a step's matrices that couple the in-plane (x, y) and normal (z)
@@ -1137,9 +1132,9 @@ fn zero_coupling(out: &mut DiscreteModel, noise: bool) {
 fn cols_p(m: &Matrix4<f64>) -> Matrix4<f64> {
     Matrix4::from_columns(&[
         -m.column(1),
-        m.column(0).into_owned(),
+        m.column(0).owned(),
         -m.column(3),
-        m.column(2).into_owned(),
+        m.column(2).owned(),
     ])
 }
 

@@ -23,6 +23,7 @@ use crate::dynamics::DiscreteModel;
 use crate::numerics::cholesky::{chol3, chol_small, Chol3};
 use crate::numerics::state::{Persist, Reader, StateError, Writer};
 use crate::numerics::symmetrize;
+use crate::numerics::Owned;
 use crate::sensors::{MeasurementModel, Sensor, Support};
 use crate::types::{Mat3, Mat6, Mat63, State, Vec3};
 use nalgebra::{SMatrix, SVector};
@@ -104,7 +105,7 @@ fn block_update<const D: usize, const OFF: usize>(
     nu: &SVector<f64, D>,
     r: &SMatrix<f64, D, D>,
 ) -> Result<Updated<D>, FilterError> {
-    let hb: SMatrix<f64, D, 3> = h.fixed_columns::<3>(OFF).into_owned();
+    let hb: SMatrix<f64, D, 3> = h.fixed_columns::<3>(OFF).owned();
     let ph: SMatrix<f64, 6, D> = p.fixed_columns::<3>(OFF) * hb.transpose();
     let s = hb * ph.fixed_rows::<3>(OFF) + r;
     let chol = chol_small(&s).ok_or(FilterError::NotPositiveDefinite("innovation covariance S"))?;
@@ -242,7 +243,7 @@ impl Ekf {
         sensor: &M,
         z: &Vec3,
     ) -> Result<(State, Mat6, UpdateInfo, Mat3), FilterError> {
-        let g = sensor.linearize(&self.x.fixed_rows::<3>(0).into_owned())?;
+        let g = sensor.linearize(&self.x.fixed_rows::<3>(0).owned())?;
         let mut nu = sensor.diff(z, &g.z);
         if !g.azimuth_usable {
             nu.y = 0.0; // H row is zero too: the gain column vanishes (see sensors docs)
@@ -250,7 +251,7 @@ impl Ekf {
         let r = sensor.noise_cov();
         // H = [H_r 0]: the sensors measure the position (`Geometry::h`)
         debug_assert!(g.h.fixed_columns::<3>(3).iter().all(|v| *v == 0.0));
-        let h_r: Mat3 = g.h.fixed_columns::<3>(0).into_owned();
+        let h_r: Mat3 = g.h.fixed_columns::<3>(0).owned();
         let (ph, s, chol) = position_innovation(&self.p, &h_r, &r)?;
         let robust = self.robust.as_ref().and_then(|noise| {
             super::rekf::robust_update(&self.x, &self.p, &h_r, &nu, &r, noise, g.azimuth_usable)

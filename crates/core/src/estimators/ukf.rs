@@ -37,6 +37,7 @@ use crate::math::Float;
 use crate::numerics::cholesky::{self, chol3_lane, dot3, forward_lane, lower6, outer6};
 use crate::numerics::state::{Persist, Reader, StateError, Writer};
 use crate::numerics::symmetrize;
+use crate::numerics::Owned;
 use crate::sensors::{AngleTrig, GeometryError, MeasurementModel, Sensor, SevenBlock, Support};
 use crate::types::{Mat3, Mat6, Mat63, State, Vec3};
 use nalgebra::{SMatrix, SVector};
@@ -159,13 +160,13 @@ impl Ukf {
         z: &Vec3,
     ) -> Result<(State, Mat6, UpdateInfo), FilterError> {
         let s = self.sigma_points_of(x, l);
-        let pos: [Vec3; NS] = core::array::from_fn(|i| s.fixed_view::<3, 1>(0, i).into_owned());
+        let pos: [Vec3; NS] = core::array::from_fn(|i| s.fixed_view::<3, 1>(0, i).owned());
         let mut dzs = [Vec3::zeros(); NS];
         let z_hat = sensor
             .unscented(&pos, &self.wm, &mut dzs)
             .ok_or(FilterError::Geometry(GeometryError::ZeroRange))?;
         // near the poles the azimuth carries no information (see sensors docs)
-        let azimuth_used = sensor.azimuth_usable(&x.fixed_rows::<3>(0).into_owned())?;
+        let azimuth_used = sensor.azimuth_usable(&x.fixed_rows::<3>(0).owned())?;
         let mut pzz: Mat3 = *r;
         let mut pxz = Mat63::zeros();
         for (i, dz) in dzs.iter().enumerate() {
@@ -237,7 +238,7 @@ impl Ukf {
         let mut prop = Sigma::zeros();
         let mut mean = State::zeros();
         for i in 0..NS {
-            let c = f(&s.column(i).into_owned())?;
+            let c = f(&s.column(i).owned())?;
             mean += c * self.wm[i];
             prop.set_column(i, &c);
         }
@@ -352,15 +353,12 @@ impl Ukf {
         let (wm, wc) = (self.wm[1], self.wc[1]);
         let wm7 = [self.wm[0] + 6.0 * wm, wm, wm, wm, wm, wm, wm];
         let d: [State; 3] = core::array::from_fn(|j| l.column(j) * self.gamma);
+        let [d0, d1, d2] = d;
+        let points = [*x, x + d0, x + d1, x + d2, x - d0, x - d1, x - d2];
         let mut zs = [SVector::<f64, D>::zeros(); 7];
-        for (i, zi) in zs.iter_mut().enumerate() {
-            let xi = match i {
-                0 => *x,
-                1..=3 => x + d[i - 1],
-                _ => x - d[i - 4],
-            };
+        for (zi, xi) in zs.iter_mut().zip(&points) {
             *zi = sensor
-                .measure(&xi)
+                .measure(xi)
                 .ok_or(FilterError::Geometry(GeometryError::ZeroRange))?;
         }
         let z_hat = sensor.mean(&wm7, &zs);
@@ -411,7 +409,7 @@ impl Ukf {
         let s = self.sigma_points(x, p)?;
         let mut zs = [SVector::<f64, D>::zeros(); NS];
         for (i, zi) in zs.iter_mut().enumerate() {
-            *zi = (m.h)(&s.column(i).into_owned())
+            *zi = (m.h)(&s.column(i).owned())
                 .ok_or(FilterError::Geometry(GeometryError::ZeroRange))?;
         }
         let z_hat = (m.mean)(&self.wm, &zs);

@@ -37,6 +37,7 @@ use crate::dynamics::CwModel;
 #[cfg(not(feature = "std"))]
 use crate::math::Float;
 use crate::numerics::state::{refuse, Persist, Reader, StateError, Writer};
+use crate::numerics::Owned;
 use crate::types::{Mat3, Mat36, Mat6, Mat63, State, Vec3};
 
 #[cfg(feature = "hinf")]
@@ -626,13 +627,13 @@ impl HinfFilter {
     pub fn step_with_velocity(&mut self, y: Option<&Vec3>, v: Option<&Vec3>, a: &Vec3) {
         let yv = match y {
             Some(y) => *y,
-            None => self.est.fixed_rows::<3>(0).into_owned(),
+            None => self.est.fixed_rows::<3>(0).owned(),
         };
         self.x_f = self.m.a_f * self.x_f + self.m.b_f * yv + self.m.e_f * a;
         if self.m.measures_velocity() {
             let vv = match v {
                 Some(v) => *v,
-                None => self.est.fixed_rows::<3>(3).into_owned(),
+                None => self.est.fixed_rows::<3>(3).owned(),
             };
             self.x_f += self.m.b_v * vv;
         }
@@ -785,7 +786,7 @@ impl HinfAcquisition {
         Some(Self {
             a: plant.a,
             q,
-            r: r.fixed_view::<3, 3>(0, 0).into_owned(),
+            r: r.fixed_view::<3, 3>(0, 0).owned(),
             g: split.b_f,
             g_v: split.b_v,
             bound: x_g * (1.0 + ACQUISITION_MARGIN),
@@ -998,8 +999,8 @@ fn pinv_psd(m: &Mat3) -> Option<Mat3> {
 pub fn step_normaliser(j_d: &Mat6, n_d: &Mat6, j: &Mat6) -> Option<Mat6> {
     let mut out = Mat6::zeros();
     for at in [0, 3] {
-        let d = j_d.fixed_view::<3, 3>(at, at).into_owned();
-        let s = j.fixed_view::<3, 3>(at, at).into_owned();
+        let d = j_d.fixed_view::<3, 3>(at, at).owned();
+        let s = j.fixed_view::<3, 3>(at, at).owned();
         if s.iter().all(|v| *v == 0.0) {
             continue;
         }
@@ -1069,7 +1070,7 @@ impl HinfEstimator {
     ) -> Result<Self, HinfError> {
         let mut n_d = Mat6::zeros();
         for at in [0, 3] {
-            let b = j_d.fixed_view::<3, 3>(at, at).into_owned();
+            let b = j_d.fixed_view::<3, 3>(at, at).owned();
             let n = pinv_psd(&b).ok_or_else(|| {
                 HinfError::invalid("the design's measurement information is not finite")
             })?;
@@ -1247,7 +1248,7 @@ impl crate::estimators::Estimator for HinfEstimator {
             .ok_or(crate::estimators::FilterError::NonFinite(
                 "indirect position",
             ))?;
-        let r = self.filter.state().fixed_rows::<3>(0).into_owned();
+        let r = self.filter.state().fixed_rows::<3>(0).owned();
         let innovation = match sensor.predict(&r) {
             Some(zh) => sensor.diff(z, &zh),
             None => Vec3::from_element(f64::NAN),
@@ -1258,7 +1259,7 @@ impl crate::estimators::Estimator for HinfEstimator {
             .linearize(&y)
             .ok()
             .and_then(|g| {
-                let h = g.h.fixed_view::<3, 3>(0, 0).into_owned();
+                let h = g.h.fixed_view::<3, 3>(0, 0).owned();
                 information(&h, &sensor.noise_cov(), &Vec3::zeros())
             })
             .map_or(Mat3::from_element(f64::NAN), |(j, _)| j);

@@ -38,6 +38,7 @@ use crate::math::Float;
 use crate::noise::NoiseModel;
 use crate::numerics::num;
 use crate::numerics::state::Writer;
+use crate::numerics::Owned;
 use crate::params::{closed, open, CodeItem, CodeList, Field, Kind, Param, Rule, Value};
 
 /// `hinf_sensors` bit of the radio (or lidar).
@@ -1151,7 +1152,7 @@ impl NavConfig {
                 self.sigma_range * inflate,
                 self.sigma_angle * inflate,
             );
-            let r0 = self.initial_state().fixed_rows::<3>(0).into_owned();
+            let r0 = self.initial_state().fixed_rows::<3>(0).owned();
             let r = sensor.position_covariance(&r0).ok_or_else(|| {
                 NavError::invalid(
                     "hinf: the measurement noise is derived at the initial estimate's \
@@ -1174,7 +1175,7 @@ impl NavConfig {
         use crate::sensors::Sensor;
         use nalgebra::SVector;
         let x0 = self.initial_state();
-        let r0 = x0.fixed_rows::<3>(0).into_owned();
+        let r0 = x0.fixed_rows::<3>(0).owned();
         let at_zero = || {
             NavError::invalid(
                 "hinf: the design's measurement noise is derived at the initial estimate's \
@@ -1200,7 +1201,7 @@ impl NavConfig {
         // a declared sensor's information on the position at the initial estimate
         fn at<const D: usize, S: Sensor<D>>(s: &S, x0: &State) -> Option<Mat3> {
             let lin = s.linearize(x0).ok()?;
-            let h = lin.h.fixed_view::<D, 3>(0, 0).into_owned();
+            let h = lin.h.fixed_view::<D, 3>(0, 0).owned();
             crate::hinf::information(&h, &s.noise().cov(), &SVector::zeros()).map(|(j, _)| j)
         }
         if self.hinf_sensors & HINF_CAMERA != 0 {

@@ -33,7 +33,8 @@ pub enum AnyFilter {
     /// Particle filter (codes 4-8: SIR, regularised, unscented, genetic, cloud-genetic).
     #[cfg(feature = "std")]
     Pf(ParticleFilter),
-    /// Robust H-infinity filter (code 9).
+    /// Robust H-infinity filter (code 9; not yet in the build without std).
+    #[cfg(feature = "std")]
     Hinf(HinfEstimator),
     /// Interacting multiple-model filter (code 10).
     Imm(Imm),
@@ -53,6 +54,7 @@ pub enum Snapshot {
     Ekf(Ekf),
     Ukf(Ukf),
     Aqukf(AqukfSnapshot),
+    #[cfg(feature = "std")]
     Hinf(HinfEstimator),
     Imm(Imm),
     /// the bank keeps its checkpoint itself ([`Bank::checkpoint`])
@@ -63,6 +65,16 @@ pub enum Snapshot {
 }
 
 impl AnyFilter {
+    /// The H-infinity filter, if this is one (never without std: not yet in that build).
+    #[inline(always)]
+    pub fn hinf(&self) -> Option<&HinfEstimator> {
+        match self {
+            #[cfg(feature = "std")]
+            AnyFilter::Hinf(f) => Some(f),
+            _ => None,
+        }
+    }
+
     /// A snapshot to [`AnyFilter::restore`] (a bank checkpoints itself, no allocation).
     pub(super) fn snapshot(&mut self) -> Snapshot {
         #[cfg(feature = "std")]
@@ -78,6 +90,7 @@ impl AnyFilter {
             AnyFilter::Ekf(f) => Snapshot::Ekf(f.clone()),
             AnyFilter::Ukf(f) => Snapshot::Ukf(f.clone()),
             AnyFilter::Aqukf(f) => Snapshot::Aqukf(f.snapshot()),
+            #[cfg(feature = "std")]
             AnyFilter::Hinf(f) => Snapshot::Hinf(*f),
             AnyFilter::Imm(f) => Snapshot::Imm(f.clone()),
             #[cfg(feature = "std")]
@@ -91,6 +104,7 @@ impl AnyFilter {
             (AnyFilter::Ekf(f), Snapshot::Ekf(g)) => f.clone_from(g),
             (AnyFilter::Ukf(f), Snapshot::Ukf(g)) => f.clone_from(g),
             (AnyFilter::Aqukf(f), Snapshot::Aqukf(g)) => f.restore(g),
+            #[cfg(feature = "std")]
             (AnyFilter::Hinf(f), Snapshot::Hinf(g)) => *f = *g,
             (AnyFilter::Imm(f), Snapshot::Imm(g)) => f.clone_from(g),
             #[cfg(feature = "std")]
@@ -109,6 +123,7 @@ impl AnyFilter {
             AnyFilter::Aqukf(_) => b"AQUK",
             #[cfg(feature = "std")]
             AnyFilter::Pf(_) => b"PART",
+            #[cfg(feature = "std")]
             AnyFilter::Hinf(_) => b"HINF",
             AnyFilter::Imm(_) => b"IMM ",
             #[cfg(feature = "std")]
@@ -128,6 +143,7 @@ impl Persist for AnyFilter {
             AnyFilter::Aqukf(f) => f.save_state(w),
             #[cfg(feature = "std")]
             AnyFilter::Pf(f) => f.save_state(w),
+            #[cfg(feature = "std")]
             AnyFilter::Hinf(f) => f.save_state(w),
             AnyFilter::Imm(f) => f.save_state(w),
             #[cfg(feature = "std")]
@@ -143,6 +159,7 @@ impl Persist for AnyFilter {
             AnyFilter::Aqukf(f) => f.load_state(r),
             #[cfg(feature = "std")]
             AnyFilter::Pf(f) => f.load_state(r),
+            #[cfg(feature = "std")]
             AnyFilter::Hinf(f) => f.load_state(r),
             AnyFilter::Imm(f) => f.load_state(r),
             #[cfg(feature = "std")]
@@ -205,6 +222,7 @@ impl Estimator for AnyFilter {
             AnyFilter::Aqukf(f) => f.predict(model, accel),
             #[cfg(feature = "std")]
             AnyFilter::Pf(f) => f.predict(model, accel),
+            #[cfg(feature = "std")]
             AnyFilter::Hinf(f) => f.predict(model, accel),
             AnyFilter::Imm(f) => f.predict(model, accel),
             #[cfg(feature = "std")]
@@ -222,6 +240,7 @@ impl Estimator for AnyFilter {
             AnyFilter::Aqukf(f) => f.update(sensor, z),
             #[cfg(feature = "std")]
             AnyFilter::Pf(f) => f.update(sensor, z),
+            #[cfg(feature = "std")]
             AnyFilter::Hinf(f) => f.update(sensor, z),
             AnyFilter::Imm(f) => f.update(sensor, z),
             #[cfg(feature = "std")]
@@ -239,6 +258,7 @@ impl Estimator for AnyFilter {
             AnyFilter::Aqukf(f) => f.update_sensor(sensor, z),
             #[cfg(feature = "std")]
             AnyFilter::Pf(f) => f.update_sensor(sensor, z),
+            #[cfg(feature = "std")]
             AnyFilter::Hinf(f) => f.update_sensor(sensor, z),
             AnyFilter::Imm(f) => f.update_sensor(sensor, z),
             #[cfg(feature = "std")]
@@ -252,6 +272,7 @@ impl Estimator for AnyFilter {
             AnyFilter::Aqukf(f) => f.state(),
             #[cfg(feature = "std")]
             AnyFilter::Pf(f) => f.state(),
+            #[cfg(feature = "std")]
             AnyFilter::Hinf(f) => f.state(),
             AnyFilter::Imm(f) => f.state(),
             #[cfg(feature = "std")]
@@ -265,6 +286,7 @@ impl Estimator for AnyFilter {
             AnyFilter::Aqukf(f) => f.covariance(),
             #[cfg(feature = "std")]
             AnyFilter::Pf(f) => f.covariance(),
+            #[cfg(feature = "std")]
             AnyFilter::Hinf(f) => f.covariance(),
             AnyFilter::Imm(f) => f.covariance(),
             #[cfg(feature = "std")]
@@ -278,6 +300,7 @@ impl Estimator for AnyFilter {
             AnyFilter::Aqukf(f) => f.set_estimate(x, p),
             #[cfg(feature = "std")]
             AnyFilter::Pf(f) => f.set_estimate(x, p),
+            #[cfg(feature = "std")]
             AnyFilter::Hinf(f) => f.set_estimate(x, p),
             AnyFilter::Imm(f) => f.set_estimate(x, p),
             #[cfg(feature = "std")]
@@ -349,6 +372,7 @@ fn build_single(cfg: &NavConfig, opts: &FilterOptions) -> Result<AnyFilter, NavE
         params.carry_covariance = opts.pf_carry_covariance;
         return Ok(AnyFilter::Pf(ParticleFilter::new(x0, p0, params)));
     }
+    #[cfg(feature = "std")]
     if let (FilterKind::Hinf, Some(h)) = (cfg.filter, &opts.hinf) {
         let mut h = *h;
         h.set_estimate(x0, p0);

@@ -32,6 +32,7 @@ pub mod sensors;
 
 #[cfg(not(feature = "std"))]
 use crate::math::Float;
+use crate::numerics::Owned;
 pub use config::{
     FilterKind, HinfDesignKind, NavConfig, NoiseKind, ResamplerSetting, Setting,
     MAX_INITIAL_MAGNITUDE, MEAN_MOTION_RANGE, PARAMS,
@@ -63,7 +64,7 @@ pub const MAX_STEP_PERIODS: f64 = 1000.0;
 /// The thrust `thrust` [N, I/O frame] as the canonical acceleration `F / m` [m/s^2].
 #[inline]
 fn canonical_accel(cfg: &NavConfig, thrust: &[f64; 3]) -> Vec3 {
-    cfg.frame.vec_to_canonical(&Vec3::from_row_slice(thrust)) / cfg.chaser_mass
+    cfg.frame.vec_to_canonical(&Vec3::from(*thrust)) / cfg.chaser_mass
 }
 
 #[inline]
@@ -153,7 +154,21 @@ pub struct Readings {
 #[cfg(feature = "std")]
 type SensorList = Vec<Arc<dyn NavSensor>>;
 #[cfg(not(feature = "std"))]
-type SensorList = [&'static dyn NavSensor; 0];
+#[derive(Debug, Clone, Default)]
+struct SensorList;
+
+#[cfg(not(feature = "std"))]
+impl SensorList {
+    fn iter(&self) -> core::iter::Empty<&&'static dyn NavSensor> {
+        core::iter::empty()
+    }
+    fn len(&self) -> usize {
+        0
+    }
+    fn get(&self, _: usize) -> Option<&&'static dyn NavSensor> {
+        None
+    }
+}
 /// One report per added sensor.
 #[cfg(feature = "std")]
 type ReportList = Vec<Option<SensorReport>>;
@@ -231,8 +246,8 @@ impl Navigator {
         // every field is finite, but x0 near the largest double with its uncertainty can
         // still overflow (a particle filter's initial draw x0 + L eps): refuse it here rather
         // than hand out an estimator whose estimate is not a number
-        let cov_ok = matches!(nav.filter, AnyFilter::Hinf(_))
-            || nav.filter.covariance().iter().all(|v| v.is_finite());
+        let cov_ok =
+            nav.filter.hinf().is_some() || nav.filter.covariance().iter().all(|v| v.is_finite());
         if !(nav.filter.state().iter().all(|v| v.is_finite()) && cov_ok) {
             return Err(NavError::invalid(crate::msg!(
                 "the initial estimate x0 = {:?} with sigma_pos0 = {}, sigma_vel0 = {} overflows \
@@ -281,7 +296,7 @@ impl Navigator {
     /// fixed period.
     #[inline(always)]
     fn check_dt(&self, dt: f64) -> Result<(), NavError> {
-        if dt > 0.0 && dt <= self.max_step() && !matches!(self.filter, AnyFilter::Hinf(_)) {
+        if dt > 0.0 && dt <= self.max_step() && self.filter.hinf().is_none() {
             Ok(())
         } else {
             self.check_dt_in_full(dt)
@@ -302,7 +317,7 @@ impl Navigator {
                 num(self.cfg.mean_motion)
             )));
         }
-        if let AnyFilter::Hinf(f) = &self.filter {
+        if let Some(f) = self.filter.hinf() {
             let t = f.period();
             if (dt - t).abs() > 1e-9 * t {
                 return Err(NavError::invalid(crate::msg!(
@@ -437,7 +452,7 @@ impl Navigator {
 
     /// [`Navigator::update`] once its input is checked.
     fn update_checked(&mut self, z: &[f64; 3]) -> Result<UpdateInfo, NavError> {
-        let zv = Vec3::from_row_slice(z);
+        let zv = Vec3::from(*z);
         let r = match &mut self.filter {
             #[cfg(feature = "std")]
             AnyFilter::Pf(pf) => pf.update_with(&self.sensor, &zv, &self.noise, &self.scales),
@@ -484,7 +499,7 @@ impl Navigator {
         self.discrete(dt);
         if let (AnyFilter::Ekf(f), Some(z)) = (&mut self.filter, measurement) {
             let accel = canonical_accel(&self.cfg, thrust);
-            let zv = Vec3::from_row_slice(z);
+            let zv = Vec3::from(*z);
             let info = f.update_predict(&self.kalman_sensor, &zv, &self.step_cache, &accel)?;
             self.last_update = Some(info);
             self.t += dt;
@@ -494,7 +509,7 @@ impl Navigator {
         // cycle's cost)
         if let (AnyFilter::Ukf(f), Some(z)) = (&mut self.filter, measurement) {
             let accel = canonical_accel(&self.cfg, thrust);
-            let zv = Vec3::from_row_slice(z);
+            let zv = Vec3::from(*z);
             let info = f.update_predict(&self.kalman_sensor, &zv, &self.step_cache, &accel)?;
             self.last_update = Some(info);
             self.t += dt;
@@ -620,11 +635,7 @@ impl Navigator {
             return f64::NAN;
         }
         let u = r / n;
-        let p = self
-            .filter
-            .covariance()
-            .fixed_view::<3, 3>(0, 0)
-            .into_owned();
+        let p = self.filter.covariance().fixed_view::<3, 3>(0, 0).owned();
         let v = u.dot(&(p * u));
         if v >= 0.0 {
             v.sqrt()
@@ -899,8 +910,7 @@ impl Navigator {
         }
         match canonical(&self.filter) {
             Some(q) => {
-                let c =
-                    Mat6::from_diagonal(&State::from_row_slice(&[0.0, 0.0, 0.0, q[0], q[1], q[2]]));
+                let c = Mat6::from_diagonal(&State::from([0.0, 0.0, 0.0, q[0], q[1], q[2]]));
                 let io = self.cfg.frame.cov_from_canonical(&c);
                 Some([io[(3, 3)], io[(4, 4)], io[(5, 5)]])
             }
@@ -941,38 +951,28 @@ impl Navigator {
 
     /// The certified `gamma` of the H-infinity design (filter code 9), `None` otherwise.
     pub fn hinf_gamma(&self) -> Option<f64> {
-        match &self.filter {
-            AnyFilter::Hinf(f) => Some(f.gamma()),
-            _ => None,
-        }
+        self.filter.hinf().map(crate::hinf::HinfEstimator::gamma)
     }
 
     /// How the H-infinity filter was designed (filter code 9; route, Riccati record,
     /// iterations: [`crate::hinf::HinfDesignInfo`]), `None` otherwise.
     pub fn hinf_design_info(&self) -> Option<crate::hinf::HinfDesignInfo> {
-        match &self.filter {
-            AnyFilter::Hinf(f) => f.design_info().copied(),
-            _ => None,
-        }
+        self.filter.hinf().and_then(|f| f.design_info().copied())
     }
 
     /// The H2 norm of the H-infinity design (filter code 9; see
     /// [`crate::hinf::design::HinfDesign::h2_norm`]), `None` otherwise.
     pub fn hinf_h2_norm(&self) -> Option<f64> {
-        match &self.filter {
-            AnyFilter::Hinf(f) => Some(f.h2_norm()),
-            _ => None,
-        }
+        self.filter.hinf().map(crate::hinf::HinfEstimator::h2_norm)
     }
 
     /// Whether the H-infinity filter (code 9) runs its designed, certified gain (true
     /// after the hand-over of track initiation, or always without it); `None` for the
     /// other filters.
     pub fn hinf_certified(&self) -> Option<bool> {
-        match &self.filter {
-            AnyFilter::Hinf(f) => Some(f.certified()),
-            _ => None,
-        }
+        self.filter
+            .hinf()
+            .map(crate::hinf::HinfEstimator::certified)
     }
 
     /// The estimator itself (canonical frame).

@@ -29,9 +29,22 @@ impl<const D: usize> From<SensorUpdate<D>> for SensorReport {
     }
 }
 
+/// `Debug`, with `std` (a navigator's added sensors print); without, nothing: a `Debug`
+/// in every sensor's vtable would link float formatting, whose code can panic.
+#[cfg(feature = "std")]
+pub trait SensorDebug: core::fmt::Debug {}
+#[cfg(feature = "std")]
+impl<T: core::fmt::Debug + ?Sized> SensorDebug for T {}
+/// `Debug`, with `std` (a navigator's added sensors print); without, nothing: a `Debug`
+/// in every sensor's vtable would link float formatting, whose code can panic.
+#[cfg(not(feature = "std"))]
+pub trait SensorDebug {}
+#[cfg(not(feature = "std"))]
+impl<T: ?Sized> SensorDebug for T {}
+
 /// A sensor as the navigator holds it: its name (in messages), its dimension, the check of
 /// a reading and the update of a filter with it (in the sensor's frame and SI units).
-pub trait NavSensor: Send + Sync + core::fmt::Debug {
+pub trait NavSensor: Send + Sync + SensorDebug {
     /// Name, for messages.
     fn name(&self) -> &str;
     /// Number of components of a reading.
@@ -51,6 +64,12 @@ pub trait NavSensor: Send + Sync + core::fmt::Debug {
         model: &DiscreteModel,
         accel: &Vec3,
     ) -> Option<Result<SensorReport, FilterError>>;
+}
+
+/// `z` as a vector of `D` components (NaN where `z` is shorter; every caller has checked
+/// its length): nalgebra's `from_column_slice` would assert the length, a panic path.
+fn reading<const D: usize>(z: &[f64]) -> SVector<f64, D> {
+    SVector::from_fn(|i, _| z.get(i).copied().unwrap_or(f64::NAN))
 }
 
 /// A sensor's name: owned with `std`, a static text without.
@@ -109,7 +128,7 @@ impl<const D: usize, S: Sensor<D> + Send + core::fmt::Debug> NavSensor for Named
             )));
         }
         self.sensor
-            .check(&SVector::from_column_slice(z))
+            .check(&reading::<D>(z))
             .map_err(|e| self.named(&e))
     }
     fn apply(&self, filter: &mut AnyFilter, z: &[f64]) -> Result<SensorReport, FilterError> {
@@ -117,7 +136,7 @@ impl<const D: usize, S: Sensor<D> + Send + core::fmt::Debug> NavSensor for Named
             return Err(FilterError::Unsupported("reading of the wrong length"));
         }
         filter
-            .update_sensor(&self.sensor, &SVector::from_column_slice(z))
+            .update_sensor(&self.sensor, &reading::<D>(z))
             .map(SensorReport::from)
     }
     fn apply_predict(
@@ -130,7 +149,7 @@ impl<const D: usize, S: Sensor<D> + Send + core::fmt::Debug> NavSensor for Named
         if z.len() != D {
             return Some(Err(FilterError::Unsupported("reading of the wrong length")));
         }
-        let z = SVector::from_column_slice(z);
+        let z = reading::<D>(z);
         let r = filter.update_sensor_predict(&self.sensor, &z, model, accel)?;
         Some(r.map(SensorReport::from))
     }

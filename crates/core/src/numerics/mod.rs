@@ -44,6 +44,40 @@ pub fn all_finite(v: &[f64]) -> bool {
     v.iter().fold(true, |ok, x| ok & x.is_finite())
 }
 
+/// `v` clamped to `[lo, hi]`, as `f64::clamp` computes it, but without its panic (an
+/// assertion with formatted floats) for bounds the compiler cannot see ordered: with
+/// `lo > hi` this gives `hi` where `v > hi`, else `lo` where `v < lo`; NaN stays NaN.
+#[inline]
+pub fn clamp(v: f64, lo: f64, hi: f64) -> f64 {
+    let mut x = v;
+    if x < lo {
+        x = lo;
+    }
+    if x > hi {
+        x = hi;
+    }
+    x
+}
+
+/// An owned copy of a fixed-size matrix or view, element by element: nalgebra's
+/// `into_owned` of a view copies through an iterator whose length it asserts at run time,
+/// a panic path the optimiser keeps (the flight library has none).
+pub trait Owned<const R: usize, const C: usize> {
+    /// The copy.
+    fn owned(&self) -> nalgebra::SMatrix<f64, R, C>;
+}
+
+impl<const R: usize, const C: usize, S> Owned<R, C>
+    for nalgebra::Matrix<f64, nalgebra::Const<R>, nalgebra::Const<C>, S>
+where
+    S: nalgebra::RawStorage<f64, nalgebra::Const<R>, nalgebra::Const<C>>,
+{
+    #[inline]
+    fn owned(&self) -> nalgebra::SMatrix<f64, R, C> {
+        nalgebra::SMatrix::from_fn(|i, j| self[(i, j)])
+    }
+}
+
 /// Symmetrise a covariance: `(P + P^T) / 2`.
 pub(crate) fn symmetrize(p: &Mat6) -> Mat6 {
     (p + p.transpose()) * 0.5

@@ -141,8 +141,9 @@ impl<'a> Writer<'a> {
             #[cfg(feature = "std")]
             Sink::Vec(v) => v.extend_from_slice(b),
             Sink::Slice(s) => match s.get_mut(self.len..self.len.saturating_add(b.len())) {
-                Some(d) => d.copy_from_slice(b),
-                None => self.overflow = true,
+                // the length test lets the compiler drop copy_from_slice's panic
+                Some(d) if d.len() == b.len() => d.copy_from_slice(b),
+                _ => self.overflow = true,
             },
             Sink::Crc(h) => h.update(b),
         }

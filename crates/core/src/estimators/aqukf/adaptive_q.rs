@@ -6,6 +6,7 @@
 use super::params::{AdaptationLaw, AqParams, MAX_GATE_WINDOW, MAX_WINDOW};
 #[cfg(not(feature = "std"))]
 use crate::math::Float;
+use crate::numerics::clamp;
 use crate::numerics::state::{refuse, Persist, Reader, StateError, Writer};
 use crate::types::{Mat6, State, Vec3};
 
@@ -166,7 +167,7 @@ impl AdaptiveQ {
             self.params.floor,
             self.params.ceiling.max(self.params.floor),
         );
-        self.params.q_vv0.map(|v| v.clamp(lo, hi))
+        self.params.q_vv0.map(|v| clamp(v, lo, hi))
     }
 
     /// Gated law: whether the last test found the innovations inconsistent (the estimate
@@ -251,7 +252,7 @@ impl AdaptiveQ {
         match self.params.law {
             AdaptationLaw::Window => {
                 for (q, s) in self.q.iter_mut().zip(sum) {
-                    *q = (*q + s / n as f64).clamp(lo, hi);
+                    *q = clamp(*q + s / n as f64, lo, hi);
                 }
             }
             AdaptationLaw::Gated => {
@@ -275,7 +276,7 @@ impl AdaptiveQ {
                 };
                 if self.open {
                     for ((q, s), q0) in self.q.iter_mut().zip(sum).zip(q0.iter()) {
-                        *q = (*q + s / n as f64).clamp(*q0, hi);
+                        *q = clamp(*q + s / n as f64, *q0, hi);
                     }
                 } else {
                     self.q = q0;
