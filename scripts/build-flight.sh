@@ -14,6 +14,10 @@
 #     (the table every_fns.h is written from the header here), so every exported path is
 #     linked, and checks that what the flight library leaves out answers "not in this
 #     build";
+#   * cpp-harness/flight/stack.c measures the stack depth of each call over nominal and
+#     adversarial inputs (every filter, frames 1-3, circular and eccentric orbits); the
+#     deepest must stay under FLIGHT_STACK_BOUND bytes (the measured depth rounded up: it
+#     may only fall);
 #   * the stripped quickstart is at most 1 MiB; it and every.c reference no allocator
 #     (malloc, free) and no symbol of Rust's std, and no `core::panicking` symbol (a panic
 #     path the optimiser could not remove) is left in them. They are linked with
@@ -30,6 +34,7 @@ TARGET="${CARGO_TARGET_DIR:-$ROOT/target}"
 OUT="$TARGET/flight"
 CC="${CC:-cc}"
 MAX_STRIPPED_BYTES=$((1024 * 1024))
+FLIGHT_STACK_BOUND=$((160 * 1024))
 
 cargo build -p relnav --no-default-features --lib --profile flight "$JOBS"
 LIB="$OUT/librelnav.a"
@@ -47,12 +52,15 @@ cflags=(-O2 -std=c11 -D_DEFAULT_SOURCE -Iinclude -Wall -Wextra -Werror)
 "$CC" "${cflags[@]}" cpp-harness/flight/bits.c "$LIB" -lm -Wl,--gc-sections -o "$OUT/bits"
 grep -oE '\b(relnav_[a-z0-9_]+)\(' include/relnav.h | tr -d '(' | sort -u | sed 's/.*/    (void *)\&&,/' > "$OUT/every_fns.h"
 "$CC" "${cflags[@]}" -I"$OUT" cpp-harness/flight/every.c "$LIB" -lm -Wl,--gc-sections -o "$OUT/every"
+# a measuring program: its threads are its own (the library starts none)
+"$CC" "${cflags[@]}" cpp-harness/flight/stack.c "$LIB" -lm -lpthread -o "$OUT/stack"
 strip -o "$OUT/quickstart.stripped" "$OUT/quickstart"
 
 "$OUT/quickstart" > "$OUT/quickstart.out"
 "$OUT/bits" > "$OUT/bits.out"
 cat "$OUT/quickstart.out"
 check "$OUT/every"
+check "$OUT/stack" "$FLIGHT_STACK_BOUND"
 
 size_lib=$(stat -c %s "$LIB")
 size_exe=$(stat -c %s "$OUT/quickstart")

@@ -1,0 +1,154 @@
+/* Stack depth of the flight library's calls, measured (scripts/build-flight.sh): each call
+ * runs on a thread of its own whose stack (STACK bytes, a buffer of this program) is first
+ * filled with a pattern; the depth is how far below the top the pattern was overwritten.
+ * Every filter of the flight library, nominal and adversarial inputs (a dropout, a burn,
+ * every sensor at once, a near-zero range, a long step, a saved state restored; frames 1-3,
+ * circular and eccentric orbits). Prints one line per call with the deepest use seen, less
+ * the thread's own frames, and exits 1 if any exceeds the bound given as the first
+ * argument (bytes). A measured depth over these inputs, not a bound over every path. */
+#define _GNU_SOURCE
+#include <relnav.h>
+#include <pthread.h>
+#include <stdalign.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define STACK (1024 * 1024)
+#define PATTERN 0xA5
+
+static alignas(64) unsigned char stack_mem[STACK];
+static alignas(RELNAV_ESTIMATOR_STORAGE_ALIGN) unsigned char storage[RELNAV_ESTIMATOR_STORAGE_SIZE];
+static uint8_t state_buf[65536];
+
+typedef void (*call_fn)(void);
+static call_fn current;
+
+static void *trampoline(void *arg) {
+    (void)arg;
+    current();
+    return NULL;
+}
+
+/* Deepest stack use of `f` [bytes] (the thread's own frames included: a few hundred). */
+static size_t depth(call_fn f) {
+    memset(stack_mem, PATTERN, sizeof stack_mem);
+    pthread_attr_t attr;
+    pthread_attr_init(&attr);
+    pthread_attr_setstack(&attr, stack_mem, sizeof stack_mem);
+    current = f;
+    pthread_t t;
+    if (pthread_create(&t, &attr, trampoline, NULL) != 0) {
+        perror("pthread_create");
+        exit(2);
+    }
+    pthread_join(t, NULL);
+    pthread_attr_destroy(&attr);
+    size_t i = 0;
+    while (i < sizeof stack_mem && stack_mem[i] == PATTERN) i++;
+    return sizeof stack_mem - i;
+}
+
+static relnav_estimator *est;
+static relnav_config cfg;
+static relnav_status last;
+static const double thrust0[3] = {0.0, 0.0, 0.0};
+static const double thrust1[3] = {0.0, 2.0, -1.0};
+static const double z0[3] = {670.8204, 0.896055, 0.302746};
+static const double z_near[3] = {1e-6, 0.5, 0.1};
+static const double cam[2] = {0.896055, 0.302746};
+static const double gpos[3] = {400.0, 500.0, 200.0};
+static const double gvel[3] = {0.1, 0.1, -0.1};
+static size_t saved_len;
+
+static void c_init(void) { last = relnav_estimator_init(storage, sizeof storage, &cfg, &est); }
+static void c_step(void) { last = relnav_estimator_step(est, thrust0, z0, 1.0); }
+static void c_step_dropout(void) { last = relnav_estimator_step(est, thrust1, NULL, 1.0); }
+static void c_step_long(void) { last = relnav_estimator_step(est, thrust1, z0, 3000.0); }
+static void c_step_near(void) { last = relnav_estimator_step(est, thrust0, z_near, 1.0); }
+static void c_step_sensors(void) { last = relnav_estimator_step_sensors(est, thrust1, z0, cam, gpos, gvel, 1.0); }
+static void c_predict(void) { last = relnav_estimator_predict(est, thrust1, 1.0); }
+static void c_update(void) { last = relnav_estimator_update(est, z0); }
+static void c_get(void) {
+    double x[6], p[36], s[6], e[12], nu[3], nis, q[3], mu[3];
+    relnav_config c;
+    last = relnav_estimator_get_state(est, x);
+    last = relnav_estimator_get_covariance(est, p);
+    last = relnav_estimator_get_sigma(est, s);
+    last = relnav_estimator_get_estimate(est, e);
+    last = relnav_estimator_get_config(est, &c);
+    last = relnav_estimator_get_innovation(est, nu, &nis);
+    last = relnav_estimator_get_q_vv(est, q);
+    last = relnav_estimator_get_mode_probabilities(est, mu);
+}
+static void c_save(void) { last = relnav_estimator_save(est, state_buf, sizeof state_buf, &saved_len); }
+static void c_restore(void) { last = relnav_estimator_restore(est, state_buf, saved_len); }
+static void c_restore_bad(void) {
+    state_buf[saved_len / 2] ^= 0x40;
+    last = relnav_estimator_restore(est, state_buf, saved_len);
+    state_buf[saved_len / 2] ^= 0x40;
+}
+static void c_reset(void) { last = relnav_estimator_reset(est); }
+static void c_validate(void) { last = relnav_config_validate(&cfg); }
+static void c_deinit(void) { last = relnav_estimator_deinit(est); }
+static void c_nothing(void) { last = RELNAV_OK; }
+
+struct call {
+    const char *name;
+    call_fn f;
+    size_t worst;
+};
+
+int main(int argc, char **argv) {
+    size_t bound = argc > 1 ? strtoul(argv[1], NULL, 10) : 0;
+    struct call calls[] = {
+        {"relnav_config_validate", c_validate, 0},
+        {"relnav_estimator_init", c_init, 0},
+        {"relnav_estimator_step", c_step, 0},
+        {"relnav_estimator_step (dropout, thrust)", c_step_dropout, 0},
+        {"relnav_estimator_step (3000 s)", c_step_long, 0},
+        {"relnav_estimator_step (zero range)", c_step_near, 0},
+        {"relnav_estimator_step_sensors (all)", c_step_sensors, 0},
+        {"relnav_estimator_predict", c_predict, 0},
+        {"relnav_estimator_update", c_update, 0},
+        {"relnav_estimator_get_*", c_get, 0},
+        {"relnav_estimator_save", c_save, 0},
+        {"relnav_estimator_restore", c_restore, 0},
+        {"relnav_estimator_restore (corrupted)", c_restore_bad, 0},
+        {"relnav_estimator_reset", c_reset, 0},
+        {"relnav_estimator_deinit", c_deinit, 0},
+    };
+    const size_t n = sizeof calls / sizeof calls[0];
+    const int32_t filters[] = {RELNAV_FILTER_EKF, RELNAV_FILTER_UKF, RELNAV_FILTER_AQUKF, RELNAV_FILTER_IMM, RELNAV_FILTER_REKF};
+    const int32_t frames[] = {1, 2, 3};
+    for (size_t fi = 0; fi < sizeof filters / sizeof filters[0]; fi++) {
+        for (size_t ri = 0; ri < 3; ri++) {
+            for (int ecc = 0; ecc < 2; ecc++) {
+                cfg = relnav_config_default();
+                cfg.filter = filters[fi];
+                cfg.frame = frames[ri];
+                cfg.noise_model = ecc ? RELNAV_NOISE_MIXTURE : RELNAV_NOISE_GAUSSIAN;
+                cfg.eccentricity = ecc ? 0.5 : 0.0;
+                for (size_t k = 0; k < n; k++) {
+                    size_t d = depth(calls[k].f);
+                    if (k == 1 && last != RELNAV_OK) {
+                        fprintf(stderr, "init failed for filter %d: %s\n", (int)filters[fi], relnav_last_error());
+                        return 2;
+                    }
+                    if (d > calls[k].worst) calls[k].worst = d;
+                }
+            }
+        }
+    }
+    /* the thread's own start-up frames, counted in every figure above: subtracted */
+    size_t base = depth(c_nothing);
+    size_t worst = 0;
+    for (size_t k = 0; k < n; k++) {
+        size_t d = calls[k].worst > base ? calls[k].worst - base : 0;
+        printf("%-42s %7zu bytes\n", calls[k].name, d);
+        if (d > worst) worst = d;
+    }
+    printf("deepest: %zu bytes (bound %zu; the thread's own %zu bytes subtracted)\n", worst, bound, base);
+    return bound && worst > bound ? 1 : 0;
+}
