@@ -18,6 +18,11 @@
 #     adversarial inputs (every filter, frames 1-3, circular and eccentric orbits); the
 #     deepest must stay under FLIGHT_STACK_BOUND bytes (the measured depth rounded up: it
 #     may only fall);
+#   * cpp-harness/flight/work.c, run under callgrind, counts the instructions of single
+#     steps of every filter, nominal and adversarial (burn, dropout, every sensor at once,
+#     an outlier, the pole, zero range, huge thrust, 10 s and 3000 s steps; circular and
+#     e = 0.5 orbits), and work_table.py prints each kind's worst step over the nominal
+#     median (reported, not yet held to a limit: see docs/c-abi.md);
 #   * the stripped quickstart is at most 1 MiB; it and every.c reference no allocator
 #     (malloc, free) and no symbol of Rust's std, and no `core::panicking` symbol (a panic
 #     path the optimiser could not remove) is left in them. They are linked with
@@ -54,6 +59,7 @@ grep -oE '\b(relnav_[a-z0-9_]+)\(' include/relnav.h | tr -d '(' | sort -u | sed 
 "$CC" "${cflags[@]}" -I"$OUT" cpp-harness/flight/every.c "$LIB" -lm -Wl,--gc-sections -o "$OUT/every"
 # a measuring program: its threads are its own (the library starts none)
 "$CC" "${cflags[@]}" cpp-harness/flight/stack.c "$LIB" -lm -lpthread -o "$OUT/stack"
+"$CC" "${cflags[@]}" cpp-harness/flight/work.c "$LIB" -lm -o "$OUT/work"
 strip -o "$OUT/quickstart.stripped" "$OUT/quickstart"
 
 "$OUT/quickstart" > "$OUT/quickstart.out"
@@ -61,6 +67,19 @@ strip -o "$OUT/quickstart.stripped" "$OUT/quickstart"
 cat "$OUT/quickstart.out"
 check "$OUT/every"
 check "$OUT/stack" "$FLIGHT_STACK_BOUND"
+if command -v valgrind >/dev/null 2>&1; then
+    rm -rf "$OUT/work.cg" && mkdir -p "$OUT/work.cg"
+    # without address-space randomisation where setarch can switch it off (counts that
+    # depend on addresses would move by a few instructions between runs)
+    norand=()
+    if command -v setarch >/dev/null 2>&1; then norand=(setarch "$(uname -m)" -R); fi
+    "${norand[@]}" valgrind --tool=callgrind --collect-atstart=no --dump-instr=no \
+        --callgrind-out-file="$OUT/work.cg/cg.out" "$OUT/work" 2> "$OUT/work.cg/valgrind.log"
+    echo "instructions per step (worst of each kind / median of the nominal steps):"
+    python3 cpp-harness/flight/work_table.py "$OUT/work.cg"
+else
+    echo "build-flight: no valgrind: instruction counts per step skipped"
+fi
 
 size_lib=$(stat -c %s "$LIB")
 size_exe=$(stat -c %s "$OUT/quickstart")
