@@ -571,21 +571,23 @@ mod tests {
 
     const M: &[u8; 8] = b"TESTMAGC";
 
+    fn payload(w: &mut Writer<'_>) {
+        w.tag(b"ABCD");
+        w.u8(7);
+        w.bool(true);
+        w.u32(0xdead_beef);
+        w.i32(-2);
+        w.u64(u64::MAX - 1);
+        w.i64(-5);
+        w.f64(-0.0);
+        w.f64(f64::from_bits(0x7ff8_0000_0000_1234));
+        w.matrix(&Matrix2x3::new(1.0, 2.0, 3.0, 4.0, 5.0, 6.0));
+        w.opt_matrix::<2, 3>(None);
+    }
+
     fn sample() -> Vec<u8> {
         let mut out = Vec::new();
-        seal(&mut out, M, 3, b"id", |w| {
-            w.tag(b"ABCD");
-            w.u8(7);
-            w.bool(true);
-            w.u32(0xdead_beef);
-            w.i32(-2);
-            w.u64(u64::MAX - 1);
-            w.i64(-5);
-            w.f64(-0.0);
-            w.f64(f64::from_bits(0x7ff8_0000_0000_1234));
-            w.matrix(&Matrix2x3::new(1.0, 2.0, 3.0, 4.0, 5.0, 6.0));
-            w.opt_matrix::<2, 3>(None);
-        });
+        seal(&mut out, M, 3, b"id", payload);
         out
     }
 
@@ -594,19 +596,6 @@ mod tests {
     fn seal_into_a_buffer_is_seal() {
         let b = sample();
         let mut buf = vec![0xAA; b.len() + 3];
-        let payload = |w: &mut Writer<'_>| {
-            w.tag(b"ABCD");
-            w.u8(7);
-            w.bool(true);
-            w.u32(0xdead_beef);
-            w.i32(-2);
-            w.u64(u64::MAX - 1);
-            w.i64(-5);
-            w.f64(-0.0);
-            w.f64(f64::from_bits(0x7ff8_0000_0000_1234));
-            w.matrix(&Matrix2x3::new(1.0, 2.0, 3.0, 4.0, 5.0, 6.0));
-            w.opt_matrix::<2, 3>(None);
-        };
         assert_eq!(seal_into(&mut buf, M, 3, b"id", payload), Some(b.len()));
         assert_eq!(&buf[..b.len()], &b[..]);
         let mut short = vec![0; b.len() - 1];
