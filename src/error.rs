@@ -93,9 +93,10 @@ impl From<NavError> for Failure {
 }
 
 pub(crate) fn null(arg: &str, func: &str) -> Failure {
-    let mut m = Message::text(func);
-    m.push(": argument `").push(arg).push("` is null");
-    Failure(relnav_status::RELNAV_ERROR_NULL_POINTER, m)
+    Failure(
+        relnav_status::RELNAV_ERROR_NULL_POINTER,
+        Message::concat(&[func, ": argument `", arg, "` is null"]),
+    )
 }
 
 /// A static, readable name for a status code (unknown codes give `"unknown status"`).

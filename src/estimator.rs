@@ -58,6 +58,26 @@ unsafe fn get_one<T>(
     })
 }
 
+/// The start of [`relnav_estimator_new`] and [`relnav_estimator_init`]: `*out` set to null
+/// (null `out` refused), then `config` read and converted.
+///
+/// # Safety
+/// `out` is null or writable; `config` is null or points to a `relnav_config`.
+unsafe fn creation(
+    out: *mut *mut relnav_estimator,
+    config: *const relnav_config,
+    func: &str,
+) -> Result<NavConfig, Failure> {
+    if out.is_null() {
+        return Err(null("out", func));
+    }
+    // SAFETY: `out` is non-null and writable by the caller's contract.
+    unsafe { *out = core::ptr::null_mut() };
+    // SAFETY: caller guarantees a valid or null pointer.
+    let c = unsafe { config.as_ref() }.ok_or_else(|| null("config", func))?;
+    Ok(NavConfig::try_from(c)?)
+}
+
 /// Create an estimator. On success `*out` holds a new handle (free it with
 /// [`relnav_estimator_free`]); on error `*out` is set to null.
 ///
@@ -70,19 +90,13 @@ pub unsafe extern "C" fn relnav_estimator_new(
 ) -> relnav_status {
     const F: &str = "relnav_estimator_new";
     boundary(F, || {
-        if out.is_null() {
-            return Err(null("out", F));
-        }
-        // SAFETY: `out` is non-null and writable by the caller's contract.
-        unsafe { *out = core::ptr::null_mut() };
-        // SAFETY: caller guarantees a valid or null pointer.
-        let c = unsafe { config.as_ref() }.ok_or_else(|| null("config", F))?;
-        let cfg = NavConfig::try_from(c)?;
+        // SAFETY: the caller's pointer contracts, passed on.
+        let cfg = unsafe { creation(out, config, F) }?;
         #[cfg(feature = "std")]
         {
             let nav = Navigator::new(&cfg)?;
             let handle = Box::into_raw(Box::new(relnav_estimator { nav }));
-            // SAFETY: as above.
+            // SAFETY: `out` is non-null (checked by `creation`) and writable by contract.
             unsafe { *out = handle };
             Ok(())
         }
@@ -151,11 +165,8 @@ pub unsafe extern "C" fn relnav_estimator_init(
 ) -> relnav_status {
     const F: &str = "relnav_estimator_init";
     boundary(F, || {
-        if out.is_null() {
-            return Err(null("out", F));
-        }
-        // SAFETY: `out` is non-null and writable by the caller's contract.
-        unsafe { *out = core::ptr::null_mut() };
+        // SAFETY: the caller's pointer contracts, passed on.
+        let cfg = unsafe { creation(out, config, F) }?;
         if storage.is_null() {
             return Err(null("storage", F));
         }
@@ -168,13 +179,11 @@ pub unsafe extern "C" fn relnav_estimator_init(
                     .into(),
             ));
         }
-        // SAFETY: caller guarantees a valid or null pointer.
-        let c = unsafe { config.as_ref() }.ok_or_else(|| null("config", F))?;
-        let nav = Navigator::new(&NavConfig::try_from(c)?)?;
+        let nav = Navigator::new(&cfg)?;
         // SAFETY: `place` is non-null, aligned and has room for one `relnav_estimator`
         // (checked above), writable and unused by the caller's contract.
         unsafe { place.write(relnav_estimator { nav }) };
-        // SAFETY: as for `out` above.
+        // SAFETY: `out` is non-null (checked by `creation`) and writable by contract.
         unsafe { *out = place };
         Ok(())
     })

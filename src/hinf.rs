@@ -10,9 +10,10 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 /// The refusal of a call the flight library (no std) does not have.
 #[cfg(not(feature = "std"))]
 fn not_in_this_build(func: &str) -> Failure {
-    let mut m = relnav_core::message::Message::text(func);
-    m.push(": not in this build (the flight library)");
-    Failure(relnav_status::RELNAV_ERROR_NOT_IMPLEMENTED, m)
+    Failure(
+        relnav_status::RELNAV_ERROR_NOT_IMPLEMENTED,
+        relnav_core::message::Message::concat(&[func, ": not in this build (the flight library)"]),
+    )
 }
 
 /// Which H-infinity design `relnav_hinf_design` solves.

@@ -46,6 +46,15 @@ impl Message {
         m
     }
 
+    /// The texts one after the other.
+    pub fn concat(parts: &[&str]) -> Self {
+        let mut m = Self::new();
+        for p in parts {
+            m.push(p);
+        }
+        m
+    }
+
     /// Appends `text` (without `std`: as much of it as fits, whole characters).
     pub fn push(&mut self, text: &str) -> &mut Self {
         #[cfg(feature = "std")]
@@ -238,6 +247,12 @@ mod tests {
             core::str::from_utf8(&b),
             Ok("? must lie in ?..=? (got ?) {braces}")
         );
+    }
+
+    #[test]
+    fn concat_joins_the_parts() {
+        assert_eq!(Message::concat(&["a", ": ", "b"]), "a: b");
+        assert_eq!(Message::concat(&[]), "");
     }
 
     #[test]

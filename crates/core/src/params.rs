@@ -275,9 +275,16 @@ impl Rule {
 
 /// `name` followed by `rest` (the parameter's name stays in the message without `std`).
 fn named(name: &str, rest: crate::message::Message) -> crate::message::Message {
-    let mut m = crate::message::Message::text(name);
-    m.push(&rest);
-    m
+    crate::message::Message::concat(&[name, &rest])
+}
+
+/// The refusal of an unknown code `v` for the parameter `name` of the code list `list`
+/// (with `std`, the allowed codes listed).
+pub fn unknown_code(name: &str, v: Value, list: &CodeList) -> crate::message::Message {
+    #[cfg(feature = "std")]
+    return crate::msg!("unknown {name} code {v} (allowed: {})", list.codes());
+    #[cfg(not(feature = "std"))]
+    return crate::message::Message::concat(&["unknown ", name, " code"]);
 }
 
 /// " must lie in (lo, hi] (got v)" and the rule's reason.
@@ -292,9 +299,7 @@ fn interval_message(lo: &End, hi: &End, v: Value, why: &str) -> crate::message::
 /// " must lie in its interval" and the rule's reason (no numbers without `std`).
 #[cfg(not(feature = "std"))]
 fn interval_message(_: &End, _: &End, _: Value, why: &str) -> crate::message::Message {
-    let mut m = crate::message::Message::text(" must lie in its interval");
-    m.push(why);
-    m
+    crate::message::Message::concat(&[" must lie in its interval", why])
 }
 
 #[cfg(feature = "std")]
@@ -576,12 +581,9 @@ macro_rules! codes {
             }
             fn set(&mut self, _: usize, v: $crate::params::Value, name: &str) -> Result<(), $crate::message::Message> {
                 let code = v.as_int().and_then(|c| i32::try_from(c).ok());
-                *self = code.and_then(Self::from_code).ok_or_else(|| {
-                    #[cfg(feature = "std")]
-                    return $crate::msg!("unknown {name} code {v} (allowed: {})", $list.codes());
-                    #[cfg(not(feature = "std"))]
-                    return $crate::message::Message::text("unknown code of ").push(name).clone();
-                })?;
+                *self = code
+                    .and_then(Self::from_code)
+                    .ok_or_else(|| $crate::params::unknown_code(name, v, &$list))?;
                 Ok(())
             }
         }

@@ -30,6 +30,9 @@ pub use aqukf::{
 };
 #[cfg(feature = "std")]
 pub use bank::Bank;
+pub use ekf::Ekf;
+pub use imm::{Imm, ImmParams, MAX_MODES};
+pub use ukf::{Ukf, UkfParams};
 
 /// What a range-parameterised bank ([`bank`]) needs of its members beyond [`Estimator`]: a small snapshot to undo a step,
 /// and a reset to a new prior (the members' own reset: the AQUKF's adaptation and the IMM's
@@ -47,30 +50,6 @@ pub trait Member: Estimator + Clone + core::fmt::Debug {
 
 /// The largest number of members of a range-parameterised bank ([`bank`]).
 pub const MAX_BANK: usize = 9;
-pub use ekf::Ekf;
-pub use imm::{Imm, ImmParams, MAX_MODES};
-pub use ukf::{Ukf, UkfParams};
-
-impl FilterError {
-    /// The reason in words (as `Display` writes it; without `std`, without numbers).
-    pub fn message(&self) -> crate::message::Message {
-        use crate::message::Message;
-        match self {
-            FilterError::Geometry(g) => g.message(),
-            FilterError::NotPositiveDefinite(what) => {
-                let mut m = Message::text(what);
-                m.push(" is not positive definite");
-                m
-            }
-            FilterError::NonFinite(what) => {
-                let mut m = Message::text(what);
-                m.push(" is not finite");
-                m
-            }
-            FilterError::Unsupported(why) => Message::text(why),
-        }
-    }
-}
 
 /// Why a filter step failed. The estimate is unchanged after an error.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -85,16 +64,24 @@ pub enum FilterError {
     Unsupported(&'static str),
 }
 
+impl FilterError {
+    /// The reason in words (what `Display` writes; without `std`, without numbers).
+    pub fn message(&self) -> crate::message::Message {
+        use crate::message::Message;
+        match self {
+            FilterError::Geometry(g) => g.message(),
+            FilterError::NotPositiveDefinite(what) => {
+                Message::concat(&[what, " is not positive definite"])
+            }
+            FilterError::NonFinite(what) => Message::concat(&[what, " is not finite"]),
+            FilterError::Unsupported(why) => Message::text(why),
+        }
+    }
+}
+
 impl core::fmt::Display for FilterError {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        match self {
-            FilterError::Geometry(g) => write!(f, "{g}"),
-            FilterError::NotPositiveDefinite(what) => {
-                write!(f, "{what} is not positive definite")
-            }
-            FilterError::NonFinite(what) => write!(f, "{what} is not finite"),
-            FilterError::Unsupported(why) => f.write_str(why),
-        }
+        f.write_str(&self.message())
     }
 }
 

@@ -362,14 +362,9 @@ macro_rules! code_field {
                 name: &str,
             ) -> Result<(), crate::message::Message> {
                 let code = v.as_int().and_then(|c| i32::try_from(c).ok());
-                *self = code.and_then($from).ok_or_else(|| {
-                    #[cfg(feature = "std")]
-                    return crate::msg!("unknown {name} code {v} (allowed: {})", $list.codes());
-                    #[cfg(not(feature = "std"))]
-                    return crate::message::Message::text("unknown code of ")
-                        .push(name)
-                        .clone();
-                })?;
+                *self = code
+                    .and_then($from)
+                    .ok_or_else(|| crate::params::unknown_code(name, v, &$list))?;
                 Ok(())
             }
         }
@@ -850,10 +845,11 @@ impl NavConfig {
                 )
             };
             #[cfg(not(feature = "std"))]
-            let message = crate::message::Message::text("filter ")
-                .push(self.filter.name())
-                .push(" is not in this build (the flight library)")
-                .clone();
+            let message = crate::message::Message::concat(&[
+                "filter ",
+                self.filter.name(),
+                " is not in this build (the flight library)",
+            ]);
             return Err(NavError {
                 kind: NavErrorKind::NotImplemented,
                 message,

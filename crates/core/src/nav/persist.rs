@@ -152,12 +152,11 @@ impl Navigator {
                         v.with_bits(b)
                     );
                     #[cfg(not(feature = "std"))]
-                    let m = crate::message::Message::text(
+                    let m = crate::message::Message::concat(&[
                         "the state was saved for another configuration: ",
-                    )
-                    .push(p.name)
-                    .push(" differs")
-                    .clone();
+                        p.name,
+                        " differs",
+                    ]);
                     let _ = i;
                     differs = Some(refuse(m));
                 }

@@ -106,10 +106,7 @@ impl<S, const D: usize> Named<S, D> {
 
     /// `text` after this sensor's name and a colon.
     fn named(&self, text: &str) -> crate::message::Message {
-        let mut m = crate::message::Message::text(&self.name);
-        m.push(": ");
-        m.push(text);
-        m
+        crate::message::Message::concat(&[&self.name, ": ", text])
     }
 }
 

@@ -67,7 +67,7 @@ pub enum GeometryError {
 }
 
 impl GeometryError {
-    /// The reason in words (as `Display` writes it; without `std`, without numbers).
+    /// The reason in words (what `Display` writes; without `std`, without numbers).
     pub fn message(&self) -> crate::message::Message {
         match self {
             GeometryError::ZeroRange => crate::msg!(
@@ -79,12 +79,7 @@ impl GeometryError {
 
 impl core::fmt::Display for GeometryError {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        match self {
-            GeometryError::ZeroRange => write!(
-                f,
-                "relative range below {MIN_RANGE} m: azimuth and elevation are undefined"
-            ),
-        }
+        f.write_str(&self.message())
     }
 }
 
