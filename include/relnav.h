@@ -14,6 +14,14 @@
 // The alignment of `RELNAV_ESTIMATOR_STORAGE_SIZE`'s storage, at least the estimator's.
 #define RELNAV_ESTIMATOR_STORAGE_ALIGN 16
 
+// Bytes of storage that hold a runtime filter in every build: static storage for
+// [`relnav_hinf_filter_init`] (`RELNAV_HINF_FILTER_STORAGE_SIZE` bytes aligned to
+// `RELNAV_HINF_FILTER_STORAGE_ALIGN`; [`relnav_hinf_filter_storage`] gives the exact need).
+#define RELNAV_HINF_FILTER_STORAGE_SIZE 2048
+
+// The alignment of `RELNAV_HINF_FILTER_STORAGE_SIZE`'s storage, at least the filter's.
+#define RELNAV_HINF_FILTER_STORAGE_ALIGN 16
+
 // Result of every fallible call. Values are stable.
 typedef enum relnav_status {
   // Success.
@@ -827,6 +835,38 @@ enum relnav_status relnav_config_hinf_spec(const struct relnav_config *config,
 enum relnav_status relnav_hinf_filter_new(const struct relnav_hinf_matrices *matrices,
                                           const double *x0,
                                           struct relnav_hinf_filter **out);
+
+// The storage [`relnav_hinf_filter_init`] needs: `*size` bytes aligned to `*align` (a
+// power of two).
+//
+// # Safety
+// `size` and `align` are null or writable.
+enum relnav_status relnav_hinf_filter_storage(size_t *size, size_t *align);
+
+// Create a runtime filter in the caller's `storage` (`size` bytes, aligned as
+// [`relnav_hinf_filter_storage`] says) from designed matrices: no heap, the flight
+// library's way to run gains designed elsewhere (`relnav_hinf_design` in the full library,
+// the CLI, Python) and loaded as data. Its estimate `C_F x_f` starts at `x0` (6 doubles,
+// canonical frame). On success `*out` points into `storage`; end it with
+// [`relnav_hinf_filter_deinit`] (not [`relnav_hinf_filter_free`]). On error `*out` is set
+// to null.
+//
+// # Safety
+// `storage` is null or points to `size` writable bytes that nothing else uses while the
+// filter lives; `matrices` is null or readable; `x0` is null or 6 readable doubles; `out`
+// is null or writable.
+enum relnav_status relnav_hinf_filter_init(void *storage,
+                                           size_t size,
+                                           const struct relnav_hinf_matrices *matrices,
+                                           const double *x0,
+                                           struct relnav_hinf_filter **out);
+
+// End a runtime filter made by [`relnav_hinf_filter_init`]; its storage is the caller's
+// again. Null is accepted and ignored (`RELNAV_OK` either way).
+//
+// # Safety
+// `filter` is null or a handle from [`relnav_hinf_filter_init`] not yet ended.
+enum relnav_status relnav_hinf_filter_deinit(struct relnav_hinf_filter *filter);
 
 // One filter step: `x_f <- A_F x_f + B_F y + E_F a`. `y` is the canonical position
 // measurement [m] (3 doubles, or null: replaced by its prediction), `accel` the known

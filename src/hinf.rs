@@ -126,7 +126,6 @@ fn to_c_matrices(m: &relnav_core::hinf::HinfMatrices) -> relnav_hinf_matrices {
     o
 }
 
-#[cfg(feature = "std")]
 fn from_c_matrices(m: &relnav_hinf_matrices) -> relnav_core::hinf::HinfMatrices {
     use relnav_core::types::{Mat6, Mat63};
     relnav_core::hinf::HinfMatrices {
@@ -352,7 +351,7 @@ pub unsafe extern "C" fn relnav_hinf_filter_new(
         {
             let f = relnav_core::hinf::HinfFilter::new(
                 from_c_matrices(m),
-                relnav_core::types::State::from_row_slice(&x),
+                relnav_core::types::State::from(x),
             )?;
             *o = Box::into_raw(Box::new(relnav_hinf_filter { f }));
             Ok(())
@@ -360,9 +359,117 @@ pub unsafe extern "C" fn relnav_hinf_filter_new(
         #[cfg(not(feature = "std"))]
         {
             let _ = (m, x, o);
-            Err(not_in_this_build(F))
+            Err(Failure(
+                relnav_status::RELNAV_ERROR_NOT_IMPLEMENTED,
+                "relnav_hinf_filter_new: not in this build (the flight library has no heap): \
+                 use relnav_hinf_filter_init"
+                    .into(),
+            ))
         }
     })
+}
+
+/// Bytes of storage that hold a runtime filter in every build: static storage for
+/// [`relnav_hinf_filter_init`] (`RELNAV_HINF_FILTER_STORAGE_SIZE` bytes aligned to
+/// `RELNAV_HINF_FILTER_STORAGE_ALIGN`; [`relnav_hinf_filter_storage`] gives the exact need).
+pub const RELNAV_HINF_FILTER_STORAGE_SIZE: usize = 2048;
+/// The alignment of `RELNAV_HINF_FILTER_STORAGE_SIZE`'s storage, at least the filter's.
+pub const RELNAV_HINF_FILTER_STORAGE_ALIGN: usize = 16;
+const _: () = assert!(
+    core::mem::size_of::<relnav_hinf_filter>() <= RELNAV_HINF_FILTER_STORAGE_SIZE
+        && core::mem::align_of::<relnav_hinf_filter>() <= RELNAV_HINF_FILTER_STORAGE_ALIGN
+);
+
+/// The storage [`relnav_hinf_filter_init`] needs: `*size` bytes aligned to `*align` (a
+/// power of two).
+///
+/// # Safety
+/// `size` and `align` are null or writable.
+#[no_mangle]
+pub unsafe extern "C" fn relnav_hinf_filter_storage(
+    size: *mut usize,
+    align: *mut usize,
+) -> relnav_status {
+    const F: &str = "relnav_hinf_filter_storage";
+    boundary(F, || {
+        // SAFETY: pointer contracts are the caller's, checked for null.
+        let s = unsafe { size.as_mut() }.ok_or_else(|| null("size", F))?;
+        // SAFETY: as above.
+        let a = unsafe { align.as_mut() }.ok_or_else(|| null("align", F))?;
+        *s = core::mem::size_of::<relnav_hinf_filter>();
+        *a = core::mem::align_of::<relnav_hinf_filter>();
+        Ok(())
+    })
+}
+
+/// Create a runtime filter in the caller's `storage` (`size` bytes, aligned as
+/// [`relnav_hinf_filter_storage`] says) from designed matrices: no heap, the flight
+/// library's way to run gains designed elsewhere (`relnav_hinf_design` in the full library,
+/// the CLI, Python) and loaded as data. Its estimate `C_F x_f` starts at `x0` (6 doubles,
+/// canonical frame). On success `*out` points into `storage`; end it with
+/// [`relnav_hinf_filter_deinit`] (not [`relnav_hinf_filter_free`]). On error `*out` is set
+/// to null.
+///
+/// # Safety
+/// `storage` is null or points to `size` writable bytes that nothing else uses while the
+/// filter lives; `matrices` is null or readable; `x0` is null or 6 readable doubles; `out`
+/// is null or writable.
+#[no_mangle]
+pub unsafe extern "C" fn relnav_hinf_filter_init(
+    storage: *mut core::ffi::c_void,
+    size: usize,
+    matrices: *const relnav_hinf_matrices,
+    x0: *const f64,
+    out: *mut *mut relnav_hinf_filter,
+) -> relnav_status {
+    const F: &str = "relnav_hinf_filter_init";
+    boundary(F, || {
+        // SAFETY: pointer contracts are the caller's, checked for null.
+        let o = unsafe { out.as_mut() }.ok_or_else(|| null("out", F))?;
+        *o = core::ptr::null_mut();
+        // SAFETY: as above.
+        let m = unsafe { matrices.as_ref() }.ok_or_else(|| null("matrices", F))?;
+        // SAFETY: as above.
+        let x = unsafe { read_array::<6>(x0, "x0", F) }?;
+        if storage.is_null() {
+            return Err(null("storage", F));
+        }
+        let place = storage.cast::<relnav_hinf_filter>();
+        if size < core::mem::size_of::<relnav_hinf_filter>() || !place.is_aligned() {
+            return Err(Failure(
+                relnav_status::RELNAV_ERROR_INVALID_ARGUMENT,
+                "relnav_hinf_filter_init: the storage is smaller or less aligned than \
+                 relnav_hinf_filter_storage says"
+                    .into(),
+            ));
+        }
+        let f = relnav_core::hinf::HinfFilter::new(
+            from_c_matrices(m),
+            relnav_core::types::State::from(x),
+        )?;
+        // SAFETY: `place` is non-null, aligned and has room for one filter (checked
+        // above), writable and unused by the caller's contract.
+        unsafe { place.write(relnav_hinf_filter { f }) };
+        *o = place;
+        Ok(())
+    })
+}
+
+/// End a runtime filter made by [`relnav_hinf_filter_init`]; its storage is the caller's
+/// again. Null is accepted and ignored (`RELNAV_OK` either way).
+///
+/// # Safety
+/// `filter` is null or a handle from [`relnav_hinf_filter_init`] not yet ended.
+#[no_mangle]
+pub unsafe extern "C" fn relnav_hinf_filter_deinit(
+    filter: *mut relnav_hinf_filter,
+) -> relnav_status {
+    if !filter.is_null() {
+        // SAFETY: the handle holds a filter written by relnav_hinf_filter_init and is
+        // ended exactly once by the caller's contract.
+        unsafe { core::ptr::drop_in_place(filter) };
+    }
+    relnav_status::RELNAV_OK
 }
 
 /// One filter step: `x_f <- A_F x_f + B_F y + E_F a`. `y` is the canonical position
@@ -396,8 +503,8 @@ pub unsafe extern "C" fn relnav_hinf_filter_step(
                 relnav_core::msg!("{F}: y and accel must be finite"),
             ));
         }
-        let yv = yv.map(|v| relnav_core::types::Vec3::from_row_slice(&v));
-        h.f.step(yv.as_ref(), &relnav_core::types::Vec3::from_row_slice(&a));
+        let yv = yv.map(relnav_core::types::Vec3::from);
+        h.f.step(yv.as_ref(), &relnav_core::types::Vec3::from(a));
         Ok(())
     })
 }

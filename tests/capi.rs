@@ -1013,3 +1013,117 @@ fn estimator_in_caller_storage_is_the_heap_estimator() {
         assert_eq!(unsafe { relnav_estimator_deinit(est) }, OK);
     }
 }
+
+/// The runtime H-infinity filter in the caller's storage (`relnav_hinf_filter_init`, the
+/// flight library's way to run gains designed elsewhere): the storage query, the refusals
+/// (null, too small, misaligned, singular `C_F`: `*out` nulled), and, with paper 002's
+/// published matrices (`C_F` not the identity), steps bit for bit those of the heap filter
+/// and within rounding of the recursion computed here with nalgebra's own inverse.
+#[test]
+fn runtime_hinf_filter_in_caller_storage() {
+    use relnav_core::hinf::{PAPER_A_F, PAPER_B_F, PAPER_C_F};
+    use relnav_core::types::{Mat6, Mat63, State, Vec3};
+    let (mut size, mut align) = (0usize, 0usize);
+    // SAFETY: writable pointers.
+    assert_eq!(
+        unsafe { relnav_hinf_filter_storage(&mut size, &mut align) },
+        OK
+    );
+    assert!(
+        size > 0 && size <= RELNAV_HINF_FILTER_STORAGE_SIZE,
+        "{size}"
+    );
+    assert!(align.is_power_of_two() && align <= RELNAV_HINF_FILTER_STORAGE_ALIGN);
+    let m = relnav_hinf_matrices {
+        a_f: std::array::from_fn(|k| PAPER_A_F[k / 6][k % 6]),
+        b_f: std::array::from_fn(|k| PAPER_B_F[k / 3][k % 3]),
+        c_f: std::array::from_fn(|k| PAPER_C_F[k / 6][k % 6]),
+        e_f: std::array::from_fn(|k| 1e-3 * (k % 4) as f64),
+        period: 0.1,
+    };
+    #[repr(C, align(16))]
+    struct Storage([u8; RELNAV_HINF_FILTER_STORAGE_SIZE]);
+    let mut storage = Box::new(Storage([0; RELNAV_HINF_FILTER_STORAGE_SIZE]));
+    let base = storage.0.as_mut_ptr().cast::<std::ffi::c_void>();
+    let x0 = [100.0, -50.0, 20.0, 0.1, -0.2, 0.05];
+    let mut placed = std::ptr::null_mut();
+    // SAFETY: the storage is live and unused; the refusals write nothing into it.
+    unsafe {
+        let st = relnav_hinf_filter_init(base, size - 1, &m, x0.as_ptr(), &mut placed);
+        assert_eq!(st, INVALID);
+        assert!(placed.is_null() && last_error().contains("storage"));
+        let st = relnav_hinf_filter_init(
+            base.cast::<u8>().add(1).cast(),
+            size,
+            &m,
+            x0.as_ptr(),
+            &mut placed,
+        );
+        assert_eq!(st, INVALID);
+        let singular = relnav_hinf_matrices {
+            c_f: [0.0; 36],
+            ..m
+        };
+        let st = relnav_hinf_filter_init(base, size, &singular, x0.as_ptr(), &mut placed);
+        assert_eq!(st, INVALID);
+        assert!(last_error().contains("singular"), "{}", last_error());
+        let st = relnav_hinf_filter_init(std::ptr::null_mut(), size, &m, x0.as_ptr(), &mut placed);
+        assert_eq!(st, relnav_status::RELNAV_ERROR_NULL_POINTER);
+        assert_eq!(relnav_hinf_filter_deinit(std::ptr::null_mut()), OK);
+    }
+    let mut heap = std::ptr::null_mut();
+    // SAFETY: valid pointers; the storage is live, aligned, large enough and unused.
+    unsafe {
+        assert_eq!(relnav_hinf_filter_new(&m, x0.as_ptr(), &mut heap), OK);
+        let st = relnav_hinf_filter_init(base, size, &m, x0.as_ptr(), &mut placed);
+        assert_eq!(st, OK, "{}", last_error());
+    }
+    // the recursion x_f <- A_F x_f + B_F y + E_F a, estimate C_F x_f, computed here
+    let a_f = Mat6::from_fn(|i, j| PAPER_A_F[i][j]);
+    let b_f = Mat63::from_fn(|i, j| PAPER_B_F[i][j]);
+    let c_f = Mat6::from_fn(|i, j| PAPER_C_F[i][j]);
+    let e_f = Mat63::from_fn(|i, j| m.e_f[3 * i + j]);
+    let mut x_f = c_f.try_inverse().unwrap() * State::from(x0);
+    let accel = [0.0, 2e-3, -1e-3];
+    for k in 0..300 {
+        let y = [
+            100.0 + 0.01 * k as f64,
+            -50.0 - 0.02 * k as f64,
+            20.0 + (0.1 * k as f64).sin(),
+        ];
+        let yp = if k % 6 == 4 {
+            std::ptr::null()
+        } else {
+            y.as_ptr()
+        };
+        let yv = if yp.is_null() {
+            (c_f * x_f).fixed_rows::<3>(0).into_owned()
+        } else {
+            Vec3::from(y)
+        };
+        x_f = a_f * x_f + b_f * yv + e_f * Vec3::from(accel);
+        let (mut a, mut b) = ([0.0; 6], [0.0; 6]);
+        // SAFETY: live handles, arrays of the documented lengths.
+        unsafe {
+            assert_eq!(relnav_hinf_filter_step(heap, yp, accel.as_ptr()), OK);
+            assert_eq!(relnav_hinf_filter_step(placed, yp, accel.as_ptr()), OK);
+            assert_eq!(relnav_hinf_filter_get_state(heap, a.as_mut_ptr()), OK);
+            assert_eq!(relnav_hinf_filter_get_state(placed, b.as_mut_ptr()), OK);
+        }
+        assert_eq!(a.map(f64::to_bits), b.map(f64::to_bits), "step {k}");
+        let want = c_f * x_f;
+        for i in 0..6 {
+            assert!(
+                (b[i] - want[i]).abs() <= 1e-9 * (1.0 + want[i].abs()),
+                "step {k}, {i}: {} vs {}",
+                b[i],
+                want[i]
+            );
+        }
+    }
+    // SAFETY: each handle ended once, the way it was made.
+    unsafe {
+        relnav_hinf_filter_free(heap);
+        assert_eq!(relnav_hinf_filter_deinit(placed), OK);
+    }
+}

@@ -3,9 +3,9 @@
  * filled with a pattern; the depth is how far below the top the pattern was overwritten.
  * Every filter of the flight library, nominal and adversarial inputs (a dropout, a burn,
  * every sensor at once, a near-zero range, a long step, a saved state restored; frames 1-3,
- * circular and eccentric orbits). Prints one line per call with the deepest use seen, less
- * the thread's own frames, and exits 1 if any exceeds the bound given as the first
- * argument (bytes). A measured depth over these inputs, not a bound over every path. */
+ * circular and eccentric orbits), and the runtime H-infinity filter. Prints one line per
+ * call with the deepest use seen, less the thread's own frames, and exits 1 if any exceeds
+ * the bound given as the first argument (bytes). A measured depth over these inputs, not a bound over every path. */
 #define _GNU_SOURCE
 #include <relnav.h>
 #include <pthread.h>
@@ -20,6 +20,7 @@
 
 static alignas(64) unsigned char stack_mem[STACK];
 static alignas(RELNAV_ESTIMATOR_STORAGE_ALIGN) unsigned char storage[RELNAV_ESTIMATOR_STORAGE_SIZE];
+static alignas(RELNAV_HINF_FILTER_STORAGE_ALIGN) unsigned char hinf_storage[RELNAV_HINF_FILTER_STORAGE_SIZE];
 static uint8_t state_buf[65536];
 
 typedef void (*call_fn)(void);
@@ -94,6 +95,20 @@ static void c_validate(void) { last = relnav_config_validate(&cfg); }
 static void c_deinit(void) { last = relnav_estimator_deinit(est); }
 static void c_nothing(void) { last = RELNAV_OK; }
 
+/* the runtime H-infinity filter: an observer with an output map that is not the identity */
+static relnav_hinf_matrices hm;
+static relnav_hinf_filter *hf;
+static const double hx0[6] = {400.0, 500.0, 200.0, 0.1, 0.1, -0.1};
+static const double ha[3] = {0.0, 2e-3, 0.0};
+static void h_init(void) { last = relnav_hinf_filter_init(hinf_storage, sizeof hinf_storage, &hm, hx0, &hf); }
+static void h_step(void) { last = relnav_hinf_filter_step(hf, gpos, ha); }
+static void h_step_dropout(void) { last = relnav_hinf_filter_step(hf, NULL, ha); }
+static void h_get(void) {
+    double x[6];
+    last = relnav_hinf_filter_get_state(hf, x);
+}
+static void h_deinit(void) { last = relnav_hinf_filter_deinit(hf); }
+
 struct call {
     const char *name;
     call_fn f;
@@ -141,12 +156,43 @@ int main(int argc, char **argv) {
             }
         }
     }
+    struct call hinf_calls[] = {
+        {"relnav_hinf_filter_init", h_init, 0},
+        {"relnav_hinf_filter_step", h_step, 0},
+        {"relnav_hinf_filter_step (dropout)", h_step_dropout, 0},
+        {"relnav_hinf_filter_get_state", h_get, 0},
+        {"relnav_hinf_filter_deinit", h_deinit, 0},
+    };
+    const size_t nh = sizeof hinf_calls / sizeof hinf_calls[0];
+    memset(&hm, 0, sizeof hm);
+    hm.period = 1.0;
+    for (int i = 0; i < 6; i++) {
+        hm.a_f[7 * i] = 0.5;
+        for (int j = 0; j < 6; j++) hm.c_f[6 * i + j] = (i == j) ? 1.0 : 0.01 * (double)(i + j);
+    }
+    for (int i = 0; i < 3; i++) {
+        hm.a_f[6 * i + i + 3] = 1.0;
+        hm.b_f[3 * i + i] = 0.5;
+        hm.e_f[3 * (i + 3) + i] = 1.0;
+    }
+    for (size_t k = 0; k < nh; k++) {
+        hinf_calls[k].worst = depth(hinf_calls[k].f);
+        if (k == 0 && last != RELNAV_OK) {
+            fprintf(stderr, "relnav_hinf_filter_init failed: %s\n", relnav_last_error());
+            return 2;
+        }
+    }
     /* the thread's own start-up frames, counted in every figure above: subtracted */
     size_t base = depth(c_nothing);
     size_t worst = 0;
     for (size_t k = 0; k < n; k++) {
         size_t d = calls[k].worst > base ? calls[k].worst - base : 0;
         printf("%-42s %7zu bytes\n", calls[k].name, d);
+        if (d > worst) worst = d;
+    }
+    for (size_t k = 0; k < nh; k++) {
+        size_t d = hinf_calls[k].worst > base ? hinf_calls[k].worst - base : 0;
+        printf("%-42s %7zu bytes\n", hinf_calls[k].name, d);
         if (d > worst) worst = d;
     }
     printf("deepest: %zu bytes (bound %zu; the thread's own %zu bytes subtracted)\n", worst, bound, base);

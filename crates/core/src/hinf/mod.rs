@@ -597,7 +597,7 @@ impl HinfFilter {
         {
             return Err(HinfError::invalid("filter matrices must be finite"));
         }
-        let c_f_inv = m.c_f.try_inverse().ok_or_else(|| {
+        let c_f_inv = crate::numerics::try_inverse(&m.c_f).ok_or_else(|| {
             HinfError::invalid("C_F is singular: the estimate cannot be initialised")
         })?;
         let mut f = Self {

@@ -59,6 +59,59 @@ pub fn clamp(v: f64, lo: f64, hi: f64) -> f64 {
     x
 }
 
+/// The inverse of a small square matrix by Gauss-Jordan elimination with partial
+/// pivoting; `None` when a pivot is zero or the result is not finite. nalgebra's
+/// `try_inverse` (an LU for sizes above 4) keeps index assertions the optimiser cannot
+/// remove, panic paths the flight library must not have; here every index comes from a
+/// loop bounded by `N`.
+pub fn try_inverse<const N: usize>(
+    m: &nalgebra::SMatrix<f64, N, N>,
+) -> Option<nalgebra::SMatrix<f64, N, N>> {
+    let mut a = [[0.0; N]; N];
+    let mut inv = [[0.0; N]; N];
+    for i in 0..N {
+        for j in 0..N {
+            a[i][j] = m[(i, j)];
+        }
+        inv[i][i] = 1.0;
+    }
+    for k in 0..N {
+        // bring the largest remaining entry of column k to row k (swapping in every larger
+        // one met keeps each index loop-bounded)
+        for i in k + 1..N {
+            if a[i][k].abs() > a[k][k].abs() {
+                for j in 0..N {
+                    let t = a[k][j];
+                    a[k][j] = a[i][j];
+                    a[i][j] = t;
+                    let t = inv[k][j];
+                    inv[k][j] = inv[i][j];
+                    inv[i][j] = t;
+                }
+            }
+        }
+        let pivot = a[k][k];
+        if pivot == 0.0 || !pivot.is_finite() {
+            return None;
+        }
+        for j in 0..N {
+            a[k][j] /= pivot;
+            inv[k][j] /= pivot;
+        }
+        for i in 0..N {
+            if i != k {
+                let f = a[i][k];
+                for j in 0..N {
+                    a[i][j] -= f * a[k][j];
+                    inv[i][j] -= f * inv[k][j];
+                }
+            }
+        }
+    }
+    let out = nalgebra::SMatrix::<f64, N, N>::from_fn(|i, j| inv[i][j]);
+    all_finite(out.as_slice()).then_some(out)
+}
+
 /// An owned copy of a fixed-size matrix or view, element by element: nalgebra's
 /// `into_owned` of a view copies through an iterator whose length it asserts at run time,
 /// a panic path the optimiser keeps (the flight library has none).
@@ -102,7 +155,8 @@ pub fn num(_: f64) -> &'static str {
 
 #[cfg(test)]
 mod tests {
-    use super::{all_finite, num};
+    use super::{all_finite, num, try_inverse};
+    use crate::types::Mat6;
 
     #[test]
     fn all_finite_finds_every_non_finite_value() {
@@ -130,5 +184,36 @@ mod tests {
         assert_eq!(num(1e-9), "1e-9");
         assert_eq!(num(2.5e12), "2.5e12");
         assert_eq!(num(f64::NAN), "NaN");
+    }
+
+    #[test]
+    fn inverse_matches_nalgebra_and_refuses_singular_matrices() {
+        // deterministic, well-conditioned matrices with zeros on the diagonal (pivoting needed)
+        let mut seed = 12345u64;
+        let mut next = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        for _ in 0..200 {
+            let mut m = Mat6::from_fn(|_, _| next());
+            m.fill_diagonal(0.0);
+            let ours = try_inverse(&m).unwrap();
+            let theirs = m.try_inverse().unwrap();
+            let scale = theirs.amax().max(1.0);
+            assert!(
+                (ours - theirs).amax() <= 1e-10 * scale,
+                "{ours} vs {theirs}"
+            );
+            assert!((m * ours - Mat6::identity()).amax() < 1e-10);
+        }
+        let mut singular = Mat6::from_fn(|i, j| (i + j) as f64);
+        assert!(try_inverse(&singular).is_none());
+        singular = Mat6::identity();
+        singular[(3, 3)] = 0.0;
+        assert!(try_inverse(&singular).is_none());
+        assert!(try_inverse(&(Mat6::identity() * f64::NAN)).is_none());
+        assert!(try_inverse(&(Mat6::identity() * 1e-310)).is_none());
     }
 }
