@@ -99,7 +99,7 @@ run_pytest() {
 }
 
 run_cpp_harness() {
-    cmake -S cpp-harness -B cpp-harness/build -DCMAKE_BUILD_TYPE=Debug &&
+    cmake -S cpp-harness -B cpp-harness/build -DCMAKE_BUILD_TYPE=Debug -DRELNAV_REQUIRE_FLIGHT=ON &&
         cmake --build cpp-harness/build -j"$JOBS" &&
         ctest --test-dir cpp-harness/build --output-on-failure -j"$JOBS"
 }

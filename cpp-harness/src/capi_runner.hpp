@@ -3,6 +3,7 @@
 #pragma once
 
 #include "check.hpp"
+#include "estimator_handle.hpp"
 #include "scenario.hpp"
 
 #include <relnav.h>
@@ -40,10 +41,10 @@ inline Trace run_capi(const Paper000& p, const std::vector<Vec3>& z, int filter,
     Trace tr;
     relnav_config cfg = scenario_config(filter);
     relnav_estimator* est = nullptr;
-    relnav_status st = relnav_estimator_new(&cfg, &est);
+    relnav_status st = estimator_new(&cfg, &est);
     if (st != RELNAV_OK || est == nullptr) {
         record_failure(__FILE__, __LINE__,
-                       std::string("relnav_estimator_new failed: ") + relnav_last_error());
+                       std::string("estimator_new failed: ") + relnav_last_error());
         tr.ok = false;
         return tr;
     }
@@ -67,7 +68,7 @@ inline Trace run_capi(const Paper000& p, const std::vector<Vec3>& z, int filter,
         tr.state.push_back(x);
         tr.sigma.push_back(s);
     }
-    relnav_estimator_free(est);
+    estimator_free(est);
     return tr;
 }
 
