@@ -537,14 +537,15 @@ typedef struct relnav_hinf_result {
 extern "C" {
 #endif // __cplusplus
 
-// Library version, e.g. `"0.1.0"` (static string, never null).
+// Library version, e.g. `"0.1.0"` (static string, never null). Cannot fail, so returns the
+// string itself.
 const char *relnav_version(void);
 
 // The default configuration: paper 000's numerical example (frame 2, 7200 s orbit, EKF,
 // 0.5 m / 0.01 deg Gaussian noise, initial estimate (405, 505, 205, 0.1, 0.1, 0.1),
 // 50 m / 1 m/s initial sigma, the paper's diagonal process noise per 1 s step; for the
 // particle filters 1500 particles, systematic resampling below N_eff = 2/3 N, seed 0,
-// moves on, threads one per core).
+// moves on, threads one per core). Cannot fail, so returns the configuration itself.
 struct relnav_config relnav_config_default(void);
 
 // Check a configuration without creating an estimator.
@@ -554,14 +555,22 @@ struct relnav_config relnav_config_default(void);
 enum relnav_status relnav_config_validate(const struct relnav_config *config);
 
 // A static, readable name for a status code (unknown codes give `"unknown status"`).
+// Cannot fail, so returns the name itself.
 const char *relnav_status_string(int status);
 
 // The message of the most recent failing call on this thread (empty string if none).
-// The pointer stays valid until the next failing call on the same thread.
+// The pointer stays valid until the next failing call on the same thread. Cannot fail, so
+// returns the message itself.
+//
+// Flight library: one buffer for the program (no threads there), and the numbers in the
+// message written as `?` (no float formatting).
 const char *relnav_last_error(void);
 
 // Create an estimator. On success `*out` holds a new handle (free it with
 // [`relnav_estimator_free`]); on error `*out` is set to null.
+//
+// Flight library: not in this build (`RELNAV_ERROR_NOT_IMPLEMENTED`; no heap): use
+// [`relnav_estimator_init`].
 //
 // # Safety
 // `config` is null or points to a `relnav_config`; `out` is null or writable.
@@ -581,6 +590,10 @@ enum relnav_status relnav_estimator_storage(size_t *size, size_t *align);
 // [`relnav_estimator_free`]) before the storage is reused. On error `*out` is set to null
 // and the storage holds no estimator.
 //
+// Flight library: the only way to make an estimator; filter codes 4-9 (the particle
+// filters, the H-infinity filter with its design at start-up) and `range_bank` > 1 are
+// refused with `RELNAV_ERROR_NOT_IMPLEMENTED`.
+//
 // # Safety
 // `storage` is null or points to `size` writable bytes that nothing else uses while the
 // estimator lives; `config` is null or points to a `relnav_config`; `out` is null or
@@ -597,7 +610,9 @@ enum relnav_status relnav_estimator_init(void *storage,
 // `estimator` is null or a handle from [`relnav_estimator_init`] not yet ended.
 enum relnav_status relnav_estimator_deinit(struct relnav_estimator *estimator);
 
-// Release an estimator. Null is accepted and ignored.
+// Release an estimator. Null is accepted and ignored. Cannot fail, so returns nothing.
+//
+// Flight library: does nothing (no handle comes from [`relnav_estimator_new`] there).
 //
 // # Safety
 // `estimator` is null or a handle from [`relnav_estimator_new`] not yet freed.
@@ -808,6 +823,10 @@ enum relnav_status relnav_estimator_get_hinf_design(const struct relnav_estimato
 // `RELNAV_ERROR_INFEASIBLE` with a readable reason (`relnav_last_error`) and leaves `*out`
 // untouched. Without the `hinf` cargo feature it returns `RELNAV_ERROR_NOT_IMPLEMENTED`.
 //
+// Flight library: not in this build (`RELNAV_ERROR_NOT_IMPLEMENTED`; no solver): design in
+// the full library, the CLI or Python and load the matrices with
+// [`relnav_hinf_filter_init`].
+//
 // # Safety
 // `spec` is null or readable; `out` is null or writable.
 enum relnav_status relnav_hinf_design(const struct relnav_hinf_spec *spec,
@@ -821,6 +840,8 @@ enum relnav_status relnav_hinf_design(const struct relnav_hinf_spec *spec,
 // `relnav_hinf_design(out, ...)` then returns the filter the estimator runs (before its
 // track initiation, `hinf_acquisition`). Works whatever `config.filter` is.
 //
+// Flight library: not in this build (`RELNAV_ERROR_NOT_IMPLEMENTED`).
+//
 // # Safety
 // `config` is null or readable; `out` is null or writable.
 enum relnav_status relnav_config_hinf_spec(const struct relnav_config *config,
@@ -828,6 +849,9 @@ enum relnav_status relnav_config_hinf_spec(const struct relnav_config *config,
 
 // Create a runtime filter from designed matrices; its estimate `C_F x_f` starts at `x0`
 // (6 doubles, canonical frame). Free with `relnav_hinf_filter_free`.
+//
+// Flight library: not in this build (`RELNAV_ERROR_NOT_IMPLEMENTED`; no heap): use
+// [`relnav_hinf_filter_init`].
 //
 // # Safety
 // `matrices` is null or readable; `x0` is null or 6 readable doubles; `out` is null or
@@ -886,7 +910,9 @@ enum relnav_status relnav_hinf_filter_step(struct relnav_hinf_filter *filter,
 enum relnav_status relnav_hinf_filter_get_state(const struct relnav_hinf_filter *filter,
                                                 double *out);
 
-// Release a runtime filter (null is accepted).
+// Release a runtime filter (null is accepted). Cannot fail, so returns nothing.
+//
+// Flight library: does nothing (no handle comes from [`relnav_hinf_filter_new`] there).
 //
 // # Safety
 // `filter` is null or a handle from `relnav_hinf_filter_new` not yet freed.
@@ -895,7 +921,8 @@ void relnav_hinf_filter_free(struct relnav_hinf_filter *filter);
 // A static, readable reason for a `relnav_hinf_riccati_failure` code (why the
 // gamma-optimal observer's Riccati route fell back to the SDP): the text of
 // `relnav::hinf::riccati::RiccatiFailure`; `"none"` for `RELNAV_HINF_RICCATI_OK`,
-// `"unknown Riccati failure code"` for other codes.
+// `"unknown Riccati failure code"` for other codes. Cannot fail, so returns the text
+// itself.
 const char *relnav_hinf_riccati_failure_string(int32_t code);
 
 // Save the estimator's state into `buf` (capacity `cap` bytes); `*len` receives the size

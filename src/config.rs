@@ -43,7 +43,7 @@ impl TryFrom<&relnav_config> for NavConfig {
 /// 0.5 m / 0.01 deg Gaussian noise, initial estimate (405, 505, 205, 0.1, 0.1, 0.1),
 /// 50 m / 1 m/s initial sigma, the paper's diagonal process noise per 1 s step; for the
 /// particle filters 1500 particles, systematic resampling below N_eff = 2/3 N, seed 0,
-/// moves on, threads one per core).
+/// moves on, threads one per core). Cannot fail, so returns the configuration itself.
 #[no_mangle]
 pub extern "C" fn relnav_config_default() -> relnav_config {
     relnav_config::from(&NavConfig::default())

@@ -100,6 +100,7 @@ pub(crate) fn null(arg: &str, func: &str) -> Failure {
 }
 
 /// A static, readable name for a status code (unknown codes give `"unknown status"`).
+/// Cannot fail, so returns the name itself.
 #[no_mangle]
 pub extern "C" fn relnav_status_string(status: c_int) -> *const c_char {
     let s: &'static CStr = match status {
@@ -118,7 +119,11 @@ pub extern "C" fn relnav_status_string(status: c_int) -> *const c_char {
 }
 
 /// The message of the most recent failing call on this thread (empty string if none).
-/// The pointer stays valid until the next failing call on the same thread.
+/// The pointer stays valid until the next failing call on the same thread. Cannot fail, so
+/// returns the message itself.
+///
+/// Flight library: one buffer for the program (no threads there), and the numbers in the
+/// message written as `?` (no float formatting).
 #[no_mangle]
 pub extern "C" fn relnav_last_error() -> *const c_char {
     #[cfg(feature = "std")]

@@ -81,6 +81,9 @@ unsafe fn creation(
 /// Create an estimator. On success `*out` holds a new handle (free it with
 /// [`relnav_estimator_free`]); on error `*out` is set to null.
 ///
+/// Flight library: not in this build (`RELNAV_ERROR_NOT_IMPLEMENTED`; no heap): use
+/// [`relnav_estimator_init`].
+///
 /// # Safety
 /// `config` is null or points to a `relnav_config`; `out` is null or writable.
 #[no_mangle]
@@ -152,6 +155,10 @@ pub unsafe extern "C" fn relnav_estimator_storage(
 /// [`relnav_estimator_free`]) before the storage is reused. On error `*out` is set to null
 /// and the storage holds no estimator.
 ///
+/// Flight library: the only way to make an estimator; filter codes 4-9 (the particle
+/// filters, the H-infinity filter with its design at start-up) and `range_bank` > 1 are
+/// refused with `RELNAV_ERROR_NOT_IMPLEMENTED`.
+///
 /// # Safety
 /// `storage` is null or points to `size` writable bytes that nothing else uses while the
 /// estimator lives; `config` is null or points to a `relnav_config`; `out` is null or
@@ -206,7 +213,9 @@ pub unsafe extern "C" fn relnav_estimator_deinit(
     relnav_status::RELNAV_OK
 }
 
-/// Release an estimator. Null is accepted and ignored.
+/// Release an estimator. Null is accepted and ignored. Cannot fail, so returns nothing.
+///
+/// Flight library: does nothing (no handle comes from [`relnav_estimator_new`] there).
 ///
 /// # Safety
 /// `estimator` is null or a handle from [`relnav_estimator_new`] not yet freed.

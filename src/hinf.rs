@@ -156,6 +156,10 @@ impl From<relnav_core::hinf::HinfError> for Failure {
 /// `RELNAV_ERROR_INFEASIBLE` with a readable reason (`relnav_last_error`) and leaves `*out`
 /// untouched. Without the `hinf` cargo feature it returns `RELNAV_ERROR_NOT_IMPLEMENTED`.
 ///
+/// Flight library: not in this build (`RELNAV_ERROR_NOT_IMPLEMENTED`; no solver): design in
+/// the full library, the CLI or Python and load the matrices with
+/// [`relnav_hinf_filter_init`].
+///
 /// # Safety
 /// `spec` is null or readable; `out` is null or writable.
 #[no_mangle]
@@ -241,6 +245,8 @@ fn hinf_design(s: &relnav_hinf_spec, o: &mut relnav_hinf_result) -> Result<(), F
 /// square root at the initial estimate; see `relnav_config`), in the canonical frame.
 /// `relnav_hinf_design(out, ...)` then returns the filter the estimator runs (before its
 /// track initiation, `hinf_acquisition`). Works whatever `config.filter` is.
+///
+/// Flight library: not in this build (`RELNAV_ERROR_NOT_IMPLEMENTED`).
 ///
 /// # Safety
 /// `config` is null or readable; `out` is null or writable.
@@ -329,6 +335,9 @@ pub struct relnav_hinf_filter {
 
 /// Create a runtime filter from designed matrices; its estimate `C_F x_f` starts at `x0`
 /// (6 doubles, canonical frame). Free with `relnav_hinf_filter_free`.
+///
+/// Flight library: not in this build (`RELNAV_ERROR_NOT_IMPLEMENTED`; no heap): use
+/// [`relnav_hinf_filter_init`].
 ///
 /// # Safety
 /// `matrices` is null or readable; `x0` is null or 6 readable doubles; `out` is null or
@@ -528,7 +537,9 @@ pub unsafe extern "C" fn relnav_hinf_filter_get_state(
     })
 }
 
-/// Release a runtime filter (null is accepted).
+/// Release a runtime filter (null is accepted). Cannot fail, so returns nothing.
+///
+/// Flight library: does nothing (no handle comes from [`relnav_hinf_filter_new`] there).
 ///
 /// # Safety
 /// `filter` is null or a handle from `relnav_hinf_filter_new` not yet freed.
@@ -660,7 +671,8 @@ fn failure_code(f: relnav_core::hinf::riccati::RiccatiFailure) -> i32 {
 /// A static, readable reason for a `relnav_hinf_riccati_failure` code (why the
 /// gamma-optimal observer's Riccati route fell back to the SDP): the text of
 /// `relnav::hinf::riccati::RiccatiFailure`; `"none"` for `RELNAV_HINF_RICCATI_OK`,
-/// `"unknown Riccati failure code"` for other codes.
+/// `"unknown Riccati failure code"` for other codes. Cannot fail, so returns the text
+/// itself.
 #[no_mangle]
 pub extern "C" fn relnav_hinf_riccati_failure_string(code: i32) -> *const core::ffi::c_char {
     #[cfg(not(feature = "std"))]

@@ -51,7 +51,8 @@ static VERSION_C: &CStr =
         Err(_) => c"unknown",
     };
 
-/// Library version, e.g. `"0.1.0"` (static string, never null).
+/// Library version, e.g. `"0.1.0"` (static string, never null). Cannot fail, so returns the
+/// string itself.
 #[no_mangle]
 pub extern "C" fn relnav_version() -> *const c_char {
     VERSION_C.as_ptr()
