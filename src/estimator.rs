@@ -186,10 +186,13 @@ pub unsafe extern "C" fn relnav_estimator_init(
                     .into(),
             ));
         }
-        let nav = Navigator::new(&cfg)?;
         // SAFETY: `place` is non-null, aligned and has room for one `relnav_estimator`
-        // (checked above), writable and unused by the caller's contract.
-        unsafe { place.write(relnav_estimator { nav }) };
+        // (checked above), writable and unused by the caller's contract; `MaybeUninit<T>`
+        // has `T`'s layout, and `relnav_estimator` holds the navigator alone.
+        let slot = unsafe {
+            &mut *core::ptr::addr_of_mut!((*place).nav).cast::<core::mem::MaybeUninit<Navigator>>()
+        };
+        Navigator::new_in(&cfg, slot)?;
         // SAFETY: `out` is non-null (checked by `creation`) and writable by contract.
         unsafe { *out = place };
         Ok(())

@@ -95,7 +95,7 @@ impl UkfParams {
 }
 
 /// Unscented Kalman filter for the 6-state CW problem.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Ukf {
     x: State,
     p: Mat6,

@@ -88,7 +88,7 @@ impl AnyFilter {
     fn member_snapshot(&self) -> Snapshot {
         match self {
             AnyFilter::Ekf(f) => Snapshot::Ekf(f.clone()),
-            AnyFilter::Ukf(f) => Snapshot::Ukf(f.clone()),
+            AnyFilter::Ukf(f) => Snapshot::Ukf(*f),
             AnyFilter::Aqukf(f) => Snapshot::Aqukf(f.snapshot()),
             #[cfg(feature = "std")]
             AnyFilter::Hinf(f) => Snapshot::Hinf(*f),
@@ -336,9 +336,21 @@ pub struct FilterOptions {
 
 /// [`build_filter`] with the settings a configuration does not hold ([`FilterOptions`]).
 pub fn build_filter_with(cfg: &NavConfig, opts: &FilterOptions) -> Result<AnyFilter, NavError> {
-    let single = build_single(cfg, opts)?;
+    let mut f = AnyFilter::Ekf(Ekf::new(State::zeros(), Mat6::identity()));
+    build_filter_into(cfg, opts, &mut f)?;
+    Ok(f)
+}
+
+/// [`build_filter_with`] into `out` (unchanged on error): the navigator builds its filter
+/// where it keeps it, so that a filter as large as the AQUKF's (16 KB, its window) is not
+/// also held on the stack by every caller on the way.
+pub(super) fn build_filter_into(
+    cfg: &NavConfig,
+    opts: &FilterOptions,
+    out: &mut AnyFilter,
+) -> Result<(), NavError> {
     if cfg.range_bank < 2 {
-        return Ok(single);
+        return build_single_into(cfg, opts, out);
     }
     #[cfg(not(feature = "std"))]
     return Err(NavError {
@@ -346,23 +358,34 @@ pub fn build_filter_with(cfg: &NavConfig, opts: &FilterOptions) -> Result<AnyFil
         message: "range_bank > 1 is not in this build (the flight library)".into(),
     });
     #[cfg(feature = "std")]
-    Bank::new(
-        single,
-        cfg.initial_state(),
-        cfg.initial_covariance(),
-        cfg.range_bank,
-    )
-    .map(|b| AnyFilter::Bank(Box::new(b)))
-    .ok_or_else(|| {
-        NavError::invalid(
-            "range_bank > 1 splits the prior along its line of sight: x0's position must be \
-             away from the target and the initial covariance must spread it along it",
+    {
+        let mut single = AnyFilter::Ekf(Ekf::new(State::zeros(), Mat6::identity()));
+        build_single_into(cfg, opts, &mut single)?;
+        let bank = Bank::new(
+            single,
+            cfg.initial_state(),
+            cfg.initial_covariance(),
+            cfg.range_bank,
         )
-    })
+        .ok_or_else(|| {
+            NavError::invalid(
+                "range_bank > 1 splits the prior along its line of sight: x0's position must \
+                 be away from the target and the initial covariance must spread it along it",
+            )
+        })?;
+        *out = AnyFilter::Bank(Box::new(bank));
+        Ok(())
+    }
 }
 
-/// The filter of `cfg`'s code alone (no bank).
-fn build_single(cfg: &NavConfig, opts: &FilterOptions) -> Result<AnyFilter, NavError> {
+/// The filter of `cfg`'s code alone (no bank), into `out` (unchanged on error). Each arm
+/// writes its filter into `out` directly: a `Result<AnyFilter, _>` returned through here
+/// would be one more 16 KB copy on the stack.
+fn build_single_into(
+    cfg: &NavConfig,
+    opts: &FilterOptions,
+    out: &mut AnyFilter,
+) -> Result<(), NavError> {
     let x0 = cfg.initial_state();
     let p0 = cfg.initial_covariance();
     #[cfg(feature = "std")]
@@ -370,50 +393,56 @@ fn build_single(cfg: &NavConfig, opts: &FilterOptions) -> Result<AnyFilter, NavE
         params.init = opts.pf_init.unwrap_or(params.init);
         params.kernel = opts.pf_kernel;
         params.carry_covariance = opts.pf_carry_covariance;
-        return Ok(AnyFilter::Pf(ParticleFilter::new(x0, p0, params)));
+        *out = AnyFilter::Pf(ParticleFilter::new(x0, p0, params));
+        return Ok(());
     }
     #[cfg(feature = "std")]
     if let (FilterKind::Hinf, Some(h)) = (cfg.filter, &opts.hinf) {
         let mut h = *h;
         h.set_estimate(x0, p0);
-        return Ok(AnyFilter::Hinf(h));
+        *out = AnyFilter::Hinf(h);
+        return Ok(());
     }
+    #[cfg(not(feature = "std"))]
+    let _ = opts;
     match cfg.filter {
-        FilterKind::Ekf => Ok(AnyFilter::Ekf(Ekf::new(x0, p0))),
-        FilterKind::Rekf => Ok(AnyFilter::Ekf(Ekf::new(x0, p0).robust(cfg.noise()))),
-        FilterKind::Ukf => Ok(AnyFilter::Ukf(Ukf::new(x0, p0, cfg.ukf()))),
-        FilterKind::Aqukf => Ok(AnyFilter::Aqukf(Aqukf::new(
-            x0,
-            p0,
-            cfg.ukf(),
-            cfg.aq_params(),
-            cfg.dynamics(),
-        ))),
-        FilterKind::Imm => Ok(AnyFilter::Imm(Imm::new(
-            x0,
-            p0,
-            cfg.imm_params(),
-            cfg.dynamics(),
-        ))),
+        FilterKind::Ekf => *out = AnyFilter::Ekf(Ekf::new(x0, p0)),
+        FilterKind::Rekf => *out = AnyFilter::Ekf(Ekf::new(x0, p0).robust(cfg.noise())),
+        FilterKind::Ukf => *out = AnyFilter::Ukf(Ukf::new(x0, p0, cfg.ukf())),
+        FilterKind::Aqukf => {
+            *out = AnyFilter::Aqukf(Aqukf::new(
+                x0,
+                p0,
+                cfg.ukf(),
+                cfg.aq_params(),
+                cfg.dynamics(),
+            ))
+        }
+        FilterKind::Imm => {
+            *out = AnyFilter::Imm(Imm::new(x0, p0, cfg.imm_params(), cfg.dynamics()))
+        }
         #[cfg(feature = "hinf")]
-        FilterKind::Hinf if cfg.eccentricity > 0.0 => scheduled_hinf(cfg, x0),
+        FilterKind::Hinf if cfg.eccentricity > 0.0 => *out = scheduled_hinf(cfg, x0)?,
         #[cfg(feature = "hinf")]
         FilterKind::Hinf => {
             let spec = cfg.hinf_spec()?;
             let plant = crate::hinf::HinfPlant::open_loop(&spec);
-            match cfg.hinf_velocity_noise() {
-                None => open_loop_hinf(cfg, &plant, x0, p0),
+            *out = match cfg.hinf_velocity_noise() {
+                None => open_loop_hinf(cfg, &plant, x0, p0)?,
                 Some(r_vel) => {
                     let d_vel = crate::hinf::psd_sqrt(&r_vel);
-                    open_loop_hinf(cfg, &plant.measuring_velocity(&d_vel), x0, p0)
+                    open_loop_hinf(cfg, &plant.measuring_velocity(&d_vel), x0, p0)?
                 }
             }
         }
-        other => Err(NavError {
-            kind: NavErrorKind::NotImplemented,
-            message: crate::msg!("filter {} is not implemented", other.name()),
-        }),
+        other => {
+            return Err(NavError {
+                kind: NavErrorKind::NotImplemented,
+                message: crate::msg!("filter {} is not implemented", other.name()),
+            })
+        }
     }
+    Ok(())
 }
 
 /// The H-infinity filter of a circular orbit: the observer design ([`NavConfig::hinf_design`])

@@ -204,13 +204,46 @@ impl Navigator {
     /// Build a navigator; fails with a message naming the bad parameter.
     pub fn new(cfg: &NavConfig) -> Result<Self, NavError> {
         cfg.validate()?;
-        let filter = build_filter(cfg)?;
-        let dynamics = cfg.dynamics();
+        let mut nav = Self::unfiltered(cfg);
+        nav.configure()?;
+        Ok(nav)
+    }
+
+    /// [`Navigator::new`] built in `slot` (the C ABI's caller storage) rather than on the
+    /// stack and moved there: the navigator is 18 KB. On error `slot` holds no navigator
+    /// the caller may use, and nothing is leaked.
+    pub fn new_in<'a>(
+        cfg: &NavConfig,
+        slot: &'a mut core::mem::MaybeUninit<Self>,
+    ) -> Result<&'a mut Self, NavError> {
+        cfg.validate()?;
+        let nav = slot.write(Self::unfiltered(cfg));
+        if let Err(e) = nav.configure() {
+            // the filter may hold heap (particles): give it back
+            nav.filter = Self::placeholder_filter();
+            return Err(e);
+        }
+        Ok(nav)
+    }
+
+    /// A small filter that [`Navigator::configure`] replaces in place.
+    #[inline(always)]
+    fn placeholder_filter() -> AnyFilter {
+        AnyFilter::Ekf(crate::estimators::Ekf::new(
+            State::zeros(),
+            Mat6::identity(),
+        ))
+    }
+
+    /// The navigator of a validated `cfg` before its filter and its first discrete model
+    /// ([`Navigator::configure`]).
+    #[inline(always)]
+    fn unfiltered(cfg: &NavConfig) -> Self {
         let noise = cfg.noise();
         let inflate = noise.variance_factor().sqrt();
-        let mut nav = Self {
+        Self {
             cfg: *cfg,
-            dynamics,
+            dynamics: cfg.dynamics(),
             t: 0.0,
             sensor: RadioSensor::new(cfg.frame, cfg.sigma_range, cfg.sigma_angle),
             kalman_sensor: RadioSensor::new(
@@ -220,7 +253,7 @@ impl Navigator {
             ),
             noise,
             scales: [cfg.sigma_range, cfg.sigma_angle, cfg.sigma_angle],
-            filter,
+            filter: Self::placeholder_filter(),
             step_cache: DiscreteModel {
                 t: 0.0,
                 dt: f64::NAN,
@@ -238,17 +271,25 @@ impl Navigator {
             step_nis: [f64::NAN; 4],
             step_acceptance: f64::NAN,
             failed: false,
-        };
+        }
+    }
+
+    /// Build the filter in place (the factory's `build_filter_into`: a filter as large as
+    /// the AQUKF's is not held twice on the stack), the process-noise rates and the
+    /// discrete model of a 1 s step, and check that the initial estimate is finite.
+    fn configure(&mut self) -> Result<(), NavError> {
+        let cfg = self.cfg;
+        factory::build_filter_into(&cfg, &FilterOptions::default(), &mut self.filter)?;
         let rates = cfg.process_noise_rates();
         debug_assert_eq!(rates, Mat6::from_diagonal(&rates.diagonal()));
-        nav.q_rates = rates.diagonal();
-        nav.discrete(1.0);
+        self.q_rates = rates.diagonal();
+        self.discrete(1.0);
         // every field is finite, but x0 near the largest double with its uncertainty can
         // still overflow (a particle filter's initial draw x0 + L eps): refuse it here rather
         // than hand out an estimator whose estimate is not a number
         let cov_ok =
-            nav.filter.hinf().is_some() || nav.filter.covariance().iter().all(|v| v.is_finite());
-        if !(nav.filter.state().iter().all(|v| v.is_finite()) && cov_ok) {
+            self.filter.hinf().is_some() || self.filter.covariance().iter().all(|v| v.is_finite());
+        if !(self.filter.state().iter().all(|v| v.is_finite()) && cov_ok) {
             return Err(NavError::invalid(crate::msg!(
                 "the initial estimate x0 = {:?} with sigma_pos0 = {}, sigma_vel0 = {} overflows \
                  double precision in the {} filter's initial state",
@@ -258,7 +299,7 @@ impl Navigator {
                 cfg.filter.name()
             )));
         }
-        Ok(nav)
+        Ok(())
     }
 
     /// The configuration this navigator was built from.

@@ -108,9 +108,15 @@ pub(super) fn normal_quantile(p: f64) -> f64 {
     }
 }
 
+/// [`AdaptiveQ::nominal`] of `params`.
+fn nominal(params: &AqParams) -> Vec3 {
+    let (lo, hi) = (params.floor, params.ceiling.max(params.floor));
+    params.q_vv0.map(|v| clamp(v, lo, hi))
+}
+
 /// The sliding-window estimate of the velocity process-noise density (see the [module
 /// documentation](super) for the equations).
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AdaptiveQ {
     pub(super) params: AqParams,
     pub(super) q: Vec3,
@@ -131,10 +137,14 @@ pub struct AdaptiveQ {
 
 impl AdaptiveQ {
     /// A fresh estimate at `params.q_vv0` (clipped), with an empty window.
+    #[inline(always)]
     pub fn new(params: AqParams) -> Self {
-        let mut a = Self {
+        // one literal, every field computed first: the value is built where it is returned
+        // (a local then copied out doubled the 15 KB on the stack)
+        let q = nominal(&params);
+        Self {
             params,
-            q: Vec3::zeros(),
+            q,
             ring: [[0.0; 3]; MAX_WINDOW],
             head: 0,
             len: 0,
@@ -144,9 +154,7 @@ impl AdaptiveQ {
             gate_z: normal_quantile(params.gate_quantile),
             open: false,
             inflation: 1.0,
-        };
-        a.reset();
-        a
+        }
     }
 
     /// Back to the initial value, empty window.
@@ -163,11 +171,7 @@ impl AdaptiveQ {
     /// The nominal `q_vv0` clipped into `[floor, ceiling]`: the start value, and the value
     /// of the gated law while its gate is closed.
     pub fn nominal(&self) -> Vec3 {
-        let (lo, hi) = (
-            self.params.floor,
-            self.params.ceiling.max(self.params.floor),
-        );
-        self.params.q_vv0.map(|v| clamp(v, lo, hi))
+        nominal(&self.params)
     }
 
     /// Gated law: whether the last test found the innovations inconsistent (the estimate

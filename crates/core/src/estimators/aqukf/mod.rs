@@ -140,7 +140,7 @@ pub fn double_integrator_q(q: &Vec3, t: f64) -> Mat6 {
 /// A UKF with the sliding-window adaptive velocity noise, generic over the process model:
 /// [`AdaptiveUkf::predict_with`] takes the mean propagation and the discretisation of the
 /// adaptive density as closures.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AdaptiveUkf {
     ukf: Ukf,
     adapt: AdaptiveQ,
@@ -277,7 +277,7 @@ impl AdaptiveUkf {
 /// `Qd(q_vv) = sum_i q_vv,i Qd_VanLoan(e_i e_i^T)` (linear in `q_vv`; the three unit
 /// matrices are cached per step size, on the stack). The step's fixed noise is the model's
 /// `q` ([`DiscreteModel::q`]).
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Aqukf {
     core: AdaptiveUkf,
     dynamics: Dynamics,
@@ -323,7 +323,7 @@ impl Aqukf {
     pub fn snapshot(&self) -> AqukfSnapshot {
         let a = &self.core.adapt;
         AqukfSnapshot {
-            ukf: self.core.ukf.clone(),
+            ukf: self.core.ukf,
             q: a.q,
             head: a.head,
             len: a.len,

@@ -518,7 +518,7 @@ mod tests {
                     None => SharedDraw::new(&ukf, &pq, &q_sqrt, Some(q)),
                 };
                 let u = Unscented {
-                    ukf: ukf.clone(),
+                    ukf,
                     lik: &lik,
                     sensor: &s,
                     r: s.noise_cov(),

@@ -409,7 +409,7 @@ impl ParticleFilter {
                     None => None,
                 };
                 let u = Unscented {
-                    ukf: self.ukf.clone(),
+                    ukf: self.ukf,
                     lik: &lik,
                     sensor,
                     r,
