@@ -824,8 +824,8 @@ enum relnav_status relnav_estimator_get_hinf_design(const struct relnav_estimato
 // untouched. Without the `hinf` cargo feature it returns `RELNAV_ERROR_NOT_IMPLEMENTED`.
 //
 // Flight library: not in this build (`RELNAV_ERROR_NOT_IMPLEMENTED`; no solver): design in
-// the full library, the CLI or Python and load the matrices with
-// [`relnav_hinf_filter_init`].
+// the full library (this call) or Python (`Estimator.hinf_matrices`) and load the matrices
+// with [`relnav_hinf_filter_init`].
 //
 // # Safety
 // `spec` is null or readable; `out` is null or writable.
@@ -870,7 +870,7 @@ enum relnav_status relnav_hinf_filter_storage(size_t *size, size_t *align);
 // Create a runtime filter in the caller's `storage` (`size` bytes, aligned as
 // [`relnav_hinf_filter_storage`] says) from designed matrices: no heap, the flight
 // library's way to run gains designed elsewhere (`relnav_hinf_design` in the full library,
-// the CLI, Python) and loaded as data. Its estimate `C_F x_f` starts at `x0` (6 doubles,
+// `Estimator.hinf_matrices` in Python) and loaded as data. Its estimate `C_F x_f` starts at `x0` (6 doubles,
 // canonical frame). On success `*out` points into `storage`; end it with
 // [`relnav_hinf_filter_deinit`] (not [`relnav_hinf_filter_free`]). On error `*out` is set
 // to null.

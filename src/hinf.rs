@@ -157,8 +157,8 @@ impl From<relnav_core::hinf::HinfError> for Failure {
 /// untouched. Without the `hinf` cargo feature it returns `RELNAV_ERROR_NOT_IMPLEMENTED`.
 ///
 /// Flight library: not in this build (`RELNAV_ERROR_NOT_IMPLEMENTED`; no solver): design in
-/// the full library, the CLI or Python and load the matrices with
-/// [`relnav_hinf_filter_init`].
+/// the full library (this call) or Python (`Estimator.hinf_matrices`) and load the matrices
+/// with [`relnav_hinf_filter_init`].
 ///
 /// # Safety
 /// `spec` is null or readable; `out` is null or writable.
@@ -414,7 +414,7 @@ pub unsafe extern "C" fn relnav_hinf_filter_storage(
 /// Create a runtime filter in the caller's `storage` (`size` bytes, aligned as
 /// [`relnav_hinf_filter_storage`] says) from designed matrices: no heap, the flight
 /// library's way to run gains designed elsewhere (`relnav_hinf_design` in the full library,
-/// the CLI, Python) and loaded as data. Its estimate `C_F x_f` starts at `x0` (6 doubles,
+/// `Estimator.hinf_matrices` in Python) and loaded as data. Its estimate `C_F x_f` starts at `x0` (6 doubles,
 /// canonical frame). On success `*out` points into `storage`; end it with
 /// [`relnav_hinf_filter_deinit`] (not [`relnav_hinf_filter_free`]). On error `*out` is set
 /// to null.

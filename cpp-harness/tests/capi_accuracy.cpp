@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <string>
@@ -182,6 +183,17 @@ void run_case(const std::string& name, const Paper000& p, int filter, int runs) 
     std::vector<Run> est;
     double nees_sum = 0.0;  // consistency diagnostic: mean normalised position error^2 / axis
     long nees_n = 0;
+    // FNV-1a over the bytes of every estimate and sigma: the flight library's build of
+    // this test must print the full library's (ctest capi_accuracy_flight_bits)
+    std::uint64_t sum = 1469598103934665603ULL;
+    auto hash = [&sum](const Vec6& v) {
+        unsigned char b[sizeof(double) * 6];
+        std::memcpy(b, v.data(), sizeof b);
+        for (unsigned char c : b) {
+            sum ^= c;
+            sum *= 1099511628211ULL;
+        }
+    };
     for (int seed = 0; seed < runs; ++seed) {
         const auto z = noisy_measurements(p, truth, static_cast<std::uint64_t>(seed));
         const Trace tr = run_capi(p, z, filter);
@@ -195,11 +207,17 @@ void run_case(const std::string& name, const Paper000& p, int filter, int runs) 
                 nees_sum += e * e;
                 ++nees_n;
             }
+        for (size_t k = 0; k < tr.state.size(); ++k) {
+            hash(tr.state[k]);
+            hash(tr.sigma[k]);
+        }
         est.push_back(tr.state);
     }
     const Bar bar;
     const Stats s = evaluate(est, truth, bar);
     print_table_row(name, s);
+    std::printf("%-22s      checksum of every estimate and sigma %016llx\n", "",
+                static_cast<unsigned long long>(sum));
     const int f = check_bar(name, s, bar, kFullRuns);
     for (int i = 0; i < f; ++i) record_failure(__FILE__, __LINE__, name + ": accuracy bar");
     const double nees = nees_sum / static_cast<double>(nees_n);

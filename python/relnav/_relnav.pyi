@@ -245,6 +245,13 @@ class Estimator:
         """Whether the H-infinity filter runs its certified gain (False during its track
         initiation; None for the other filters)."""
     @property
+    def hinf_matrices(self) -> Optional[Dict[str, Union[_FloatArray, float]]]:
+        """The H-infinity filter's designed matrices, canonical frame: ``a_f`` (6x6),
+        ``b_f`` (6x3), ``c_f`` (6x6), ``e_f`` (6x3), ``b_v`` (6x3) and ``period`` [s]; the
+        data the C ABI's runtime filter loads (``relnav_hinf_filter_init``, also in the
+        flight library). None for the other filters; ValueError for an eccentric orbit's
+        scheduled design."""
+    @property
     def params(self) -> Dict[str, Union[float, int, bool, str]]:
         """Every parameter's value (enumerations by name)."""
 

@@ -462,6 +462,49 @@ impl Estimator {
         Ok(self.nav()?.hinf_certified())
     }
 
+    /// The H-infinity filter's designed matrices (filter code 9; None for the other
+    /// filters), canonical frame, as numpy arrays: `a_f` (6x6), `b_f` (6x3), `c_f` (6x6),
+    /// `e_f` (6x3), `b_v` (6x3, the gain on a measured velocity: zero unless the design
+    /// takes one), and `period` [s]. They are the data the C ABI's runtime filter loads
+    /// (`relnav_hinf_filter_init`, also in the flight library, which has no solver): the
+    /// step `x_f <- A_F x_f + B_F y + E_F a`, estimate `C_F x_f`. An eccentric orbit's
+    /// scheduled design (a gain per true anomaly) raises ValueError: the runtime filter
+    /// takes one gain.
+    #[getter]
+    fn hinf_matrices<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        let nav = self.nav()?;
+        let Some(h) = nav.filter().hinf() else {
+            return Ok(None);
+        };
+        if h.schedule().is_some() {
+            return Err(invalid(
+                py,
+                "hinf_matrices: the eccentric orbit's design is scheduled (a gain per true \
+                 anomaly); the runtime filter takes one gain",
+            ));
+        }
+        let m = h.filter().matrices();
+        let d = PyDict::new(py);
+        // row-major, as numpy and the C ABI's `relnav_hinf_matrices` hold them
+        fn rows<'py, M: core::ops::Index<(usize, usize), Output = f64>>(
+            py: Python<'py>,
+            m: &M,
+            (r, c): (usize, usize),
+        ) -> PyResult<Bound<'py, PyAny>> {
+            let v: Vec<f64> = (0..r)
+                .flat_map(|i| (0..c).map(move |j| m[(i, j)]))
+                .collect();
+            Ok(array1(py, &v).reshape([r, c])?.into_any())
+        }
+        d.set_item("a_f", rows(py, &m.a_f, (6, 6))?)?;
+        d.set_item("b_f", rows(py, &m.b_f, (6, 3))?)?;
+        d.set_item("c_f", rows(py, &m.c_f, (6, 6))?)?;
+        d.set_item("e_f", rows(py, &m.e_f, (6, 3))?)?;
+        d.set_item("b_v", rows(py, &m.b_v, (6, 3))?)?;
+        d.set_item("period", m.period)?;
+        Ok(Some(d))
+    }
+
     /// Every parameter's value (enumerations by name), in the variable table's order.
     #[getter]
     fn params<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {

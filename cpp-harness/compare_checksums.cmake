@@ -1,0 +1,17 @@
+# ctest helper: runs the programs FULL and FLIGHT (the same test linked against the full
+# and the flight library) and fails unless both pass and print the same "checksum" lines.
+foreach(_p FULL FLIGHT)
+  execute_process(COMMAND ${${_p}} OUTPUT_VARIABLE _out_${_p} RESULT_VARIABLE _rc_${_p})
+  if(NOT _rc_${_p} EQUAL 0)
+    message(FATAL_ERROR "${${_p}} failed (${_rc_${_p}}):\n${_out_${_p}}")
+  endif()
+  string(REGEX MATCHALL "checksum[^\n]*" _sum_${_p} "${_out_${_p}}")
+endforeach()
+list(LENGTH _sum_FULL _n)
+if(_n EQUAL 0)
+  message(FATAL_ERROR "no checksum lines in the output of ${FULL}")
+endif()
+if(NOT "${_sum_FULL}" STREQUAL "${_sum_FLIGHT}")
+  message(FATAL_ERROR "the checksums differ:\nfull:   ${_sum_FULL}\nflight: ${_sum_FLIGHT}")
+endif()
+message("${_n} checksums identical")
