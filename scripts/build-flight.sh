@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The flight library: relnav without std (no heap, no threads, no I/O, no SDP solver, no
 # BLAS), panics aborting, built into target/flight/librelnav.a, then checked on programs
-# linked against it (docs/c-abi.md#the-flight-library):
+# linked against it (docs/c-abi.md#the-flight-library). Its code is first linted
+# (`cargo clippy` without std, warnings as errors). Then:
 #
 #   * cpp-harness/examples/quickstart.c links with `-lm` alone (the C library and the math
 #     library: nothing else is on the link line) and prints the estimate the
@@ -44,6 +45,8 @@ CC="${CC:-cc}"
 MAX_STRIPPED_BYTES=$((1024 * 1024))
 FLIGHT_STACK_BOUND=$((32 * 1024))
 
+# the build without std is a product of its own: its lints too
+cargo clippy -p relnav --no-default-features --lib --profile flight "$JOBS" -- -D warnings
 cargo build -p relnav --no-default-features --lib --profile flight "$JOBS"
 LIB="$OUT/librelnav.a"
 test -f "$LIB"

@@ -26,6 +26,8 @@
 
 #![allow(non_camel_case_types)]
 #![cfg_attr(not(feature = "std"), no_std)]
+// without std a message is a fixed buffer (no heap to box it in): errors are large
+#![cfg_attr(not(feature = "std"), allow(clippy::result_large_err))]
 
 pub mod config;
 #[rustfmt::skip]

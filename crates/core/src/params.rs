@@ -136,7 +136,7 @@ impl Value {
 impl core::fmt::Display for Value {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         match self {
-            Value::Real(v) => f.write_str(&num(*v)),
+            Value::Real(v) => f.write_str(num(*v).as_ref()),
             Value::Int(v) => write!(f, "{v}"),
         }
     }

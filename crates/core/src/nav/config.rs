@@ -96,6 +96,8 @@ crate::codes! {
 
 impl FilterKind {
     /// Whether this build implements the filter.
+    // the arms' values differ with the features (a `matches!` only without them)
+    #[allow(clippy::match_like_matches_macro)]
     pub fn is_implemented(self) -> bool {
         match self {
             FilterKind::Hinf => cfg!(feature = "hinf"),
@@ -801,7 +803,7 @@ impl core::fmt::Display for Setting {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         match self {
             Setting::Int(v) => write!(f, "{v}"),
-            Setting::Real(v) => f.write_str(&num(*v)),
+            Setting::Real(v) => f.write_str(num(*v).as_ref()),
         }
     }
 }

@@ -264,6 +264,8 @@ impl Navigator {
             kepler: KeplerMemo::default(),
             q_rates: State::zeros(),
             last_update: None,
+            // a unit struct without std, a list with it
+            #[allow(clippy::default_constructed_unit_structs)]
             sensors: SensorList::default(),
             reports: ReportList::default(),
             pending: ReportList::default(),

@@ -79,6 +79,17 @@ pub type SensorName = String;
 #[cfg(not(feature = "std"))]
 pub type SensorName = &'static str;
 
+/// The text of a [`SensorName`] in either build.
+#[cfg(feature = "std")]
+fn name_str(n: &SensorName) -> &str {
+    n.as_str()
+}
+/// The text of a [`SensorName`] in either build.
+#[cfg(not(feature = "std"))]
+fn name_str(n: &SensorName) -> &str {
+    n
+}
+
 /// A [`Sensor`] of `D` components with a name: a [`NavSensor`].
 #[derive(Debug, Clone)]
 pub struct Named<S, const D: usize> {
@@ -106,13 +117,13 @@ impl<S, const D: usize> Named<S, D> {
 
     /// `text` after this sensor's name and a colon.
     fn named(&self, text: &str) -> crate::message::Message {
-        crate::message::Message::concat(&[&self.name, ": ", text])
+        crate::message::Message::concat(&[name_str(&self.name), ": ", text])
     }
 }
 
 impl<const D: usize, S: Sensor<D> + Send + core::fmt::Debug> NavSensor for Named<S, D> {
     fn name(&self) -> &str {
-        &self.name
+        name_str(&self.name)
     }
     fn dim(&self) -> usize {
         D
