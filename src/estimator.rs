@@ -3,7 +3,7 @@
 use crate::config::relnav_config;
 use crate::error::{null, relnav_status, Failure};
 use crate::panic::boundary;
-use crate::ptr::{read_array, write_array};
+use crate::ptr::{place_for, read_array, storage_of, write_array};
 use relnav_core::nav::{NavConfig, Navigator};
 #[cfg(feature = "std")]
 use std::panic::{catch_unwind, AssertUnwindSafe};
@@ -138,14 +138,9 @@ pub unsafe extern "C" fn relnav_estimator_storage(
     align: *mut usize,
 ) -> relnav_status {
     const F: &str = "relnav_estimator_storage";
-    boundary(F, || {
-        // SAFETY: pointer contracts are the caller's, checked for null.
-        let s = unsafe { size.as_mut() }.ok_or_else(|| null("size", F))?;
-        // SAFETY: as above.
-        let a = unsafe { align.as_mut() }.ok_or_else(|| null("align", F))?;
-        *s = core::mem::size_of::<relnav_estimator>();
-        *a = core::mem::align_of::<relnav_estimator>();
-        Ok(())
+    // SAFETY: the caller's pointer contracts, passed on.
+    boundary(F, || unsafe {
+        storage_of::<relnav_estimator>(size, align, F)
     })
 }
 
@@ -174,18 +169,7 @@ pub unsafe extern "C" fn relnav_estimator_init(
     boundary(F, || {
         // SAFETY: the caller's pointer contracts, passed on.
         let cfg = unsafe { creation(out, config, F) }?;
-        if storage.is_null() {
-            return Err(null("storage", F));
-        }
-        let place = storage.cast::<relnav_estimator>();
-        if size < core::mem::size_of::<relnav_estimator>() || !place.is_aligned() {
-            return Err(Failure(
-                relnav_status::RELNAV_ERROR_INVALID_ARGUMENT,
-                "relnav_estimator_init: the storage is smaller or less aligned than \
-                 relnav_estimator_storage says"
-                    .into(),
-            ));
-        }
+        let place = place_for::<relnav_estimator>(storage, size, F, "relnav_estimator_storage")?;
         // SAFETY: `place` is non-null, aligned and has room for one `relnav_estimator`
         // (checked above), writable and unused by the caller's contract; `MaybeUninit<T>`
         // has `T`'s layout, and `relnav_estimator` holds the navigator alone.

@@ -3,7 +3,7 @@
 
 use crate::error::{null, relnav_status, Failure};
 use crate::panic::boundary;
-use crate::ptr::{read_array, write_array};
+use crate::ptr::{place_for, read_array, storage_of, write_array};
 #[cfg(feature = "std")]
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
@@ -400,14 +400,9 @@ pub unsafe extern "C" fn relnav_hinf_filter_storage(
     align: *mut usize,
 ) -> relnav_status {
     const F: &str = "relnav_hinf_filter_storage";
-    boundary(F, || {
-        // SAFETY: pointer contracts are the caller's, checked for null.
-        let s = unsafe { size.as_mut() }.ok_or_else(|| null("size", F))?;
-        // SAFETY: as above.
-        let a = unsafe { align.as_mut() }.ok_or_else(|| null("align", F))?;
-        *s = core::mem::size_of::<relnav_hinf_filter>();
-        *a = core::mem::align_of::<relnav_hinf_filter>();
-        Ok(())
+    // SAFETY: the caller's pointer contracts, passed on.
+    boundary(F, || unsafe {
+        storage_of::<relnav_hinf_filter>(size, align, F)
     })
 }
 
@@ -440,18 +435,8 @@ pub unsafe extern "C" fn relnav_hinf_filter_init(
         let m = unsafe { matrices.as_ref() }.ok_or_else(|| null("matrices", F))?;
         // SAFETY: as above.
         let x = unsafe { read_array::<6>(x0, "x0", F) }?;
-        if storage.is_null() {
-            return Err(null("storage", F));
-        }
-        let place = storage.cast::<relnav_hinf_filter>();
-        if size < core::mem::size_of::<relnav_hinf_filter>() || !place.is_aligned() {
-            return Err(Failure(
-                relnav_status::RELNAV_ERROR_INVALID_ARGUMENT,
-                "relnav_hinf_filter_init: the storage is smaller or less aligned than \
-                 relnav_hinf_filter_storage says"
-                    .into(),
-            ));
-        }
+        let place =
+            place_for::<relnav_hinf_filter>(storage, size, F, "relnav_hinf_filter_storage")?;
         let f = relnav_core::hinf::HinfFilter::new(
             from_c_matrices(m),
             relnav_core::types::State::from(x),

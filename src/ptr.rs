@@ -39,3 +39,47 @@ pub(crate) unsafe fn write_array<const N: usize>(
     dst.copy_from_slice(v);
     Ok(())
 }
+
+/// Write `T`'s size and alignment to `size` and `align` (the `*_storage` queries).
+///
+/// # Safety
+/// `size` and `align` are null or writable.
+pub(crate) unsafe fn storage_of<T>(
+    size: *mut usize,
+    align: *mut usize,
+    func: &str,
+) -> Result<(), Failure> {
+    // SAFETY: the caller's contract, checked for null.
+    let s = unsafe { size.as_mut() }.ok_or_else(|| null("size", func))?;
+    // SAFETY: as above.
+    let a = unsafe { align.as_mut() }.ok_or_else(|| null("align", func))?;
+    *s = core::mem::size_of::<T>();
+    *a = core::mem::align_of::<T>();
+    Ok(())
+}
+
+/// The caller's `storage` (`size` bytes) as a place for one `T`: refused when null, smaller
+/// than `T` or misaligned (`query` names the call that tells the need).
+pub(crate) fn place_for<T>(
+    storage: *mut core::ffi::c_void,
+    size: usize,
+    func: &str,
+    query: &str,
+) -> Result<*mut T, Failure> {
+    if storage.is_null() {
+        return Err(null("storage", func));
+    }
+    let place = storage.cast::<T>();
+    if size < core::mem::size_of::<T>() || !place.is_aligned() {
+        return Err(Failure(
+            crate::error::relnav_status::RELNAV_ERROR_INVALID_ARGUMENT,
+            relnav_core::message::Message::concat(&[
+                func,
+                ": the storage is smaller or less aligned than ",
+                query,
+                " says",
+            ]),
+        ));
+    }
+    Ok(place)
+}
