@@ -25,21 +25,26 @@ struct Counting;
 
 thread_local! {
     static ALLOCS: Cell<u64> = const { Cell::new(0) };
+    /// bytes allocated less bytes freed on this thread
+    static LIVE: Cell<i64> = const { Cell::new(0) };
 }
 
 // SAFETY: forwards to the system allocator; only counts.
 unsafe impl GlobalAlloc for Counting {
     unsafe fn alloc(&self, l: Layout) -> *mut u8 {
         let _ = ALLOCS.try_with(|c| c.set(c.get() + 1));
+        let _ = LIVE.try_with(|c| c.set(c.get() + l.size() as i64));
         // SAFETY: same contract as the caller's.
         unsafe { System.alloc(l) }
     }
     unsafe fn dealloc(&self, p: *mut u8, l: Layout) {
+        let _ = LIVE.try_with(|c| c.set(c.get() - l.size() as i64));
         // SAFETY: same contract as the caller's.
         unsafe { System.dealloc(p, l) }
     }
     unsafe fn realloc(&self, p: *mut u8, l: Layout, n: usize) -> *mut u8 {
         let _ = ALLOCS.try_with(|c| c.set(c.get() + 1));
+        let _ = LIVE.try_with(|c| c.set(c.get() + n as i64 - l.size() as i64));
         // SAFETY: same contract as the caller's.
         unsafe { System.realloc(p, l, n) }
     }
@@ -600,5 +605,33 @@ fn declared_sensor_steps_do_not_allocate() {
             n, 0,
             "{filter:?} (bank {bank}): {n} allocations in declared-sensor steps"
         );
+    }
+}
+
+/// Making a Kalman-type navigator allocates nothing, in the full library too (the declared
+/// sensors' names are static texts): an estimator made in the caller's storage is then
+/// heap-free from the start, and one whose making fails leaves nothing behind (the caller
+/// never ends such a handle; a particle filter's or a bank's heap is given back on that
+/// path by `Navigator::new_in`).
+#[test]
+fn making_a_kalman_navigator_does_not_allocate() {
+    for filter in [
+        FilterKind::Ekf,
+        FilterKind::Ukf,
+        FilterKind::Aqukf,
+        FilterKind::Imm,
+        FilterKind::Rekf,
+    ] {
+        let cfg = NavConfig {
+            filter,
+            ..NavConfig::default()
+        };
+        let mut slot = std::mem::MaybeUninit::<Navigator>::uninit();
+        let n = allocations(|| {
+            Navigator::new_in(&cfg, &mut slot).unwrap();
+        });
+        assert_eq!(n, 0, "{filter:?}: {n} allocations");
+        let n = allocations(|| drop(Navigator::new(&cfg).unwrap()));
+        assert_eq!(n, 0, "{filter:?}: {n} allocations");
     }
 }

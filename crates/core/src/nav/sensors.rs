@@ -72,20 +72,16 @@ fn reading<const D: usize>(z: &[f64]) -> SVector<f64, D> {
     SVector::from_fn(|i, _| z.get(i).copied().unwrap_or(f64::NAN))
 }
 
-/// A sensor's name: owned with `std`, a static text without.
+/// A sensor's name: with `std` a static text or an owned one (a declared sensor's name
+/// allocates nothing, so a navigator holds no heap until sensors are added), a static
+/// text without.
 #[cfg(feature = "std")]
-pub type SensorName = String;
-/// A sensor's name: owned with `std`, a static text without.
+pub type SensorName = std::borrow::Cow<'static, str>;
+/// A sensor's name: a static text without `std`.
 #[cfg(not(feature = "std"))]
 pub type SensorName = &'static str;
 
 /// The text of a [`SensorName`] in either build.
-#[cfg(feature = "std")]
-fn name_str(n: &SensorName) -> &str {
-    n.as_str()
-}
-/// The text of a [`SensorName`] in either build.
-#[cfg(not(feature = "std"))]
 fn name_str(n: &SensorName) -> &str {
     n
 }
@@ -102,7 +98,7 @@ pub struct Named<S, const D: usize> {
 impl<S, const D: usize> Named<S, D> {
     /// `sensor` named `name`.
     #[cfg(feature = "std")]
-    pub fn new(name: impl Into<String>, sensor: S) -> Self {
+    pub fn new(name: impl Into<std::borrow::Cow<'static, str>>, sensor: S) -> Self {
         Self {
             name: name.into(),
             sensor,
