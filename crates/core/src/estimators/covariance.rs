@@ -2,11 +2,14 @@
 //! relnav's models: the time update `P- = Phi P Phi^T + Q` with the transitions' block
 //! structure ([`propagate_covariance`], the dense product for any other transition) and the
 //! Joseph-form measurement update for a Jacobian `H = [H_r 0]` that measures the position
-//! ([`joseph_update`]). Estimator algebra rather than general numerics: each relies on the
-//! structure of a model. Their 4- and 6-vector axpys are [`crate::numerics::lanes`]'.
+//! ([`joseph_update`]; with the innovation's factor, [`position_innovation`] and
+//! [`position_update`], the EKF's and the robust EKF's update). Estimator algebra rather
+//! than general numerics: each relies on the structure of a model. Their 4- and 6-vector
+//! axpys are [`crate::numerics::lanes`]'.
 
 use super::{finite, FilterError};
 use crate::dynamics::DiscreteModel;
+use crate::numerics::cholesky::{chol3, Chol3};
 use crate::numerics::lanes::{axpy4, axpy6};
 use crate::numerics::symmetrize;
 use crate::types::{Mat3, Mat6, Mat63, State, Vec3};
@@ -297,6 +300,37 @@ fn joseph_block_inline<const D: usize, const OFF: usize>(
     let mut out = Mat6::from_data(nalgebra::ArrayStorage(out));
     out.fill_upper_triangle_with_lower_triangle();
     out
+}
+
+/// `P H^T`, `S = H P H^T + R` and the closed-form Cholesky factor of `S` (on the stack) for
+/// a measurement of the position, `H = [h_r 0]`.
+#[inline(always)]
+pub(crate) fn position_innovation(
+    p: &Mat6,
+    h_r: &Mat3,
+    r: &Mat3,
+) -> Result<(Mat63, Mat3, Chol3), FilterError> {
+    let ph = p.fixed_columns::<3>(0) * h_r.transpose();
+    let s = h_r * ph.fixed_rows::<3>(0) + r;
+    let chol = chol3(&s).ok_or(FilterError::NotPositiveDefinite("innovation covariance S"))?;
+    Ok((ph, s, chol))
+}
+
+/// The Kalman update of `(x, P)` with innovation `nu` from [`position_innovation`]'s `P H^T`
+/// and factor: `K = P H^T S^-1` (one solve per row: `S`, `P` symmetric), `x + K nu` and
+/// the Joseph form.
+#[inline(always)]
+pub(crate) fn position_update(
+    x: &State,
+    p: &Mat6,
+    h_r: &Mat3,
+    nu: &Vec3,
+    r: &Mat3,
+    ph: &Mat63,
+    chol: &Chol3,
+) -> (State, Mat6) {
+    let k = chol.gain(ph);
+    (x + k * nu, joseph_update(p, &k, h_r, r))
 }
 
 #[cfg(test)]

@@ -17,15 +17,17 @@
 //! the in-plane and out-of-plane components and `H = [H_r 0]` has zero velocity columns
 //! (`propagate_covariance`, `joseph_update` in the module `estimators::covariance`).
 
-use super::covariance::{joseph_block, joseph_update, propagate_covariance, time_update};
+use super::covariance::{
+    joseph_block, position_innovation, position_update, propagate_covariance, time_update,
+};
 use super::{finite, Estimator, FilterError, SensorUpdate, UpdateInfo};
 use crate::dynamics::DiscreteModel;
-use crate::numerics::cholesky::{chol3, chol_small, Chol3};
+use crate::numerics::cholesky::chol_small;
 use crate::numerics::state::{Persist, Reader, StateError, Writer};
 use crate::numerics::symmetrize;
 use crate::numerics::Owned;
 use crate::sensors::{MeasurementModel, Sensor, Support};
-use crate::types::{Mat3, Mat6, Mat63, State, Vec3};
+use crate::types::{Mat3, Mat6, State, Vec3};
 use nalgebra::{SMatrix, SVector};
 
 /// The linearised (EKF) measurement update of `(x, P)` with any sensor, not committed:
@@ -275,37 +277,6 @@ impl Ekf {
             s,
         ))
     }
-}
-
-/// `P H^T`, `S = H P H^T + R` and the closed-form Cholesky factor of `S` (on the stack) for
-/// a measurement of the position, `H = [h_r 0]`.
-#[inline(always)]
-pub(crate) fn position_innovation(
-    p: &Mat6,
-    h_r: &Mat3,
-    r: &Mat3,
-) -> Result<(Mat63, Mat3, Chol3), FilterError> {
-    let ph = p.fixed_columns::<3>(0) * h_r.transpose();
-    let s = h_r * ph.fixed_rows::<3>(0) + r;
-    let chol = chol3(&s).ok_or(FilterError::NotPositiveDefinite("innovation covariance S"))?;
-    Ok((ph, s, chol))
-}
-
-/// The Kalman update of `(x, P)` with innovation `nu` from [`position_innovation`]'s `P H^T`
-/// and factor: `K = P H^T S^-1` (one solve per row: `S`, `P` symmetric), `x + K nu` and
-/// the Joseph form.
-#[inline(always)]
-pub(crate) fn position_update(
-    x: &State,
-    p: &Mat6,
-    h_r: &Mat3,
-    nu: &Vec3,
-    r: &Mat3,
-    ph: &Mat63,
-    chol: &Chol3,
-) -> (State, Mat6) {
-    let k = chol.gain(ph);
-    (x + k * nu, joseph_update(p, &k, h_r, r))
 }
 
 impl Estimator for Ekf {

@@ -22,7 +22,7 @@
 //! * Any other density (Gaussian, uniform, Laplace, AR(1)): the EKF's update with the
 //!   variance.
 
-use super::ekf::{position_innovation, position_update};
+use super::covariance::{position_innovation, position_update};
 use super::FilterError;
 #[cfg(not(feature = "std"))]
 use crate::math::Float;
