@@ -1,4 +1,4 @@
-"""The adaptive filters on a family of cases they were not tuned on (issue 36, item 7), by
+"""The adaptive filters on a family of cases they were not tuned on, by
 ``relnav.Estimator`` (the FMU's estimates bit for bit: ``test_package_bitexact.py``)
 against the numpy truth of ``tools/cwtruth.py``, six seeded runs per case.
 

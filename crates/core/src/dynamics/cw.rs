@@ -239,9 +239,9 @@ impl CwModel {
     }
 
     /// `A M` with [`CwModel::continuous_a`]'s seven non-zero entries alone: the same sums
-    /// as the dense product less its terms with a zero factor (the series takes 60
-    /// products per axis; dense, they were six times the work of the rest of an AQUKF
-    /// step whose length changed).
+    /// as the dense product less its terms with a zero factor. The series takes one
+    /// product per term, and dense products were most of the work of a step whose length
+    /// changed (docs/c-abi.md, "Work per step").
     fn a_times(&self, m: &Mat6) -> Mat6 {
         let n = self.n;
         let (k3, k2, w) = (3.0 * n * n, -n * n, 2.0 * n);

@@ -342,8 +342,8 @@ pub fn build_filter_with(cfg: &NavConfig, opts: &FilterOptions) -> Result<AnyFil
 }
 
 /// [`build_filter_with`] into `out` (unchanged on error): the navigator builds its filter
-/// where it keeps it, so that a filter as large as the AQUKF's (16 KB, its window) is not
-/// also held on the stack by every caller on the way.
+/// where it keeps it, so that a filter as large as the AQUKF's (its window) is not also
+/// held on the stack by every caller on the way.
 pub(super) fn build_filter_into(
     cfg: &NavConfig,
     opts: &FilterOptions,
@@ -380,7 +380,7 @@ pub(super) fn build_filter_into(
 
 /// The filter of `cfg`'s code alone (no bank), into `out` (unchanged on error). Each arm
 /// writes its filter into `out` directly: a `Result<AnyFilter, _>` returned through here
-/// would be one more 16 KB copy on the stack.
+/// would be one more copy of the largest filter on the stack.
 fn build_single_into(
     cfg: &NavConfig,
     opts: &FilterOptions,

@@ -210,7 +210,7 @@ impl Navigator {
     }
 
     /// [`Navigator::new`] built in `slot` (the C ABI's caller storage) rather than on the
-    /// stack and moved there: the navigator is 18 KB. On error `slot` holds no navigator
+    /// stack and moved there (the navigator holds the largest filter by value). On error `slot` holds no navigator
     /// the caller may use, and nothing is leaked.
     pub fn new_in<'a>(
         cfg: &NavConfig,

@@ -140,7 +140,7 @@ impl AdaptiveQ {
     #[inline(always)]
     pub fn new(params: AqParams) -> Self {
         // one literal, every field computed first: the value is built where it is returned
-        // (a local then copied out doubled the 15 KB on the stack)
+        // (a local copied out would hold the window twice on the stack)
         let q = nominal(&params);
         Self {
             params,
