@@ -15,10 +15,10 @@
 #     (the table every_fns.h is written from the header here), so every exported path is
 #     linked, and checks that what the flight library leaves out answers "not in this
 #     build";
-#   * cpp-harness/flight/stack.c measures the stack depth of each call over nominal and
-#     adversarial inputs (every filter, frames 1-3, circular and eccentric orbits); the
-#     deepest must stay under FLIGHT_STACK_BOUND bytes (the measured depth rounded up: it
-#     may only fall);
+#   * cpp-harness/flight/stack.c measures the stack depth of each call (every function of
+#     the header, checked) over nominal and adversarial inputs (every filter, frames 1-3,
+#     circular and eccentric orbits); the deepest must stay under FLIGHT_STACK_BOUND bytes
+#     (the measured depth rounded up: it may only fall);
 #   * cpp-harness/flight/work.c, run under callgrind, counts the instructions of single
 #     steps of every filter, nominal and adversarial (burn, dropout, every sensor at once,
 #     an outlier, the pole, zero range, huge thrust, 10 s and 3000 s steps; circular and
@@ -73,6 +73,11 @@ strip -o "$OUT/quickstart.stripped" "$OUT/quickstart"
 cat "$OUT/quickstart.out"
 check "$OUT/every"
 check "$OUT/stack" "$FLIGHT_STACK_BOUND"
+# stack.c calls every function of the header
+unmeasured=$(comm -23 <(tr -d '(' < <(grep -oE '\b(relnav_[a-z0-9_]+)\(' include/relnav.h) | sort -u) \
+    <(tr -d '(' < <(grep -oE '\b(relnav_[a-z0-9_]+)\(' cpp-harness/flight/stack.c) | sort -u))
+[ -z "$unmeasured" ] || echo "build-flight: stack.c does not call: $unmeasured" >&2
+check test -z "$unmeasured"
 if command -v valgrind >/dev/null 2>&1; then
     rm -rf "$OUT/work.cg" && mkdir -p "$OUT/work.cg"
     # without address-space randomisation where setarch can switch it off (counts that

@@ -3,9 +3,11 @@
  * filled with a pattern; the depth is how far below the top the pattern was overwritten.
  * Every filter of the flight library, nominal and adversarial inputs (a dropout, a burn,
  * every sensor at once, a near-zero range, a long step, a saved state restored; frames 1-3,
- * circular and eccentric orbits), and the runtime H-infinity filter. Prints one line per
- * call with the deepest use seen, less the thread's own frames, and exits 1 if any exceeds
- * the bound given as the first argument (bytes). A measured depth over these inputs, not a bound over every path. */
+ * circular and eccentric orbits), and the runtime H-infinity filter; every function of the
+ * header is called (the queries, texts and refusals together). Prints one line per call
+ * with the deepest use seen, less the thread's own frames, and exits 1 if any exceeds the
+ * bound given as the first argument (bytes). A measured depth over these inputs, not a
+ * bound over every path. */
 #define _GNU_SOURCE
 #include <relnav.h>
 #include <pthread.h>
@@ -82,6 +84,16 @@ static void c_get(void) {
     last = relnav_estimator_get_innovation(est, nu, &nis);
     last = relnav_estimator_get_q_vv(est, q);
     last = relnav_estimator_get_mode_probabilities(est, mu);
+    double ess, acc, gamma, h2, diag[8], range_sigma;
+    int32_t certified;
+    relnav_hinf_design_info info;
+    last = relnav_estimator_get_ess(est, &ess);
+    last = relnav_estimator_get_pf_acceptance(est, &acc);
+    last = relnav_estimator_get_hinf_gamma(est, &gamma);
+    last = relnav_estimator_get_hinf_h2_norm(est, &h2);
+    last = relnav_estimator_get_hinf_certified(est, &certified);
+    last = relnav_estimator_get_hinf_design(est, &info);
+    last = relnav_estimator_get_sensor_diagnostics(est, diag, &range_sigma);
 }
 static void c_save(void) { last = relnav_estimator_save(est, state_buf, sizeof state_buf, &saved_len); }
 static void c_restore(void) { last = relnav_estimator_restore(est, state_buf, saved_len); }
@@ -108,6 +120,29 @@ static void h_get(void) {
     last = relnav_hinf_filter_get_state(hf, x);
 }
 static void h_deinit(void) { last = relnav_hinf_filter_deinit(hf); }
+/* the calls that hold no estimator: queries, texts, the refusals of what the flight
+ * library leaves out, the no-op frees */
+static void c_other(void) {
+    size_t size, align;
+    relnav_hinf_spec spec;
+    relnav_hinf_result result;
+    relnav_estimator *e = NULL;
+    relnav_hinf_filter *h = NULL;
+    double x0[6] = {0};
+    last = relnav_estimator_storage(&size, &align);
+    last = relnav_hinf_filter_storage(&size, &align);
+    volatile const char *t = relnav_version();
+    t = relnav_status_string(RELNAV_ERROR_NUMERICAL);
+    t = relnav_hinf_riccati_failure_string(1);
+    (void)t;
+    last = relnav_estimator_new(&cfg, &e);
+    last = relnav_hinf_filter_new(&hm, x0, &h);
+    last = relnav_config_hinf_spec(&cfg, &spec);
+    memset(&spec, 0, sizeof spec);
+    last = relnav_hinf_design(&spec, &result);
+    relnav_estimator_free(NULL);
+    relnav_hinf_filter_free(NULL);
+}
 
 struct call {
     const char *name;
@@ -128,6 +163,7 @@ int main(int argc, char **argv) {
         {"relnav_estimator_predict", c_predict, 0},
         {"relnav_estimator_update", c_update, 0},
         {"relnav_estimator_get_*", c_get, 0},
+        {"queries, texts, refusals, frees", c_other, 0},
         {"relnav_estimator_save", c_save, 0},
         {"relnav_estimator_restore", c_restore, 0},
         {"relnav_estimator_restore (corrupted)", c_restore_bad, 0},
