@@ -92,6 +92,21 @@ impl From<NavError> for Failure {
     }
 }
 
+/// The refusal of a call the flight library (no std) does not have; `instead`: the call
+/// in the caller's storage that replaces a heap one.
+#[cfg(not(feature = "std"))]
+pub(crate) fn not_in_this_build(func: &str, instead: Option<&str>) -> Failure {
+    let message = match instead {
+        None => Message::concat(&[func, ": not in this build (the flight library)"]),
+        Some(call) => Message::concat(&[
+            func,
+            ": not in this build (the flight library has no heap): use ",
+            call,
+        ]),
+    };
+    Failure(relnav_status::RELNAV_ERROR_NOT_IMPLEMENTED, message)
+}
+
 pub(crate) fn null(arg: &str, func: &str) -> Failure {
     Failure(
         relnav_status::RELNAV_ERROR_NULL_POINTER,

@@ -3,7 +3,7 @@
 use crate::config::relnav_config;
 use crate::error::{null, relnav_status, Failure};
 use crate::panic::boundary;
-use crate::ptr::{place_for, read_array, storage_of, write_array};
+use crate::ptr::{drop_placed, place_for, read_array, storage_of, write_array};
 use relnav_core::nav::{NavConfig, Navigator};
 #[cfg(feature = "std")]
 use std::panic::{catch_unwind, AssertUnwindSafe};
@@ -106,11 +106,9 @@ pub unsafe extern "C" fn relnav_estimator_new(
         #[cfg(not(feature = "std"))]
         {
             let _ = cfg;
-            Err(Failure(
-                relnav_status::RELNAV_ERROR_NOT_IMPLEMENTED,
-                "relnav_estimator_new: not in this build (the flight library has no heap): \
-                 use relnav_estimator_init"
-                    .into(),
+            Err(crate::error::not_in_this_build(
+                F,
+                Some("relnav_estimator_init"),
             ))
         }
     })
@@ -192,11 +190,8 @@ pub unsafe extern "C" fn relnav_estimator_init(
 pub unsafe extern "C" fn relnav_estimator_deinit(
     estimator: *mut relnav_estimator,
 ) -> relnav_status {
-    if !estimator.is_null() {
-        // SAFETY: the handle holds an estimator written by relnav_estimator_init and is
-        // ended exactly once by the caller's contract.
-        unsafe { core::ptr::drop_in_place(estimator) };
-    }
+    // SAFETY: the caller's contract, passed on.
+    unsafe { drop_placed(estimator) };
     relnav_status::RELNAV_OK
 }
 

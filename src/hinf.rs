@@ -1,20 +1,13 @@
 //! The H-infinity design on its own (`relnav_hinf_design`) and the runtime filter without
 //! solver (`relnav_hinf_filter_*`).
 
+#[cfg(not(feature = "std"))]
+use crate::error::not_in_this_build;
 use crate::error::{null, relnav_status, Failure};
 use crate::panic::boundary;
-use crate::ptr::{place_for, read_array, storage_of, write_array};
+use crate::ptr::{drop_placed, place_for, read_array, storage_of, write_array};
 #[cfg(feature = "std")]
 use std::panic::{catch_unwind, AssertUnwindSafe};
-
-/// The refusal of a call the flight library (no std) does not have.
-#[cfg(not(feature = "std"))]
-fn not_in_this_build(func: &str) -> Failure {
-    Failure(
-        relnav_status::RELNAV_ERROR_NOT_IMPLEMENTED,
-        relnav_core::message::Message::concat(&[func, ": not in this build (the flight library)"]),
-    )
-}
 
 /// Which H-infinity design `relnav_hinf_design` solves.
 #[repr(C)]
@@ -264,7 +257,7 @@ pub unsafe extern "C" fn relnav_config_hinf_spec(
         #[cfg(not(feature = "std"))]
         {
             let _ = (c, o);
-            Err(not_in_this_build(F))
+            Err(not_in_this_build(F, None))
         }
         #[cfg(feature = "std")]
         config_hinf_spec(c, o)
@@ -324,7 +317,7 @@ fn config_hinf_spec(
 fn hinf_design(_s: &relnav_hinf_spec, _o: &mut relnav_hinf_result) -> Result<(), Failure> {
     Err(Failure(
         relnav_status::RELNAV_ERROR_NOT_IMPLEMENTED,
-        "relnav_hinf_design: this build has no `hinf` feature (no LMI solver)".into(),
+        "relnav_hinf_design: not in this build (no `hinf` feature: no LMI solver)".into(),
     ))
 }
 
@@ -350,32 +343,41 @@ pub unsafe extern "C" fn relnav_hinf_filter_new(
 ) -> relnav_status {
     const F: &str = "relnav_hinf_filter_new";
     boundary(F, || {
-        // SAFETY: pointer contracts are the caller's, checked for null.
-        let m = unsafe { matrices.as_ref() }.ok_or_else(|| null("matrices", F))?;
-        // SAFETY: as above.
-        let x = unsafe { read_array::<6>(x0, "x0", F) }?;
-        // SAFETY: as above.
-        let o = unsafe { out.as_mut() }.ok_or_else(|| null("out", F))?;
         #[cfg(feature = "std")]
         {
-            let f = relnav_core::hinf::HinfFilter::new(
-                from_c_matrices(m),
-                relnav_core::types::State::from(x),
-            )?;
+            // SAFETY: the caller's pointer contracts, passed on.
+            let f = unsafe { runtime_filter(matrices, x0, F) }?;
+            // SAFETY: pointer contracts are the caller's, checked for null.
+            let o = unsafe { out.as_mut() }.ok_or_else(|| null("out", F))?;
             *o = Box::into_raw(Box::new(relnav_hinf_filter { f }));
             Ok(())
         }
         #[cfg(not(feature = "std"))]
         {
-            let _ = (m, x, o);
-            Err(Failure(
-                relnav_status::RELNAV_ERROR_NOT_IMPLEMENTED,
-                "relnav_hinf_filter_new: not in this build (the flight library has no heap): \
-                 use relnav_hinf_filter_init"
-                    .into(),
-            ))
+            let _ = (matrices, x0, out);
+            Err(not_in_this_build(F, Some("relnav_hinf_filter_init")))
         }
     })
+}
+
+/// The start of [`relnav_hinf_filter_new`] and [`relnav_hinf_filter_init`]: the filter of
+/// `matrices`, its estimate starting at `x0`.
+///
+/// # Safety
+/// `matrices` is null or readable; `x0` is null or 6 readable doubles.
+unsafe fn runtime_filter(
+    matrices: *const relnav_hinf_matrices,
+    x0: *const f64,
+    func: &str,
+) -> Result<relnav_core::hinf::HinfFilter, Failure> {
+    // SAFETY: the caller's contract, checked for null.
+    let m = unsafe { matrices.as_ref() }.ok_or_else(|| null("matrices", func))?;
+    // SAFETY: as above.
+    let x = unsafe { read_array::<6>(x0, "x0", func) }?;
+    Ok(relnav_core::hinf::HinfFilter::new(
+        from_c_matrices(m),
+        relnav_core::types::State::from(x),
+    )?)
 }
 
 /// Bytes of storage that hold a runtime filter in every build: static storage for
@@ -431,16 +433,10 @@ pub unsafe extern "C" fn relnav_hinf_filter_init(
         // SAFETY: pointer contracts are the caller's, checked for null.
         let o = unsafe { out.as_mut() }.ok_or_else(|| null("out", F))?;
         *o = core::ptr::null_mut();
-        // SAFETY: as above.
-        let m = unsafe { matrices.as_ref() }.ok_or_else(|| null("matrices", F))?;
-        // SAFETY: as above.
-        let x = unsafe { read_array::<6>(x0, "x0", F) }?;
         let place =
             place_for::<relnav_hinf_filter>(storage, size, F, "relnav_hinf_filter_storage")?;
-        let f = relnav_core::hinf::HinfFilter::new(
-            from_c_matrices(m),
-            relnav_core::types::State::from(x),
-        )?;
+        // SAFETY: the caller's pointer contracts, passed on.
+        let f = unsafe { runtime_filter(matrices, x0, F) }?;
         // SAFETY: `place` is non-null, aligned and has room for one filter (checked
         // above), writable and unused by the caller's contract.
         unsafe { place.write(relnav_hinf_filter { f }) };
@@ -458,11 +454,8 @@ pub unsafe extern "C" fn relnav_hinf_filter_init(
 pub unsafe extern "C" fn relnav_hinf_filter_deinit(
     filter: *mut relnav_hinf_filter,
 ) -> relnav_status {
-    if !filter.is_null() {
-        // SAFETY: the handle holds a filter written by relnav_hinf_filter_init and is
-        // ended exactly once by the caller's contract.
-        unsafe { core::ptr::drop_in_place(filter) };
-    }
+    // SAFETY: the caller's contract, passed on.
+    unsafe { drop_placed(filter) };
     relnav_status::RELNAV_OK
 }
 

@@ -83,3 +83,14 @@ pub(crate) fn place_for<T>(
     }
     Ok(place)
 }
+
+/// End a value made in the caller's storage by a `*_init` call (null: nothing to do).
+///
+/// # Safety
+/// `handle` is null or points to a `T` written by its `*_init` call and not yet ended.
+pub(crate) unsafe fn drop_placed<T>(handle: *mut T) {
+    if !handle.is_null() {
+        // SAFETY: a live `T` in the caller's storage, ended once by the caller's contract.
+        unsafe { core::ptr::drop_in_place(handle) };
+    }
+}
