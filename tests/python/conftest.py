@@ -8,6 +8,8 @@ does). The truth model and the FMU drivers live in ``tools/`` and are shared wit
 
 from __future__ import annotations
 
+import ctypes
+import re
 import sys
 from pathlib import Path
 
@@ -22,6 +24,30 @@ import relnav_fmu as rf  # noqa: E402
 import relnav_fmu3 as rf3  # noqa: E402
 
 RUNS = cw.PAPER000_RUNS
+
+HEADER = REPO_ROOT / "include" / "relnav.h"
+C_TYPES = {"int32_t": ctypes.c_int32, "uint64_t": ctypes.c_uint64, "double": ctypes.c_double, "bool": ctypes.c_bool}
+
+
+def header_struct(name: str) -> type:
+    """ctypes.Structure of the C ABI's struct ``name``, field by field from
+    include/relnav.h (the checked-in cbindgen header: fields appended there need no change
+    in the tests)."""
+    body = re.search(rf"typedef struct {name} \{{(.*?)\}} {name};", HEADER.read_text(), re.S)
+    assert body, f"{HEADER}: {name} not found"
+    fields = []
+    for m in re.finditer(r"^\s*(\w+)\s+(\w+)(?:\[(\d+)\])?;", body[1], re.M):
+        ty = C_TYPES[m[1]]
+        fields.append((m[2], ty * int(m[3]) if m[3] else ty))
+    assert fields, f"{HEADER}: {name} has no fields"
+    return type(name, (ctypes.Structure,), {"_fields_": fields})
+
+
+def header_status(name: str) -> int:
+    """The value of the ``relnav_status`` code ``name`` in include/relnav.h."""
+    m = re.search(rf"^\s*{name} = (-?\d+),", HEADER.read_text(), re.M)
+    assert m, f"{HEADER}: {name} not found"
+    return int(m[1])
 SEEDS = list(range(RUNS))
 
 

@@ -19,21 +19,12 @@ import pytest
 
 import cwtruth as cw
 import relnav
+from conftest import REPO_ROOT, header_status, header_struct
 from test_hinf import BAR_POS, BAR_VEL, MASS, PARAMS, PERIOD, T_FROM, W0, scenario
 
-REPO_ROOT = Path(__file__).resolve().parents[2]
-RELNAV_OK, RELNAV_ERROR_NOT_IMPLEMENTED = 0, 3
-
-
-class HinfMatrices(ctypes.Structure):
-    # relnav_hinf_matrices in include/relnav.h
-    _fields_ = [
-        ("a_f", ctypes.c_double * 36),
-        ("b_f", ctypes.c_double * 18),
-        ("c_f", ctypes.c_double * 36),
-        ("e_f", ctypes.c_double * 18),
-        ("period", ctypes.c_double),
-    ]
+RELNAV_OK = header_status("RELNAV_OK")
+RELNAV_ERROR_NOT_IMPLEMENTED = header_status("RELNAV_ERROR_NOT_IMPLEMENTED")
+HinfMatrices = header_struct("relnav_hinf_matrices")
 
 
 @pytest.fixture(scope="module")

@@ -8,30 +8,22 @@ cbindgen header), so fields appended there need no change here."""
 from __future__ import annotations
 
 import ctypes
-import re
 
 import numpy as np
 import pytest
 
 import cwtruth as cw
 import relnav
-from conftest import REPO_ROOT
+from conftest import REPO_ROOT, header_struct
 
-HEADER = REPO_ROOT / "include" / "relnav.h"
 LIBRARY = REPO_ROOT / "target" / "release" / "librelnav.so"
-C_TYPES = {"int32_t": ctypes.c_int32, "uint64_t": ctypes.c_uint64, "double": ctypes.c_double, "bool": ctypes.c_bool}
 
 
 def config_struct() -> type:
     """ctypes.Structure of ``relnav_config``, field by field from the header."""
-    body = re.search(r"typedef struct relnav_config \{(.*?)\} relnav_config;", HEADER.read_text(), re.S)
-    assert body, f"{HEADER}: relnav_config not found"
-    fields = []
-    for m in re.finditer(r"^\s*(\w+)\s+(\w+)(?:\[(\d+)\])?;", body[1], re.M):
-        ty = C_TYPES[m[1]]
-        fields.append((m[2], ty * int(m[3]) if m[3] else ty))
-    assert len(fields) > 20
-    return type("relnav_config", (ctypes.Structure,), {"_fields_": fields})
+    cfg_t = header_struct("relnav_config")
+    assert len(cfg_t._fields_) > 20
+    return cfg_t
 
 
 @pytest.fixture(scope="module")
