@@ -359,13 +359,15 @@ def paper000_scenario(
     valid=None,
     chaser_mass: float = 1000.0,
     thrust_known: bool = True,
+    n: float = PAPER000_N,
 ) -> Scenario:
     """Paper 000's example (truth (400, 500, 200) m at rest in frame 2), expressed in I/O
     frame ``frame``.
 
     ``times`` default 0..600 s by 1 s. ``thrust_io`` (N, 3) [N] in frame ``frame`` acts on
     the truth; if ``thrust_known`` the filter is told about it (Scenario.thrust), else it
-    gets zeros.
+    gets zeros. ``n``: the orbit's mean motion [rad/s] (paper 000's by default; another
+    one is passed to the filters as ``mean_motion``).
     """
     if times is None:
         times = np.arange(PAPER000_STEPS + 1, dtype=float)
@@ -376,17 +378,20 @@ def paper000_scenario(
         thrust_io = np.zeros((n_steps, 3))
     thrust_io = np.asarray(thrust_io, dtype=float)
     accel_c = vec_to_canonical(thrust_io, frame) / chaser_mass
-    truth_c = truth_trajectory(PAPER000_N, x0_c, times, accel_c)
+    truth_c = truth_trajectory(n, x0_c, times, accel_c)
     if valid is None:
         valid = np.ones(n_steps, dtype=bool)
     params = frame_params(frame)
     params["chaser_mass"] = chaser_mass
+    if n != PAPER000_N:
+        params["mean_motion"] = n
     return Scenario(
         frame=frame,
         times=times,
         truth_io=state_to_frame(truth_c, frame),
         thrust=thrust_io if thrust_known else np.zeros_like(thrust_io),
         valid=np.asarray(valid, dtype=bool),
+        n=n,
         params=params,
     )
 
@@ -399,17 +404,21 @@ def noisy_scenario(
     thrust_known: bool = True,
     chaser_mass: float = 1000.0,
     times=None,
+    n: float = PAPER000_N,
 ) -> Scenario:
     """Paper 000's geometry and sensor in I/O frame ``frame`` with an honest process noise:
     the truth is driven by a white acceleration of density ``psd`` [m^2/s^3] (drawn with
     ``seed``; :func:`noisy_trajectory`) and every filter is told exactly that
-    (``accel_psd = psd``, no ``q_pos``/``q_vel``). Thrust as in :func:`paper000_scenario`."""
-    sc = paper000_scenario(frame, times=times, thrust_io=thrust_io, chaser_mass=chaser_mass, thrust_known=thrust_known)
+    (``accel_psd = psd``, no ``q_pos``/``q_vel``). Thrust and ``n`` as in
+    :func:`paper000_scenario`."""
+    sc = paper000_scenario(
+        frame, times=times, thrust_io=thrust_io, chaser_mass=chaser_mass, thrust_known=thrust_known, n=n
+    )
     rng = np.random.default_rng(10_000 + seed)
     x0_c = state_to_canonical(PAPER000_TRUTH0, 2)
     thrust_all = np.zeros((sc.steps, 3)) if thrust_io is None else np.asarray(thrust_io, dtype=float)
     accel_c = vec_to_canonical(thrust_all, frame) / chaser_mass
-    truth_c = noisy_trajectory(PAPER000_N, x0_c, sc.times, psd, rng, accel_c)
+    truth_c = noisy_trajectory(n, x0_c, sc.times, psd, rng, accel_c)
     sc.truth_io = state_to_frame(truth_c, frame)
     sc.params["accel_psd"] = psd
     for axis in "xyz":
@@ -460,18 +469,20 @@ SMALL_Q = {"accel_psd": 1e-10, **{f"q_{k}_{a}": 0.0 for k in ("pos", "vel") for 
 MIXTURE = (0.2, 10.0)
 
 
-def family_scenario(frame: int, small_q: bool, mixture: bool = False, stop: float = 600.0) -> Scenario:
+def family_scenario(
+    frame: int, small_q: bool, mixture: bool = False, stop: float = 600.0, n: float = PAPER000_N
+) -> Scenario:
     """Issue 10's scenario family: paper 000's geometry and sensor in I/O frame ``frame``, a
     60 s burn known through the thrust inputs ((2, -1, 0.5) N in frame 2, t = 100-160 s, on
     the 1000 kg chaser), a 30 s measurement dropout (t = 200-230 s), ``stop`` s at 1 Hz.
     Filter process noise: paper 000's (the FMU defaults) or, with ``small_q``, the honest
     :data:`SMALL_Q`; measurement noise Gaussian or, with ``mixture``, paper 003's
     contaminated Gaussian (zeta 0.2, scale 10; the Kalman filters then assume its
-    variance)."""
+    variance). ``n`` as in :func:`paper000_scenario`."""
     times = np.arange(stop + 1.0)
     thrust = burn_thrust(times, 100.0, 160.0, vec_to_frame(vec_to_canonical(np.array([2.0, -1.0, 0.5]), 2), frame))
     valid = ~((times[:-1] >= 200.0) & (times[:-1] < 230.0))
-    sc = paper000_scenario(frame, times=times, thrust_io=thrust, valid=valid)
+    sc = paper000_scenario(frame, times=times, thrust_io=thrust, valid=valid, n=n)
     if small_q:
         sc.params.update(SMALL_Q)
     if mixture:
