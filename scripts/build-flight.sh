@@ -61,7 +61,9 @@ check() {
 cflags=(-O2 -std=c11 -D_DEFAULT_SOURCE -Iinclude -Wall -Wextra -Werror)
 "$CC" "${cflags[@]}" cpp-harness/examples/quickstart.c "$LIB" -lm -Wl,--gc-sections -o "$OUT/quickstart"
 "$CC" "${cflags[@]}" cpp-harness/flight/bits.c "$LIB" -lm -Wl,--gc-sections -o "$OUT/bits"
-grep -oE '\b(relnav_[a-z0-9_]+)\(' include/relnav.h | tr -d '(' | sort -u | sed 's/.*/    (void *)\&&,/' > "$OUT/every_fns.h"
+# the functions a C file calls or declares, one per line, sorted
+functions() { grep -oE '\b(relnav_[a-z0-9_]+)\(' "$1" | tr -d '(' | sort -u; }
+functions include/relnav.h | sed 's/.*/    (void *)\&&,/' > "$OUT/every_fns.h"
 "$CC" "${cflags[@]}" -I"$OUT" cpp-harness/flight/every.c "$LIB" -lm -Wl,--gc-sections -o "$OUT/every"
 # a measuring program: its threads are its own (the library starts none)
 "$CC" "${cflags[@]}" cpp-harness/flight/stack.c "$LIB" -lm -lpthread -o "$OUT/stack"
@@ -74,8 +76,7 @@ cat "$OUT/quickstart.out"
 check "$OUT/every"
 check "$OUT/stack" "$FLIGHT_STACK_BOUND"
 # stack.c calls every function of the header
-unmeasured=$(comm -23 <(tr -d '(' < <(grep -oE '\b(relnav_[a-z0-9_]+)\(' include/relnav.h) | sort -u) \
-    <(tr -d '(' < <(grep -oE '\b(relnav_[a-z0-9_]+)\(' cpp-harness/flight/stack.c) | sort -u))
+unmeasured=$(comm -23 <(functions include/relnav.h) <(functions cpp-harness/flight/stack.c))
 [ -z "$unmeasured" ] || echo "build-flight: stack.c does not call: $unmeasured" >&2
 check test -z "$unmeasured"
 if command -v valgrind >/dev/null 2>&1; then
