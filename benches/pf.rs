@@ -3,7 +3,8 @@
 //! (no moves, the algorithm of the numpy anchor) at N = 1500, single-threaded; with the
 //! moves (the default) at N = 1500 and N = 100 000 (ns per particle), RPF, UPF, GA-PF and
 //! CGA-PF at N = 1500 each literal (no moves: comparable with figures taken without the
-//! moves) and with the moves (the targets are in `benches/summarize.py`); the thread
+//! moves) and with the moves (the targets are in `benches/summarize.py`); the SIR, RPF
+//! and UPF with the particle prior (`pf_prior = particle`) at N = 1500; the thread
 //! scaling of the chunked path at N = 10^5 and 10^6 on 1 and 2 threads (`pf_scaling`, 10
 //! samples each; `cargo bench --bench pf -- threads`). `scripts/bench.sh` runs these
 //! with the vectorised numpy SIR anchor (`benches/anchor_numpy_sir.py`) and prints medians
@@ -13,8 +14,9 @@
 use criterion::{criterion_group, criterion_main, Criterion};
 use rand::SeedableRng;
 use relnav_core::dynamics::{CwModel, DiscreteModel, Discretization};
-use relnav_core::estimators::pf::{ParticleFilter, PfKind, PfParams};
+use relnav_core::estimators::pf::{ParticleFilter, PfKind, PfParams, PfPrior};
 use relnav_core::estimators::Estimator;
+use relnav_core::estimators::{Ekf, GaussianSumPf};
 use relnav_core::nav::NavConfig;
 use relnav_core::sensors::RadioSensor;
 use relnav_core::types::{Mat3, Mat6, State, Vec3};
@@ -99,6 +101,43 @@ fn bench_pf_threads(
     black_box(f.state());
 }
 
+/// The particle prior ([`GaussianSumPf`], a Gaussian per particle) of `kind` at
+/// `particles` on the same measurements as [`bench_pf`]: the rows `benches/summarize.py`
+/// divides by the Gaussian-prior rows of the same kind and count.
+fn bench_particle_prior(c: &mut Criterion, name: &str, kind: PfKind, particles: usize) {
+    let cfg = NavConfig::default();
+    let (d, sensor, zs) = setup(20_000);
+    let params = PfParams {
+        particles,
+        seed: 7,
+        prior: PfPrior::Particle,
+        ..PfParams::new(kind)
+    };
+    let (x0, p0) = (cfg.initial_state(), cfg.initial_covariance());
+    let make = || {
+        let mut f = GaussianSumPf::new(Ekf::new(x0, p0), x0, p0, &params);
+        for z in zs.iter().take(20) {
+            f.update(&sensor, z).unwrap();
+            f.predict(&d, &Vec3::zeros()).unwrap();
+        }
+        f
+    };
+    let mut f = make();
+    let mut k = 20;
+    c.bench_function(name, |b| {
+        b.iter(|| {
+            if k == zs.len() {
+                f = make();
+                k = 20;
+            }
+            f.update(&sensor, black_box(&zs[k])).unwrap();
+            f.predict(&d, black_box(&Vec3::zeros())).unwrap();
+            k += 1;
+        })
+    });
+    black_box(f.state());
+}
+
 fn benches(c: &mut Criterion) {
     // the literal SIR of paper 000 (no moves): the same algorithm as the numpy anchor
     bench_pf_threads(c, "sir_literal_step_n1500", PfKind::Sir, 1500, 0, false);
@@ -114,6 +153,10 @@ fn benches(c: &mut Criterion) {
     bench_pf_threads(c, "cgapf_literal_step_n1500", PfKind::Cgapf, 1500, 0, false);
     bench_pf(c, "cgapf_step_n1500", PfKind::Cgapf, 1500);
     bench_pf(c, "sir_step_n100000", PfKind::Sir, 100_000);
+    // the particle prior: EKF terms (SIR, RPF), UKF terms (UPF)
+    bench_particle_prior(c, "sir_particle_prior_step_n1500", PfKind::Sir, 1500);
+    bench_particle_prior(c, "rpf_particle_prior_step_n1500", PfKind::Rpf, 1500);
+    bench_particle_prior(c, "upf_particle_prior_step_n1500", PfKind::Upf, 1500);
 }
 
 /// The thread scaling of the chunked path: the SIR (with its moves) at N = 10^5 and 10^6 on

@@ -129,6 +129,15 @@ typedef enum relnav_adaptation {
   RELNAV_ADAPTATION_GATED = 2,
 } relnav_adaptation;
 
+// PfPrior codes (`relnav_config` holds them as plain integers, so that an unknown
+// value is reported, not undefined behaviour).
+typedef enum relnav_pf_prior {
+  // Point particles; with pf_move, moves toward the Gaussian of the predictive moments (the Gaussian particle filter).
+  RELNAV_PF_PRIOR_GAUSSIAN = 1,
+  // A Gaussian per particle: a Gaussian sum whose terms are updated by their own EKF or UKF step, weighted by their predictive likelihood, resampled and kernel-smoothed; the prior of every update is the set's own predictive mixture.
+  RELNAV_PF_PRIOR_PARTICLE = 2,
+} relnav_pf_prior;
+
 // Which H-infinity design `relnav_hinf_design` solves.
 typedef enum relnav_hinf_form {
   // Observer (error-dynamics) form for the open-loop CW plant, the known thrust as
@@ -446,6 +455,10 @@ typedef struct relnav_config {
   // Allowed: 1..=15.
   // Default: 1.
   int32_t hinf_sensors;
+  // Particle filters (codes 4-8): what a particle carries (1 gaussian: a point, moved as pf_move says; 2 particle: a Gaussian, updated by its own EKF step, by its UKF step for the UPF and CGA-PF, the set a Gaussian sum resampled and, except for the SIR, kernel-smoothed; pf_move and pf_threads do not apply: the terms run on the calling thread; <= 100000 particles).
+  // A `relnav_pf_prior` code: 1 gaussian, 2 particle.
+  // Default: 1 (gaussian).
+  int32_t pf_prior;
 } relnav_config;
 
 // How the H-infinity filter of an estimator (filter code 9) was designed

@@ -99,6 +99,17 @@ pub enum relnav_adaptation {
     RELNAV_ADAPTATION_GATED = 2,
 }
 
+/// PfPrior codes (`relnav_config` holds them as plain integers, so that an unknown
+/// value is reported, not undefined behaviour).
+#[repr(C)]
+#[derive(Debug, Clone, Copy)]
+pub enum relnav_pf_prior {
+    /// Point particles; with pf_move, moves toward the Gaussian of the predictive moments (the Gaussian particle filter).
+    RELNAV_PF_PRIOR_GAUSSIAN = 1,
+    /// A Gaussian per particle: a Gaussian sum whose terms are updated by their own EKF or UKF step, weighted by their predictive likelihood, resampled and kernel-smoothed; the prior of every update is the set's own predictive mixture.
+    RELNAV_PF_PRIOR_PARTICLE = 2,
+}
+
 /// Estimator configuration. Get the defaults (paper 000's example) from
 /// `relnav_config_default`, then change what you need. Codes and flags are plain
 /// integers, so that an unknown value is reported, not undefined behaviour.
@@ -367,6 +378,10 @@ pub struct relnav_config {
     /// Allowed: 1..=15.
     /// Default: 1.
     pub hinf_sensors: i32,
+    /// Particle filters (codes 4-8): what a particle carries (1 gaussian: a point, moved as pf_move says; 2 particle: a Gaussian, updated by its own EKF step, by its UKF step for the UPF and CGA-PF, the set a Gaussian sum resampled and, except for the SIR, kernel-smoothed; pf_move and pf_threads do not apply: the terms run on the calling thread; <= 100000 particles).
+    /// A `relnav_pf_prior` code: 1 gaussian, 2 particle.
+    /// Default: 1 (gaussian).
+    pub pf_prior: i32,
 }
 
 impl relnav_config {
@@ -431,6 +446,7 @@ impl relnav_config {
         gnss_noise_scale: 0.0,
         gnss_noise_dof: 0.0,
         hinf_sensors: 0,
+        pf_prior: 0,
     };
 
     /// Element `i` of parameter `k` (its index in the table).
@@ -495,6 +511,7 @@ impl relnav_config {
             56 => Value::Real(self.gnss_noise_scale),
             57 => Value::Real(self.gnss_noise_dof),
             58 => Value::Int(i64::from(self.hinf_sensors)),
+            59 => Value::Int(i64::from(self.pf_prior)),
             _ => return None,
         })
     }
@@ -562,6 +579,7 @@ impl relnav_config {
             56 => self.gnss_noise_scale = v.as_f64(),
             57 => self.gnss_noise_dof = v.as_f64(),
             58 => self.hinf_sensors = v.as_int().map_or(i32::MAX, |x| i32::try_from(x).unwrap_or(i32::MAX)),
+            59 => self.pf_prior = v.as_int().map_or(i32::MAX, |x| i32::try_from(x).unwrap_or(i32::MAX)),
             _ => {}
         }
     }

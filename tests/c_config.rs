@@ -255,3 +255,18 @@ fn c_config_is_up_to_date() {
          then `RELNAV_BLESS_HEADER=1 cargo test --test header`, and commit both"
     );
 }
+
+/// Every code list the C struct names is an enum of the header (cbindgen exports an enum
+/// only when `cbindgen.toml` includes it by name).
+#[test]
+fn every_code_list_is_in_the_header() {
+    let header =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/include/relnav.h")).unwrap();
+    for list in CODE_LISTS.iter().filter(|l| l.c_enum) {
+        assert!(
+            header.contains(&format!("typedef enum {} {{", list.c_type)),
+            "{} is not in include/relnav.h: add it to cbindgen.toml's export.include",
+            list.c_type
+        );
+    }
+}

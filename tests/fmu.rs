@@ -130,7 +130,7 @@ fn platform_strings_and_description() {
     assert!(model_description().contains(guid()));
     // appended, never renumbered: the last output, then the parameters declared after it
     assert!(VARIABLES.len() > vr::GNSS_VELOCITY_NIS as usize);
-    assert_eq!(VARIABLES.last().map(|v| v.name), Some("pf_acceptance"));
+    assert_eq!(VARIABLES.last().map(|v| v.name), Some("pf_prior"));
 }
 
 #[test]

@@ -399,7 +399,7 @@ fn fmu_cycles_do_not_allocate(filter: i32, law: i32) {
 /// few vectors per loop (ARCHITECTURE.md, invariants).
 #[test]
 fn particle_filter_steps_do_not_allocate() {
-    use relnav_core::estimators::pf::PARALLEL_MIN_PARTICLES;
+    use relnav_core::estimators::pf::{PfPrior, PARALLEL_MIN_PARTICLES};
     use relnav_core::nav::NoiseKind;
     use relnav_core::nav::ResamplerSetting;
     const PARTICLES: usize = 300;
@@ -411,14 +411,22 @@ fn particle_filter_steps_do_not_allocate() {
         FilterKind::Gapf,
         FilterKind::Cgapf,
     ];
-    for (i, (filter, pf_move)) in kinds
+    // the moved and the literal filters, and the particle prior (a Gaussian per particle)
+    for (i, (filter, pf_move, pf_prior)) in kinds
         .into_iter()
-        .flat_map(|k| [(k, true), (k, false)])
+        .flat_map(|k| {
+            [
+                (k, true, PfPrior::Gaussian),
+                (k, false, PfPrior::Gaussian),
+                (k, true, PfPrior::Particle),
+            ]
+        })
         .enumerate()
     {
         let cfg = NavConfig {
             filter,
             pf_move,
+            pf_prior,
             particles: PARTICLES,
             resampler: ResamplerSetting::ALL[i % 5],
             noise_model: if i % 2 == 0 {
@@ -435,7 +443,7 @@ fn particle_filter_steps_do_not_allocate() {
         });
         assert_eq!(
             first, 0,
-            "{filter:?} (pf_move {pf_move}): {first} allocations in the first step"
+            "{filter:?} (pf_move {pf_move}, {pf_prior:?}): {first} allocations in the first step"
         );
         let mut resampled = 0;
         let n = allocations(|| {
@@ -452,16 +460,17 @@ fn particle_filter_steps_do_not_allocate() {
         });
         assert_eq!(
             n, 0,
-            "{filter:?} (pf_move {pf_move}): {n} allocations in library steps"
+            "{filter:?} (pf_move {pf_move}, {pf_prior:?}): {n} allocations in library steps"
         );
         assert!(
             resampled > 0,
-            "{filter:?} (pf_move {pf_move}): never resampled"
+            "{filter:?} (pf_move {pf_move}, {pf_prior:?}): never resampled"
         );
 
         let mut c = ffi::relnav_config_default();
         c.filter = filter as i32;
         c.pf_move = i32::from(pf_move);
+        c.pf_prior = pf_prior as i32;
         c.particles = PARTICLES as i32;
         let mut est = std::ptr::null_mut();
         // SAFETY: valid pointers.
@@ -488,11 +497,11 @@ fn particle_filter_steps_do_not_allocate() {
         unsafe { ffi::relnav_estimator_free(est) };
         assert_eq!(
             n, 0,
-            "{filter:?} (pf_move {pf_move}): {n} allocations in C-ABI steps"
+            "{filter:?} (pf_move {pf_move}, {pf_prior:?}): {n} allocations in C-ABI steps"
         );
         assert!(
             (1.0..=300.0).contains(&ess),
-            "{filter:?} (pf_move {pf_move}): ess {ess}"
+            "{filter:?} (pf_move {pf_move}, {pf_prior:?}): ess {ess}"
         );
     }
 }

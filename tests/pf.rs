@@ -373,6 +373,19 @@ fn bad_parameters_are_rejected() {
         ..Default::default()
     };
     assert!(p.validate().unwrap_err().contains("particles"));
+    // a Gaussian per particle: at most MAX_GAUSSIAN_SUM of them
+    use relnav_core::estimators::pf::{PfPrior, MAX_GAUSSIAN_SUM};
+    let p = PfParams {
+        particles: MAX_GAUSSIAN_SUM + 1,
+        prior: PfPrior::Particle,
+        ..Default::default()
+    };
+    assert!(p.validate().unwrap_err().contains("pf_prior = particle"));
+    let p = PfParams {
+        particles: MAX_GAUSSIAN_SUM + 1,
+        ..Default::default()
+    };
+    assert!(p.validate().is_ok());
     for t in [0.0, -0.1, 1.5, f64::NAN] {
         let p = PfParams {
             threshold: t,
@@ -676,5 +689,86 @@ fn step_acceptance_is_the_fraction_of_the_steps_moves_accepted() {
         }
         nav.reset();
         assert!(nav.step_acceptance().is_nan());
+    }
+}
+
+/// The particle prior (a Gaussian per particle) on paper 000's radio example, 40 terms:
+/// the same seed gives the same bits, another seed other ones; the terms are resampled;
+/// after a resampling the SIR's copies are still copies (it resamples only) while every
+/// other kind has separated them (its kernel moves every copy but the first); the sum's
+/// mean and covariance are its terms' (within plus between).
+#[test]
+fn particle_prior_resamples_and_only_the_sir_keeps_copies() {
+    use relnav_core::estimators::pf::PfPrior;
+    use relnav_core::estimators::{Ekf, GaussianSumPf};
+    let cfg = NavConfig::default();
+    let f = cfg.frame;
+    let model = CwModel::new(cfg.mean_motion);
+    let d = model.discretize(1.0, &Mat3::zeros(), Discretization::Exact);
+    let sensor = RadioSensor::new(f, cfg.sigma_range, cfg.sigma_angle);
+    let x0 = f.state_to_canonical(&State::from_row_slice(&[
+        400.0, 500.0, 200.0, 0.0, 0.0, 0.0,
+    ]));
+    let (m0, p0) = (cfg.initial_state(), cfg.initial_covariance());
+    let run = |kind: PfKind, seed: u64| {
+        let params = PfParams {
+            particles: 40,
+            seed,
+            prior: PfPrior::Particle,
+            ..PfParams::new(kind)
+        };
+        let mut g = GaussianSumPf::new(Ekf::new(m0, p0), m0, p0, &params);
+        let mut rng = ChaCha8Rng::seed_from_u64(3);
+        let mut xt = x0;
+        let mut distinct = Vec::new();
+        for _ in 0..30 {
+            let z = sensor
+                .measure(&xt.fixed_rows::<3>(0).into_owned(), &mut rng)
+                .unwrap();
+            let before = g.stats().1;
+            g.update(&sensor, &z).unwrap();
+            if g.stats().1 > before {
+                let mut means: Vec<[u64; 6]> = g
+                    .terms()
+                    .iter()
+                    .map(|(_, m, _)| core::array::from_fn(|i| m[i].to_bits()))
+                    .collect();
+                means.sort_unstable();
+                means.dedup();
+                distinct.push(means.len());
+            }
+            g.predict(&d, &Vec3::zeros()).unwrap();
+            xt = d.phi * xt;
+        }
+        // the output is the sum's moments
+        let terms = g.terms();
+        let mean: State = terms.iter().map(|(w, m, _)| m * *w).sum();
+        let cov: Mat6 = terms
+            .iter()
+            .map(|(w, m, p)| (p + (m - mean) * (m - mean).transpose()) * *w)
+            .sum();
+        assert!((mean - g.state()).amax() <= 1e-9 * mean.amax(), "{kind:?}");
+        assert!(
+            (cov - g.covariance()).amax() <= 1e-9 * cov.amax(),
+            "{kind:?}"
+        );
+        (g.state().map(f64::to_bits), distinct)
+    };
+    for kind in [
+        PfKind::Sir,
+        PfKind::Rpf,
+        PfKind::Upf,
+        PfKind::Gapf,
+        PfKind::Cgapf,
+    ] {
+        let (a, distinct) = run(kind, 9);
+        assert_eq!(a, run(kind, 9).0, "{kind:?}: not reproducible");
+        assert_ne!(a, run(kind, 10).0, "{kind:?}: the seed changes nothing");
+        assert!(!distinct.is_empty(), "{kind:?}: never resampled");
+        if kind == PfKind::Sir {
+            assert!(distinct.iter().all(|&n| n < 40), "SIR: {distinct:?}");
+        } else {
+            assert!(distinct.iter().all(|&n| n == 40), "{kind:?}: {distinct:?}");
+        }
     }
 }

@@ -13,6 +13,7 @@ use rand_chacha::ChaCha8Rng;
 use rand_distr::StandardNormal;
 use relnav::{self as ffi, relnav_status};
 use relnav_core::dynamics::CwModel;
+use relnav_core::estimators::pf::PfPrior;
 use relnav_core::nav::{FilterKind, NavConfig, NavErrorKind, Navigator, STATE_FORMAT_VERSION};
 use relnav_core::sensors::{MeasurementModel, RadioSensor};
 use relnav_core::types::Vec3;
@@ -94,7 +95,8 @@ fn config(kind: FilterKind) -> NavConfig {
     }
 }
 
-/// Every filter code alone, then the Kalman-type ones as range-parameterised banks.
+/// Every filter code alone, then the Kalman-type ones as range-parameterised banks, then
+/// particle filters with the particle prior (EKF and UKF terms).
 fn configs() -> Vec<(String, NavConfig)> {
     let mut out: Vec<(String, NavConfig)> = FilterKind::ALL
         .iter()
@@ -110,6 +112,16 @@ fn configs() -> Vec<(String, NavConfig)> {
             format!("{kind:?} bank of {n}"),
             NavConfig {
                 range_bank: n,
+                ..config(kind)
+            },
+        ));
+    }
+    for kind in [FilterKind::Rpf, FilterKind::Upf] {
+        out.push((
+            format!("{kind:?} particle prior"),
+            NavConfig {
+                pf_prior: PfPrior::Particle,
+                particles: 40,
                 ..config(kind)
             },
         ));
@@ -376,7 +388,7 @@ fn bad_states_are_refused_and_change_nothing() {
         let mut c = good.clone();
         c[8..12].copy_from_slice(&(STATE_FORMAT_VERSION + 1).to_le_bytes());
         reseal(&mut c, EST_HEADER);
-        refusal(&mut target, &c, "format version 6", "version");
+        refusal(&mut target, &c, "format version 7", "version");
         // another magic
         let mut c = good.clone();
         c[0] = b'X';
@@ -505,7 +517,7 @@ fn malformed_fields_are_refused() {
 #[test]
 fn sizes_follow_the_documented_layout() {
     assert_eq!(
-        STATE_FORMAT_VERSION, 5,
+        STATE_FORMAT_VERSION, 6,
         "update docs/state-format.md and this table"
     );
     let conf = conf_len();
@@ -518,7 +530,11 @@ fn sizes_follow_the_documented_layout() {
     for (label, cfg) in configs() {
         let kind = cfg.filter;
         let n = cfg.particles;
+        // the particle prior: term count, each term's log-weight and estimate, the sum,
+        // the generator, the resampling count and the last ESS
+        let gaussian_sum = 8 + n * (8 + kalman) + kalman + 32 + 8 + 8;
         let single = match kind {
+            _ if cfg.pf_prior == PfPrior::Particle => gaussian_sum,
             FilterKind::Ekf | FilterKind::Ukf | FilterKind::Rekf => kalman,
             // q_vv, window position/fill/width and entries, then the gated law's NIS ring
             // (position/fill/width and (NIS, dof) entries), gate flag and inflation

@@ -10,7 +10,7 @@ noise the FMU defaults (paper 000's Q) or honest for the quiet truth (white acce
 (zeta 0.2, scale 10); and paper 000's own example at the FMU defaults. Errors over
 t >= 80 s. Each run uses one seed for the measurement noise and the particle filter.
 
-    .venv/bin/python tools/pf_family.py [--seeds 3] [--particles 1500] [--workers 2]
+    .venv/bin/python tools/pf_family.py [--seeds 3] [--particles 1500] [--prior 1] [--workers 2]
 
 Prints a Markdown table per case (RMSE, ratios to the EKF, worst ratio over the seeds)
 and the wall-clock microseconds per FMU step (indicative: measured on a shared machine;
@@ -46,9 +46,11 @@ def _init(unzipdir: str) -> None:
 
 
 def _run(job):
-    key, frame, small_q, mixture, seed, name, particles = job
+    key, frame, small_q, mixture, seed, name, particles, prior = job
     sc = cw.paper000_scenario(2) if key == "paper000" else cw.family_scenario(frame, small_q, mixture)
     params = {**sc.params, "filter": NAMES[name], "seed": seed, "particles": particles}
+    if name != "ekf":
+        params["pf_prior"] = prior
     t0 = time.perf_counter()
     out = _worker["runner"].run(params, sc.times, sc.thrust, sc.measurements(seed), sc.valid)
     us = 1e6 * (time.perf_counter() - t0) / sc.steps
@@ -64,6 +66,7 @@ def main(argv=None) -> int:
     ap.add_argument("--fmu", type=Path, default=rf.locate_fmu())
     ap.add_argument("--seeds", type=int, default=3, help="seeds per case (100 + case index * 10 + k)")
     ap.add_argument("--particles", type=int, default=1500)
+    ap.add_argument("--prior", type=int, default=1, help="pf_prior: 1 gaussian (points), 2 particle (a Gaussian per particle)")
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--cases", default="", help="comma-separated case keys (default: all)")
     args = ap.parse_args(argv)
@@ -71,7 +74,7 @@ def main(argv=None) -> int:
     with tempfile.TemporaryDirectory(prefix="relnav-fmu-") as tmp:
         unzipdir = rf.unpack(args.fmu, Path(tmp) / "relnav")
         jobs = [
-            (key, f, q, m, 100 + 10 * i + k, name, args.particles)
+            (key, f, q, m, 100 + 10 * i + k, name, args.particles, args.prior)
             for i, (key, f, q, m) in enumerate(cases)
             for k in range(args.seeds)
             for name in NAMES
@@ -79,7 +82,8 @@ def main(argv=None) -> int:
         jobs.sort(key=lambda j: j[5] not in ("upf", "cgapf"))
         with mp.get_context("fork").Pool(args.workers, initializer=_init, initargs=(str(unzipdir),)) as pool:
             res = dict(pool.map(_run, jobs, chunksize=1))
-    print(f"## Particle filters against the EKF ({args.particles} particles, {args.seeds} seeds per case, t >= {T_FROM:g} s)")
+    prior = {1: "Gaussian prior", 2: "particle prior"}.get(args.prior, f"pf_prior {args.prior}")
+    print(f"## Particle filters against the EKF ({args.particles} particles, {prior}, {args.seeds} seeds per case, t >= {T_FROM:g} s)")
     print()
     print("| case | filter | pos RMSE [m] | vel RMSE [m/s] | pos / EKF (worst seed) | vel / EKF (worst seed) | us per step |")
     print("|---|---|---:|---:|---:|---:|---:|")

@@ -92,6 +92,7 @@ class Estimator:
         gnss_noise_scale: float = 10.0,
         gnss_noise_dof: float = 4.0,
         hinf_sensors: int = 1,
+        pf_prior: Union[int, str] = 'gaussian',
     ) -> None:
         """Keyword arguments are the FMU's parameters (names, types, defaults):
 
@@ -165,6 +166,7 @@ class Estimator:
             gnss_noise_scale: Relative GNSS, mixture noise: sigma of the wide component over the nominal sigma (>= 1).
             gnss_noise_dof: Relative GNSS, Student-t noise: degrees of freedom (> 2).
             hinf_sensors: H-infinity filter: the measurement set its design is for, the sum of 1 radio, 2 camera, 4 relative GNSS position, 8 relative GNSS velocity (it must hold the radio or the GNSS position: a camera or a velocity alone leaves the position unobservable to a linear observer); the design's noise is each sensor's at the initial estimate.
+            pf_prior: Particle filters (codes 4-8): what a particle carries (1 gaussian: a point, moved as pf_move says; 2 particle: a Gaussian, updated by its own EKF step, by its UKF step for the UPF and CGA-PF, the set a Gaussian sum resampled and, except for the SIR, kernel-smoothed; pf_move and pf_threads do not apply: the terms run on the calling thread; <= 100000 particles). One of: 1 gaussian, 2 particle.
         """
     # --- parameters: end ---
     def step(

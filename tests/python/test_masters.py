@@ -52,7 +52,7 @@ def cases(md):
     # the camera's and GNSS's densities act only on their readings, which these radio
     # cases do not carry (test_sensors.py drives them through fmpy)
     sensor_codes = {"camera_noise_model", "gnss_noise_model"}
-    assert set(codes) == {"filter", "frame", "discretization", "resampler", "noise_model", "hinf_design", "aq_law"} | sensor_codes
+    assert set(codes) == {"filter", "frame", "discretization", "resampler", "noise_model", "hinf_design", "aq_law", "pf_prior"} | sensor_codes
     out = []
 
     def case(name, frame=2, valid=True, **params):

@@ -97,6 +97,7 @@ EXPECTED = {
     **{f"{s}_nis": ("output", "continuous", "Real", None) for s in ("radio", "camera", "gnss", "gnss_velocity")},
     # the H-infinity design's measurement set (a sum of sensor bits)
     "hinf_sensors": ("parameter", "fixed", "Integer", None),
+    "pf_prior": ("parameter", "fixed", "Integer", None),
     # the particle filters' per-step move acceptance
     "pf_acceptance": ("output", "continuous", "Real", None),
 }
@@ -177,6 +178,7 @@ DEFAULTS = {
     **{f"{k}_noise_{p}": v for k in ("camera", "gnss") for p, v in (("zeta", 0.2), ("scale", 10.0), ("dof", 4.0))},
     # the radio alone, as before the parameter
     "hinf_sensors": 1,
+    "pf_prior": 1,
 }
 
 FMI2_CS_FUNCTIONS = [

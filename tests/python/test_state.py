@@ -22,7 +22,7 @@ STEPS = 40
 SAVE_AT = 15
 CODES = list(range(1, 12))
 # documented sizes with the default parameters (1500 particles, window 10)
-FMU_STATE_BYTES = {1: 2051, 2: 2051, 3: 2540, 4: 118296, 5: 118296, 6: 622296, 7: 118296, 8: 622296, 9: 3784, 10: 3091, 11: 2051}
+FMU_STATE_BYTES = {1: 2067, 2: 2067, 3: 2556, 4: 118312, 5: 118312, 6: 622312, 7: 118312, 8: 622312, 9: 3800, 10: 3107, 11: 2067}
 FMU_HEADER = 70
 EST_HEADER = 32
 
@@ -89,12 +89,12 @@ def parse_fmu_state(b: bytes, guid: str) -> dict:
 
 def parse_estimator_state(e: bytes) -> dict:
     magic, version, code, fingerprint, length, crc = struct.unpack_from("<8sIiIQI", e, 0)
-    assert magic == b"RELNAVES" and version == 5
+    assert magic == b"RELNAVES" and version == 6
     assert length == len(e) - EST_HEADER
     assert crc == zlib.crc32(e[:28] + e[EST_HEADER:])
     assert e[32:36] == b"CONF"
     (count,) = struct.unpack_from("<I", e, 36)
-    assert count == 71
+    assert count == 72
     conf = e[36 : 40 + 8 * count]
     assert fingerprint == zlib.crc32(conf)
     settings = e[40 : 40 + 8 * count]

@@ -264,7 +264,7 @@ pub fn io_variables() -> &'static [VarDef] {
 }
 
 /// Number of variables.
-pub const N_VARS: usize = 117;
+pub const N_VARS: usize = 118;
 
 /// Every variable of relnav.fmu; the value reference is the index.
 pub static VARIABLES: LazyLock<Vec<VarDef>> =

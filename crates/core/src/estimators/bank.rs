@@ -31,7 +31,13 @@
 //! update or prediction fails, is dropped and not stepped again; the bank fails (and is
 //! unchanged) only when every remaining member fails. Every member is allocated at
 //! construction: a step allocates nothing.
+//!
+//! The same machinery runs the particle filters' particle prior ([`Bank::gaussian_sum`]):
+//! any number of members drawn from the prior's kernel density instead of the split, and
+//! after each update the resampling and smoothing of [`super::pf::gaussian_sum`].
 
+use super::pf::gaussian_sum::{Live, Resampling};
+use super::pf::{PfParams, MAX_GAUSSIAN_SUM};
 pub use super::MAX_BANK;
 use super::{finite, Estimator, FilterError, SensorUpdate, UpdateInfo};
 use crate::dynamics::DiscreteModel;
@@ -132,6 +138,12 @@ pub struct Bank<F: Member> {
     check: Vec<F::Saved>,
     check_w: Vec<f64>,
     check_xp: (State, Mat6),
+    /// the particle prior's resampling ([`super::pf::gaussian_sum`]; `None`: the
+    /// range-parameterised bank), with its copies of the members and its undo points
+    resampling: Option<Resampling>,
+    spare: Vec<F>,
+    undo_live: Option<Live>,
+    check_live: Option<Live>,
 }
 
 impl<F: Member> Bank<F> {
@@ -150,8 +162,44 @@ impl<F: Member> Bank<F> {
             check: vec![saved; n],
             check_w: vec![0.0; n],
             check_xp: (x0, p0),
+            resampling: None,
+            spare: Vec::new(),
+            undo_live: None,
+            check_live: None,
         };
         bank.start(x0, p0).then_some(bank)
+    }
+
+    /// The particle prior ([`super::pf::gaussian_sum`]): `params.particles` copies of
+    /// `member` drawn from `(x0, p0)`, resampled and smoothed as `params` says.
+    pub fn gaussian_sum(member: F, x0: State, p0: Mat6, params: &PfParams) -> Self {
+        let n = params.particles.clamp(1, MAX_GAUSSIAN_SUM);
+        let saved = member.save();
+        let resampling = Resampling::new(params, n);
+        let live = resampling.live().clone();
+        let mut bank = Self {
+            members: vec![member.clone(); n],
+            log_w: vec![0.0; n],
+            x: x0,
+            p: p0,
+            undo: vec![saved.clone(); n],
+            undo_w: vec![0.0; n],
+            check: vec![saved; n],
+            check_w: vec![0.0; n],
+            check_xp: (x0, p0),
+            resampling: Some(resampling),
+            spare: vec![member; n],
+            undo_live: Some(live.clone()),
+            check_live: Some(live),
+        };
+        bank.start(x0, p0);
+        bank
+    }
+
+    /// The particle prior's effective sample size after the last update and its
+    /// resampling count (`None` for a range-parameterised bank).
+    pub fn particle_stats(&self) -> Option<(f64, u64)> {
+        self.resampling.as_ref().map(|r| (r.ess(), r.resamples()))
     }
 }
 
@@ -159,6 +207,12 @@ impl<F: Member> Bank<F> {
     /// Every member reset to its part of the split of `(x, p)`; false (and nothing
     /// changed) when `(x, p)` cannot be split.
     fn start(&mut self, x: State, p: Mat6) -> bool {
+        if let Some(r) = &mut self.resampling {
+            r.draw(&mut self.members, &mut self.log_w, &x, &p);
+            self.x = x;
+            self.p = p;
+            return true;
+        }
         let Some(parts) = split(&x, &p, self.members.len()) else {
             return false;
         };
@@ -210,6 +264,9 @@ impl<F: Member> Bank<F> {
         }
         self.check_w.copy_from_slice(&self.log_w);
         self.check_xp = (self.x, self.p);
+        if let (Some(c), Some(r)) = (&mut self.check_live, &self.resampling) {
+            c.clone_from(r.live());
+        }
     }
 
     /// Back to the last [`Bank::checkpoint`].
@@ -219,6 +276,9 @@ impl<F: Member> Bank<F> {
         }
         self.log_w.copy_from_slice(&self.check_w);
         (self.x, self.p) = self.check_xp;
+        if let (Some(c), Some(r)) = (&self.check_live, &mut self.resampling) {
+            r.set_live(c);
+        }
     }
 
     fn save_undo(&mut self) {
@@ -226,6 +286,9 @@ impl<F: Member> Bank<F> {
             *u = m.save();
         }
         self.undo_w.copy_from_slice(&self.log_w);
+        if let (Some(u), Some(r)) = (&mut self.undo_live, &self.resampling) {
+            u.clone_from(r.live());
+        }
     }
 
     fn undo(&mut self) {
@@ -233,6 +296,9 @@ impl<F: Member> Bank<F> {
             m.restore(u);
         }
         self.log_w.copy_from_slice(&self.undo_w);
+        if let (Some(u), Some(r)) = (&self.undo_live, &mut self.resampling) {
+            r.set_live(u);
+        }
     }
 
     /// The mixture's mean and covariance from the members and weights; on error the bank
@@ -279,6 +345,9 @@ impl<F: Member> Bank<F> {
         let mut folded: Option<T> = None;
         let mut nu = SVector::<f64, D>::zeros();
         let mut parts = [None::<Predictive<D>>; MAX_BANK];
+        // beyond MAX_BANK members: sum w (S + nu nu^T), the mixture's second moment
+        let mut second = SMatrix::<f64, D, D>::zeros();
+        let few = self.members.len() <= MAX_BANK;
         for (k, m) in self.members.iter_mut().enumerate() {
             if !self.log_w[k].is_finite() {
                 continue;
@@ -293,7 +362,11 @@ impl<F: Member> Bank<F> {
                 Ok((n, s, ll, t)) => {
                     self.log_w[k] += ll;
                     nu += n * wk;
-                    parts[k] = Some((wk, n, s));
+                    if few {
+                        parts[k] = Some((wk, n, s));
+                    } else {
+                        second += (s + n * n.transpose()) * wk;
+                    }
                     folded = Some(folded.map_or(t, |f| fold(f, t)));
                 }
                 Err(e) => {
@@ -307,10 +380,18 @@ impl<F: Member> Bank<F> {
             return Err(first_error.unwrap_or(FilterError::NonFinite("bank weights")));
         };
         self.normalise();
-        let mut s = SMatrix::<f64, D, D>::zeros();
-        for (wk, n, sk) in parts.iter().flatten() {
-            let d = n - nu;
-            s += (sk + d * d.transpose()) * *wk;
+        let s = if few {
+            let mut s = SMatrix::<f64, D, D>::zeros();
+            for (wk, n, sk) in parts.iter().flatten() {
+                let d = n - nu;
+                s += (sk + d * d.transpose()) * *wk;
+            }
+            s
+        } else {
+            second - nu * nu.transpose()
+        };
+        if let Some(r) = &mut self.resampling {
+            r.after_update(&mut self.members, &mut self.spare, &mut self.log_w);
         }
         let nis = s.cholesky().map_or(f64::NAN, |c| nu.dot(&c.solve(&nu)));
         self.combine()?;
@@ -431,6 +512,9 @@ impl<F: Member + Persist> Persist for Bank<F> {
         }
         w.matrix(&self.x);
         w.matrix(&self.p);
+        if let Some(r) = &self.resampling {
+            r.save_state(w);
+        }
     }
 
     fn load_state(&mut self, r: &mut Reader<'_>) -> Result<(), StateError> {
@@ -454,7 +538,10 @@ impl<F: Member + Persist> Persist for Bank<F> {
         }
         self.x = r.finite_matrix("bank state")?;
         self.p = r.finite_matrix("bank covariance")?;
-        Ok(())
+        match &mut self.resampling {
+            Some(res) => res.load_state(r),
+            None => Ok(()),
+        }
     }
 }
 

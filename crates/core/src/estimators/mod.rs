@@ -20,6 +20,8 @@ pub mod aqukf;
 pub mod bank;
 mod covariance;
 pub mod ekf;
+#[cfg(feature = "std")]
+pub mod gaussian_sum;
 pub mod imm;
 pub mod pf;
 pub mod rekf;
@@ -31,6 +33,8 @@ pub use aqukf::{
 #[cfg(feature = "std")]
 pub use bank::Bank;
 pub use ekf::Ekf;
+#[cfg(feature = "std")]
+pub use gaussian_sum::GaussianSumPf;
 pub use imm::{Imm, ImmParams, MAX_MODES};
 pub use ukf::{Ukf, UkfParams};
 

@@ -28,7 +28,9 @@
 
 use super::error::{NavError, NavErrorKind};
 use crate::dynamics::{CwModel, Discretization, MAX_ECCENTRICITY};
-use crate::estimators::pf::{PfInit, PfKind, PfParams, Resampler, MAX_PARTICLES, MAX_THREADS};
+use crate::estimators::pf::{
+    PfInit, PfKind, PfParams, PfPrior, Resampler, MAX_PARTICLES, MAX_THREADS,
+};
 use crate::estimators::{
     AdaptationLaw, AqParams, ImmParams, UkfParams, MAX_BANK, MAX_GATE_WINDOW, MAX_MODES, MAX_WINDOW,
 };
@@ -337,8 +339,28 @@ pub const AQ_LAW_CODES: CodeList = CodeList {
     ],
 };
 
+/// The codes of [`PfPrior`] (`pf_prior` parameter).
+pub const PF_PRIOR_CODES: CodeList = CodeList {
+    name: "PfPrior",
+    c_type: "relnav_pf_prior",
+    c_prefix: "RELNAV_PF_PRIOR_",
+    c_enum: true,
+    items: &[
+        CodeItem {
+            name: "gaussian",
+            code: 1,
+            description: "Point particles; with pf_move, moves toward the Gaussian of the predictive moments (the Gaussian particle filter)",
+        },
+        CodeItem {
+            name: "particle",
+            code: 2,
+            description: "A Gaussian per particle: a Gaussian sum whose terms are updated by their own EKF or UKF step, weighted by their predictive likelihood, resampled and kernel-smoothed; the prior of every update is the set's own predictive mixture",
+        },
+    ],
+};
+
 /// Every code list of the configuration, in declaration order.
-pub const CODE_LISTS: [&CodeList; 7] = [
+pub const CODE_LISTS: [&CodeList; 8] = [
     &FILTER_CODES,
     &FRAME_CODES,
     &DISCRETIZATION_CODES,
@@ -346,6 +368,7 @@ pub const CODE_LISTS: [&CodeList; 7] = [
     &NOISE_MODEL_CODES,
     &HINF_DESIGN_CODES,
     &AQ_LAW_CODES,
+    &PF_PRIOR_CODES,
 ];
 
 /// [`Field`] for an enum declared elsewhere with a code list here.
@@ -400,6 +423,13 @@ code_field!(
     AdaptationLaw::Gated,
     |a: AdaptationLaw| a as i32,
     AdaptationLaw::from_code
+);
+code_field!(
+    PfPrior,
+    PF_PRIOR_CODES,
+    PfPrior::Gaussian,
+    |p: PfPrior| p as i32,
+    PfPrior::from_code
 );
 
 /// No scenario key (the parameter comes from elsewhere in a scenario file, or not at all).
@@ -760,6 +790,11 @@ crate::config! {
         rule: Rule::Count { lo: 1, hi: 15 }, c: true, scenario: Some("hinf_sensors"), slot: Some(57),
         description: "H-infinity filter: the measurement set its design is for, the sum of 1 radio, 2 camera, 4 relative GNSS position, 8 relative GNSS velocity (it must hold the radio or the GNSS position: a camera or a velocity alone leaves the position unobservable to a linear observer); the design's noise is each sensor's at the initial estimate",
     },
+    pf_prior: PfPrior {
+        elements: [("pf_prior", 117, "", 1, "")],
+        rule: Rule::Any, c: true, scenario: Some("prior"), slot: Some(58),
+        description: "Particle filters (codes 4-8): what a particle carries (1 gaussian: a point, moved as pf_move says; 2 particle: a Gaussian, updated by its own EKF step, by its UKF step for the UPF and CGA-PF, the set a Gaussian sum resampled and, except for the SIR, kernel-smoothed; pf_move and pf_threads do not apply: the terms run on the calling thread; <= 100000 particles)",
+    },
 }
 
 /// One setting of a [`NavConfig`] as a saved state records it.
@@ -953,6 +988,7 @@ impl NavConfig {
         }
         if self.filter.pf_kind().is_some_and(PfKind::unscented)
             && !self.pf_move
+            && self.pf_prior == PfPrior::Gaussian
             && !(self.accel_psd > 0.0 || self.q_pos.iter().chain(&self.q_vel).all(|q| *q > 0.0))
         {
             return Err(NavError::invalid(crate::msg!(
@@ -1335,9 +1371,13 @@ impl NavConfig {
         let kind = self.filter.pf_kind()?;
         Some(PfParams {
             moves: self.pf_move,
+            prior: self.pf_prior,
             threads: self.pf_threads,
             particles: self.particles,
-            resampler: self.resampler.resolve(self.pf_move),
+            // the particle prior resamples as the moves do
+            resampler: self
+                .resampler
+                .resolve(self.pf_move || self.pf_prior == PfPrior::Particle),
             init: if self.pf_move {
                 kind.default_init()
             } else {
@@ -1577,7 +1617,7 @@ mod tests {
             .into_iter()
             .map(|(n, _)| n)
             .collect();
-        assert_eq!(names.len(), 71);
+        assert_eq!(names.len(), 72);
         assert_eq!(
             &names[..8],
             [
@@ -1611,6 +1651,7 @@ mod tests {
                 "gnss_noise_scale",
                 "gnss_noise_dof",
                 "hinf_sensors",
+                "pf_prior",
             ]
         );
     }

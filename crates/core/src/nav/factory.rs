@@ -7,11 +7,13 @@ use super::config::{FilterKind, NavConfig};
 use super::error::{NavError, NavErrorKind};
 use crate::dynamics::DiscreteModel;
 use crate::estimators::aqukf::AqukfSnapshot;
-#[cfg(feature = "std")]
-use crate::estimators::pf::ParticleFilter;
 use crate::estimators::pf::{Kernel, PfInit};
 #[cfg(feature = "std")]
+use crate::estimators::pf::{ParticleFilter, PfPrior};
+#[cfg(feature = "std")]
 use crate::estimators::Bank;
+#[cfg(feature = "std")]
+use crate::estimators::GaussianSumPf;
 use crate::estimators::{
     Aqukf, Ekf, Estimator, FilterError, Imm, Member, SensorUpdate, Ukf, UpdateInfo,
 };
@@ -38,6 +40,11 @@ pub enum AnyFilter {
     Hinf(HinfEstimator),
     /// Interacting multiple-model filter (code 10).
     Imm(Imm),
+    /// A particle filter with the particle prior (`pf_prior = particle`, codes 4-8): a
+    /// Gaussian per particle ([`crate::estimators::pf::gaussian_sum`]). Boxed: its terms are
+    /// allocated at construction.
+    #[cfg(feature = "std")]
+    GaussianSum(Box<GaussianSumPf>),
     /// A range-parameterised bank of one of the Kalman-type filters above (`range_bank`
     /// members; [`crate::estimators::bank`]). Boxed: its members are allocated at
     /// construction.
@@ -57,7 +64,8 @@ pub enum Snapshot {
     #[cfg(feature = "std")]
     Hinf(HinfEstimator),
     Imm(Imm),
-    /// the bank keeps its checkpoint itself ([`Bank::checkpoint`])
+    /// the bank keeps its checkpoint itself ([`Bank::checkpoint`]), and so does the
+    /// Gaussian-sum particle filter
     #[cfg(feature = "std")]
     Bank,
     /// particle filters are transactional themselves (see [`Navigator`])
@@ -82,6 +90,11 @@ impl AnyFilter {
             b.checkpoint();
             return Snapshot::Bank;
         }
+        #[cfg(feature = "std")]
+        if let AnyFilter::GaussianSum(g) = self {
+            g.checkpoint();
+            return Snapshot::Bank;
+        }
         self.member_snapshot()
     }
 
@@ -94,7 +107,7 @@ impl AnyFilter {
             AnyFilter::Hinf(f) => Snapshot::Hinf(*f),
             AnyFilter::Imm(f) => Snapshot::Imm(f.clone()),
             #[cfg(feature = "std")]
-            AnyFilter::Pf(_) | AnyFilter::Bank(_) => Snapshot::None,
+            AnyFilter::Pf(_) | AnyFilter::Bank(_) | AnyFilter::GaussianSum(_) => Snapshot::None,
         }
     }
 
@@ -109,6 +122,8 @@ impl AnyFilter {
             (AnyFilter::Imm(f), Snapshot::Imm(g)) => f.clone_from(g),
             #[cfg(feature = "std")]
             (AnyFilter::Bank(f), Snapshot::Bank) => f.rollback(),
+            #[cfg(feature = "std")]
+            (AnyFilter::GaussianSum(f), Snapshot::Bank) => f.rollback(),
             _ => {}
         }
     }
@@ -128,6 +143,8 @@ impl AnyFilter {
             AnyFilter::Imm(_) => b"IMM ",
             #[cfg(feature = "std")]
             AnyFilter::Bank(_) => b"BANK",
+            #[cfg(feature = "std")]
+            AnyFilter::GaussianSum(_) => b"GSPF",
         }
     }
 }
@@ -148,6 +165,8 @@ impl Persist for AnyFilter {
             AnyFilter::Imm(f) => f.save_state(w),
             #[cfg(feature = "std")]
             AnyFilter::Bank(f) => f.save_state(w),
+            #[cfg(feature = "std")]
+            AnyFilter::GaussianSum(f) => f.save_state(w),
         }
     }
 
@@ -164,6 +183,8 @@ impl Persist for AnyFilter {
             AnyFilter::Imm(f) => f.load_state(r),
             #[cfg(feature = "std")]
             AnyFilter::Bank(f) => f.load_state(r),
+            #[cfg(feature = "std")]
+            AnyFilter::GaussianSum(f) => f.load_state(r),
         }
     }
 }
@@ -209,6 +230,8 @@ impl Member for AnyFilter {
             AnyFilter::Imm(f) => f.reset(x, p),
             #[cfg(feature = "std")]
             AnyFilter::Bank(f) => f.reset(x, p),
+            #[cfg(feature = "std")]
+            AnyFilter::GaussianSum(f) => f.reset(x, p),
             other => other.set_estimate(x, p),
         }
     }
@@ -227,6 +250,8 @@ impl Estimator for AnyFilter {
             AnyFilter::Imm(f) => f.predict(model, accel),
             #[cfg(feature = "std")]
             AnyFilter::Bank(f) => f.predict(model, accel),
+            #[cfg(feature = "std")]
+            AnyFilter::GaussianSum(f) => f.predict(model, accel),
         }
     }
     fn update<M: MeasurementModel>(
@@ -245,6 +270,8 @@ impl Estimator for AnyFilter {
             AnyFilter::Imm(f) => f.update(sensor, z),
             #[cfg(feature = "std")]
             AnyFilter::Bank(f) => f.update(sensor, z),
+            #[cfg(feature = "std")]
+            AnyFilter::GaussianSum(f) => f.update(sensor, z),
         }
     }
     fn update_sensor<const D: usize, S: Sensor<D> + ?Sized>(
@@ -263,6 +290,8 @@ impl Estimator for AnyFilter {
             AnyFilter::Imm(f) => f.update_sensor(sensor, z),
             #[cfg(feature = "std")]
             AnyFilter::Bank(f) => f.update_sensor(sensor, z),
+            #[cfg(feature = "std")]
+            AnyFilter::GaussianSum(f) => f.update_sensor(sensor, z),
         }
     }
     fn state(&self) -> &State {
@@ -277,6 +306,8 @@ impl Estimator for AnyFilter {
             AnyFilter::Imm(f) => f.state(),
             #[cfg(feature = "std")]
             AnyFilter::Bank(f) => f.state(),
+            #[cfg(feature = "std")]
+            AnyFilter::GaussianSum(f) => f.state(),
         }
     }
     fn covariance(&self) -> &Mat6 {
@@ -291,6 +322,8 @@ impl Estimator for AnyFilter {
             AnyFilter::Imm(f) => f.covariance(),
             #[cfg(feature = "std")]
             AnyFilter::Bank(f) => f.covariance(),
+            #[cfg(feature = "std")]
+            AnyFilter::GaussianSum(f) => f.covariance(),
         }
     }
     fn set_estimate(&mut self, x: State, p: Mat6) {
@@ -305,6 +338,8 @@ impl Estimator for AnyFilter {
             AnyFilter::Imm(f) => f.set_estimate(x, p),
             #[cfg(feature = "std")]
             AnyFilter::Bank(f) => f.set_estimate(x, p),
+            #[cfg(feature = "std")]
+            AnyFilter::GaussianSum(f) => f.set_estimate(x, p),
         }
     }
 }
@@ -393,7 +428,14 @@ fn build_single_into(
         params.init = opts.pf_init.unwrap_or(params.init);
         params.kernel = opts.pf_kernel;
         params.carry_covariance = opts.pf_carry_covariance;
-        *out = AnyFilter::Pf(ParticleFilter::new(x0, p0, params));
+        *out = match params.prior {
+            PfPrior::Gaussian => AnyFilter::Pf(ParticleFilter::new(x0, p0, params)),
+            PfPrior::Particle => {
+                // the terms' radio update is the robust EKF's (the noise density's)
+                let ekf = Ekf::new(x0, p0).robust(cfg.noise());
+                AnyFilter::GaussianSum(Box::new(GaussianSumPf::new(ekf, x0, p0, &params)))
+            }
+        };
         return Ok(());
     }
     #[cfg(feature = "std")]

@@ -933,6 +933,8 @@ impl Navigator {
         match &self.filter {
             #[cfg(feature = "std")]
             AnyFilter::Pf(pf) => Some(pf.ess().clamp(1.0, pf.params().particles as f64)),
+            #[cfg(feature = "std")]
+            AnyFilter::GaussianSum(g) => Some(g.stats().0.clamp(1.0, g.len() as f64)),
             _ => None,
         }
     }

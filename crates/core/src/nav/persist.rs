@@ -218,7 +218,7 @@ impl Navigator {
 /// Format version of [`Navigator::save_state`]'s bytes. Bump it whenever the layout
 /// changes (a field added to a filter's `Persist`, a new setting); a state of another
 /// version is refused, never misread.
-pub const STATE_FORMAT_VERSION: u32 = 5;
+pub const STATE_FORMAT_VERSION: u32 = 6;
 
 /// Length of the identity block of an estimator state's header (filter code, fingerprint).
 const STATE_IDENT_LEN: usize = 8;

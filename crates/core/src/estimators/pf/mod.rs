@@ -47,6 +47,11 @@
 //! post-regularised RPF, van der Merwe's UPF, and the GA-PF's and CGA-PF's operators
 //! accepted on the likelihood ratio alone, as paper 003 writes ([`genetic`]).
 //!
+//! **Particle prior** ([`PfParams::prior`] = [`PfPrior::Particle`], `pf_prior = 2`): not
+//! this struct. The navigator's factory builds
+//! [`crate::estimators::GaussianSumPf`] instead, whose particles are Gaussians, each
+//! updated by its own EKF or UKF step ([`gaussian_sum`] has the method and why).
+//!
 //! **Regularised PF** (Musso, Oudjane & Le Gland 2001): after each resampling every
 //! particle is moved by `h D eps`, `D D^T` the weighted empirical covariance before
 //! resampling, `eps` drawn from the kernel, with the bandwidth that is optimal for a
@@ -114,6 +119,8 @@
 #[cfg(feature = "std")]
 mod filter;
 #[cfg(feature = "std")]
+pub mod gaussian_sum;
+#[cfg(feature = "std")]
 pub mod genetic;
 #[cfg(feature = "std")]
 mod likelihood;
@@ -148,7 +155,8 @@ mod update;
 #[cfg(feature = "std")]
 pub use par::{CHUNK, PARALLEL_MIN_PARTICLES};
 pub use params::{
-    bandwidth, Kernel, PfInit, PfKind, PfParams, Resampler, MAX_PARTICLES, MAX_THREADS,
+    bandwidth, Kernel, PfInit, PfKind, PfParams, PfPrior, Resampler, MAX_GAUSSIAN_SUM,
+    MAX_PARTICLES, MAX_THREADS,
 };
 #[cfg(feature = "std")]
 pub use rng::{rng_from_state, rng_state, PfRng};

@@ -73,6 +73,41 @@ pub enum PfInit {
     FirstMeasurement,
 }
 
+/// What the particles carry and what their moves aim at (`pf_prior`; C ABI / FMU codes 1
+/// and 2).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[repr(i32)]
+pub enum PfPrior {
+    /// Points, moved toward the Gaussian of the predictive moments ([`super::moves`]: the
+    /// Gaussian particle filter of Kotecha and Djuric; with `moves = false`, the papers'
+    /// filters as written).
+    #[default]
+    Gaussian = 1,
+    /// A Gaussian per particle: the set is a Gaussian sum, each term updated by its own
+    /// Kalman step and weighted by its predictive likelihood, resampled and
+    /// kernel-smoothed ([`super::gaussian_sum`]): the prior of every update is the
+    /// particle set's own predictive mixture.
+    Particle = 2,
+}
+
+impl PfPrior {
+    /// Both, in code order.
+    pub const ALL: [PfPrior; 2] = [PfPrior::Gaussian, PfPrior::Particle];
+
+    /// The prior with C ABI / FMU code `c`, or `None` for an unknown code.
+    pub fn from_code(c: i32) -> Option<Self> {
+        Self::ALL.into_iter().find(|p| *p as i32 == c)
+    }
+
+    /// Lower-case name (`"gaussian"`, `"particle"`).
+    pub fn name(self) -> &'static str {
+        match self {
+            PfPrior::Gaussian => "gaussian",
+            PfPrior::Particle => "particle",
+        }
+    }
+}
+
 /// Regularisation kernel of the RPF.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Kernel {
@@ -116,6 +151,8 @@ pub struct PfParams {
     /// filters (paper 000's SIR, the plain RPF, van der Merwe's UPF), which degenerate
     /// with small process noise.
     pub moves: bool,
+    /// What the particles carry ([`PfPrior`]); `moves` applies to [`PfPrior::Gaussian`].
+    pub prior: PfPrior,
     /// Worker threads of the particle loops from [`super::PARALLEL_MIN_PARTICLES`] particles on:
     /// 0 (default) rayon's global pool (one per core), 1 the calling thread, more a pool of
     /// the filter's own. The results do not depend on it.
@@ -146,6 +183,7 @@ impl PfParams {
             genetic: GeneticParams::default(),
             cloud: CloudParams::default(),
             moves: true,
+            prior: PfPrior::Gaussian,
             threads: 0,
         }
     }
@@ -158,6 +196,12 @@ impl PfParams {
         if self.particles > MAX_PARTICLES {
             return Err(crate::msg!(
                 "particles must be <= {MAX_PARTICLES} (got {})",
+                self.particles
+            ));
+        }
+        if self.prior == PfPrior::Particle && self.particles > MAX_GAUSSIAN_SUM {
+            return Err(crate::msg!(
+                "particles must be <= {MAX_GAUSSIAN_SUM} with pf_prior = particle (got {})",
                 self.particles
             ));
         }
@@ -187,6 +231,10 @@ impl PfParams {
 
 /// Largest particle count accepted (about 1 GB of particle state for the unscented kinds).
 pub const MAX_PARTICLES: usize = 2_000_000;
+
+/// Largest particle count of the particle prior (a Gaussian per particle: about 2 KB each
+/// with the copies a step keeps to undo itself).
+pub const MAX_GAUSSIAN_SUM: usize = 100_000;
 
 /// Volume of the unit ball in 6 dimensions, `pi^3 / 6`.
 const UNIT_BALL_6: f64 =
