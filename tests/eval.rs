@@ -402,13 +402,14 @@ fn range_banks_reach_the_bound_on_angles_only_acquisition() {
 }
 
 /// Angles-only acquisition with the particle prior (`pf_prior = particle`: a Gaussian per
-/// particle), 500 particles, the scenario's first 20 runs: after the second burn every kind
+/// particle), 500 particles, the scenario's first 12 runs: after the second burn every kind
 /// is within 1.2 times the run-wise bound with its time-averaged NEES inside the per-time
-/// 95 % band of a 20-run average. Between the burns (the range partly observed, its
+/// 95 % band of a 12-run average. Between the burns (the range partly observed, its
 /// posterior skewed) every kind's position RMSE is below 0.6 times the EKF's and the UKF's
-/// and within 1.05 times the best range-parameterised bank's: the bank is a Gaussian sum
+/// and within 1.15 times the best range-parameterised bank's: the bank is a Gaussian sum
 /// too, and over 120 runs the two are level there (186.3 m for the EKF bank, 186.9-192.7 m
-/// for the particle prior; `docs/results.md`).
+/// for the particle prior; `docs/results.md`); over 12 runs the kinds scatter by +-9 %
+/// about the bank.
 #[test]
 fn particle_prior_reaches_the_bound_on_angles_only_acquisition() {
     let text = builtin::by_name("sensors_angles_only").unwrap();
@@ -421,7 +422,7 @@ fn particle_prior_reaches_the_bound_on_angles_only_acquisition() {
     let r = run(
         &s,
         &Options {
-            runs: Some(20),
+            runs: Some(12),
             ..Options::default()
         },
     )
@@ -464,8 +465,35 @@ fn particle_prior_reaches_the_bound_on_angles_only_acquisition() {
                 x.label
             );
             assert!(b < 0.6 * single, "{}: {b} against {single}", x.label);
-            assert!(b < 1.05 * bank, "{}: {b} against {bank}", x.label);
+            assert!(b < 1.15 * bank, "{}: {b} against {bank}", x.label);
         }
+    }
+}
+
+/// The particle prior's EKF terms update with the [sensor]'s density, as the robust EKF
+/// does (the engine gives both the density; the point particles weigh with it
+/// themselves); the UKF terms and the Gaussian-prior points keep the Gaussian setting.
+#[test]
+fn particle_prior_ekf_terms_get_the_sensor_density() {
+    use relnav_core::nav::NoiseKind;
+    let s = Scenario::from_toml(builtin::by_name("pf_lidar_wide_prior").unwrap()).unwrap();
+    let n = s.orbit.mean_motion().unwrap();
+    let model = |label: &str| {
+        let f = s.filters.iter().find(|f| f.label == label).unwrap();
+        f.nav_config(&s, n).unwrap().noise_model
+    };
+    for label in [
+        "Robust EKF",
+        "SIR (particle prior)",
+        "RPF (particle prior)",
+        "GA-PF (particle prior)",
+        // built with the density too; its UKF terms have no robust update
+        "UPF (particle prior)",
+    ] {
+        assert_eq!(model(label), NoiseKind::Mixture, "{label}");
+    }
+    for label in ["EKF", "SIR"] {
+        assert_eq!(model(label), NoiseKind::Gaussian, "{label}");
     }
 }
 

@@ -115,6 +115,11 @@ pub const BUILTIN: &[(&str, &str, &str)] = &[
         "sensors_angles_only",
         include_str!("../../../scenarios/sensors_angles_only.toml"),
     ),
+    (
+        "sensors",
+        "pf_lidar_wide_prior",
+        include_str!("../../../scenarios/pf_lidar_wide_prior.toml"),
+    ),
 ];
 
 /// Paper 001's Mars approach (its own problem, not a relative-navigation scenario):
