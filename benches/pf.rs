@@ -76,25 +76,39 @@ fn bench_pf_threads(
         moves,
         ..PfParams::new(kind)
     };
-    let make = || {
-        let mut f = ParticleFilter::new(cfg.initial_state(), cfg.initial_covariance(), params);
-        // past the first-measurement initialisation into steady state
+    let make = || ParticleFilter::new(cfg.initial_state(), cfg.initial_covariance(), params);
+    bench_steps(c, name, make, &d, &sensor, &zs);
+}
+
+/// One step of the filter `make` builds (update with the next measurement, predict), in
+/// steady state: past 20 steps (the first-measurement initialisation), a new filter when
+/// the measurements run out.
+fn bench_steps<F: Estimator>(
+    c: &mut Criterion,
+    name: &str,
+    make: impl Fn() -> F,
+    d: &DiscreteModel,
+    sensor: &RadioSensor,
+    zs: &[Vec3],
+) {
+    let warm = || {
+        let mut f = make();
         for z in zs.iter().take(20) {
-            f.update(&sensor, z).unwrap();
-            f.predict(&d, &Vec3::zeros()).unwrap();
+            f.update(sensor, z).unwrap();
+            f.predict(d, &Vec3::zeros()).unwrap();
         }
         f
     };
-    let mut f = make();
+    let mut f = warm();
     let mut k = 20;
     c.bench_function(name, |b| {
         b.iter(|| {
             if k == zs.len() {
-                f = make();
+                f = warm();
                 k = 20;
             }
-            f.update(&sensor, black_box(&zs[k])).unwrap();
-            f.predict(&d, black_box(&Vec3::zeros())).unwrap();
+            f.update(sensor, black_box(&zs[k])).unwrap();
+            f.predict(d, black_box(&Vec3::zeros())).unwrap();
             k += 1;
         })
     });
@@ -114,28 +128,8 @@ fn bench_particle_prior(c: &mut Criterion, name: &str, kind: PfKind, particles: 
         ..PfParams::new(kind)
     };
     let (x0, p0) = (cfg.initial_state(), cfg.initial_covariance());
-    let make = || {
-        let mut f = GaussianSumPf::new(Ekf::new(x0, p0), x0, p0, &params);
-        for z in zs.iter().take(20) {
-            f.update(&sensor, z).unwrap();
-            f.predict(&d, &Vec3::zeros()).unwrap();
-        }
-        f
-    };
-    let mut f = make();
-    let mut k = 20;
-    c.bench_function(name, |b| {
-        b.iter(|| {
-            if k == zs.len() {
-                f = make();
-                k = 20;
-            }
-            f.update(&sensor, black_box(&zs[k])).unwrap();
-            f.predict(&d, black_box(&Vec3::zeros())).unwrap();
-            k += 1;
-        })
-    });
-    black_box(f.state());
+    let make = || GaussianSumPf::new(Ekf::new(x0, p0), x0, p0, &params);
+    bench_steps(c, name, make, &d, &sensor, &zs);
 }
 
 fn benches(c: &mut Criterion) {

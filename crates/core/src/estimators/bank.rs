@@ -150,9 +150,31 @@ impl<F: Member> Bank<F> {
     /// `n` (2..=[`MAX_BANK`]) copies of `member` on the split of `(x0, p0)`; `None` when
     /// the prior cannot be split ([`split`]).
     pub fn new(member: F, x0: State, p0: Mat6, n: usize) -> Option<Self> {
-        let n = n.clamp(2, MAX_BANK);
+        let mut bank = Self::of_copies(member, x0, p0, n.clamp(2, MAX_BANK), None);
+        bank.start(x0, p0).then_some(bank)
+    }
+
+    /// The particle prior ([`super::pf::gaussian_sum`]): `params.particles` copies of
+    /// `member` drawn from `(x0, p0)`, resampled and smoothed as `params` says.
+    pub fn gaussian_sum(member: F, x0: State, p0: Mat6, params: &PfParams) -> Self {
+        let n = params.particles.clamp(1, MAX_GAUSSIAN_SUM);
+        let resampling = Resampling::new(params, n);
+        let mut bank = Self::of_copies(member, x0, p0, n, Some(resampling));
+        bank.start(x0, p0);
+        bank
+    }
+
+    /// `n` copies of `member` and every buffer a step uses (the resampling's too), not yet
+    /// started.
+    fn of_copies(member: F, x0: State, p0: Mat6, n: usize, resampling: Option<Resampling>) -> Self {
         let saved = member.save();
-        let mut bank = Self {
+        let live = resampling.as_ref().map(|r| r.live().clone());
+        let spare = if resampling.is_some() {
+            vec![member.clone(); n]
+        } else {
+            Vec::new()
+        };
+        Self {
             members: vec![member; n],
             log_w: vec![0.0; n],
             x: x0,
@@ -162,38 +184,11 @@ impl<F: Member> Bank<F> {
             check: vec![saved; n],
             check_w: vec![0.0; n],
             check_xp: (x0, p0),
-            resampling: None,
-            spare: Vec::new(),
-            undo_live: None,
-            check_live: None,
-        };
-        bank.start(x0, p0).then_some(bank)
-    }
-
-    /// The particle prior ([`super::pf::gaussian_sum`]): `params.particles` copies of
-    /// `member` drawn from `(x0, p0)`, resampled and smoothed as `params` says.
-    pub fn gaussian_sum(member: F, x0: State, p0: Mat6, params: &PfParams) -> Self {
-        let n = params.particles.clamp(1, MAX_GAUSSIAN_SUM);
-        let saved = member.save();
-        let resampling = Resampling::new(params, n);
-        let live = resampling.live().clone();
-        let mut bank = Self {
-            members: vec![member.clone(); n],
-            log_w: vec![0.0; n],
-            x: x0,
-            p: p0,
-            undo: vec![saved.clone(); n],
-            undo_w: vec![0.0; n],
-            check: vec![saved; n],
-            check_w: vec![0.0; n],
-            check_xp: (x0, p0),
-            resampling: Some(resampling),
-            spare: vec![member; n],
-            undo_live: Some(live.clone()),
-            check_live: Some(live),
-        };
-        bank.start(x0, p0);
-        bank
+            resampling,
+            spare,
+            undo_live: live.clone(),
+            check_live: live,
+        }
     }
 
     /// The particle prior's effective sample size after the last update and its
