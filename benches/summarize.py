@@ -124,7 +124,7 @@ for r, n, t in pf_rows:
     except FileNotFoundError:
         continue
     print(f"| {r} | {pm[r] / 1000:.1f} us | {pm[r] / n:.1f} | {instr(r)} | {t} |")
-# issue 36's bound: the particle prior costs at most 2x the Gaussian-prior mode per particle
+# the particle prior's target: it costs at most 2x the Gaussian-prior mode per particle
 for kind in ("sir", "rpf", "upf"):
     r = f"{kind}_particle_prior_step_n1500"
     try:

@@ -407,9 +407,8 @@ fn range_banks_reach_the_bound_on_angles_only_acquisition() {
 /// 95 % band of a 12-run average. Between the burns (the range partly observed, its
 /// posterior skewed) every kind's position RMSE is below 0.6 times the EKF's and the UKF's
 /// and within 1.15 times the best range-parameterised bank's: the bank is a Gaussian sum
-/// too, and over 120 runs the two are level there (186.3 m for the EKF bank, 186.9-192.7 m
-/// for the particle prior; `docs/results.md`); over 12 runs the kinds scatter by +-9 %
-/// about the bank.
+/// too, and over many runs the two are level there (`docs/results.md`); over 12 runs the
+/// kinds scatter by about a tenth about the bank.
 #[test]
 fn particle_prior_reaches_the_bound_on_angles_only_acquisition() {
     let text = builtin::by_name("sensors_angles_only").unwrap();

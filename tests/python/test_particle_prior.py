@@ -135,14 +135,13 @@ def distance(means, ref):
 def test_particle_prior_converges_to_the_grid_reference():
     """Averaged over three runs, the squared Mahalanobis distance of the posterior mean
     from the reference's, in the reference's covariance (a draw from the posterior is at
-    about 6): with the particle prior the RPF comes closer as the particle count grows
-    (measured 0.56, 0.23, 0.15, 0.062 at 100, 400, 1600, 6400) and the UPF (UKF terms)
-    is at 0.16 with 1600. What is left at 6400 is the filter's, not the reference's (the
-    grid at half the spacing moves the reference by 1e-6): its terms are as wide as the
-    kernel's bandwidth (about 190 m along the range at 6400), so their linearisation is
-    coarser than the grid's 15 m. The SIR, which resamples whole terms without separating
-    the copies, is at 0.34 with 1600; the Gaussian-prior RPF (3.2) and one EKF (1.7) stay
-    far off."""
+    about 6): with the particle prior the RPF comes closer as the particle count grows,
+    and the UPF (UKF terms) is close at 1600. What is left at 6400 is the filter's, not
+    the reference's (halving the grid's spacing does not move the reference): its terms
+    are as wide as the kernel's bandwidth, so their linearisation is coarser than the
+    grid's 15 m. The SIR, which resamples whole terms without separating the copies, stays
+    farther than the RPF; the Gaussian-prior RPF and one EKF stay far off. The figures:
+    docs/filters.md, pf_prior."""
     dist = {}
     for seed in SEEDS:
         force, truth, cam = scenario(seed)

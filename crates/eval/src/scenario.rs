@@ -4,7 +4,7 @@
 //! expected there. See `scenarios/*.toml` for the papers' examples and
 //! `docs/scenarios.md` for the full key reference.
 
-use relnav_core::estimators::pf::{Kernel, PfInit, PfPrior};
+use relnav_core::estimators::pf::{Kernel, PfInit};
 use relnav_core::frames::Frame;
 use relnav_core::nav::{FilterKind, FilterOptions, HinfDesignKind, NavConfig, NoiseKind, PARAMS};
 use relnav_core::noise::NoiseModel;
@@ -742,8 +742,7 @@ impl FilterSpec {
                 }
             }
         }
-        let robust_terms = c.filter.pf_kind().is_some() && c.pf_prior == PfPrior::Particle;
-        if c.filter == FilterKind::Rekf || robust_terms {
+        if c.robust_radio() {
             // the robust EKF, and the particle prior's EKF terms, update with the
             // [sensor]'s density (its variance is the filters' R)
             if let Some(p) = &scenario.sensor {

@@ -315,25 +315,6 @@ impl Estimator for Ekf {
     }
 }
 
-/// A term of a Gaussian sum (a range-parameterised bank, the particle prior): its
-/// estimate is all a step changes.
-impl super::Member for Ekf {
-    type Saved = (State, Mat6);
-
-    fn save(&self) -> (State, Mat6) {
-        (self.x, self.p)
-    }
-
-    fn restore(&mut self, s: &(State, Mat6)) {
-        (self.x, self.p) = *s;
-    }
-
-    fn reset(&mut self, x: State, p: Mat6) {
-        self.x = x;
-        self.p = p;
-    }
-}
-
 /// Saved state: `x` (6), `P` (36, column by column); see `docs/state-format.md`.
 impl Persist for Ekf {
     fn save_state(&self, w: &mut Writer<'_>) {

@@ -52,6 +52,29 @@ pub trait Member: Estimator + Clone + core::fmt::Debug {
     fn reset(&mut self, x: State, p: Mat6);
 }
 
+/// [`Member`] for a filter whose estimate `(x, P)` is all a step changes: the snapshot is
+/// the estimate, a reset sets it ([`Estimator::set_estimate`]).
+macro_rules! estimate_member {
+    ($($t:ty),*) => {$(
+        impl Member for $t {
+            type Saved = (State, Mat6);
+
+            fn save(&self) -> (State, Mat6) {
+                (*self.state(), *self.covariance())
+            }
+
+            fn restore(&mut self, s: &(State, Mat6)) {
+                self.set_estimate(s.0, s.1);
+            }
+
+            fn reset(&mut self, x: State, p: Mat6) {
+                self.set_estimate(x, p);
+            }
+        }
+    )*};
+}
+estimate_member!(Ekf, Ukf);
+
 /// The largest number of members of a range-parameterised bank ([`bank`]).
 pub const MAX_BANK: usize = 9;
 

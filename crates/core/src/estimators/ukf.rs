@@ -869,25 +869,6 @@ impl Estimator for Ukf {
     }
 }
 
-/// A term of a Gaussian sum (a range-parameterised bank, the particle prior): its
-/// estimate is all a step changes.
-impl super::Member for Ukf {
-    type Saved = (State, Mat6);
-
-    fn save(&self) -> (State, Mat6) {
-        (self.x, self.p)
-    }
-
-    fn restore(&mut self, s: &(State, Mat6)) {
-        (self.x, self.p) = *s;
-    }
-
-    fn reset(&mut self, x: State, p: Mat6) {
-        self.x = x;
-        self.p = p;
-    }
-}
-
 /// Saved state: `x` (6), `P` (36, column by column). The sigma-point scale and weights are
 /// configuration (`UkfParams`), rebuilt by the restoring filter.
 impl Persist for Ukf {

@@ -1337,6 +1337,16 @@ impl NavConfig {
         crate::dynamics::Dynamics::of_orbit(self.mean_motion, self.eccentricity, self.true_anomaly0)
     }
 
+    /// Whether the factory builds this filter's radio update on the density of
+    /// `noise_model` ([`NavConfig::noise`]) rather than on the Gaussian of its variance:
+    /// the robust EKF (11) and the particle prior's EKF terms (the UKF terms of its UPF and
+    /// CGA-PF have no robust update). The point particles weigh with the density whatever
+    /// this says.
+    pub fn robust_radio(&self) -> bool {
+        self.filter == FilterKind::Rekf
+            || (self.filter.pf_kind().is_some() && self.pf_prior == PfPrior::Particle)
+    }
+
     /// The measurement-noise density (scales `sigma_range`, `sigma_angle`).
     pub fn noise(&self) -> NoiseModel {
         self.noise_model

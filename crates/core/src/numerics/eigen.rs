@@ -90,6 +90,12 @@ pub(crate) fn psd_sqrt(q: &Mat6) -> Option<Mat6> {
     Some(e.eigenvectors * Mat6::from_diagonal(&d) * e.eigenvectors.transpose())
 }
 
+/// [`psd_sqrt`], or the square roots of the diagonal when it has none (a matrix set from
+/// outside, not finite or without convergence).
+pub(crate) fn psd_sqrt_or_diagonal(q: &Mat6) -> Mat6 {
+    psd_sqrt(q).unwrap_or_else(|| Mat6::from_diagonal(&q.diagonal().map(|v| v.max(0.0).sqrt())))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -7,7 +7,7 @@ use super::params::{PfInit, PfParams, MAX_PARTICLES};
 use super::rng::{gauss6, PfRng};
 use super::{ParticleFilter, N};
 use crate::estimators::ukf::Ukf;
-use crate::numerics::eigen::psd_sqrt;
+use crate::numerics::eigen::psd_sqrt_or_diagonal;
 use crate::numerics::moments::{moments, weighted_sum, Moments};
 use crate::numerics::soa::BLOCK;
 use crate::types::{Mat6, State};
@@ -82,8 +82,7 @@ impl ParticleFilter {
         self.soa_fresh = false;
         // the prior is validated (diagonal, finite); a matrix set through `set_estimate`
         // that has no square root falls back to the square roots of its diagonal
-        let l = psd_sqrt(&self.p0)
-            .unwrap_or_else(|| Mat6::from_diagonal(&self.p0.diagonal().map(|v| v.max(0.0).sqrt())));
+        let l = psd_sqrt_or_diagonal(&self.p0);
         for xi in self.x.iter_mut() {
             *xi = self.x0 + l * gauss6(&mut self.rng);
         }

@@ -5,7 +5,7 @@
 //! A point particle has to hit both scales at once: which particles survive in the pinned
 //! directions is random with respect to the range, so the set's range marginal drifts by
 //! chance at every resampling, and a kernel wide enough to refill it smears the pinned
-//! directions (numpy prototypes with 5,000-40,000 points: issue 36's notes). Carrying
+//! directions. Carrying
 //! the pinned directions analytically removes that: each particle is a Gaussian
 //! `N(m_i, P_i)` updated by its own Kalman step, and the particles only have to cover
 //! what the Kalman steps cannot, the range's non-Gaussian spread.
@@ -48,7 +48,7 @@ use super::params::{bandwidth, Kernel, PfKind, PfParams, Resampler};
 use super::resample::{effective_sample_size, resample};
 use super::rng::{gauss6, rng_from_state, rng_state, PfRng};
 use crate::estimators::Member;
-use crate::numerics::eigen::psd_sqrt;
+use crate::numerics::eigen::psd_sqrt_or_diagonal;
 use crate::numerics::state::{refuse, Reader, StateError, Writer};
 use crate::types::{Mat6, State};
 use rand::SeedableRng;
@@ -125,8 +125,7 @@ impl Resampling {
     pub fn draw<F: Member>(&mut self, members: &mut [F], log_w: &mut [f64], x: &State, p: &Mat6) {
         // a covariance without a square root (set through `set_estimate`) falls back to
         // its diagonal's, as the point particles' prior does
-        let l = psd_sqrt(p)
-            .unwrap_or_else(|| Mat6::from_diagonal(&p.diagonal().map(|v| v.max(0.0).sqrt())));
+        let l = psd_sqrt_or_diagonal(p);
         let pk = p * (self.h * self.h);
         for (m, lw) in members.iter_mut().zip(log_w.iter_mut()) {
             m.reset(x + l * gauss6(&mut self.live.rng) * self.a, pk);
@@ -179,9 +178,7 @@ impl Resampling {
         log_w.iter_mut().for_each(|l| *l = 0.0);
         self.live.resamples += 1;
         if self.smooth {
-            let l = psd_sqrt(&crate::numerics::symmetrize(&between)).unwrap_or_else(|| {
-                Mat6::from_diagonal(&between.diagonal().map(|v| v.max(0.0).sqrt()))
-            });
+            let l = psd_sqrt_or_diagonal(&between);
             // the first copy of each parent keeps its mean: only duplicates need separating,
             // and every move Gaussianises the means a little (the scratch marks parents seen)
             self.scratch.iter_mut().for_each(|v| *v = 0.0);
