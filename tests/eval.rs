@@ -469,9 +469,9 @@ fn particle_prior_reaches_the_bound_on_angles_only_acquisition() {
     }
 }
 
-/// The particle prior's EKF terms update with the [sensor]'s density, as the robust EKF
-/// does (the engine gives both the density; the point particles weigh with it
-/// themselves); the UKF terms and the Gaussian-prior points keep the Gaussian setting.
+/// The particle prior's terms (EKF and UKF) update with the [sensor]'s density, as the
+/// robust EKF does (the engine gives both the density; the point particles weigh with it
+/// themselves); the Gaussian-prior points keep the Gaussian setting.
 #[test]
 fn particle_prior_ekf_terms_get_the_sensor_density() {
     use relnav_core::nav::NoiseKind;
@@ -486,7 +486,6 @@ fn particle_prior_ekf_terms_get_the_sensor_density() {
         "SIR (particle prior)",
         "RPF (particle prior)",
         "GA-PF (particle prior)",
-        // built with the density too; its UKF terms have no robust update
         "UPF (particle prior)",
     ] {
         assert_eq!(model(label), NoiseKind::Mixture, "{label}");

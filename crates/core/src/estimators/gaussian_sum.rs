@@ -31,10 +31,11 @@ macro_rules! each {
 
 impl GaussianSumPf {
     /// `params.particles` terms drawn from `(x0, p0)`; the kind's term filter: `ekf` (the
-    /// configured EKF, robust or not) or the UKF of `params.ukf`.
+    /// configured EKF, robust or not) or the UKF of `params.ukf` with `ekf`'s noise
+    /// density.
     pub fn new(ekf: Ekf, x0: State, p0: Mat6, params: &PfParams) -> Self {
         if params.kind.unscented() {
-            let ukf = Ukf::new(x0, p0, params.ukf);
+            let ukf = Ukf::new(x0, p0, params.ukf).robust(ekf.robust_noise().copied());
             GaussianSumPf::Ukf(Bank::gaussian_sum(ukf, x0, p0, params))
         } else {
             GaussianSumPf::Ekf(Bank::gaussian_sum(ekf, x0, p0, params))

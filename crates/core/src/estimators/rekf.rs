@@ -27,7 +27,9 @@ use super::FilterError;
 #[cfg(not(feature = "std"))]
 use crate::math::Float;
 use crate::noise::NoiseModel;
-use crate::types::{Mat3, Mat6, State, Vec3};
+use crate::numerics::cholesky::chol3;
+use crate::numerics::symmetrize;
+use crate::types::{Mat3, Mat36, Mat6, Mat63, State, Vec3};
 
 /// Variational iterations of the Student-t update after its predictive start (each one
 /// Kalman update).
@@ -41,22 +43,85 @@ pub fn has_robust_update(noise: &NoiseModel) -> bool {
     ) || matches!(noise, NoiseModel::StudentT { .. })
 }
 
-/// One Kalman update of `(x, P)` with `H = [h_r 0]`, innovation `nu` and noise `r`: the
-/// updated state and covariance and the Cholesky factor's log-determinant and `|L^-1
-/// nu|^2` of `S = H P H^T + R`.
-fn kalman(
-    x: &State,
-    p: &Mat6,
-    h_r: &Mat3,
-    nu: &Vec3,
-    r: &Mat3,
-) -> Result<(State, Mat6, f64, f64), FilterError> {
-    let (ph, _, chol) = position_innovation(p, h_r, r)?;
-    let l = chol.factor();
-    let log_det = 2.0 * (l[(0, 0)].ln() + l[(1, 1)].ln() + l[(2, 2)].ln());
-    let maha = chol.forward(nu).norm_squared();
-    let (xn, pn) = position_update(x, p, h_r, nu, r, &ph, &chol);
-    Ok((xn, pn, log_det, maha))
+/// What the robust update asks of a filter's linearisation of the radio at the prior:
+/// the EKF's Jacobian ([`Jacobian`]) or the UKF's sigma-point moments ([`Moments`]).
+trait Linearised {
+    /// One Kalman update with noise `r`: the updated state and covariance and the log-
+    /// determinant and `nu^T S^-1 nu` of `S = Pzz + R`.
+    fn kalman(&self, r: &Mat3) -> Result<(State, Mat6, f64, f64), FilterError>;
+    /// `diag(H P H^T)` at the prior.
+    fn predicted(&self) -> Vec3;
+    /// For the variational step: `e = nu - H (x+ - x-)` and `diag(H P+ H^T)`.
+    fn residual(&self, xn: &State, pn: &Mat6) -> (Vec3, Vec3);
+}
+
+/// The EKF's linearisation, `H = [h_r 0]`.
+struct Jacobian<'a> {
+    x: &'a State,
+    p: &'a Mat6,
+    h_r: &'a Mat3,
+    nu: &'a Vec3,
+}
+
+impl Linearised for Jacobian<'_> {
+    fn kalman(&self, r: &Mat3) -> Result<(State, Mat6, f64, f64), FilterError> {
+        let (ph, _, chol) = position_innovation(self.p, self.h_r, r)?;
+        let l = chol.factor();
+        let log_det = 2.0 * (l[(0, 0)].ln() + l[(1, 1)].ln() + l[(2, 2)].ln());
+        let maha = chol.forward(self.nu).norm_squared();
+        let (xn, pn) = position_update(self.x, self.p, self.h_r, self.nu, r, &ph, &chol);
+        Ok((xn, pn, log_det, maha))
+    }
+
+    fn predicted(&self) -> Vec3 {
+        (self.h_r * self.p.fixed_view::<3, 3>(0, 0) * self.h_r.transpose()).diagonal()
+    }
+
+    fn residual(&self, xn: &State, pn: &Mat6) -> (Vec3, Vec3) {
+        let e = self.nu - self.h_r * (xn - self.x).fixed_rows::<3>(0);
+        let hpnh = self.h_r * pn.fixed_view::<3, 3>(0, 0) * self.h_r.transpose();
+        (e, hpnh.diagonal())
+    }
+}
+
+/// The UKF's sigma-point moments: `Pxz` and `Pzz` without the noise. The variational step
+/// takes the statistical linearisation `H = Pxz^T P^-1` (the regression of the sigma
+/// points' measurements on their states).
+struct Moments<'a> {
+    x: &'a State,
+    p: &'a Mat6,
+    pxz: &'a Mat63,
+    pzz: &'a Mat3,
+    nu: &'a Vec3,
+}
+
+impl Linearised for Moments<'_> {
+    fn kalman(&self, r: &Mat3) -> Result<(State, Mat6, f64, f64), FilterError> {
+        let chol = chol3(&(self.pzz + r)).ok_or(FilterError::NotPositiveDefinite(
+            "innovation covariance Pzz",
+        ))?;
+        let k = chol.gain(self.pxz);
+        let l = chol.factor();
+        let log_det = 2.0 * (l[(0, 0)].ln() + l[(1, 1)].ln() + l[(2, 2)].ln());
+        let maha = chol.forward(self.nu).norm_squared();
+        let xn = self.x + k * self.nu;
+        let pn = symmetrize(&(self.p - k * (self.pzz + r) * k.transpose()));
+        Ok((xn, pn, log_det, maha))
+    }
+
+    fn predicted(&self) -> Vec3 {
+        self.pzz.diagonal()
+    }
+
+    fn residual(&self, xn: &State, pn: &Mat6) -> (Vec3, Vec3) {
+        // H^T = P^-1 Pxz; a prior without a factor has already failed the sigma points
+        let Some(c) = self.p.cholesky() else {
+            return (*self.nu, self.pzz.diagonal());
+        };
+        let h: Mat36 = c.solve(self.pxz).transpose();
+        let e = self.nu - h * (xn - self.x);
+        (e, (h * pn * h.transpose()).diagonal())
+    }
 }
 
 /// The robust update of `(x, P)` (module docs) for the linearisation `h_r`, innovation
@@ -73,30 +138,47 @@ pub fn robust_update(
     noise: &NoiseModel,
     azimuth_usable: bool,
 ) -> Option<Result<(State, Mat6), FilterError>> {
+    let lin = Jacobian { x, p, h_r, nu };
+    robust(&lin, nu, r_var, noise, azimuth_usable)
+}
+
+/// The same robust update for an unscented filter: its sigma points' cross covariance
+/// `pxz` and measurement covariance `pzz` (without the noise) in place of the Jacobian.
+#[allow(clippy::too_many_arguments)]
+pub fn robust_update_unscented(
+    x: &State,
+    p: &Mat6,
+    pxz: &Mat63,
+    pzz: &Mat3,
+    nu: &Vec3,
+    r_var: &Mat3,
+    noise: &NoiseModel,
+    azimuth_usable: bool,
+) -> Option<Result<(State, Mat6), FilterError>> {
+    let lin = Moments { x, p, pxz, pzz, nu };
+    robust(&lin, nu, r_var, noise, azimuth_usable)
+}
+
+fn robust(
+    lin: &impl Linearised,
+    nu: &Vec3,
+    r_var: &Mat3,
+    noise: &NoiseModel,
+    azimuth_usable: bool,
+) -> Option<Result<(State, Mat6), FilterError>> {
     let vf = noise.variance_factor();
     let nominal = Vec3::new(r_var[(0, 0)], r_var[(1, 1)], r_var[(2, 2)]) / vf;
     match *noise {
-        NoiseModel::Mixture { zeta, scale } if zeta > 0.0 => Some(mixture_update(
-            x,
-            p,
-            h_r,
-            nu,
-            &nominal,
-            zeta,
-            scale,
-            azimuth_usable,
-        )),
-        NoiseModel::StudentT { dof } => Some(student_update(x, p, h_r, nu, &nominal, dof)),
+        NoiseModel::Mixture { zeta, scale } if zeta > 0.0 => {
+            Some(mixture_update(lin, &nominal, zeta, scale, azimuth_usable))
+        }
+        NoiseModel::StudentT { dof } => Some(student_update(lin, nu, &nominal, dof)),
         _ => None,
     }
 }
 
-#[allow(clippy::too_many_arguments)]
 fn mixture_update(
-    x: &State,
-    p: &Mat6,
-    h_r: &Mat3,
-    nu: &Vec3,
+    lin: &impl Linearised,
     nominal: &Vec3,
     zeta: f64,
     scale: f64,
@@ -120,7 +202,7 @@ fn mixture_update(
                 prior += if wide[k] { ln_w } else { ln_n };
             }
         }
-        let (xj, pj, log_det, maha) = kalman(x, p, h_r, nu, &r)?;
+        let (xj, pj, log_det, maha) = lin.kalman(&r)?;
         xs[j] = xj;
         ps[j] = pj;
         lw[j] = prior - 0.5 * (maha + log_det);
@@ -146,33 +228,29 @@ fn mixture_update(
 }
 
 fn student_update(
-    x: &State,
-    p: &Mat6,
-    h_r: &Mat3,
+    lin: &impl Linearised,
     nu: &Vec3,
     nominal: &Vec3,
     dof: f64,
 ) -> Result<(State, Mat6), FilterError> {
     // the predictive E-step: E[lambda | nu] under N(nu; 0, s^2 / lambda + (H P H^T)_kk)
-    let hph = h_r * p.fixed_view::<3, 3>(0, 0) * h_r.transpose();
+    let hph = lin.predicted();
     let mut var = Vec3::from_fn(|k, _| {
-        NoiseModel::StudentT { dof }.local_variance(nu[k], hph[(k, k)], nominal[k].sqrt())
+        NoiseModel::StudentT { dof }.local_variance(nu[k], hph[k], nominal[k].sqrt())
     });
-    let mut out = (*x, *p);
+    let mut out = None;
     for it in 0..=VB_ITERATIONS {
-        let (xn, pn, _, _) = kalman(x, p, h_r, nu, &Mat3::from_diagonal(&var))?;
-        out = (xn, pn);
-        if it == VB_ITERATIONS {
-            break;
+        let (xn, pn, _, _) = lin.kalman(&Mat3::from_diagonal(&var))?;
+        if it < VB_ITERATIONS {
+            let (e, hpnh) = lin.residual(&xn, &pn);
+            var = Vec3::from_fn(|k, _| {
+                let e_lambda = (dof + 1.0) / (dof + (e[k] * e[k] + hpnh[k]) / nominal[k]);
+                nominal[k] / e_lambda
+            });
         }
-        let e = nu - h_r * (xn - x).fixed_rows::<3>(0);
-        let hpnh = h_r * pn.fixed_view::<3, 3>(0, 0) * h_r.transpose();
-        var = Vec3::from_fn(|k, _| {
-            let e_lambda = (dof + 1.0) / (dof + (e[k] * e[k] + hpnh[(k, k)]) / nominal[k]);
-            nominal[k] / e_lambda
-        });
+        out = Some((xn, pn));
     }
-    Ok(out)
+    out.ok_or(FilterError::NonFinite("variational update"))
 }
 
 #[cfg(test)]
@@ -266,5 +344,56 @@ mod tests {
             true
         )
         .is_none());
+    }
+
+    /// For a linear measurement the sigma points' moments are `Pxz = P H^T`, `Pzz = H P
+    /// H^T`, and the statistical linearisation is `H` itself: the unscented form of both
+    /// robust updates is the Jacobian form (to rounding: Joseph's form against `P - K S
+    /// K^T`), the azimuth dropped or not.
+    #[test]
+    fn unscented_form_is_the_jacobian_form_for_a_linear_measurement() {
+        let a = Mat6::from_fn(|i, j| {
+            ((i * 7 + j * 3) % 5) as f64 * 0.3 + if i == j { 2.0 } else { 0.0 }
+        });
+        let p = a * a.transpose();
+        let x = State::from_fn(|i, _| i as f64 - 2.5);
+        let h_r = Mat3::new(1.0, 0.2, -0.1, 0.3, 0.9, 0.05, -0.2, 0.1, 1.1);
+        let r_var = Mat3::from_diagonal(&Vec3::new(0.5, 0.2, 0.8));
+        for usable in [true, false] {
+            let mut h_r = h_r;
+            if !usable {
+                h_r.row_mut(1).fill(0.0);
+            }
+            let h = {
+                let mut h = Mat36::zeros();
+                h.fixed_view_mut::<3, 3>(0, 0).copy_from(&h_r);
+                h
+            };
+            let (pxz, pzz) = (p * h.transpose(), h * p * h.transpose());
+            for nu in [Vec3::new(0.3, -0.2, 0.1), Vec3::new(12.0, 0.0, -9.0)] {
+                let nu = if usable {
+                    nu
+                } else {
+                    Vec3::new(nu.x, 0.0, nu.z)
+                };
+                for noise in [
+                    NoiseModel::Mixture {
+                        zeta: 0.1,
+                        scale: 8.0,
+                    },
+                    NoiseModel::StudentT { dof: 3.0 },
+                ] {
+                    let (xj, pj) = robust_update(&x, &p, &h_r, &nu, &r_var, &noise, usable)
+                        .unwrap()
+                        .unwrap();
+                    let (xu, pu) =
+                        robust_update_unscented(&x, &p, &pxz, &pzz, &nu, &r_var, &noise, usable)
+                            .unwrap()
+                            .unwrap();
+                    assert!((xj - xu).norm() < 1e-10 * (1.0 + xj.norm()), "{noise:?}");
+                    assert!((pj - pu).norm() < 1e-10 * pj.norm(), "{noise:?}");
+                }
+            }
+        }
     }
 }

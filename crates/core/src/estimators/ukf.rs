@@ -102,6 +102,9 @@ pub struct Ukf {
     gamma: f64,
     wm: [f64; NS],
     wc: [f64; NS],
+    /// the radio update's noise density when it is not the Gaussian of its variance (the
+    /// particle prior's unscented terms; [`super::rekf`]). Configuration.
+    robust: Option<crate::noise::NoiseModel>,
 }
 
 type Sigma = SMatrix<f64, N, NS>;
@@ -122,7 +125,16 @@ impl Ukf {
             gamma: c.sqrt(),
             wm,
             wc,
+            robust: None,
         }
+    }
+
+    /// The radio's update with the noise density `noise` ([`super::rekf`]'s robust update
+    /// on the sigma points' moments; the sensor's `R` is its variance). `None`: the
+    /// Gaussian of the variance.
+    pub fn robust(mut self, noise: Option<crate::noise::NoiseModel>) -> Self {
+        self.robust = noise;
+        self
     }
 
     /// The unscented measurement update of `(x, p)` with measurement `z` and noise
@@ -177,6 +189,41 @@ impl Ukf {
             let dx = s.column(i) - x;
             pzz += dz * dz.transpose() * self.wc[i];
             pxz += dx * dz.transpose() * self.wc[i];
+        }
+        if let Some(noise) = &self.robust {
+            let mut nu = sensor.diff(z, &z_hat);
+            if !azimuth_used {
+                nu.y = 0.0;
+            }
+            let without_r = pzz - r;
+            let robust = super::rekf::robust_update_unscented(
+                x,
+                p,
+                &pxz,
+                &without_r,
+                &nu,
+                r,
+                noise,
+                azimuth_used,
+            );
+            if let Some(updated) = robust {
+                let (xn, pn) = updated?;
+                finite(&xn, "updated state")?;
+                finite(&pn, "updated covariance")?;
+                // against the variance's Pzz, as the robust EKF's
+                let nis = cholesky::chol3(&pzz)
+                    .ok_or(FilterError::NotPositiveDefinite(
+                        "innovation covariance Pzz",
+                    ))?
+                    .forward(&nu)
+                    .norm_squared();
+                let info = UpdateInfo {
+                    innovation: nu,
+                    nis,
+                    azimuth_used,
+                };
+                return Ok((xn, pn, info));
+            }
         }
         // the closed-form 3 x 3 factor, inlined (nalgebra's generic factor and solves are
         // out-of-line calls from the navigator's step, whose argument copies are a large
@@ -869,8 +916,9 @@ impl Estimator for Ukf {
     }
 }
 
-/// Saved state: `x` (6), `P` (36, column by column). The sigma-point scale and weights are
-/// configuration (`UkfParams`), rebuilt by the restoring filter.
+/// Saved state: `x` (6), `P` (36, column by column). The sigma-point scale and weights and
+/// the noise density are configuration (`UkfParams`, `noise_model`), rebuilt by the
+/// restoring filter.
 impl Persist for Ukf {
     fn save_state(&self, w: &mut Writer<'_>) {
         let Self {
@@ -879,6 +927,7 @@ impl Persist for Ukf {
             gamma: _,
             wm: _,
             wc: _,
+            robust: _,
         } = self;
         w.matrix(x);
         w.matrix(p);
@@ -891,6 +940,7 @@ impl Persist for Ukf {
             gamma: _,
             wm: _,
             wc: _,
+            robust: _,
         } = self;
         *x = r.finite_matrix("UKF state")?;
         *p = r.finite_matrix("UKF covariance")?;
@@ -1117,5 +1167,52 @@ mod tests {
             }
         }
         assert!(checked > 15_000, "{checked}");
+    }
+
+    /// With a prior small against the range the radio is linear over the sigma points:
+    /// the UKF's robust update (on its sigma-point moments) is the robust EKF's, for both
+    /// heavy-tailed densities, an inlier and an outlier; a Gaussian density leaves the
+    /// UKF's own update.
+    #[test]
+    fn robust_update_is_the_robust_ekfs_for_a_linear_geometry() {
+        use crate::estimators::Ekf;
+        use crate::noise::NoiseModel;
+        let frame = Frame::ALL[1];
+        let x = State::from_row_slice(&[400.0, -900.0, 250.0, 0.1, -0.2, 0.05]);
+        let p = Mat6::from_diagonal(&State::from_row_slice(&[
+            1e-4, 2e-4, 1.5e-4, 1e-8, 1e-8, 1e-8,
+        ]));
+        for noise in [
+            NoiseModel::Mixture {
+                zeta: 0.2,
+                scale: 10.0,
+            },
+            NoiseModel::StudentT { dof: 4.0 },
+        ] {
+            let f = noise.variance_factor().sqrt();
+            let s = RadioSensor::new(frame, 0.01 * f, 1e-5 * f);
+            let z0 = s.h(&x.fixed_rows::<3>(0).owned()).unwrap();
+            for dz in [Vec3::new(0.01, 1e-5, -1e-5), Vec3::new(0.5, -3e-4, 2e-4)] {
+                let z = z0 + dz;
+                let mut ekf = Ekf::new(x, p).robust(noise);
+                let mut ukf = Ukf::new(x, p, UkfParams::default()).robust(Some(noise));
+                ekf.update(&s, &z).unwrap();
+                ukf.update(&s, &z).unwrap();
+                let dx = (ekf.state() - ukf.state()).amax();
+                assert!(dx < 1e-5 * p.amax().sqrt(), "{noise:?} {dz:?}: {dx}");
+                let dp = (ekf.covariance() - ukf.covariance()).amax();
+                assert!(dp < 1e-4 * p.amax(), "{noise:?} {dz:?}: {dp}");
+                let mut plain = Ukf::new(x, p, UkfParams::default());
+                plain.update(&s, &z).unwrap();
+                assert!((plain.state() - ukf.state()).amax() > 1e-3 * p.amax().sqrt());
+            }
+        }
+        let mut a = Ukf::new(x, p, UkfParams::default()).robust(Some(NoiseModel::Gaussian));
+        let mut b = Ukf::new(x, p, UkfParams::default());
+        let s = RadioSensor::new(frame, 0.01, 1e-5);
+        let z = s.h(&x.fixed_rows::<3>(0).owned()).unwrap() + Vec3::new(0.02, 1e-5, 0.0);
+        a.update(&s, &z).unwrap();
+        b.update(&s, &z).unwrap();
+        assert_eq!((a.state(), a.covariance()), (b.state(), b.covariance()));
     }
 }

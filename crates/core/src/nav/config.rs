@@ -1339,9 +1339,8 @@ impl NavConfig {
 
     /// Whether the factory builds this filter's radio update on the density of
     /// `noise_model` ([`NavConfig::noise`]) rather than on the Gaussian of its variance:
-    /// the robust EKF (11) and the particle prior's EKF terms (the UKF terms of its UPF and
-    /// CGA-PF have no robust update). The point particles weigh with the density whatever
-    /// this says.
+    /// the robust EKF (11) and the particle prior's terms (EKF or UKF). The point particles
+    /// weigh with the density whatever this says.
     pub fn robust_radio(&self) -> bool {
         self.filter == FilterKind::Rekf
             || (self.filter.pf_kind().is_some() && self.pf_prior == PfPrior::Particle)

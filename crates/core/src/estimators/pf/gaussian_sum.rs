@@ -25,7 +25,9 @@
 //! * **update:** every term's weight times its predictive density
 //!   `N(z - h(m_i-); 0, H_i P_i- H_i^T + R)` (linearised at the term's own prior), then the
 //!   term's Kalman update: the EKF's for the SIR, RPF and GA-PF, the UKF's (the unscented
-//!   proposal) for the UPF and CGA-PF;
+//!   proposal) for the UPF and CGA-PF; under a heavy-tailed radio noise both take the robust
+//!   update of that density ([`crate::estimators::rekf`], on the UKF's sigma-point moments
+//!   for its terms);
 //! * **resampling** when `N_eff < threshold N`, by the configured scheme: terms are
 //!   copied whole (mean and covariance);
 //! * **after resampling** (every kind but the SIR): every copy of a term but its first is
