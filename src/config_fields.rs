@@ -16,7 +16,7 @@ pub enum relnav_filter {
     RELNAV_FILTER_UKF = 2,
     /// Sliding-window adaptive UKF (paper 001: adaptive velocity process noise, see window and q_vv_*).
     RELNAV_FILTER_AQUKF = 3,
-    /// SIR particle filter (paper 000), with the Gaussian-prior moves of pf_move (without them its velocities stay impoverished, metres off on paper 000).
+    /// SIR particle filter (paper 000); see pf_prior (the default: a Gaussian per particle) and, for point particles, pf_move.
     RELNAV_FILTER_PF = 4,
     /// Regularised particle filter (kernel jitter after resampling).
     RELNAV_FILTER_RPF = 5,
@@ -302,11 +302,11 @@ pub struct relnav_config {
     /// Allowed: in (0, 1).
     /// Default: 0.999999, 0.9, 0.9.
     pub imm_p_stay: [f64; 3],
-    /// Particle filters (codes 4-8): after every update, Metropolis-Hastings moves whose target is the likelihood times the Gaussian of the predictive moments (Gaussian-prior moves, not invariant for the exact posterior; as accurate as the EKF on Gaussian noise, also with small process noise); false: the papers' filters as written (particles drawn from the prior N(x0, P0), multinomial resampling with resampler = auto, paper 000's SIR, the plain RPF, van der Merwe's UPF, and the GA-PF's and CGA-PF's operators accepted on the likelihood ratio as paper 003 writes), which degenerate with small process noise.
+    /// Particle filters (codes 4-8) with pf_prior = 1 (points; false needs it): after every update, Metropolis-Hastings moves whose target is the likelihood times the Gaussian of the predictive moments (Gaussian-prior moves, not invariant for the exact posterior; as accurate as the EKF on Gaussian noise, also with small process noise); false: the papers' filters as written (particles drawn from the prior N(x0, P0), multinomial resampling with resampler = auto, paper 000's SIR, the plain RPF, van der Merwe's UPF, and the GA-PF's and CGA-PF's operators accepted on the likelihood ratio as paper 003 writes), which degenerate with small process noise.
     /// 0 or 1.
     /// Default: 1.
     pub pf_move: i32,
-    /// Particle filters: worker threads of the particle loops from 32768 particles on (0: one per core; 1: the calling thread; <= 1024); results do not depend on it.
+    /// Particle filters with pf_prior = 1 (points): worker threads of the particle loops from 32768 particles on (0: one per core; 1: the calling thread; <= 1024); results do not depend on it.
     /// Allowed: 0..=1024.
     /// Default: 0.
     pub pf_threads: i32,
@@ -378,9 +378,9 @@ pub struct relnav_config {
     /// Allowed: 1..=15.
     /// Default: 1.
     pub hinf_sensors: i32,
-    /// Particle filters (codes 4-8): what a particle carries (1 gaussian: a point, moved as pf_move says; 2 particle: a Gaussian, updated by its own EKF step, by its UKF step for the UPF and CGA-PF, the set a Gaussian sum resampled and, except for the SIR, kernel-smoothed; pf_move and pf_threads do not apply: the terms run on the calling thread; <= 100000 particles).
+    /// Particle filters (codes 4-8): what a particle carries (2 particle, the default: a Gaussian, updated by its own EKF step, by its UKF step for the UPF and CGA-PF, with the noise density's robust update under heavy tails, the set a Gaussian sum resampled and, except for the SIR, its duplicates separated by the kind's step; pf_move and pf_threads do not apply: the terms run on the calling thread; <= 100000 particles. 1 gaussian: a point, moved as pf_move says).
     /// A `relnav_pf_prior` code: 1 gaussian, 2 particle.
-    /// Default: 1 (gaussian).
+    /// Default: 2 (particle).
     pub pf_prior: i32,
 }
 

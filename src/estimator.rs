@@ -346,7 +346,7 @@ pub unsafe extern "C" fn relnav_estimator_step_sensors(
 
 /// Copy the last step's normalised innovation squared per declared sensor (4 doubles:
 /// radio, camera, GNSS position, GNSS velocity; NaN for a sensor that gave no reading in
-/// that step, for the particle and H-infinity filters, and after a restore) to `out`, and
+/// that step, for point particles and the H-infinity filter, and after a restore) to `out`, and
 /// the estimated range's 1-sigma [m] (the covariance along the estimated line of sight;
 /// NaN for the H-infinity filter) to `range_sigma`.
 ///

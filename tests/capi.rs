@@ -104,6 +104,21 @@ fn pf_config(filter: relnav_filter, particles: i32, seed: u64) -> relnav_config 
     c
 }
 
+/// [`pf_config`] with point particles (`pf_prior = gaussian`): the moves, their acceptance
+/// and the failures a point set cannot undo.
+fn points_config(filter: relnav_filter, particles: i32, seed: u64) -> relnav_config {
+    relnav_config {
+        pf_prior: relnav_pf_prior::RELNAV_PF_PRIOR_GAUSSIAN as i32,
+        ..pf_config(filter, particles, seed)
+    }
+}
+
+/// The particle filters' two priors: points and a Gaussian per particle.
+const PRIORS: [relnav_pf_prior; 2] = [
+    relnav_pf_prior::RELNAV_PF_PRIOR_GAUSSIAN,
+    relnav_pf_prior::RELNAV_PF_PRIOR_PARTICLE,
+];
+
 #[test]
 fn defaults_of_the_new_fields() {
     let c = relnav_config_default();
@@ -262,6 +277,7 @@ fn bad_new_fields_are_refused_with_their_name() {
     for m in ok {
         let mut c = relnav_config {
             filter: relnav_filter::RELNAV_FILTER_CGAPF as i32,
+            pf_prior: relnav_pf_prior::RELNAV_PF_PRIOR_GAUSSIAN as i32,
             ..relnav_config_default()
         };
         m(&mut c);
@@ -378,7 +394,7 @@ fn get_pf_acceptance_checks_pointers_and_reports_each_steps_moves() {
         relnav_filter::RELNAV_FILTER_PF,
         relnav_filter::RELNAV_FILTER_GAPF,
     ] {
-        let e = Est::new(&pf_config(filter, 400, 1));
+        let e = Est::new(&points_config(filter, 400, 1));
         assert!(e.acceptance().is_nan(), "{filter:?} before any step");
         // the first update draws the particles from the measurement: no move
         assert_eq!(e.step(Some(&z(0))), OK, "{filter:?}: {}", last_error());
@@ -413,14 +429,32 @@ fn identical_seeds_reproduce_and_reset_reseeds() {
                 })
                 .collect()
         };
-        let a = Est::new(&pf_config(filter, 250, 123));
-        let b = Est::new(&pf_config(filter, 250, 123));
-        let c = Est::new(&pf_config(filter, 250, 124));
-        let ra = run(&a);
-        assert_eq!(ra, run(&b), "{filter:?}: same seed, different outputs");
-        assert_ne!(ra, run(&c), "{filter:?}: different seeds, same outputs");
-        a.reset();
-        assert_eq!(ra, run(&a), "{filter:?}: reset does not reproduce the run");
+        for prior in PRIORS {
+            let config = |seed| relnav_config {
+                pf_prior: prior as i32,
+                ..pf_config(filter, 250, seed)
+            };
+            let a = Est::new(&config(123));
+            let b = Est::new(&config(123));
+            let c = Est::new(&config(124));
+            let ra = run(&a);
+            assert_eq!(
+                ra,
+                run(&b),
+                "{filter:?} {prior:?}: same seed, different outputs"
+            );
+            assert_ne!(
+                ra,
+                run(&c),
+                "{filter:?} {prior:?}: different seeds, same outputs"
+            );
+            a.reset();
+            assert_eq!(
+                ra,
+                run(&a),
+                "{filter:?} {prior:?}: reset does not reproduce the run"
+            );
+        }
     }
 }
 
@@ -475,11 +509,11 @@ fn kalman_filters_use_the_noise_model_variance() {
     }
 }
 
-/// A particle filter whose update fails (here: a zero measured range at the first
+/// A point particle filter whose update fails (here: a zero measured range at the first
 /// update, which initialises the particles by inverting noisy copies of the measurement)
 /// reports RELNAV_ERROR_NUMERICAL and changes nothing: it goes on bit for bit like one
 /// that never saw the bad measurement. So does one whose prediction alone fails
-/// (a thrust that overflows the state).
+/// (a thrust that overflows the state), with either prior.
 #[test]
 fn failed_particle_filter_step_changes_nothing() {
     for kind in [
@@ -489,39 +523,48 @@ fn failed_particle_filter_step_changes_nothing() {
         relnav_filter::RELNAV_FILTER_GAPF,
         relnav_filter::RELNAV_FILTER_CGAPF,
     ] {
-        let e = Est::new(&pf_config(kind, 200, 0));
-        let fresh = Est::new(&pf_config(kind, 200, 0));
-        assert_eq!(
-            e.step(Some(&[0.0, 0.5, 0.1])),
-            relnav_status::RELNAV_ERROR_NUMERICAL
-        );
-        assert!(last_error().contains("inversion"), "{}", last_error());
-        assert_eq!(e.state(), fresh.state(), "{kind:?}");
-        for k in 0..4 {
-            assert_eq!(e.step(Some(&z(k))), OK, "{kind:?}: {}", last_error());
-            assert_eq!(fresh.step(Some(&z(k))), OK);
-            assert_eq!(e.state(), fresh.state(), "{kind:?} step {k}");
+        for prior in PRIORS {
+            let config = relnav_config {
+                pf_prior: prior as i32,
+                ..pf_config(kind, 200, 0)
+            };
+            let e = Est::new(&config);
+            let fresh = Est::new(&config);
+            if matches!(prior, relnav_pf_prior::RELNAV_PF_PRIOR_GAUSSIAN) {
+                assert_eq!(
+                    e.step(Some(&[0.0, 0.5, 0.1])),
+                    relnav_status::RELNAV_ERROR_NUMERICAL
+                );
+                assert!(last_error().contains("inversion"), "{}", last_error());
+                assert_eq!(e.state(), fresh.state(), "{kind:?}");
+            }
+            for k in 0..4 {
+                assert_eq!(e.step(Some(&z(k))), OK, "{kind:?}: {}", last_error());
+                assert_eq!(fresh.step(Some(&z(k))), OK);
+                assert_eq!(e.state(), fresh.state(), "{kind:?} {prior:?} step {k}");
+            }
+            // prediction alone overflows: refused, nothing changed
+            assert_eq!(
+                e.step_with(&[1e308; 3], None, 1e4),
+                relnav_status::RELNAV_ERROR_NUMERICAL,
+                "{kind:?} {prior:?}"
+            );
+            assert!(last_error().contains("not finite"), "{}", last_error());
+            assert_eq!(e.state(), fresh.state(), "{kind:?} {prior:?}");
+            assert_eq!(e.step(Some(&z(4))), OK, "{kind:?}: {}", last_error());
+            assert_eq!(fresh.step(Some(&z(4))), OK);
+            assert_eq!(e.state(), fresh.state(), "{kind:?} {prior:?}");
         }
-        // prediction alone overflows: refused, nothing changed
-        assert_eq!(
-            e.step_with(&[1e308; 3], None, 1e4),
-            relnav_status::RELNAV_ERROR_NUMERICAL,
-            "{kind:?}"
-        );
-        assert!(last_error().contains("not finite"), "{}", last_error());
-        assert_eq!(e.state(), fresh.state(), "{kind:?}");
-        assert_eq!(e.step(Some(&z(4))), OK, "{kind:?}: {}", last_error());
-        assert_eq!(fresh.step(Some(&z(4))), OK);
-        assert_eq!(e.state(), fresh.state(), "{kind:?}");
     }
 }
 
-/// The one failure a particle filter cannot undo without copying its particle set: the
-/// update of a step succeeded and the prediction after it overflowed. It is reported,
-/// then every later step is refused until a reset.
+/// The one failure a point particle filter cannot undo without copying its particle set:
+/// the update of a step succeeded and the prediction after it overflowed. It is reported,
+/// then every later step is refused until a reset. (The particle prior keeps an undo of
+/// its terms: the same step is refused and leaves it as it was.)
 #[test]
 fn particle_filter_failing_after_its_update_refuses_until_reset() {
-    let e = Est::new(&pf_config(relnav_filter::RELNAV_FILTER_RPF, 200, 0));
+    let e = Est::new(&points_config(relnav_filter::RELNAV_FILTER_RPF, 200, 0));
     assert_eq!(e.step(Some(&z(0))), OK, "{}", last_error());
     assert_eq!(
         e.step_with(&[1e308; 3], Some(&z(1)), 1e4),
@@ -533,7 +576,7 @@ fn particle_filter_failing_after_its_update_refuses_until_reset() {
     // invalid inputs are still reported as such
     assert_eq!(e.step(Some(&[f64::NAN, 0.0, 0.0])), INVALID);
     e.reset();
-    let fresh = Est::new(&pf_config(relnav_filter::RELNAV_FILTER_RPF, 200, 0));
+    let fresh = Est::new(&points_config(relnav_filter::RELNAV_FILTER_RPF, 200, 0));
     for k in 0..5 {
         assert_eq!(e.step(Some(&z(k))), OK, "{}", last_error());
         assert_eq!(fresh.step(Some(&z(k))), OK);

@@ -325,6 +325,7 @@ fn invalid_configurations_name_the_parameter() {
                 q_pos: [0.0; 3],
                 q_vel: [0.0; 3],
                 pf_move: false,
+                pf_prior: relnav_core::estimators::pf::PfPrior::Gaussian,
                 ..Default::default()
             },
             "q_pos",

@@ -297,6 +297,7 @@ fn call_sequence_and_parameter_errors() {
             if i == 1 {
                 assert_eq!(set_int(c, vr::FILTER, 6), OK);
                 assert_eq!(set_bool(c, vr::PF_MOVE, false), OK);
+                assert_eq!(set_int(c, vr::PF_PRIOR, 1), OK);
             }
             for (r, v) in combo.iter() {
                 assert_eq!(set_real(c, *r, *v), OK, "vr {r} = {v}");
@@ -743,6 +744,8 @@ fn bad_particle_filter_parameters_are_refused() {
             for moves in [false, true] {
                 assert_eq!(set_int(c, vr::FILTER, filter), OK);
                 assert_eq!(set_bool(c, vr::PF_MOVE, moves), OK);
+                // point particles: pf_move applies to them alone
+                assert_eq!(set_int(c, vr::PF_PRIOR, 1), OK);
                 for r in vr::Q_POS_X..=vr::Q_VEL_Z {
                     assert_eq!(set_real(c, r, 0.0), OK);
                 }
@@ -754,6 +757,7 @@ fn bad_particle_filter_parameters_are_refused() {
                     let mut sets = vec![
                         (vr::FILTER, f64::from(filter)),
                         (vr::PF_MOVE, f64::from(u8::from(moves))),
+                        (vr::PF_PRIOR, 1.0),
                     ];
                     sets.extend((vr::Q_POS_X..=vr::Q_VEL_Z).map(|r| (r, 0.0)));
                     let msg = refusal(&sets);

@@ -11,7 +11,7 @@ use rand_chacha::ChaCha8Rng;
 use rand_distr::StandardNormal;
 use relnav_core::dynamics::{CwModel, Discretization};
 use relnav_core::estimators::pf::resample::Resampler;
-use relnav_core::estimators::pf::{Kernel, ParticleFilter, PfInit, PfKind, PfParams};
+use relnav_core::estimators::pf::{Kernel, ParticleFilter, PfInit, PfKind, PfParams, PfPrior};
 use relnav_core::estimators::{Ekf, Estimator};
 use relnav_core::frames::Frame;
 use relnav_core::nav::{FilterKind, NavConfig, Navigator};
@@ -221,6 +221,7 @@ fn small_q_run(filter: FilterKind, pf_move: bool, seed: u64) -> (f64, f64) {
     let cfg = NavConfig {
         filter,
         pf_move,
+        pf_prior: PfPrior::Gaussian,
         seed,
         accel_psd: 1e-10,
         q_pos: [0.0; 3],
@@ -410,6 +411,7 @@ fn bad_parameters_are_rejected() {
     assert!(cfg.validate().is_ok());
     let literal = NavConfig {
         pf_move: false,
+        pf_prior: PfPrior::Gaussian,
         ..cfg
     };
     assert!(literal.validate().unwrap_err().message.contains("pf_move"));
@@ -652,6 +654,7 @@ fn step_acceptance_is_the_fraction_of_the_steps_moves_accepted() {
             filter: FilterKind::from_code(code).unwrap(),
             particles: 400,
             pf_move: moves,
+            pf_prior: PfPrior::Gaussian,
             ..NavConfig::default()
         };
         let mut nav = Navigator::new(&cfg).unwrap();

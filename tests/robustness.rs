@@ -644,9 +644,11 @@ fn restore_contract(nav: &mut Navigator, b: &[u8], what: &str) {
 /// `C_F` / `C_F^-1` must be an inverse pair of moderate size.
 #[test]
 fn crafted_states_behind_a_valid_checksum_never_give_a_nan_estimate() {
+    // the artifact's filter: point particles
     let cfg = NavConfig {
         filter: FilterKind::Cgapf,
         particles: 2,
+        pf_prior: relnav_core::estimators::pf::PfPrior::Gaussian,
         ..Default::default()
     };
     let mut nav = Navigator::new(&cfg).unwrap();

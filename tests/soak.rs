@@ -193,6 +193,8 @@ impl Fmu {
             cfg.hinf_period = 1.0;
         }
         cfg.pf_move = i32::from(moves);
+        // the soak's particle filters are point particles (pf_move applies to them)
+        cfg.pf_prior = 1;
         let reals: Vec<(&str, f64)> = vec![
             ("mean_motion", cfg.mean_motion),
             ("chaser_mass", cfg.chaser_mass),
@@ -223,6 +225,8 @@ impl Fmu {
             }
             let r = vr("filter");
             ok(fmi2SetInteger(c, &r, 1, &filter), "filter");
+            let (r, points) = (vr("pf_prior"), 1);
+            ok(fmi2SetInteger(c, &r, 1, &points), "pf_prior");
             let (r, m) = (vr("pf_move"), i32::from(moves));
             ok(fmi2SetBoolean(c, &r, 1, &m), "pf_move");
             if particles > 0 {

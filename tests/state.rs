@@ -88,9 +88,12 @@ fn scenario(cfg: &NavConfig) -> Vec<Input> {
         .collect()
 }
 
+/// `kind` with the defaults, the particle filters with point particles (their layout
+/// below; [`configs`] adds the particle prior).
 fn config(kind: FilterKind) -> NavConfig {
     NavConfig {
         filter: kind,
+        pf_prior: relnav_core::estimators::pf::PfPrior::Gaussian,
         ..NavConfig::default()
     }
 }
@@ -244,6 +247,7 @@ fn a_state_between_update_and_predict_continues_bit_for_bit() {
     // and the literal particle filters (the SIR's index-only resampling is pending there)
     let literal = [FilterKind::Pf, FilterKind::Rpf].map(|k| NavConfig {
         pf_move: false,
+        pf_prior: relnav_core::estimators::pf::PfPrior::Gaussian,
         ..config(k)
     });
     for cfg in FilterKind::ALL.map(config).into_iter().chain(literal) {

@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Paper 000's example through the relnav FMU (fmpy): the Kalman filters (20 seeded runs)
-and the particle filters (10 seeded runs, FMU defaults: 1500 particles, first-measurement
-initialisation), and a Markdown accuracy table beside the paper's published figures.
+and the particle filters (10 seeded runs, FMU defaults: 1500 particles, the particle prior
+`pf_prior` = 2, a Gaussian per particle), and a Markdown accuracy table beside the paper's
+published figures.
 
 Truth: tools/cwtruth.py (independent numpy Clohessy-Wiltshire model, never relnav).
 Error at t + 1 = FMU output after the step at t minus truth at t + 1.
@@ -10,10 +11,12 @@ Error at t + 1 = FMU output after the step at t minus truth at t + 1.
                                           [--require ekf,ukf] [--frame 2] [--driver simulate_fmu]
 
 Exit status 0 when every filter named by --require (default: all of them) meets the
-published bar, 1 otherwise. The particle filters meet it with their Gaussian-prior
-moves (`pf_move`, on by default; issue 10). Without them (`pf_move` = false) the plain SIR
-and the unscented PF keep impoverished velocity draws (the paper's 1e-3 m/s velocity noise
-cannot refine them) and drift; see crates/core/src/estimators/pf/moves.rs and docs/filters.md.
+published bar, 1 otherwise. The particle filters meet it at the defaults (each particle's
+own Kalman step; docs/filters.md, pf_prior), and as point particles (`pf_prior` = 1) with
+their Gaussian-prior moves (`pf_move`, on by default; issue 10). Without the moves
+(`pf_prior` = 1, `pf_move` = false) the plain SIR and the unscented PF keep impoverished
+velocity draws (the paper's 1e-3 m/s velocity noise cannot refine them) and drift; see
+crates/core/src/estimators/pf/moves.rs and docs/filters.md.
 """
 
 from __future__ import annotations

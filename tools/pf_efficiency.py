@@ -12,14 +12,16 @@ Scenarios (derived from the built-in files, written to a temporary directory):
   filters' prior (50 m, 1 m/s), so the bound's initial information is the true one.
 
 Each scenario file gets the EKF and every particle filter (`pf`, `rpf`, `upf`, `gapf`,
-`cgapf`, moves on: the defaults) at each particle count; one campaign per scenario, so
+`cgapf`; point particles, `prior = "gaussian"`, with their moves on, the default of
+`move`: the filters of issue 10; `--prior particle` for a Gaussian per particle, the
+navigator's default since 7 December 2026) at each particle count; one campaign per scenario, so
 every filter sees the same truths and measurements (the engine's seed: the scenario's
 `simulation.seed`, run `i` from SplitMix64(seed, i); each filter its own particle seed
 from the same stream). The engine reports `efficiency_pos` / `efficiency_vel`, the
 time-averaged RMSE over the time-averaged root PCRLB after `convergence_time`.
 
     .venv/bin/python tools/pf_efficiency.py [--runs 5] [--particles 100,300,1000,3000,10000]
-        [--scenarios paper000,quiet,paper003] [--threads 2] [--keep DIR]
+        [--scenarios paper000,quiet,paper003] [--prior gaussian] [--threads 2] [--keep DIR]
 
 Needs `target/release/relnav` (`cargo build --release --bin relnav`). Prints one Markdown
 table per scenario: efficiency pos / vel at each N, and the smallest N whose position and
@@ -91,15 +93,17 @@ def quiet_from(head: str, ekf: dict) -> tuple[str, dict]:
     return "\n".join(lines) + "\n", f
 
 
-def filter_block(label: str, kind: str, common: dict, particles: int | None) -> str:
+def filter_block(label: str, kind: str, common: dict, particles: int | None, prior: str | None = None) -> str:
     out = ["[[filter]]", f"label = {fmt(label)}", f"kind = {fmt(kind)}"]
     out += [f"{k} = {fmt(v)}" for k, v in common.items()]
     if particles is not None:
         out.append(f"particles = {particles}")
+    if prior is not None:
+        out.append(f"prior = {fmt(prior)}")
     return "\n".join(out) + "\n\n"
 
 
-def scenario_file(name: str, counts: list[int], tmp: Path) -> Path:
+def scenario_file(name: str, counts: list[int], tmp: Path, prior: str = "gaussian") -> Path:
     base = {"paper000": "paper000", "quiet": "paper000", "paper003": "paper003"}[name]
     head, common = base_text(ROOT / "scenarios" / f"{base}.toml")
     if name == "quiet":
@@ -107,14 +111,14 @@ def scenario_file(name: str, counts: list[int], tmp: Path) -> Path:
     body = filter_block("EKF", "ekf", common, None)
     for kind, label in KINDS:
         for n in counts:
-            body += filter_block(f"{label} N={n}", kind, common, n)
+            body += filter_block(f"{label} N={n}", kind, common, n, prior)
     path = tmp / f"{name}.toml"
     path.write_text(head + "\n" + body)
     return path
 
 
-def run(name: str, counts: list[int], runs: int, threads: int, tmp: Path) -> list[dict]:
-    path = scenario_file(name, counts, tmp)
+def run(name: str, counts: list[int], runs: int, threads: int, tmp: Path, prior: str = "gaussian") -> list[dict]:
+    path = scenario_file(name, counts, tmp, prior)
     out = tmp / "out"
     exe = ROOT / "target" / "release" / "relnav"
     cmd = [str(exe), "simulate", str(path), "--runs", str(runs), "--out", str(out),
@@ -156,6 +160,8 @@ def main() -> int:
     ap.add_argument("--runs", type=int, default=5)
     ap.add_argument("--particles", default="100,300,1000,3000,10000")
     ap.add_argument("--scenarios", default="paper000,quiet,paper003")
+    ap.add_argument("--prior", choices=["gaussian", "particle"], default="gaussian",
+                    help="the particle filters' prior: gaussian (point particles, the tables of docs/results.md) or particle")
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--within", type=float, default=1.2)
     ap.add_argument("--keep", type=Path, help="keep the scenario files and results here")
@@ -165,7 +171,7 @@ def main() -> int:
         tmp = a.keep or Path(d)
         tmp.mkdir(parents=True, exist_ok=True)
         for name in a.scenarios.split(","):
-            rows = run(name, counts, a.runs, a.threads, tmp)
+            rows = run(name, counts, a.runs, a.threads, tmp, a.prior)
             print(table(name, rows, counts, a.within), flush=True)
     return 0
 

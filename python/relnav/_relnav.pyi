@@ -92,7 +92,7 @@ class Estimator:
         gnss_noise_scale: float = 10.0,
         gnss_noise_dof: float = 4.0,
         hinf_sensors: int = 1,
-        pf_prior: Union[int, str] = 'gaussian',
+        pf_prior: Union[int, str] = 'particle',
     ) -> None:
         """Keyword arguments are the FMU's parameters (names, types, defaults):
 
@@ -148,8 +148,8 @@ class Estimator:
             imm_p_stay_1: IMM: probability of staying in mode 1 over one second (in (0, 1)).
             imm_p_stay_2: IMM: probability of staying in mode 2 over one second (in (0, 1)).
             imm_p_stay_3: IMM: probability of staying in mode 3 over one second (in (0, 1)).
-            pf_move: Particle filters (codes 4-8): after every update, Metropolis-Hastings moves whose target is the likelihood times the Gaussian of the predictive moments (Gaussian-prior moves, not invariant for the exact posterior; as accurate as the EKF on Gaussian noise, also with small process noise); false: the papers' filters as written (particles drawn from the prior N(x0, P0), multinomial resampling with resampler = auto, paper 000's SIR, the plain RPF, van der Merwe's UPF, and the GA-PF's and CGA-PF's operators accepted on the likelihood ratio as paper 003 writes), which degenerate with small process noise.
-            pf_threads: Particle filters: worker threads of the particle loops from 32768 particles on (0: one per core; 1: the calling thread; <= 1024); results do not depend on it.
+            pf_move: Particle filters (codes 4-8) with pf_prior = 1 (points; false needs it): after every update, Metropolis-Hastings moves whose target is the likelihood times the Gaussian of the predictive moments (Gaussian-prior moves, not invariant for the exact posterior; as accurate as the EKF on Gaussian noise, also with small process noise); false: the papers' filters as written (particles drawn from the prior N(x0, P0), multinomial resampling with resampler = auto, paper 000's SIR, the plain RPF, van der Merwe's UPF, and the GA-PF's and CGA-PF's operators accepted on the likelihood ratio as paper 003 writes), which degenerate with small process noise.
+            pf_threads: Particle filters with pf_prior = 1 (points): worker threads of the particle loops from 32768 particles on (0: one per core; 1: the calling thread; <= 1024); results do not depend on it.
             eccentricity: Eccentricity of the target's orbit (0 <= e <= 0.99): 0 the Clohessy-Wiltshire model, > 0 the linearised elliptic model of Yamanaka and Ankersen; mean_motion stays 2 pi / period.
             true_anomaly0 [rad]: True anomaly of the target at the start time (unused at eccentricity 0).
             sigma_camera [rad]: Camera (angles-only) azimuth and elevation noise, 1 sigma of the Gaussian (nominal sigma of the other noise models; > 0): the readings camera_azimuth, camera_elevation.
@@ -166,7 +166,7 @@ class Estimator:
             gnss_noise_scale: Relative GNSS, mixture noise: sigma of the wide component over the nominal sigma (>= 1).
             gnss_noise_dof: Relative GNSS, Student-t noise: degrees of freedom (> 2).
             hinf_sensors: H-infinity filter: the measurement set its design is for, the sum of 1 radio, 2 camera, 4 relative GNSS position, 8 relative GNSS velocity (it must hold the radio or the GNSS position: a camera or a velocity alone leaves the position unobservable to a linear observer); the design's noise is each sensor's at the initial estimate.
-            pf_prior: Particle filters (codes 4-8): what a particle carries (1 gaussian: a point, moved as pf_move says; 2 particle: a Gaussian, updated by its own EKF step, by its UKF step for the UPF and CGA-PF, the set a Gaussian sum resampled and, except for the SIR, kernel-smoothed; pf_move and pf_threads do not apply: the terms run on the calling thread; <= 100000 particles). One of: 1 gaussian, 2 particle.
+            pf_prior: Particle filters (codes 4-8): what a particle carries (2 particle, the default: a Gaussian, updated by its own EKF step, by its UKF step for the UPF and CGA-PF, with the noise density's robust update under heavy tails, the set a Gaussian sum resampled and, except for the SIR, its duplicates separated by the kind's step; pf_move and pf_threads do not apply: the terms run on the calling thread; <= 100000 particles. 1 gaussian: a point, moved as pf_move says). One of: 1 gaussian, 2 particle.
         """
     # --- parameters: end ---
     def step(

@@ -422,7 +422,8 @@ impl Estimator {
 
     /// The normalised innovation squared of the last step's update by the radio, the
     /// camera, the GNSS position and the GNSS velocity (NaN for a sensor that gave no
-    /// reading in that step, for the particle and H-infinity filters, after a restore).
+    /// reading in that step, for point particles (`pf_prior = 1`) and the H-infinity filter,
+    /// after a restore).
     #[getter]
     fn step_nis<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
         Ok(array1(py, &self.nav()?.step_nis()))

@@ -120,16 +120,17 @@ def test_hinf_track_initiation_on_an_eccentric_orbit_is_refused_at_exit_initiali
 
 
 def test_unscented_particle_filters_need_process_noise(runner):
-    """The literal UPF and CGA-PF (pf_move false) build their proposal on the transition
-    density: no process noise at all is refused. With their moves (the default) it is not
-    needed."""
+    """The literal UPF and CGA-PF (point particles, pf_move false) build their proposal on
+    the transition density: no process noise at all is refused. With their moves (pf_move's
+    default) it is not needed."""
     no_q = {f"q_{k}_{a}": 0.0 for k in ("pos", "vel") for a in "xyz"}
+    points = {"pf_prior": 1}
     for code in (6, 8):
-        exc, stage, log = attempt(runner, {"filter": code, "pf_move": False, **no_q})
+        exc, stage, log = attempt(runner, {"filter": code, "pf_move": False, **points, **no_q})
         assert exc is not None and stage == "exit" and "process noise" in log, (code, stage, log)
-        exc, stage, log = attempt(runner, {"filter": code, **no_q})
+        exc, stage, log = attempt(runner, {"filter": code, **points, **no_q})
         assert exc is None, log
-    exc, stage, log = attempt(runner, {"filter": 5, **no_q})  # the RPF needs no density of Q
+    exc, stage, log = attempt(runner, {"filter": 5, **points, **no_q})  # the RPF needs no density of Q
     assert exc is None, log
 
 

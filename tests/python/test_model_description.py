@@ -160,7 +160,8 @@ DEFAULTS = {
     "imm_p_stay_1": 0.999999,
     "imm_p_stay_2": 0.9,
     "imm_p_stay_3": 0.9,
-    # particle filters: Gaussian-prior moves on, one thread per core
+    # particle filters with point particles (pf_prior = 1): Gaussian-prior moves on, one
+    # thread per core
     "pf_move": True,
     "pf_threads": 0,
     # eccentric orbits: a circular orbit by default (the CW model)
@@ -178,7 +179,8 @@ DEFAULTS = {
     **{f"{k}_noise_{p}": v for k in ("camera", "gnss") for p, v in (("zeta", 0.2), ("scale", 10.0), ("dof", 4.0))},
     # the radio alone, as before the parameter
     "hinf_sensors": 1,
-    "pf_prior": 1,
+    # a Gaussian per particle (2, particle), the default since 7 December 2026
+    "pf_prior": 2,
 }
 
 FMI2_CS_FUNCTIONS = [

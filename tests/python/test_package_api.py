@@ -92,7 +92,8 @@ def test_enumerations_by_name_or_code(name, code):
 
 
 def test_library_outputs_of_each_filter_kind():
-    pf = relnav.Estimator(filter="cgapf", particles=200, seed=1)
+    # point particles: the moves (and their acceptance) are theirs
+    pf = relnav.Estimator(filter="cgapf", particles=200, seed=1, pf_prior=1)
     assert pf.ess == 200
     pf.step([0, 0, 0], Z0)
     assert 1 <= pf.ess <= 200
@@ -165,8 +166,9 @@ def test_bad_inputs_raise_and_change_nothing():
 
 
 def test_numerical_failure_is_a_numerical_error():
-    # a measurement at zero range cannot be inverted at a particle filter's first update
-    pf = relnav.Estimator(filter="pf", particles=50)
+    # a measurement at zero range cannot be inverted at a point particle filter's first
+    # update (which draws the particles from the measurement)
+    pf = relnav.Estimator(filter="pf", particles=50, pf_prior=1)
     e = raises(relnav.NumericalError, r"filter step failed", pf.step, [0, 0, 0], [0.0, 0.0, 0.0])
     assert e.status == 4 and isinstance(e, ArithmeticError)
 

@@ -155,7 +155,7 @@ def test_particle_prior_converges_to_the_grid_reference():
             ("rpf", 6400): {"filter": "rpf", "pf_prior": 2, "particles": 6400, "seed": seed},
             ("sir", 1600): {"filter": "pf", "pf_prior": 2, "particles": 1600, "seed": seed},
             ("upf", 1600): {"filter": "upf", "pf_prior": 2, "particles": 1600, "seed": seed},
-            ("rpf gaussian", 1600): {"filter": "rpf", "particles": 1600, "seed": seed},
+            ("rpf gaussian", 1600): {"filter": "rpf", "pf_prior": 1, "particles": 1600, "seed": seed},
             ("ekf", 1): {"filter": "ekf"},
         }
         for key, p in runs.items():

@@ -21,8 +21,18 @@ import relnav_fmu as rf
 STEPS = 40
 SAVE_AT = 15
 CODES = list(range(1, 12))
-# documented sizes with the default parameters (1500 particles, window 10)
-FMU_STATE_BYTES = {1: 2067, 2: 2067, 3: 2556, 4: 118312, 5: 118312, 6: 622312, 7: 118312, 8: 622312, 9: 3800, 10: 3107, 11: 2067}
+# documented sizes with the default parameters (1500 particles, window 10); the particle
+# filters (4-8) with the default particle prior (pf_prior = 2): docs/state-format.md's
+# `GSPF` section of 396 + 344 n bytes (n = 1500 terms, each an EKF's or a UKF's x and P)
+# in place of the EKF's 340-byte section, the rest of the FMU state as the EKF's
+PARTICLES = 1500
+GSPF_FMU_STATE_BYTES = 2067 - 340 + 396 + 344 * PARTICLES
+FMU_STATE_BYTES = {1: 2067, 2: 2067, 3: 2556, **{c: GSPF_FMU_STATE_BYTES for c in range(4, 9)}, 9: 3800, 10: 3107, 11: 2067}
+# the particle filters with point particles (pf_prior = 1): the `PART` section, 2585 + 76 n
+# + 336 m bytes (m = n for the unscented UPF and CGA-PF, no chunk generators below 32768)
+POINTS = {"pf_prior": 1}
+POINT_FMU_STATE_BYTES = {c: 2067 - 340 + 2585 + 76 * PARTICLES + (336 * PARTICLES if c in (6, 8) else 0) for c in range(4, 9)}
+CASES = [(c, {}) for c in CODES] + [(c, POINTS) for c in range(4, 9)]
 FMU_HEADER = 70
 EST_HEADER = 32
 
@@ -102,13 +112,14 @@ def parse_estimator_state(e: bytes) -> dict:
     return dict(code=code, settings=settings)
 
 
-@pytest.mark.parametrize("code", CODES)
-def test_state_round_trip_is_bit_identical(runner, other, scenario, code):
+@pytest.mark.parametrize("code,extra", CASES, ids=[f"{c}{'-points' if e else ''}" for c, e in CASES])
+def test_state_round_trip_is_bit_identical(runner, other, scenario, code, extra):
     """Save at step 15 of 40, continue; restore in the same instance and, serialised, in
     another instance (just instantiated: the parameters come with the state): the
-    remaining 25 steps give bit-identical outputs."""
+    remaining 25 steps give bit-identical outputs. Every filter code at the defaults, and
+    the particle filters with point particles too."""
     sc, z = scenario, scenario.measurements(code)
-    params = {**sc.params, "filter": code}
+    params = {**sc.params, "filter": code, **extra}
     runner.instantiate()
     other.instantiate()
     try:
@@ -117,7 +128,7 @@ def test_state_round_trip_is_bit_identical(runner, other, scenario, code):
         state = runner.fmu.getFMUstate()
         blob = runner.fmu.serializeFMUstate(state)
         tail = step_all(runner, sc, z, SAVE_AT, STEPS)
-        assert len(blob) == FMU_STATE_BYTES[code]
+        assert len(blob) == (POINT_FMU_STATE_BYTES if extra else FMU_STATE_BYTES)[code]
         # the same instance
         runner.fmu.setFMUstate(state)
         assert same_bits(step_all(runner, sc, z, SAVE_AT, STEPS), tail)

@@ -178,13 +178,13 @@ mod io {
         RANGE_SIGMA = 100: "range_sigma", Output, Continuous, Real("m"), 0.0,
         "1-sigma of the estimated range (the covariance along the estimated line of sight): shows when an angles-only range becomes observable; NaN for the H-infinity filter";
         RADIO_NIS = 101: "radio_nis", Output, Continuous, Real(""), 0.0,
-        "Normalised innovation squared of the last step's radio update; NaN when the radio gave no reading in that step, and for the particle and H-infinity filters";
+        "Normalised innovation squared of the last step's radio update; NaN when the radio gave no reading in that step, and for point particles (pf_prior = 1) and the H-infinity filter";
         CAMERA_NIS = 102: "camera_nis", Output, Continuous, Real(""), 0.0,
-        "Normalised innovation squared of the last step's camera update; NaN when the camera gave no reading in that step, and for the particle and H-infinity filters";
+        "Normalised innovation squared of the last step's camera update; NaN when the camera gave no reading in that step, and for point particles (pf_prior = 1) and the H-infinity filter";
         GNSS_NIS = 103: "gnss_nis", Output, Continuous, Real(""), 0.0,
-        "Normalised innovation squared of the last step's relative-GNSS position update; NaN when it gave no reading in that step, and for the particle and H-infinity filters";
+        "Normalised innovation squared of the last step's relative-GNSS position update; NaN when it gave no reading in that step, and for point particles (pf_prior = 1) and the H-infinity filter";
         GNSS_VELOCITY_NIS = 104: "gnss_velocity_nis", Output, Continuous, Real(""), 0.0,
-        "Normalised innovation squared of the last step's relative-GNSS velocity update; NaN when it gave no reading in that step, and for the particle and H-infinity filters";
+        "Normalised innovation squared of the last step's relative-GNSS velocity update; NaN when it gave no reading in that step, and for point particles (pf_prior = 1) and the H-infinity filter";
         PF_ACCEPTANCE = 116: "pf_acceptance", Output, Continuous, Real(""), 0.0,
         "Particle filters: fraction of the Metropolis-Hastings moves (pf_move rejuvenation, RPF jitter, genetic operators) accepted in the last step, how far the particles moved from their proposal; NaN when that step made no move, and for the other filters";
     }
@@ -255,6 +255,7 @@ pub mod vr {
         TRUE_ANOMALY0 = "true_anomaly0",
         RANGE_BANK = "range_bank",
         SIGMA_RANGE0 = "sigma_range0",
+        PF_PRIOR = "pf_prior",
     }
 }
 

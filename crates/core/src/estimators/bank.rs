@@ -222,6 +222,15 @@ impl<F: Member> Bank<F> {
         true
     }
 
+    /// The particle prior as new: its generator reseeded and the terms drawn from `(x, p)`
+    /// (a range-parameterised bank: [`Bank::reset`]).
+    pub fn restart(&mut self, x: State, p: Mat6) {
+        if let Some(r) = &mut self.resampling {
+            r.reseed();
+        }
+        self.reset(x, p);
+    }
+
     /// Back to the start at `(x, p)`: the members re-split from it (kept as they are if it
     /// cannot be split; the factory refuses such a prior).
     pub fn reset(&mut self, x: State, p: Mat6) {

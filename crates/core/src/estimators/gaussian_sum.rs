@@ -76,9 +76,10 @@ impl GaussianSumPf {
         each!(self, b => b.rollback())
     }
 
-    /// Back to the start at `(x, p)`: new terms drawn from it.
+    /// As new from `(x, p)`: the generator reseeded and the terms drawn from it, so a
+    /// reset filter reproduces a new one.
     pub fn reset(&mut self, x: State, p: Mat6) {
-        each!(self, b => b.reset(x, p))
+        each!(self, b => b.restart(x, p))
     }
 }
 
@@ -111,9 +112,9 @@ impl Estimator for GaussianSumPf {
         each!(self, b => b.covariance())
     }
 
-    /// New terms drawn from `(x, p)` (as [`GaussianSumPf::reset`]).
+    /// New terms drawn from `(x, p)`, the generator going on where it is.
     fn set_estimate(&mut self, x: State, p: Mat6) {
-        self.reset(x, p);
+        each!(self, b => b.reset(x, p))
     }
 }
 

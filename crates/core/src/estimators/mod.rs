@@ -138,7 +138,7 @@ pub struct SensorUpdate<const D: usize> {
     /// components not used).
     pub innovation: SVector<f64, D>,
     /// Normalised innovation squared `nu^T S^-1 nu` (NaN for the filters that form no
-    /// innovation covariance: the particle and H-infinity filters).
+    /// innovation covariance: point particles and the H-infinity filter).
     pub nis: f64,
     /// Components used (the chi-square degrees of freedom of `nis`).
     pub dof: usize,

@@ -75,7 +75,7 @@ crate::codes! {
         /// Sliding-window adaptive UKF (paper 001, [`crate::estimators::aqukf`]).
         Aqukf = 3, "aqukf", "Sliding-window adaptive UKF (paper 001: adaptive velocity process noise, see window and q_vv_*)";
         /// SIR (bootstrap) particle filter (paper 000).
-        Pf = 4, "pf", "SIR particle filter (paper 000), with the Gaussian-prior moves of pf_move (without them its velocities stay impoverished, metres off on paper 000)";
+        Pf = 4, "pf", "SIR particle filter (paper 000); see pf_prior (the default: a Gaussian per particle) and, for point particles, pf_move";
         /// Regularised particle filter (kernel jitter after resampling).
         Rpf = 5, "rpf", "Regularised particle filter (kernel jitter after resampling)";
         /// Unscented particle filter (per-particle UKF proposal).
@@ -696,12 +696,12 @@ crate::config! {
     pf_move: bool {
         elements: [("pf_move", 82, "", 1, "")],
         rule: Rule::Any, c: true, scenario: Some("move"), slot: Some(41),
-        description: "Particle filters (codes 4-8): after every update, Metropolis-Hastings moves whose target is the likelihood times the Gaussian of the predictive moments (Gaussian-prior moves, not invariant for the exact posterior; as accurate as the EKF on Gaussian noise, also with small process noise); false: the papers' filters as written (particles drawn from the prior N(x0, P0), multinomial resampling with resampler = auto, paper 000's SIR, the plain RPF, van der Merwe's UPF, and the GA-PF's and CGA-PF's operators accepted on the likelihood ratio as paper 003 writes), which degenerate with small process noise",
+        description: "Particle filters (codes 4-8) with pf_prior = 1 (points; false needs it): after every update, Metropolis-Hastings moves whose target is the likelihood times the Gaussian of the predictive moments (Gaussian-prior moves, not invariant for the exact posterior; as accurate as the EKF on Gaussian noise, also with small process noise); false: the papers' filters as written (particles drawn from the prior N(x0, P0), multinomial resampling with resampler = auto, paper 000's SIR, the plain RPF, van der Merwe's UPF, and the GA-PF's and CGA-PF's operators accepted on the likelihood ratio as paper 003 writes), which degenerate with small process noise",
     },
     pf_threads: usize {
         elements: [("pf_threads", 83, "", 0, "")],
         rule: Rule::Count { lo: 0, hi: MAX_THREADS as i64 }, c: true, scenario: NO_KEY, slot: None,
-        description: "Particle filters: worker threads of the particle loops from 32768 particles on (0: one per core; 1: the calling thread; <= 1024); results do not depend on it",
+        description: "Particle filters with pf_prior = 1 (points): worker threads of the particle loops from 32768 particles on (0: one per core; 1: the calling thread; <= 1024); results do not depend on it",
     },
     eccentricity: f64 {
         elements: [("eccentricity", 84, "", 0.0, "")],
@@ -791,9 +791,9 @@ crate::config! {
         description: "H-infinity filter: the measurement set its design is for, the sum of 1 radio, 2 camera, 4 relative GNSS position, 8 relative GNSS velocity (it must hold the radio or the GNSS position: a camera or a velocity alone leaves the position unobservable to a linear observer); the design's noise is each sensor's at the initial estimate",
     },
     pf_prior: PfPrior {
-        elements: [("pf_prior", 117, "", 1, "")],
+        elements: [("pf_prior", 117, "", 2, "")],
         rule: Rule::Any, c: true, scenario: Some("prior"), slot: Some(58),
-        description: "Particle filters (codes 4-8): what a particle carries (1 gaussian: a point, moved as pf_move says; 2 particle: a Gaussian, updated by its own EKF step, by its UKF step for the UPF and CGA-PF, the set a Gaussian sum resampled and, except for the SIR, kernel-smoothed; pf_move and pf_threads do not apply: the terms run on the calling thread; <= 100000 particles)",
+        description: "Particle filters (codes 4-8): what a particle carries (2 particle, the default: a Gaussian, updated by its own EKF step, by its UKF step for the UPF and CGA-PF, with the noise density's robust update under heavy tails, the set a Gaussian sum resampled and, except for the SIR, its duplicates separated by the kind's step; pf_move and pf_threads do not apply: the terms run on the calling thread; <= 100000 particles. 1 gaussian: a point, moved as pf_move says)",
     },
 }
 
@@ -985,6 +985,14 @@ impl NavConfig {
                     self.noise_model.name()
                 )));
             }
+        }
+        if self.filter.pf_kind().is_some() && !self.pf_move && self.pf_prior == PfPrior::Particle {
+            return Err(NavError::invalid(crate::msg!(
+                "filter {} with pf_move = false (the papers' filters as written) needs \
+                 pf_prior = 1 (gaussian: point particles); pf_move does not apply to the \
+                 particle prior, the default",
+                self.filter.name()
+            )));
         }
         if self.filter.pf_kind().is_some_and(PfKind::unscented)
             && !self.pf_move
@@ -1546,6 +1554,7 @@ mod tests {
         ] {
             let moved = NavConfig {
                 filter,
+                pf_prior: PfPrior::Gaussian,
                 ..Default::default()
             };
             assert_eq!(moved.resampler, ResamplerSetting::Auto);

@@ -662,7 +662,7 @@ impl Navigator {
 
     /// The normalised innovation squared of the last step's update by each declared sensor
     /// (radio, camera, GNSS position, GNSS velocity; NaN for a sensor that gave no reading
-    /// in that step, for the particle and H-infinity filters, and after a restore).
+    /// in that step, for point particles and the H-infinity filter, and after a restore).
     pub fn step_nis(&self) -> [f64; 4] {
         self.step_nis
     }
@@ -920,7 +920,8 @@ impl Navigator {
     }
 
     /// Diagnostics of the last measurement update, if any since construction or reset.
-    /// The particle filters report the innovation of their weighted mean and no NIS (NaN).
+    /// Point particles report the innovation of their weighted mean and no NIS (NaN); the
+    /// particle prior's Gaussian sum reports its mixture's innovation and NIS.
     pub fn last_update(&self) -> Option<UpdateInfo> {
         self.last_update
     }

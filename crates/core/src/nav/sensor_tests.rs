@@ -6,6 +6,7 @@
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 use super::*;
+use crate::estimators::pf::PfPrior;
 use crate::frames::Frame;
 use crate::sensors::{
     CartesianSensor, GeometryError, Linearization, Modelled, Sensor, SensorNoise,
@@ -670,13 +671,25 @@ fn the_generic_path_is_thread_count_independent() {
 /// The declared sensors (`Navigator::step_readings`): relative GNSS alone (position and
 /// velocity, I/O frame 2, readings formed here) brings every filter but the H-infinity
 /// one to the GNSS's level; the per-step NIS is reported for the sensors that gave a
-/// reading (NaN for the others); a bad camera reading is refused naming the camera, with
+/// reading (NaN for the others, and from point particles, which have no predictive
+/// Gaussian; the particle prior's Gaussian sum has one); a bad camera reading is refused
+/// naming the camera, with
 /// the estimate unchanged; `range_sigma` is the covariance along the estimated line of
 /// sight.
 #[test]
 fn declared_sensors_through_step_readings() {
-    for code in [1, 2, 3, 10, 4, 5, 6, 7, 8] {
+    let priors = [PfPrior::Particle, PfPrior::Gaussian];
+    let cases = [1, 2, 3, 10]
+        .map(|c| (c, PfPrior::Particle))
+        .into_iter()
+        .chain(
+            [4, 5, 6, 7, 8]
+                .into_iter()
+                .flat_map(|c| priors.map(|p| (c, p))),
+        );
+    for (code, pf_prior) in cases {
         let (cfg, mut x) = setup(code);
+        let cfg = NavConfig { pf_prior, ..cfg };
         let mut nav = Navigator::new(&cfg).unwrap();
         let mut rng = ChaCha8Rng::seed_from_u64(3);
         let (mut sq, mut n) = (0.0, 0);
@@ -696,7 +709,7 @@ fn declared_sensors_through_step_readings() {
                 .unwrap_or_else(|e| panic!("filter {code}, step {k}: {e}"));
             let nis = nav.step_nis();
             assert!(nis[0].is_nan() && nis[1].is_nan(), "{nis:?}");
-            let kalman = matches!(code, 1 | 2 | 3 | 10);
+            let kalman = matches!(code, 1 | 2 | 3 | 10) || pf_prior == PfPrior::Particle;
             assert_eq!(nis[2].is_finite(), kalman, "filter {code}: {nis:?}");
             assert_eq!(
                 nis[3].is_finite(),
@@ -843,14 +856,18 @@ fn declared_sensors_take_their_noise_models() {
         gnss_velocity: Some([0.0, 0.01, 0.0]),
         ..Readings::default()
     };
+    // point particles weigh with the density; the Kalman filters (and the particle
+    // prior's terms, for these sensors) take its variance
     for kind in [FilterKind::Ekf, FilterKind::Ukf, FilterKind::Pf] {
         let mut a = Navigator::new(&NavConfig {
             filter: kind,
+            pf_prior: PfPrior::Gaussian,
             ..told
         })
         .unwrap();
         let mut b = Navigator::new(&NavConfig {
             filter: kind,
+            pf_prior: PfPrior::Gaussian,
             ..matched
         })
         .unwrap();
@@ -877,6 +894,7 @@ fn particle_filters_draw_their_velocities_from_the_first_velocity_reading() {
     let sigma_v = 5e-4;
     let cfg = NavConfig {
         filter: FilterKind::Pf,
+        pf_prior: PfPrior::Gaussian,
         frame: Frame::RadialAlongNormal,
         particles: 1000,
         accel_psd: 1e-14,

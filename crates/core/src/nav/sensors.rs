@@ -14,7 +14,7 @@ use nalgebra::SVector;
 /// What an update by one of the navigator's sensors reports.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SensorReport {
-    /// Normalised innovation squared (NaN for the particle and H-infinity filters).
+    /// Normalised innovation squared (NaN for point particles and the H-infinity filter).
     pub nis: f64,
     /// Components used (its degrees of freedom).
     pub dof: usize,

@@ -98,6 +98,7 @@ enum Separate {
 pub struct Resampling {
     resampler: Resampler,
     threshold: f64,
+    seed: u64,
     separate: Separate,
     /// kernel bandwidth `h` and shrinkage `a = sqrt(1 - h^2)`
     h: f64,
@@ -128,6 +129,7 @@ impl Resampling {
         Self {
             resampler: params.resampler,
             threshold: params.threshold,
+            seed: params.seed,
             separate,
             h,
             a: (1.0 - h * h).sqrt(),
@@ -152,6 +154,15 @@ impl Resampling {
         &self.live
     }
 
+    /// The generator back to the seed's start, the count and `N_eff` to a new filter's.
+    pub fn reseed(&mut self) {
+        self.live = Live {
+            rng: PfRng::seed_from_u64(self.seed),
+            resamples: 0,
+            ess: self.w.len() as f64,
+        };
+    }
+
     /// Back to `live` (from [`Resampling::live`]).
     pub fn set_live(&mut self, live: &Live) {
         self.live.clone_from(live);
@@ -168,8 +179,8 @@ impl Resampling {
     }
 
     /// The terms' priors drawn from `N(x, p)`: means from `N(x, a^2 p)`, covariance
-    /// `h^2 p` each (equal weights). The generator restarts from the seed's stream where
-    /// it is: a reset draws new terms.
+    /// `h^2 p` each (equal weights), from the generator where it is ([`Resampling::reseed`]
+    /// first for a filter as new).
     pub fn draw<F: Member>(&mut self, members: &mut [F], log_w: &mut [f64], x: &State, p: &Mat6) {
         // a covariance without a square root (set through `set_estimate`) falls back to
         // its diagonal's, as the point particles' prior does

@@ -81,12 +81,12 @@ pub enum PfPrior {
     /// Points, moved toward the Gaussian of the predictive moments ([`super::moves`]: the
     /// Gaussian particle filter of Kotecha and Djuric; with `moves = false`, the papers'
     /// filters as written).
-    #[default]
     Gaussian = 1,
     /// A Gaussian per particle: the set is a Gaussian sum, each term updated by its own
     /// Kalman step and weighted by its predictive likelihood, resampled and
     /// kernel-smoothed ([`super::gaussian_sum`]): the prior of every update is the
-    /// particle set's own predictive mixture.
+    /// particle set's own predictive mixture. The navigator's default.
+    #[default]
     Particle = 2,
 }
 
