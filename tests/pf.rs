@@ -305,14 +305,10 @@ fn parallel_path_is_independent_of_the_thread_count() {
         400.0, 500.0, 200.0, 0.0, 0.0, 0.0,
     ]));
     let particles = PARALLEL_MIN_PARTICLES + 1001; // a short last chunk
-    let kinds = [
-        PfKind::Sir,
-        PfKind::Rpf,
-        PfKind::Upf,
-        PfKind::Gapf,
-        PfKind::Cgapf,
-    ];
-    for (kind, moves) in kinds.into_iter().flat_map(|k| [(k, true), (k, false)]) {
+    for (kind, moves) in PfKind::ALL
+        .into_iter()
+        .flat_map(|k| [(k, true), (k, false)])
+    {
         let run = |threads: usize| {
             let params = PfParams {
                 particles,
@@ -757,13 +753,7 @@ fn particle_prior_resamples_and_only_the_sir_keeps_copies() {
         );
         (g.state().map(f64::to_bits), distinct)
     };
-    for kind in [
-        PfKind::Sir,
-        PfKind::Rpf,
-        PfKind::Upf,
-        PfKind::Gapf,
-        PfKind::Cgapf,
-    ] {
+    for kind in PfKind::ALL {
         let (a, distinct) = run(kind, 9);
         assert_eq!(a, run(kind, 9).0, "{kind:?}: not reproducible");
         assert_ne!(a, run(kind, 10).0, "{kind:?}: the seed changes nothing");

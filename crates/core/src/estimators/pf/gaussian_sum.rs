@@ -412,13 +412,7 @@ mod tests {
             e.iter().map(|v| v / s).collect()
         };
         let (m0, b0) = moments(&parents, Some(&w));
-        for kind in [
-            PfKind::Sir,
-            PfKind::Rpf,
-            PfKind::Upf,
-            PfKind::Gapf,
-            PfKind::Cgapf,
-        ] {
+        for kind in PfKind::ALL {
             let reps = 200;
             let (mut mean, mut cov) = (State::zeros(), Mat6::zeros());
             let mut distinct = 0usize;

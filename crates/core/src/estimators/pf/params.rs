@@ -36,17 +36,18 @@ impl PfKind {
         }
     }
 
+    /// Every kind, in filter-code order.
+    pub const ALL: [PfKind; 5] = [
+        PfKind::Sir,
+        PfKind::Rpf,
+        PfKind::Upf,
+        PfKind::Gapf,
+        PfKind::Cgapf,
+    ];
+
     /// The kind of a scenario-file name.
     pub fn from_name(s: &str) -> Option<Self> {
-        [
-            PfKind::Sir,
-            PfKind::Rpf,
-            PfKind::Upf,
-            PfKind::Gapf,
-            PfKind::Cgapf,
-        ]
-        .into_iter()
-        .find(|k| k.name() == s)
+        Self::ALL.into_iter().find(|k| k.name() == s)
     }
 
     /// Whether the proposal is the per-particle UKF step.
