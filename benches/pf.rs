@@ -16,7 +16,7 @@ use rand::SeedableRng;
 use relnav_core::dynamics::{CwModel, DiscreteModel, Discretization};
 use relnav_core::estimators::pf::{ParticleFilter, PfKind, PfParams, PfPrior};
 use relnav_core::estimators::Estimator;
-use relnav_core::estimators::{Ekf, GaussianSumPf};
+use relnav_core::estimators::GaussianSumPf;
 use relnav_core::nav::NavConfig;
 use relnav_core::sensors::RadioSensor;
 use relnav_core::types::{Mat3, Mat6, State, Vec3};
@@ -128,7 +128,7 @@ fn bench_particle_prior(c: &mut Criterion, name: &str, kind: PfKind, particles: 
         ..PfParams::new(kind)
     };
     let (x0, p0) = (cfg.initial_state(), cfg.initial_covariance());
-    let make = || GaussianSumPf::new(Ekf::new(x0, p0), x0, p0, &params);
+    let make = || GaussianSumPf::new(x0, p0, &params, None);
     bench_steps(c, name, make, &d, &sensor, &zs);
 }
 

@@ -699,7 +699,7 @@ fn step_acceptance_is_the_fraction_of_the_steps_moves_accepted() {
 #[test]
 fn particle_prior_resamples_and_only_the_sir_keeps_copies() {
     use relnav_core::estimators::pf::PfPrior;
-    use relnav_core::estimators::{Ekf, GaussianSumPf};
+    use relnav_core::estimators::GaussianSumPf;
     let cfg = NavConfig::default();
     let f = cfg.frame;
     let model = CwModel::new(cfg.mean_motion);
@@ -716,7 +716,7 @@ fn particle_prior_resamples_and_only_the_sir_keeps_copies() {
             prior: PfPrior::Particle,
             ..PfParams::new(kind)
         };
-        let mut g = GaussianSumPf::new(Ekf::new(m0, p0), m0, p0, &params);
+        let mut g = GaussianSumPf::new(m0, p0, &params, None);
         let mut rng = ChaCha8Rng::seed_from_u64(3);
         let mut xt = x0;
         let mut distinct = Vec::new();

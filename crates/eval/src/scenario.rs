@@ -743,7 +743,7 @@ impl FilterSpec {
             }
         }
         if c.robust_radio() {
-            // the robust EKF, and the particle prior's EKF terms, update with the
+            // the robust EKF, and the particle prior's terms, update with the
             // [sensor]'s density (its variance is the filters' R)
             if let Some(p) = &scenario.sensor {
                 (c.noise_model, c.noise_zeta, c.noise_scale, c.noise_dof) = match p.noise {

@@ -333,6 +333,23 @@ pub(crate) fn position_update(
     (x + k * nu, joseph_update(p, &k, h_r, r))
 }
 
+/// The Kalman update of `(x, P)` from a measurement's cross covariance `pxz` (`P H^T`, or
+/// the UKF's sigma-point `Pxz`), its innovation covariance `s` and that one's factor:
+/// `K = Pxz S^-1` (one solve per row), `x + K nu` and `P - K S K^T`, symmetrised. The UKF's
+/// radio update and the robust update on its moments.
+#[inline(always)]
+pub(crate) fn moments_update(
+    x: &State,
+    p: &Mat6,
+    pxz: &Mat63,
+    s: &Mat3,
+    chol: &Chol3,
+    nu: &Vec3,
+) -> (State, Mat6) {
+    let k = chol.gain(pxz);
+    (x + k * nu, symmetrize(&(p - k * s * k.transpose())))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

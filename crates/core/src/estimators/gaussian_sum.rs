@@ -5,6 +5,7 @@
 use super::pf::PfParams;
 use crate::dynamics::DiscreteModel;
 use crate::estimators::{Bank, Ekf, Estimator, FilterError, SensorUpdate, Ukf, UpdateInfo};
+use crate::noise::NoiseModel;
 use crate::numerics::state::{Persist, Reader, StateError, Writer};
 use crate::sensors::{MeasurementModel, Sensor};
 use crate::types::{Mat6, State, Vec3};
@@ -30,14 +31,18 @@ macro_rules! each {
 }
 
 impl GaussianSumPf {
-    /// `params.particles` terms drawn from `(x0, p0)`; the kind's term filter: `ekf` (the
-    /// configured EKF, robust or not) or the UKF of `params.ukf` with `ekf`'s noise
-    /// density.
-    pub fn new(ekf: Ekf, x0: State, p0: Mat6, params: &PfParams) -> Self {
+    /// `params.particles` terms drawn from `(x0, p0)`; the kind's term filter, an EKF or
+    /// the UKF of `params.ukf`, whose radio update is that of the density `noise` when
+    /// given (the robust update, [`super::rekf`]) or of the Gaussian of its variance.
+    pub fn new(x0: State, p0: Mat6, params: &PfParams, noise: Option<NoiseModel>) -> Self {
         if params.kind.unscented() {
-            let ukf = Ukf::new(x0, p0, params.ukf).robust(ekf.robust_noise().copied());
+            let ukf = Ukf::new(x0, p0, params.ukf).robust(noise);
             GaussianSumPf::Ukf(Bank::gaussian_sum(ukf, x0, p0, params))
         } else {
+            let ekf = match noise {
+                Some(noise) => Ekf::new(x0, p0).robust(noise),
+                None => Ekf::new(x0, p0),
+            };
             GaussianSumPf::Ekf(Bank::gaussian_sum(ekf, x0, p0, params))
         }
     }

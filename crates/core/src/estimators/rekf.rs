@@ -22,13 +22,12 @@
 //! * Any other density (Gaussian, uniform, Laplace, AR(1)): the EKF's update with the
 //!   variance.
 
-use super::covariance::{position_innovation, position_update};
+use super::covariance::{moments_update, position_innovation, position_update};
 use super::FilterError;
 #[cfg(not(feature = "std"))]
 use crate::math::Float;
 use crate::noise::NoiseModel;
 use crate::numerics::cholesky::chol3;
-use crate::numerics::symmetrize;
 use crate::types::{Mat3, Mat36, Mat6, Mat63, State, Vec3};
 
 /// Variational iterations of the Student-t update after its predictive start (each one
@@ -66,8 +65,7 @@ struct Jacobian<'a> {
 impl Linearised for Jacobian<'_> {
     fn kalman(&self, r: &Mat3) -> Result<(State, Mat6, f64, f64), FilterError> {
         let (ph, _, chol) = position_innovation(self.p, self.h_r, r)?;
-        let l = chol.factor();
-        let log_det = 2.0 * (l[(0, 0)].ln() + l[(1, 1)].ln() + l[(2, 2)].ln());
+        let log_det = chol.log_det();
         let maha = chol.forward(self.nu).norm_squared();
         let (xn, pn) = position_update(self.x, self.p, self.h_r, self.nu, r, &ph, &chol);
         Ok((xn, pn, log_det, maha))
@@ -86,27 +84,24 @@ impl Linearised for Jacobian<'_> {
 
 /// The UKF's sigma-point moments: `Pxz` and `Pzz` without the noise. The variational step
 /// takes the statistical linearisation `H = Pxz^T P^-1` (the regression of the sigma
-/// points' measurements on their states).
+/// points' measurements on their states), formed once per update when it is needed.
 struct Moments<'a> {
     x: &'a State,
     p: &'a Mat6,
     pxz: &'a Mat63,
     pzz: &'a Mat3,
     nu: &'a Vec3,
+    h: Option<Mat36>,
 }
 
 impl Linearised for Moments<'_> {
     fn kalman(&self, r: &Mat3) -> Result<(State, Mat6, f64, f64), FilterError> {
-        let chol = chol3(&(self.pzz + r)).ok_or(FilterError::NotPositiveDefinite(
+        let s = self.pzz + r;
+        let chol = chol3(&s).ok_or(FilterError::NotPositiveDefinite(
             "innovation covariance Pzz",
         ))?;
-        let k = chol.gain(self.pxz);
-        let l = chol.factor();
-        let log_det = 2.0 * (l[(0, 0)].ln() + l[(1, 1)].ln() + l[(2, 2)].ln());
-        let maha = chol.forward(self.nu).norm_squared();
-        let xn = self.x + k * self.nu;
-        let pn = symmetrize(&(self.p - k * (self.pzz + r) * k.transpose()));
-        Ok((xn, pn, log_det, maha))
+        let (xn, pn) = moments_update(self.x, self.p, self.pxz, &s, &chol, self.nu);
+        Ok((xn, pn, chol.log_det(), chol.forward(self.nu).norm_squared()))
     }
 
     fn predicted(&self) -> Vec3 {
@@ -114,11 +109,10 @@ impl Linearised for Moments<'_> {
     }
 
     fn residual(&self, xn: &State, pn: &Mat6) -> (Vec3, Vec3) {
-        // H^T = P^-1 Pxz; a prior without a factor has already failed the sigma points
-        let Some(c) = self.p.cholesky() else {
+        // a prior without a factor has already failed the sigma points
+        let Some(h) = &self.h else {
             return (*self.nu, self.pzz.diagonal());
         };
-        let h: Mat36 = c.solve(self.pxz).transpose();
         let e = self.nu - h * (xn - self.x);
         (e, (h * pn * h.transpose()).diagonal())
     }
@@ -155,7 +149,18 @@ pub fn robust_update_unscented(
     noise: &NoiseModel,
     azimuth_usable: bool,
 ) -> Option<Result<(State, Mat6), FilterError>> {
-    let lin = Moments { x, p, pxz, pzz, nu };
+    // H^T = P^-1 Pxz, for the Student-t's variational step alone
+    let h = matches!(noise, NoiseModel::StudentT { .. })
+        .then(|| p.cholesky().map(|c| c.solve(pxz).transpose()))
+        .flatten();
+    let lin = Moments {
+        x,
+        p,
+        pxz,
+        pzz,
+        nu,
+        h,
+    };
     robust(&lin, nu, r_var, noise, azimuth_usable)
 }
 

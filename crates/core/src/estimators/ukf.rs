@@ -29,7 +29,7 @@
 //! plus `Q` and stays positive definite; small `alpha` (1e-3, common in textbooks) gives
 //! `Wc_0 ~ -1e6` and loses about twelve digits of the covariance for this problem.
 
-use super::covariance::{propagate_covariance, time_update};
+use super::covariance::{moments_update, propagate_covariance, time_update};
 use super::{finite, Estimator, FilterError, SensorUpdate, UpdateInfo};
 use crate::dynamics::DiscreteModel;
 #[cfg(not(feature = "std"))]
@@ -190,40 +190,9 @@ impl Ukf {
             pzz += dz * dz.transpose() * self.wc[i];
             pxz += dx * dz.transpose() * self.wc[i];
         }
-        if let Some(noise) = &self.robust {
-            let mut nu = sensor.diff(z, &z_hat);
-            if !azimuth_used {
-                nu.y = 0.0;
-            }
-            let without_r = pzz - r;
-            let robust = super::rekf::robust_update_unscented(
-                x,
-                p,
-                &pxz,
-                &without_r,
-                &nu,
-                r,
-                noise,
-                azimuth_used,
-            );
-            if let Some(updated) = robust {
-                let (xn, pn) = updated?;
-                finite(&xn, "updated state")?;
-                finite(&pn, "updated covariance")?;
-                // against the variance's Pzz, as the robust EKF's
-                let nis = cholesky::chol3(&pzz)
-                    .ok_or(FilterError::NotPositiveDefinite(
-                        "innovation covariance Pzz",
-                    ))?
-                    .forward(&nu)
-                    .norm_squared();
-                let info = UpdateInfo {
-                    innovation: nu,
-                    nis,
-                    azimuth_used,
-                };
-                return Ok((xn, pn, info));
-            }
+        let mut nu = sensor.diff(z, &z_hat);
+        if !azimuth_used {
+            nu.y = 0.0;
         }
         // the closed-form 3 x 3 factor, inlined (nalgebra's generic factor and solves are
         // out-of-line calls from the navigator's step, whose argument copies are a large
@@ -231,17 +200,25 @@ impl Ukf {
         let chol = cholesky::chol3(&pzz).ok_or(FilterError::NotPositiveDefinite(
             "innovation covariance Pzz",
         ))?;
-        // `K = Pxz Pzz^-1`, row by row (`Pzz` is symmetric)
-        let k = chol.gain(&pxz);
-        let mut nu = sensor.diff(z, &z_hat);
-        if !azimuth_used {
-            nu.y = 0.0;
-        }
-        let xn = x + k * nu;
-        let pn = symmetrize(&(p - k * pzz * k.transpose()));
+        let robust = self.robust.as_ref().and_then(|noise| {
+            super::rekf::robust_update_unscented(
+                x,
+                p,
+                &pxz,
+                &(pzz - r),
+                &nu,
+                r,
+                noise,
+                azimuth_used,
+            )
+        });
+        let (xn, pn) = match robust {
+            Some(updated) => updated?,
+            None => moments_update(x, p, &pxz, &pzz, &chol, &nu),
+        };
         finite(&xn, "updated state")?;
         finite(&pn, "updated covariance")?;
-        // `nu^T Pzz^-1 nu = |L^-1 nu|^2`
+        // `nu^T Pzz^-1 nu = |L^-1 nu|^2` (a robust update's too: against the variance's)
         let nis = chol.forward(&nu).norm_squared();
         Ok((
             xn,

@@ -431,9 +431,9 @@ fn build_single_into(
         *out = match params.prior {
             PfPrior::Gaussian => AnyFilter::Pf(ParticleFilter::new(x0, p0, params)),
             PfPrior::Particle => {
-                // the terms' radio update is the robust EKF's (the noise density's)
-                let ekf = Ekf::new(x0, p0).robust(cfg.noise());
-                AnyFilter::GaussianSum(Box::new(GaussianSumPf::new(ekf, x0, p0, &params)))
+                // the terms' radio update is the noise density's (the robust update)
+                let noise = Some(cfg.noise());
+                AnyFilter::GaussianSum(Box::new(GaussianSumPf::new(x0, p0, &params, noise)))
             }
         };
         return Ok(());

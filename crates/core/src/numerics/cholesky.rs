@@ -181,6 +181,11 @@ impl Chol3 {
         ])
     }
 
+    /// `ln det S = 2 sum ln L_ii`.
+    pub(crate) fn log_det(&self) -> f64 {
+        2.0 * (self.diag[0].ln() + self.diag[1].ln() + self.diag[2].ln())
+    }
+
     /// The factor `L` as a matrix.
     pub(crate) fn factor(&self) -> Mat3 {
         let [l00, l11, l22] = self.diag;
