@@ -86,7 +86,9 @@ def main():
                                   ("rpf_literal", "rpf", "literal"), ("rpf", "rpf", "moves"),
                                   ("gapf_literal", "gapf", "literal"), ("gapf", "gapf", "moves"),
                                   ("upf_literal", "upf", "literal"), ("upf", "upf", "moves"),
-                                  ("cgapf_literal", "cgapf", "literal"), ("cgapf", "cgapf", "moves")):
+                                  ("cgapf_literal", "cgapf", "literal"), ("cgapf", "cgapf", "moves"),
+                                  *((f"{k}_particle_prior", k if k != "sir" else "pf", "particle")
+                                    for k in ("sir", "rpf", "upf", "gapf", "cgapf"))):
             i0, _ = callgrind([pf, "1500", "20", "0", "1", kind, moves])
             i1, _ = callgrind([pf, "1500", "20", "10", "1", kind, moves])
             out["instructions"][f"{name}_step_n1500"] = (i1 - i0) / 10

@@ -11,15 +11,16 @@
 //! ```
 //!
 //! Arguments: particles, warm-up steps, measured steps, threads, kind (`pf`, `rpf`, `upf`,
-//! `gapf`, `cgapf`), moves (`moves` or `literal`: [`PfParams::moves`]), the RPF's kernel
+//! `gapf`, `cgapf`), moves (`moves` or `literal`: [`PfParams::moves`]; `particle`: the
+//! particle prior, a Gaussian per particle, [`GaussianSumPf`]), the RPF's kernel
 //! (`gaussian` or `epanechnikov`: [`PfParams::kernel`]; default
 //! 100000 20 1 1 pf moves gaussian).
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)] // example code
 
 use rand::SeedableRng;
-use relnav_core::dynamics::{CwModel, Discretization};
-use relnav_core::estimators::pf::{Kernel, ParticleFilter, PfKind, PfParams};
-use relnav_core::estimators::Estimator;
+use relnav_core::dynamics::{CwModel, DiscreteModel, Discretization};
+use relnav_core::estimators::pf::{Kernel, ParticleFilter, PfKind, PfParams, PfPrior};
+use relnav_core::estimators::{Estimator, GaussianSumPf};
 use relnav_core::nav::NavConfig;
 use relnav_core::sensors::RadioSensor;
 use relnav_core::types::{Mat3, Mat6, State, Vec3};
@@ -34,7 +35,9 @@ fn main() {
     let kind = std::env::args().nth(5).map_or(PfKind::Sir, |s| {
         PfKind::from_name(&s).expect("a filter kind")
     });
-    let moves = std::env::args().nth(6).as_deref() != Some("literal");
+    let mode = std::env::args().nth(6);
+    let moves = mode.as_deref() != Some("literal");
+    let particle_prior = mode.as_deref() == Some("particle");
     let kernel = match std::env::args().nth(7).as_deref() {
         None | Some("gaussian") => Kernel::Gaussian,
         Some("epanechnikov") => Kernel::Epanechnikov,
@@ -59,16 +62,29 @@ fn main() {
         kernel,
         ..PfParams::new(kind)
     };
-    let mut pf = ParticleFilter::new(cfg.initial_state(), cfg.initial_covariance(), params);
-    for k in 0..warm + steps {
-        let x = model.phi(k as f64) * x0;
-        let z = sensor
-            .measure(&x.fixed_rows::<3>(0).into_owned(), &mut rng)
-            .unwrap();
-        pf.update(&sensor, &z).unwrap();
-        pf.predict(&d, &Vec3::zeros()).unwrap();
-    }
-    let m = pf.state();
+    let (x0f, p0f) = (cfg.initial_state(), cfg.initial_covariance());
+    let zs: Vec<Vec3> = (0..warm + steps)
+        .map(|k| {
+            let x = model.phi(k as f64) * x0;
+            sensor
+                .measure(&x.fixed_rows::<3>(0).into_owned(), &mut rng)
+                .unwrap()
+        })
+        .collect();
+    let m = if particle_prior {
+        let params = PfParams {
+            prior: PfPrior::Particle,
+            ..params
+        };
+        drive(
+            GaussianSumPf::new(x0f, p0f, &params, None),
+            &sensor,
+            &zs,
+            &d,
+        )
+    } else {
+        drive(ParticleFilter::new(x0f, p0f, params), &sensor, &zs, &d)
+    };
     println!(
         "{} particles {particles}, steps {}, threads {threads}: mean {:.6} {:.6} {:.6}",
         kind.name(),
@@ -77,4 +93,14 @@ fn main() {
         m[1],
         m[2]
     );
+}
+
+/// The filter's steps (the update with each measurement, then the prediction) and its
+/// final estimate.
+fn drive<E: Estimator>(mut f: E, sensor: &RadioSensor, zs: &[Vec3], d: &DiscreteModel) -> State {
+    for z in zs {
+        f.update(sensor, z).unwrap();
+        f.predict(d, &Vec3::zeros()).unwrap();
+    }
+    *f.state()
 }
