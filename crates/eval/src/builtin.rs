@@ -170,4 +170,28 @@ mod tests {
             assert_eq!(&s.name, name);
         }
     }
+
+    /// The files beside the built-in ones (too long to run by `reproduce`) parse too, and
+    /// each is named after its file.
+    #[test]
+    fn every_scenario_file_parses() {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios");
+        let mut n = 0;
+        for entry in std::fs::read_dir(&dir).unwrap() {
+            let path = entry.unwrap().path();
+            if path.extension().is_none_or(|e| e != "toml") {
+                continue;
+            }
+            let text = std::fs::read_to_string(&path).unwrap();
+            let stem = path.file_stem().unwrap().to_str().unwrap();
+            let name = if text.contains("problem = \"mars_approach\"") {
+                parse_mars(&text).map(|s| s.name)
+            } else {
+                Scenario::from_toml(&text).map(|s| s.name)
+            };
+            assert_eq!(name.unwrap_or_else(|e| panic!("{stem}: {e}")), stem);
+            n += 1;
+        }
+        assert!(n > BUILTIN.len(), "{n} files");
+    }
 }
