@@ -78,6 +78,17 @@ pub struct Live {
     ess: f64,
 }
 
+impl Live {
+    /// A new filter's: the generator at the seed's start, no resampling, `N_eff = n`.
+    fn new(seed: u64, n: usize) -> Self {
+        Self {
+            rng: PfRng::seed_from_u64(seed),
+            resamples: 0,
+            ess: n as f64,
+        }
+    }
+}
+
 /// How a kind separates the duplicates of a resampling (the module docs).
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum Separate {
@@ -133,11 +144,7 @@ impl Resampling {
             separate,
             h,
             a: (1.0 - h * h).sqrt(),
-            live: Live {
-                rng: PfRng::seed_from_u64(params.seed),
-                resamples: 0,
-                ess: n as f64,
-            },
+            live: Live::new(params.seed, n),
             idx: vec![0; n],
             scratch: vec![0.0; n],
             w: vec![0.0; n],
@@ -156,11 +163,7 @@ impl Resampling {
 
     /// The generator back to the seed's start, the count and `N_eff` to a new filter's.
     pub fn reseed(&mut self) {
-        self.live = Live {
-            rng: PfRng::seed_from_u64(self.seed),
-            resamples: 0,
-            ess: self.w.len() as f64,
-        };
+        self.live = Live::new(self.seed, self.w.len());
     }
 
     /// Back to `live` (from [`Resampling::live`]).
