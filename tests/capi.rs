@@ -104,13 +104,28 @@ fn pf_config(filter: relnav_filter, particles: i32, seed: u64) -> relnav_config 
     c
 }
 
+/// [`pf_config`] with the particle filter's `prior`.
+fn prior_config(
+    filter: relnav_filter,
+    particles: i32,
+    seed: u64,
+    prior: relnav_pf_prior,
+) -> relnav_config {
+    relnav_config {
+        pf_prior: prior as i32,
+        ..pf_config(filter, particles, seed)
+    }
+}
+
 /// [`pf_config`] with point particles (`pf_prior = gaussian`): the moves, their acceptance
 /// and the failures a point set cannot undo.
 fn points_config(filter: relnav_filter, particles: i32, seed: u64) -> relnav_config {
-    relnav_config {
-        pf_prior: relnav_pf_prior::RELNAV_PF_PRIOR_GAUSSIAN as i32,
-        ..pf_config(filter, particles, seed)
-    }
+    prior_config(
+        filter,
+        particles,
+        seed,
+        relnav_pf_prior::RELNAV_PF_PRIOR_GAUSSIAN,
+    )
 }
 
 /// The particle filters' two priors: points and a Gaussian per particle.
@@ -430,10 +445,7 @@ fn identical_seeds_reproduce_and_reset_reseeds() {
                 .collect()
         };
         for prior in PRIORS {
-            let config = |seed| relnav_config {
-                pf_prior: prior as i32,
-                ..pf_config(filter, 250, seed)
-            };
+            let config = |seed| prior_config(filter, 250, seed, prior);
             let a = Est::new(&config(123));
             let b = Est::new(&config(123));
             let c = Est::new(&config(124));
@@ -524,10 +536,7 @@ fn failed_particle_filter_step_changes_nothing() {
         relnav_filter::RELNAV_FILTER_CGAPF,
     ] {
         for prior in PRIORS {
-            let config = relnav_config {
-                pf_prior: prior as i32,
-                ..pf_config(kind, 200, 0)
-            };
+            let config = prior_config(kind, 200, 0, prior);
             let e = Est::new(&config);
             let fresh = Est::new(&config);
             if matches!(prior, relnav_pf_prior::RELNAV_PF_PRIOR_GAUSSIAN) {
@@ -581,6 +590,27 @@ fn particle_filter_failing_after_its_update_refuses_until_reset() {
         assert_eq!(e.step(Some(&z(k))), OK, "{}", last_error());
         assert_eq!(fresh.step(Some(&z(k))), OK);
         assert_eq!(e.state(), fresh.state(), "step {k}");
+    }
+    // the particle prior: the same step refused, the filter as it was before it
+    let config = prior_config(
+        relnav_filter::RELNAV_FILTER_RPF,
+        200,
+        0,
+        relnav_pf_prior::RELNAV_PF_PRIOR_PARTICLE,
+    );
+    let (e, fresh) = (Est::new(&config), Est::new(&config));
+    for est in [&e, &fresh] {
+        assert_eq!(est.step(Some(&z(0))), OK, "{}", last_error());
+    }
+    assert_eq!(
+        e.step_with(&[1e308; 3], Some(&z(1)), 1e4),
+        relnav_status::RELNAV_ERROR_NUMERICAL
+    );
+    assert_eq!(e.state(), fresh.state());
+    for k in 1..5 {
+        assert_eq!(e.step(Some(&z(k))), OK, "{}", last_error());
+        assert_eq!(fresh.step(Some(&z(k))), OK);
+        assert_eq!(e.state(), fresh.state(), "particle prior, step {k}");
     }
 }
 
