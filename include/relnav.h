@@ -22,8 +22,14 @@
 // The alignment of `RELNAV_HINF_FILTER_STORAGE_SIZE`'s storage, at least the filter's.
 #define RELNAV_HINF_FILTER_STORAGE_ALIGN 16
 
-// Result of every fallible call. Values are stable.
-typedef enum relnav_status {
+// Result of every fallible call. Values are stable. An `int32_t` on every target: a C
+// enum's size is the compiler's choice (one byte on arm-none-eabi, where short enums
+// are the default), a status is not.
+enum relnav_status
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : int32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
   // Success.
   RELNAV_OK = 0,
   // A required pointer argument was null.
@@ -45,11 +51,22 @@ typedef enum relnav_status {
   // another format version, or saved for another configuration; the estimator is
   // unchanged.
   RELNAV_ERROR_INVALID_STATE = 8,
-} relnav_status;
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum relnav_status relnav_status;
+#else
+typedef int32_t relnav_status;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
 
 // Filter codes (`relnav_config` holds them as plain integers, so that an unknown
 // value is reported, not undefined behaviour).
-typedef enum relnav_filter {
+enum relnav_filter
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : int32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
   // Extended Kalman filter (Joseph form).
   RELNAV_FILTER_EKF = 1,
   // Unscented Kalman filter (scaled sigma points).
@@ -72,31 +89,64 @@ typedef enum relnav_filter {
   RELNAV_FILTER_IMM = 10,
   // Robust EKF: the radio's update uses the density of noise_model (mixture: the Gaussian-sum update collapsed to its moments; Student-t: a variational update) instead of the Gaussian of its variance; the EKF's otherwise.
   RELNAV_FILTER_REKF = 11,
-} relnav_filter;
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum relnav_filter relnav_filter;
+#else
+typedef int32_t relnav_filter;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
 
 // Frame codes (`relnav_config` holds them as plain integers, so that an unknown
 // value is reported, not undefined behaviour).
-typedef enum relnav_frame {
+enum relnav_frame
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : int32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
   // x radial outward, y along-track, z orbit normal (canonical; paper 002).
   RELNAV_FRAME_RADIAL_ALONG_NORMAL = 1,
   // x along-track, y radial outward, z minus orbit normal (paper 000).
   RELNAV_FRAME_ALONG_RADIAL_ANTINORMAL = 2,
   // x along-track, y minus orbit normal, z nadir (paper 003).
   RELNAV_FRAME_ALONG_ANTINORMAL_NADIR = 3,
-} relnav_frame;
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum relnav_frame relnav_frame;
+#else
+typedef int32_t relnav_frame;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
 
 // Discretization codes (`relnav_config` holds them as plain integers, so that an unknown
 // value is reported, not undefined behaviour).
-typedef enum relnav_discretization {
+enum relnav_discretization
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : int32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
   // Exact CW transition, exact zero-order hold, Van Loan process noise.
   RELNAV_DISCRETIZATION_EXACT = 1,
   // First-order Euler I + T A (literal paper 000).
   RELNAV_DISCRETIZATION_EULER = 2,
-} relnav_discretization;
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum relnav_discretization relnav_discretization;
+#else
+typedef int32_t relnav_discretization;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
 
 // Resampler codes (`relnav_config` holds them as plain integers, so that an unknown
 // value is reported, not undefined behaviour).
-typedef enum relnav_resampler {
+enum relnav_resampler
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : int32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
   // N independent draws from the weights (paper 000's SIR).
   RELNAV_RESAMPLER_MULTINOMIAL = 1,
   // One uniform, N evenly spaced points (Kitagawa 1996).
@@ -107,39 +157,83 @@ typedef enum relnav_resampler {
   RELNAV_RESAMPLER_RESIDUAL = 4,
   // Multinomial with pf_move = false (paper 000's SIR as written), systematic with the moves.
   RELNAV_RESAMPLER_AUTO = 5,
-} relnav_resampler;
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum relnav_resampler relnav_resampler;
+#else
+typedef int32_t relnav_resampler;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
 
 // NoiseModel codes (`relnav_config` holds them as plain integers, so that an unknown
 // value is reported, not undefined behaviour).
-typedef enum relnav_noise_model {
+enum relnav_noise_model
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : int32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
   // Gaussian N(0, sigma^2).
   RELNAV_NOISE_GAUSSIAN = 1,
   // Contaminated Gaussian (1 - zeta) N(0, sigma^2) + zeta N(0, (scale sigma)^2) (paper 003).
   RELNAV_NOISE_MIXTURE = 2,
   // Student-t sigma t_dof.
   RELNAV_NOISE_STUDENT_T = 3,
-} relnav_noise_model;
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum relnav_noise_model relnav_noise_model;
+#else
+typedef int32_t relnav_noise_model;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
 
 // AdaptationLaw codes (`relnav_config` holds them as plain integers, so that an unknown
 // value is reported, not undefined behaviour).
-typedef enum relnav_adaptation {
+enum relnav_adaptation
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : int32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
   // Paper 001 literally: the sliding-window estimate of q_vv at every update.
   RELNAV_ADAPTATION_WINDOW = 1,
   // q_vv stays at q_vel while the windowed NIS is below its chi-square quantile; the sliding window adapts it (never below q_vel) while it is above.
   RELNAV_ADAPTATION_GATED = 2,
-} relnav_adaptation;
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum relnav_adaptation relnav_adaptation;
+#else
+typedef int32_t relnav_adaptation;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
 
 // PfPrior codes (`relnav_config` holds them as plain integers, so that an unknown
 // value is reported, not undefined behaviour).
-typedef enum relnav_pf_prior {
+enum relnav_pf_prior
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : int32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
   // Point particles; with pf_move, moves toward the Gaussian of the predictive moments (the Gaussian particle filter).
   RELNAV_PF_PRIOR_GAUSSIAN = 1,
   // A Gaussian per particle: a Gaussian sum whose terms are updated by their own EKF or UKF step, weighted by their predictive likelihood, resampled and kernel-smoothed; the prior of every update is the set's own predictive mixture.
   RELNAV_PF_PRIOR_PARTICLE = 2,
-} relnav_pf_prior;
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum relnav_pf_prior relnav_pf_prior;
+#else
+typedef int32_t relnav_pf_prior;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
 
 // Which H-infinity design `relnav_hinf_design` solves.
-typedef enum relnav_hinf_form {
+enum relnav_hinf_form
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : int32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
   // Observer (error-dynamics) form for the open-loop CW plant, the known thrust as
   // feed-forward (the form filter code 9 runs).
   RELNAV_HINF_OBSERVER = 1,
@@ -150,10 +244,21 @@ typedef enum relnav_hinf_form {
   // 9): first the gamma-optimal observer, then the least H2 norm under `gamma <=
   // gamma_factor * gamma_opt`.
   RELNAV_HINF_MIXED = 3,
-} relnav_hinf_form;
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum relnav_hinf_form relnav_hinf_form;
+#else
+typedef int32_t relnav_hinf_form;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
 
 // Which computation designed an H-infinity filter (`relnav_hinf_design_info`).
-typedef enum relnav_hinf_route {
+enum relnav_hinf_route
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : int32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
   // Not an H-infinity estimator (filter code other than 9).
   RELNAV_HINF_ROUTE_NONE = 0,
   // Bisection on the H-infinity filtering Riccati equation, certified on the observer
@@ -164,11 +269,22 @@ typedef enum relnav_hinf_route {
   RELNAV_HINF_ROUTE_SDP = 2,
   // The SDP posed literally (not used by filter 9).
   RELNAV_HINF_ROUTE_SDP_LITERAL = 3,
-} relnav_hinf_route;
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum relnav_hinf_route relnav_hinf_route;
+#else
+typedef int32_t relnav_hinf_route;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
 
 // Why the gamma-optimal observer's Riccati route was not taken
 // (`relnav_hinf_design_info::riccati_failure`).
-typedef enum relnav_hinf_riccati_failure {
+enum relnav_hinf_riccati_failure
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : int32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
   // The route was taken (or the estimator is not an H-infinity filter).
   RELNAV_HINF_RICCATI_OK = 0,
   // `D D^T` is singular (a noise-free measurement axis): the Riccati equation needs its
@@ -181,7 +297,14 @@ typedef enum relnav_hinf_riccati_failure {
   RELNAV_HINF_RICCATI_NO_FEASIBLE_GAMMA = 3,
   // The constructed observer failed the literal LMI check.
   RELNAV_HINF_RICCATI_CERTIFICATION_FAILED = 4,
-} relnav_hinf_riccati_failure;
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum relnav_hinf_riccati_failure relnav_hinf_riccati_failure;
+#else
+typedef int32_t relnav_hinf_riccati_failure;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
 
 // Opaque estimator handle.
 typedef struct relnav_estimator relnav_estimator;
@@ -565,11 +688,11 @@ struct relnav_config relnav_config_default(void);
 //
 // # Safety
 // `config` is null or points to a `relnav_config`.
-enum relnav_status relnav_config_validate(const struct relnav_config *config);
+relnav_status relnav_config_validate(const struct relnav_config *config);
 
 // A static, readable name for a status code (unknown codes give `"unknown status"`).
 // Cannot fail, so returns the name itself.
-const char *relnav_status_string(int status);
+const char *relnav_status_string(int32_t status);
 
 // The message of the most recent failing call on this thread (empty string if none).
 // The pointer stays valid until the next failing call on the same thread. Cannot fail, so
@@ -587,15 +710,15 @@ const char *relnav_last_error(void);
 //
 // # Safety
 // `config` is null or points to a `relnav_config`; `out` is null or writable.
-enum relnav_status relnav_estimator_new(const struct relnav_config *config,
-                                        struct relnav_estimator **out);
+relnav_status relnav_estimator_new(const struct relnav_config *config,
+                                   struct relnav_estimator **out);
 
 // The storage [`relnav_estimator_init`] needs: `*size` bytes aligned to `*align` (a power
 // of two).
 //
 // # Safety
 // `size` and `align` are null or writable.
-enum relnav_status relnav_estimator_storage(size_t *size, size_t *align);
+relnav_status relnav_estimator_storage(size_t *size, size_t *align);
 
 // Create an estimator in the caller's `storage` (`size` bytes, aligned as
 // [`relnav_estimator_storage`] says): no heap. On success `*out` holds the handle, which
@@ -611,17 +734,17 @@ enum relnav_status relnav_estimator_storage(size_t *size, size_t *align);
 // `storage` is null or points to `size` writable bytes that nothing else uses while the
 // estimator lives; `config` is null or points to a `relnav_config`; `out` is null or
 // writable.
-enum relnav_status relnav_estimator_init(void *storage,
-                                         size_t size,
-                                         const struct relnav_config *config,
-                                         struct relnav_estimator **out);
+relnav_status relnav_estimator_init(void *storage,
+                                    size_t size,
+                                    const struct relnav_config *config,
+                                    struct relnav_estimator **out);
 
 // End an estimator made by [`relnav_estimator_init`]; its storage is the caller's again.
 // Null is accepted and ignored (`RELNAV_OK` either way).
 //
 // # Safety
 // `estimator` is null or a handle from [`relnav_estimator_init`] not yet ended.
-enum relnav_status relnav_estimator_deinit(struct relnav_estimator *estimator);
+relnav_status relnav_estimator_deinit(struct relnav_estimator *estimator);
 
 // Release an estimator. Null is accepted and ignored. Cannot fail, so returns nothing.
 //
@@ -638,15 +761,15 @@ void relnav_estimator_free(struct relnav_estimator *estimator);
 //
 // # Safety
 // `estimator` is a live handle or null; `thrust` is null or points to 3 doubles.
-enum relnav_status relnav_estimator_predict(struct relnav_estimator *estimator,
-                                            const double *thrust,
-                                            double dt);
+relnav_status relnav_estimator_predict(struct relnav_estimator *estimator,
+                                       const double *thrust,
+                                       double dt);
 
 // Measurement update with `z` = (range [m], azimuth [rad], elevation [rad]).
 //
 // # Safety
 // `estimator` is a live handle or null; `z` is null or points to 3 doubles.
-enum relnav_status relnav_estimator_update(struct relnav_estimator *estimator, const double *z);
+relnav_status relnav_estimator_update(struct relnav_estimator *estimator, const double *z);
 
 // One step at time t: update with `z` (the measurement taken at t; pass null when there
 // is none), then predict over `dt` with `thrust` held. Afterwards the estimate is at
@@ -656,10 +779,10 @@ enum relnav_status relnav_estimator_update(struct relnav_estimator *estimator, c
 // # Safety
 // `estimator` is a live handle or null; `thrust` is null or 3 doubles; `z` is null or 3
 // doubles.
-enum relnav_status relnav_estimator_step(struct relnav_estimator *estimator,
-                                         const double *thrust,
-                                         const double *z,
-                                         double dt);
+relnav_status relnav_estimator_step(struct relnav_estimator *estimator,
+                                    const double *thrust,
+                                    const double *z,
+                                    double dt);
 
 // One step with the declared sensors: at time t, update with each reading that is given
 // (null: none), in this order — `z` the radio's (range [m], azimuth, elevation [rad]),
@@ -674,13 +797,13 @@ enum relnav_status relnav_estimator_step(struct relnav_estimator *estimator,
 // `estimator` is a live handle or null; `thrust` is null or 3 doubles; `z`,
 // `gnss_position`, `gnss_velocity` are null or 3 doubles each; `camera` is null or 2
 // doubles.
-enum relnav_status relnav_estimator_step_sensors(struct relnav_estimator *estimator,
-                                                 const double *thrust,
-                                                 const double *z,
-                                                 const double *camera,
-                                                 const double *gnss_position,
-                                                 const double *gnss_velocity,
-                                                 double dt);
+relnav_status relnav_estimator_step_sensors(struct relnav_estimator *estimator,
+                                            const double *thrust,
+                                            const double *z,
+                                            const double *camera,
+                                            const double *gnss_position,
+                                            const double *gnss_velocity,
+                                            double dt);
 
 // Copy the last step's normalised innovation squared per declared sensor (4 doubles:
 // radio, camera, GNSS position, GNSS velocity; NaN for a sensor that gave no reading in
@@ -691,31 +814,29 @@ enum relnav_status relnav_estimator_step_sensors(struct relnav_estimator *estima
 // # Safety
 // `estimator` is a live handle or null; `out` is null or 4 writable doubles;
 // `range_sigma` is null or 1 writable double.
-enum relnav_status relnav_estimator_get_sensor_diagnostics(const struct relnav_estimator *estimator,
-                                                           double *out,
-                                                           double *range_sigma);
+relnav_status relnav_estimator_get_sensor_diagnostics(const struct relnav_estimator *estimator,
+                                                      double *out,
+                                                      double *range_sigma);
 
 // Copy the state estimate (6 doubles: x, y, z [m], vx, vy, vz [m/s]) to `out`.
 //
 // # Safety
 // `estimator` is a live handle or null; `out` is null or 6 writable doubles.
-enum relnav_status relnav_estimator_get_state(const struct relnav_estimator *estimator,
-                                              double *out);
+relnav_status relnav_estimator_get_state(const struct relnav_estimator *estimator, double *out);
 
 // Copy the 6x6 error covariance (36 doubles, row-major, configured frame) to `out`.
 //
 // # Safety
 // `estimator` is a live handle or null; `out` is null or 36 writable doubles.
-enum relnav_status relnav_estimator_get_covariance(const struct relnav_estimator *estimator,
-                                                   double *out);
+relnav_status relnav_estimator_get_covariance(const struct relnav_estimator *estimator,
+                                              double *out);
 
 // Copy the 1-sigma of each state component (square roots of the covariance diagonal,
 // 6 doubles) to `out`.
 //
 // # Safety
 // `estimator` is a live handle or null; `out` is null or 6 writable doubles.
-enum relnav_status relnav_estimator_get_sigma(const struct relnav_estimator *estimator,
-                                              double *out);
+relnav_status relnav_estimator_get_sigma(const struct relnav_estimator *estimator, double *out);
 
 // Copy the estimate and its 1-sigma in one call (12 doubles: x, y, z [m], vx, vy, vz
 // [m/s] as [`relnav_estimator_get_state`], then their 1-sigma as
@@ -724,21 +845,20 @@ enum relnav_status relnav_estimator_get_sigma(const struct relnav_estimator *est
 //
 // # Safety
 // `estimator` is a live handle or null; `out` is null or 12 writable doubles.
-enum relnav_status relnav_estimator_get_estimate(const struct relnav_estimator *estimator,
-                                                 double *out);
+relnav_status relnav_estimator_get_estimate(const struct relnav_estimator *estimator, double *out);
 
 // Return to the initial estimate of the configuration.
 //
 // # Safety
 // `estimator` is a live handle or null.
-enum relnav_status relnav_estimator_reset(struct relnav_estimator *estimator);
+relnav_status relnav_estimator_reset(struct relnav_estimator *estimator);
 
 // Copy the configuration the estimator was created with to `out`.
 //
 // # Safety
 // `estimator` is a live handle or null; `out` is null or writable.
-enum relnav_status relnav_estimator_get_config(const struct relnav_estimator *estimator,
-                                               struct relnav_config *out);
+relnav_status relnav_estimator_get_config(const struct relnav_estimator *estimator,
+                                          struct relnav_config *out);
 
 // Diagnostics of the last measurement update: innovation (3 doubles, azimuth wrapped) and
 // its normalised squared value NIS. Both are NaN before the first update. The particle
@@ -748,9 +868,9 @@ enum relnav_status relnav_estimator_get_config(const struct relnav_estimator *es
 // # Safety
 // `estimator` is a live handle or null; `innovation` is null or 3 writable doubles;
 // `nis` is null or writable.
-enum relnav_status relnav_estimator_get_innovation(const struct relnav_estimator *estimator,
-                                                   double *innovation,
-                                                   double *nis);
+relnav_status relnav_estimator_get_innovation(const struct relnav_estimator *estimator,
+                                              double *innovation,
+                                              double *nis);
 
 // The effective sample size `1 / sum w_i^2` of a particle filter (codes 4-8) after its
 // last measurement update, before resampling (the particle count before the first
@@ -759,7 +879,7 @@ enum relnav_status relnav_estimator_get_innovation(const struct relnav_estimator
 //
 // # Safety
 // `estimator` is a live handle or null; `out` is null or writable.
-enum relnav_status relnav_estimator_get_ess(const struct relnav_estimator *estimator, double *out);
+relnav_status relnav_estimator_get_ess(const struct relnav_estimator *estimator, double *out);
 
 // The fraction of a particle filter's (codes 4-8) Metropolis–Hastings moves (`pf_move`
 // rejuvenation, the RPF's jitter, the genetic operators) accepted in the last
@@ -770,8 +890,8 @@ enum relnav_status relnav_estimator_get_ess(const struct relnav_estimator *estim
 //
 // # Safety
 // `estimator` is a live handle or null; `out` is null or writable.
-enum relnav_status relnav_estimator_get_pf_acceptance(const struct relnav_estimator *estimator,
-                                                      double *out);
+relnav_status relnav_estimator_get_pf_acceptance(const struct relnav_estimator *estimator,
+                                                 double *out);
 
 // The AQUKF's (code 3) current adaptive velocity process-noise density `q_vv`
 // [m^2/s^3], one value per axis of the configured frame (the diagonal of the rotated
@@ -781,15 +901,15 @@ enum relnav_status relnav_estimator_get_pf_acceptance(const struct relnav_estima
 //
 // # Safety
 // `estimator` is a live handle or null; `out` is null or 3 writable doubles.
-enum relnav_status relnav_estimator_get_q_vv(const struct relnav_estimator *estimator, double *out);
+relnav_status relnav_estimator_get_q_vv(const struct relnav_estimator *estimator, double *out);
 
 // The certified `gamma` of the H-infinity design of an estimator created with filter 9;
 // NaN for every other filter (status `RELNAV_OK`).
 //
 // # Safety
 // `estimator` is a live handle or null; `out` is null or writable.
-enum relnav_status relnav_estimator_get_hinf_gamma(const struct relnav_estimator *estimator,
-                                                   double *out);
+relnav_status relnav_estimator_get_hinf_gamma(const struct relnav_estimator *estimator,
+                                              double *out);
 
 // The H2 norm of the H-infinity design of an estimator created with filter 9 (from the
 // unit white noises of its noise model to the prediction error; computed without the
@@ -798,8 +918,8 @@ enum relnav_status relnav_estimator_get_hinf_gamma(const struct relnav_estimator
 //
 // # Safety
 // `estimator` is a live handle or null; `out` is null or writable.
-enum relnav_status relnav_estimator_get_hinf_h2_norm(const struct relnav_estimator *estimator,
-                                                     double *out);
+relnav_status relnav_estimator_get_hinf_h2_norm(const struct relnav_estimator *estimator,
+                                                double *out);
 
 // Whether the H-infinity filter (filter 9) runs its designed, certified gain: 1 after
 // the hand-over of track initiation (`hinf_acquisition`) or always without it, 0 while it
@@ -807,8 +927,8 @@ enum relnav_status relnav_estimator_get_hinf_h2_norm(const struct relnav_estimat
 //
 // # Safety
 // `estimator` is a live handle or null; `out` is null or writable.
-enum relnav_status relnav_estimator_get_hinf_certified(const struct relnav_estimator *estimator,
-                                                       int32_t *out);
+relnav_status relnav_estimator_get_hinf_certified(const struct relnav_estimator *estimator,
+                                                  int32_t *out);
 
 // The IMM's (code 10) mode probabilities after the last step, 3 doubles: mode 1 (the
 // configured process noise), mode 2, mode 3 (`imm_accel_psd` added); they sum to 1 over
@@ -817,8 +937,8 @@ enum relnav_status relnav_estimator_get_hinf_certified(const struct relnav_estim
 //
 // # Safety
 // `estimator` is a live handle or null; `out` is null or 3 writable doubles.
-enum relnav_status relnav_estimator_get_mode_probabilities(const struct relnav_estimator *estimator,
-                                                           double *out);
+relnav_status relnav_estimator_get_mode_probabilities(const struct relnav_estimator *estimator,
+                                                      double *out);
 
 // How the H-infinity filter of an estimator created with filter 9 was designed: the
 // route (Riccati bisection or SDP), the gamma-optimal stage's route and why its Riccati
@@ -828,8 +948,8 @@ enum relnav_status relnav_estimator_get_mode_probabilities(const struct relnav_e
 //
 // # Safety
 // `estimator` is a live handle or null; `out` is null or writable.
-enum relnav_status relnav_estimator_get_hinf_design(const struct relnav_estimator *estimator,
-                                                    struct relnav_hinf_design_info *out);
+relnav_status relnav_estimator_get_hinf_design(const struct relnav_estimator *estimator,
+                                               struct relnav_hinf_design_info *out);
 
 // Design an H-infinity filter (LMI solved with Clarabel; see `relnav::hinf`). On
 // success `*out` holds the matrices and the report; an infeasible request returns
@@ -842,8 +962,8 @@ enum relnav_status relnav_estimator_get_hinf_design(const struct relnav_estimato
 //
 // # Safety
 // `spec` is null or readable; `out` is null or writable.
-enum relnav_status relnav_hinf_design(const struct relnav_hinf_spec *spec,
-                                      struct relnav_hinf_result *out);
+relnav_status relnav_hinf_design(const struct relnav_hinf_spec *spec,
+                                 struct relnav_hinf_result *out);
 
 // Fill `*out` with the H-infinity design request that filter 9 makes for `config`: the
 // form from `hinf_design`, its `gamma_factor`, and the noise inputs — the scalings where
@@ -857,8 +977,8 @@ enum relnav_status relnav_hinf_design(const struct relnav_hinf_spec *spec,
 //
 // # Safety
 // `config` is null or readable; `out` is null or writable.
-enum relnav_status relnav_config_hinf_spec(const struct relnav_config *config,
-                                           struct relnav_hinf_spec *out);
+relnav_status relnav_config_hinf_spec(const struct relnav_config *config,
+                                      struct relnav_hinf_spec *out);
 
 // Create a runtime filter from designed matrices; its estimate `C_F x_f` starts at `x0`
 // (6 doubles, canonical frame). Free with `relnav_hinf_filter_free`.
@@ -869,16 +989,16 @@ enum relnav_status relnav_config_hinf_spec(const struct relnav_config *config,
 // # Safety
 // `matrices` is null or readable; `x0` is null or 6 readable doubles; `out` is null or
 // writable.
-enum relnav_status relnav_hinf_filter_new(const struct relnav_hinf_matrices *matrices,
-                                          const double *x0,
-                                          struct relnav_hinf_filter **out);
+relnav_status relnav_hinf_filter_new(const struct relnav_hinf_matrices *matrices,
+                                     const double *x0,
+                                     struct relnav_hinf_filter **out);
 
 // The storage [`relnav_hinf_filter_init`] needs: `*size` bytes aligned to `*align` (a
 // power of two).
 //
 // # Safety
 // `size` and `align` are null or writable.
-enum relnav_status relnav_hinf_filter_storage(size_t *size, size_t *align);
+relnav_status relnav_hinf_filter_storage(size_t *size, size_t *align);
 
 // Create a runtime filter in the caller's `storage` (`size` bytes, aligned as
 // [`relnav_hinf_filter_storage`] says) from designed matrices: no heap, the flight
@@ -892,18 +1012,18 @@ enum relnav_status relnav_hinf_filter_storage(size_t *size, size_t *align);
 // `storage` is null or points to `size` writable bytes that nothing else uses while the
 // filter lives; `matrices` is null or readable; `x0` is null or 6 readable doubles; `out`
 // is null or writable.
-enum relnav_status relnav_hinf_filter_init(void *storage,
-                                           size_t size,
-                                           const struct relnav_hinf_matrices *matrices,
-                                           const double *x0,
-                                           struct relnav_hinf_filter **out);
+relnav_status relnav_hinf_filter_init(void *storage,
+                                      size_t size,
+                                      const struct relnav_hinf_matrices *matrices,
+                                      const double *x0,
+                                      struct relnav_hinf_filter **out);
 
 // End a runtime filter made by [`relnav_hinf_filter_init`]; its storage is the caller's
 // again. Null is accepted and ignored (`RELNAV_OK` either way).
 //
 // # Safety
 // `filter` is null or a handle from [`relnav_hinf_filter_init`] not yet ended.
-enum relnav_status relnav_hinf_filter_deinit(struct relnav_hinf_filter *filter);
+relnav_status relnav_hinf_filter_deinit(struct relnav_hinf_filter *filter);
 
 // One filter step: `x_f <- A_F x_f + B_F y + E_F a`. `y` is the canonical position
 // measurement [m] (3 doubles, or null: replaced by its prediction), `accel` the known
@@ -912,16 +1032,15 @@ enum relnav_status relnav_hinf_filter_deinit(struct relnav_hinf_filter *filter);
 // # Safety
 // `filter` is a live handle or null; `y` is null or 3 readable doubles; `accel` is null or
 // 3 readable doubles.
-enum relnav_status relnav_hinf_filter_step(struct relnav_hinf_filter *filter,
-                                           const double *y,
-                                           const double *accel);
+relnav_status relnav_hinf_filter_step(struct relnav_hinf_filter *filter,
+                                      const double *y,
+                                      const double *accel);
 
 // Copy the estimate `C_F x_f` (6 doubles, canonical frame) to `out`.
 //
 // # Safety
 // `filter` is a live handle or null; `out` is null or 6 writable doubles.
-enum relnav_status relnav_hinf_filter_get_state(const struct relnav_hinf_filter *filter,
-                                                double *out);
+relnav_status relnav_hinf_filter_get_state(const struct relnav_hinf_filter *filter, double *out);
 
 // Release a runtime filter (null is accepted). Cannot fail, so returns nothing.
 //
@@ -953,10 +1072,10 @@ const char *relnav_hinf_riccati_failure_string(int32_t code);
 // # Safety
 // `estimator` is a live handle or null; `buf` is null or points to `cap` writable bytes;
 // `len` is null or writable.
-enum relnav_status relnav_estimator_save(const struct relnav_estimator *estimator,
-                                         uint8_t *buf,
-                                         size_t cap,
-                                         size_t *len);
+relnav_status relnav_estimator_save(const struct relnav_estimator *estimator,
+                                    uint8_t *buf,
+                                    size_t cap,
+                                    size_t *len);
 
 // Restore a state saved by [`relnav_estimator_save`] (`len` bytes at `buf`) into an
 // estimator created with the same configuration. A state that is truncated, corrupted
@@ -967,9 +1086,9 @@ enum relnav_status relnav_estimator_save(const struct relnav_estimator *estimato
 //
 // # Safety
 // `estimator` is a live handle or null; `buf` is null or points to `len` readable bytes.
-enum relnav_status relnav_estimator_restore(struct relnav_estimator *estimator,
-                                            const uint8_t *buf,
-                                            size_t len);
+relnav_status relnav_estimator_restore(struct relnav_estimator *estimator,
+                                       const uint8_t *buf,
+                                       size_t len);
 
 #ifdef __cplusplus
 }  // extern "C"

@@ -7,7 +7,7 @@ use relnav_core::params::Value;
 
 /// Filter codes (`relnav_config` holds them as plain integers, so that an unknown
 /// value is reported, not undefined behaviour).
-#[repr(C)]
+#[repr(i32)]
 #[derive(Debug, Clone, Copy)]
 pub enum relnav_filter {
     /// Extended Kalman filter (Joseph form).
@@ -36,7 +36,7 @@ pub enum relnav_filter {
 
 /// Frame codes (`relnav_config` holds them as plain integers, so that an unknown
 /// value is reported, not undefined behaviour).
-#[repr(C)]
+#[repr(i32)]
 #[derive(Debug, Clone, Copy)]
 pub enum relnav_frame {
     /// x radial outward, y along-track, z orbit normal (canonical; paper 002).
@@ -49,7 +49,7 @@ pub enum relnav_frame {
 
 /// Discretization codes (`relnav_config` holds them as plain integers, so that an unknown
 /// value is reported, not undefined behaviour).
-#[repr(C)]
+#[repr(i32)]
 #[derive(Debug, Clone, Copy)]
 pub enum relnav_discretization {
     /// Exact CW transition, exact zero-order hold, Van Loan process noise.
@@ -60,7 +60,7 @@ pub enum relnav_discretization {
 
 /// Resampler codes (`relnav_config` holds them as plain integers, so that an unknown
 /// value is reported, not undefined behaviour).
-#[repr(C)]
+#[repr(i32)]
 #[derive(Debug, Clone, Copy)]
 pub enum relnav_resampler {
     /// N independent draws from the weights (paper 000's SIR).
@@ -77,7 +77,7 @@ pub enum relnav_resampler {
 
 /// NoiseModel codes (`relnav_config` holds them as plain integers, so that an unknown
 /// value is reported, not undefined behaviour).
-#[repr(C)]
+#[repr(i32)]
 #[derive(Debug, Clone, Copy)]
 pub enum relnav_noise_model {
     /// Gaussian N(0, sigma^2).
@@ -90,7 +90,7 @@ pub enum relnav_noise_model {
 
 /// AdaptationLaw codes (`relnav_config` holds them as plain integers, so that an unknown
 /// value is reported, not undefined behaviour).
-#[repr(C)]
+#[repr(i32)]
 #[derive(Debug, Clone, Copy)]
 pub enum relnav_adaptation {
     /// Paper 001 literally: the sliding-window estimate of q_vv at every update.
@@ -101,7 +101,7 @@ pub enum relnav_adaptation {
 
 /// PfPrior codes (`relnav_config` holds them as plain integers, so that an unknown
 /// value is reported, not undefined behaviour).
-#[repr(C)]
+#[repr(i32)]
 #[derive(Debug, Clone, Copy)]
 pub enum relnav_pf_prior {
     /// Point particles; with pf_move, moves toward the Gaussian of the predictive moments (the Gaussian particle filter).

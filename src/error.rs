@@ -1,14 +1,16 @@
 //! Status codes, the per-thread last-error message and the internal [`Failure`] that
 //! carries both to the boundary.
 
-use core::ffi::{c_char, c_int, CStr};
+use core::ffi::{c_char, CStr};
 use relnav_core::message::Message;
 use relnav_core::nav::{NavError, NavErrorKind};
 #[cfg(feature = "std")]
 use std::{cell::RefCell, ffi::CString, panic::catch_unwind};
 
-/// Result of every fallible call. Values are stable.
-#[repr(C)]
+/// Result of every fallible call. Values are stable. An `int32_t` on every target: a C
+/// enum's size is the compiler's choice (one byte on arm-none-eabi, where short enums
+/// are the default), a status is not.
+#[repr(i32)]
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum relnav_status {
     /// Success.
@@ -117,7 +119,7 @@ pub(crate) fn null(arg: &str, func: &str) -> Failure {
 /// A static, readable name for a status code (unknown codes give `"unknown status"`).
 /// Cannot fail, so returns the name itself.
 #[no_mangle]
-pub extern "C" fn relnav_status_string(status: c_int) -> *const c_char {
+pub extern "C" fn relnav_status_string(status: i32) -> *const c_char {
     let s: &'static CStr = match status {
         0 => c"ok",
         1 => c"null pointer argument",

@@ -10,7 +10,7 @@ use crate::ptr::{drop_placed, place_for, read_array, storage_of, write_array};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
 /// Which H-infinity design `relnav_hinf_design` solves.
-#[repr(C)]
+#[repr(i32)]
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum relnav_hinf_form {
     /// Observer (error-dynamics) form for the open-loop CW plant, the known thrust as
@@ -536,7 +536,7 @@ pub unsafe extern "C" fn relnav_hinf_filter_free(filter: *mut relnav_hinf_filter
 }
 
 /// Which computation designed an H-infinity filter (`relnav_hinf_design_info`).
-#[repr(C)]
+#[repr(i32)]
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum relnav_hinf_route {
     /// Not an H-infinity estimator (filter code other than 9).
@@ -553,7 +553,7 @@ pub enum relnav_hinf_route {
 
 /// Why the gamma-optimal observer's Riccati route was not taken
 /// (`relnav_hinf_design_info::riccati_failure`).
-#[repr(C)]
+#[repr(i32)]
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum relnav_hinf_riccati_failure {
     /// The route was taken (or the estimator is not an H-infinity filter).

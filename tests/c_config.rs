@@ -107,7 +107,7 @@ fn render() -> String {
         )
         .unwrap();
         writeln!(w, "/// value is reported, not undefined behaviour).").unwrap();
-        writeln!(w, "#[repr(C)]").unwrap();
+        writeln!(w, "#[repr(i32)]").unwrap();
         writeln!(w, "#[derive(Debug, Clone, Copy)]").unwrap();
         writeln!(w, "pub enum {} {{", list.c_type).unwrap();
         for it in list.items {
@@ -256,15 +256,16 @@ fn c_config_is_up_to_date() {
     );
 }
 
-/// Every code list the C struct names is an enum of the header (cbindgen exports an enum
-/// only when `cbindgen.toml` includes it by name).
+/// Every code list the C struct names is an enum of the header, an `int32_t` in C (cbindgen
+/// exports an enum only when `cbindgen.toml` includes it by name).
 #[test]
 fn every_code_list_is_in_the_header() {
     let header =
         std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/include/relnav.h")).unwrap();
     for list in CODE_LISTS.iter().filter(|l| l.c_enum) {
         assert!(
-            header.contains(&format!("typedef enum {} {{", list.c_type)),
+            header.contains(&format!("\nenum {}\n", list.c_type))
+                && header.contains(&format!("typedef int32_t {};", list.c_type)),
             "{} is not in include/relnav.h: add it to cbindgen.toml's export.include",
             list.c_type
         );

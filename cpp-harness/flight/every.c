@@ -7,6 +7,10 @@
 #include <stdio.h>
 #include <string.h>
 
+/* fixed width on every target, arm-none-eabi's short enums included */
+_Static_assert(sizeof(relnav_status) == sizeof(int32_t), "relnav_status is an int32_t");
+_Static_assert(sizeof(relnav_filter) == sizeof(int32_t), "relnav_filter is an int32_t");
+
 void *const every[] = {
 #include "every_fns.h"
 };
@@ -50,6 +54,7 @@ int main(void) {
     void *volatile sink = NULL;
     for (size_t i = 0; i < sizeof every / sizeof every[0]; i++) sink = every[i];
     (void)sink;
-    printf("%zu functions linked\n", sizeof every / sizeof every[0]);
+    /* (no %zu: newlib's printf, on the bare-metal targets, has none) */
+    printf("%lu functions linked\n", (unsigned long)(sizeof every / sizeof every[0]));
     return good ? 0 : 1;
 }
