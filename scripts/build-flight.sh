@@ -9,8 +9,8 @@
 #     full library prints (target/release/librelnav.a, when it exists: the CI's release
 #     stage builds it before this one);
 #   * cpp-harness/flight/bits.c runs every filter of the flight library over the same
-#     inputs against both libraries: the outputs (hexadecimal floats and a checksum of every
-#     state and covariance) must be identical;
+#     inputs against both libraries: the outputs (each estimate's bits in hexadecimal and
+#     a checksum of every state and covariance) must be identical;
 #   * cpp-harness/flight/every.c takes the address of every function of include/relnav.h
 #     (the table every_fns.h is written from the header here), so every exported path is
 #     linked, and checks that what the flight library leaves out answers "not in this

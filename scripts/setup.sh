@@ -7,6 +7,13 @@
 #     the FMU tests drive needs libtbb.so.12) and
 #     python3-venv (only if `python3 -m venv` does not work). `apt-get update` runs only
 #     when something has to be installed. sudo is used when not root.
+#   * for the bare-metal targets (scripts/build-bare.sh), apt-get also installs Debian's
+#     Rust with its source (rustc-web, cargo-web, rust-web-src: /usr/bin/cargo and rustc,
+#     which a rustup toolchain first on PATH leaves alone), the ARM and AArch64 cross
+#     compilers (gcc-arm-none-eabi with libnewlib-arm-none-eabi, gcc-aarch64-linux-gnu) and
+#     qemu-user; qemu-system-arm is unpacked from its package into .tools/qemu and its
+#     libraries installed, not the package itself: it would replace a newer backported
+#     qemu-utils where the machine has one.
 #   * creates .venv at the repository root and installs scripts/requirements.txt into it
 #     (skipped when the venv already matches the requirements file).
 #   * installs cargo-fuzz with `cargo install` when nightly Rust is present and cargo-fuzz
@@ -57,6 +64,13 @@ ls /usr/lib/x86_64-linux-gnu/libopenblas.a /usr/lib/x86_64-linux-gnu/openblas-pt
 { dpkg -s libtbb12 >/dev/null 2>&1 || /sbin/ldconfig -p 2>/dev/null | grep -q 'libtbb\.so\.12 '; } \
     || missing+=(libtbb12)
 
+# the bare-metal targets (scripts/build-bare.sh)
+dpkg -s rustc-web cargo-web rust-web-src >/dev/null 2>&1 || missing+=(rustc-web cargo-web rust-web-src)
+command -v arm-none-eabi-gcc >/dev/null 2>&1 || missing+=(gcc-arm-none-eabi)
+dpkg -s libnewlib-arm-none-eabi >/dev/null 2>&1 || missing+=(libnewlib-arm-none-eabi)
+command -v aarch64-linux-gnu-gcc >/dev/null 2>&1 || missing+=(gcc-aarch64-linux-gnu libc6-dev-arm64-cross)
+command -v qemu-aarch64 >/dev/null 2>&1 || missing+=(qemu-user)
+
 venv_works() {
     local probe
     probe="$(mktemp -d)"
@@ -85,7 +99,30 @@ if [ "${#missing[@]}" -gt 0 ]; then
     "${SUDO[@]}" apt-get update -qq </dev/null
     "${SUDO[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" </dev/null
 else
-    log "system packages present: cmake g++ valgrind readelf fonts-dejavu-core libopenblas-dev libgfortran-12-dev libtbb12"
+    log "system packages present: cmake g++ valgrind readelf fonts-dejavu-core libopenblas-dev libgfortran-12-dev libtbb12, and the bare-metal tools"
+fi
+
+# qemu-system-arm, for the Cortex-M4 board: unpacked, with the libraries it links
+QEMU_DIR="$ROOT/.tools/qemu"
+if ! command -v qemu-system-arm >/dev/null 2>&1 && [ ! -x "$QEMU_DIR/usr/bin/qemu-system-arm" ]; then
+    log "unpacking qemu-system-arm into $QEMU_DIR"
+    deb_dir="$(mktemp -d)"
+    download=(apt-get download -q)
+    # as root, apt would hand the download to its sandbox user, who cannot write there
+    [ "$(id -u)" -ne 0 ] || download+=(-o APT::Sandbox::User=root)
+    (cd "$deb_dir" && "${download[@]}" qemu-system-arm </dev/null)
+    deb=("$deb_dir"/qemu-system-arm_*.deb)
+    mapfile -t qemu_libs < <(dpkg-deb -f "${deb[0]}" Depends | tr ',' '\n' | sed 's/([^)]*)//; s/|.*//; s/ //g' |
+        grep -vE '^(qemu-system-common|qemu-system-data|)$')
+    need=()
+    for pkg in "${qemu_libs[@]}"; do dpkg -s "$pkg" >/dev/null 2>&1 || need+=("$pkg"); done
+    if [ "${#need[@]}" -gt 0 ]; then
+        log "installing with apt-get: ${need[*]}"
+        DEBIAN_FRONTEND=noninteractive "${SUDO[@]}" apt-get install -y -qq --no-install-recommends "${need[@]}" </dev/null
+    fi
+    rm -rf "$QEMU_DIR" && mkdir -p "$QEMU_DIR"
+    dpkg-deb -x "${deb[0]}" "$QEMU_DIR"
+    rm -rf "$deb_dir"
 fi
 
 # ---------------------------------------------------------------- cargo-fuzz (optional)

@@ -5,7 +5,9 @@
 #   -> cargo fmt --check -> cargo clippy -D warnings (workspace, every target: benches and
 #   examples are compiled and linted here) -> cargo test (libraries, binaries, tests/)
 #   -> cargo build --release -> the flight library (scripts/build-flight.sh: relnav without
-#   std, its programs checked against the release library) -> FMUs and SSP (fmu/build.sh: relnav.fmu, the system kit's
+#   std, its programs checked against the release library) -> the bare-metal targets
+#   (scripts/build-bare.sh: the flight library for a Cortex-M4F, AArch64 and RISC-V, run on
+#   qemu) -> FMUs and SSP (fmu/build.sh: relnav.fmu, the system kit's
 #   relnav_plant.fmu, relnav_guidance.fmu, relnav_system.ssp)
 #   -> pytest tests/python (in .venv, two workers) -> C++ harness (cmake, build, ctest; valgrind)
 #   -> C++ harness under ASan+UBSan (second build dir) -> fuzz smoke run (scripts/fuzz.sh
@@ -162,6 +164,7 @@ stage "cargo test" optional cargo test --workspace --exclude relnav-python --tes
 stage "cargo test --doc" optional cargo test --workspace --exclude relnav-python --doc -j"$JOBS"
 stage "cargo build --release" required cargo build --release -j"$JOBS"
 stage "flight library" optional bash scripts/build-flight.sh -j"$JOBS"
+stage "bare-metal targets" optional bash scripts/build-bare.sh -j"$JOBS"
 stage "build FMUs" required bash fmu/build.sh -j"$JOBS"
 stage "pytest tests/python" optional run_pytest
 stage "C++ harness" optional run_cpp_harness
