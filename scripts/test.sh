@@ -6,8 +6,7 @@
 #   examples are compiled and linted here) -> cargo test (libraries, binaries, tests/)
 #   -> cargo build --release -> the flight library (scripts/build-flight.sh: relnav without
 #   std, its programs checked against the release library) -> the bare-metal targets
-#   (scripts/build-bare.sh: the flight library for a Cortex-M4F, AArch64 and RISC-V, run on
-#   qemu) -> FMUs and SSP (fmu/build.sh: relnav.fmu, the system kit's
+#   (scripts/build-bare.sh: the flight library for a Cortex-M4F and AArch64, run on qemu) -> FMUs and SSP (fmu/build.sh: relnav.fmu, the system kit's
 #   relnav_plant.fmu, relnav_guidance.fmu, relnav_system.ssp)
 #   -> pytest tests/python (in .venv, two workers) -> C++ harness (cmake, build, ctest; valgrind)
 #   -> C++ harness under ASan+UBSan (second build dir) -> fuzz smoke run (scripts/fuzz.sh
