@@ -43,8 +43,8 @@ use super::{finite, Estimator, FilterError, SensorUpdate, UpdateInfo};
 use crate::dynamics::DiscreteModel;
 use crate::numerics::state::{refuse, Persist, Reader, StateError, Writer};
 use crate::numerics::symmetrize;
-use crate::sensors::{MeasurementModel, Sensor};
-use crate::types::{Mat6, State, Vec3};
+use crate::sensors::{MeasurementModel, Sensor, Support};
+use crate::types::{Mat3, Mat6, State, Vec3};
 use nalgebra::{SMatrix, SVector};
 
 /// Each member's standard deviation along the line of sight, as a fraction `s` of the
@@ -112,7 +112,29 @@ fn log_density<const D: usize>(
     r: &SMatrix<f64, D, D>,
     p: &Mat6,
 ) -> Option<(f64, SMatrix<f64, D, D>)> {
-    let s = h * p * h.transpose() + r;
+    gaussian_log_density(h * p * h.transpose() + r, nu)
+}
+
+/// [`log_density`] for a Jacobian whose only nonzero columns are the three from `OFF` (the
+/// position, `OFF = 0`, or the velocity, `OFF = 3`; [`Support`]): `S` from that block and
+/// `P`'s, without the products with the zero columns, which add nothing to its sums.
+fn log_density_block<const D: usize, const OFF: usize>(
+    h: &SMatrix<f64, D, 6>,
+    nu: &SVector<f64, D>,
+    r: &SMatrix<f64, D, D>,
+    p: &Mat6,
+) -> Option<(f64, SMatrix<f64, D, D>)> {
+    let hb: SMatrix<f64, D, 3> = h.fixed_columns::<3>(OFF).into_owned();
+    let pb: Mat3 = p.fixed_view::<3, 3>(OFF, OFF).into_owned();
+    gaussian_log_density(hb * pb * hb.transpose() + r, nu)
+}
+
+/// `ln N(nu; 0, s)` without `-D/2 ln 2 pi`, and `s`; `None` unless `s` is positive
+/// definite.
+fn gaussian_log_density<const D: usize>(
+    s: SMatrix<f64, D, D>,
+    nu: &SVector<f64, D>,
+) -> Option<(f64, SMatrix<f64, D, D>)> {
     let chol = s.cholesky()?;
     let ln_det: f64 = chol.l_dirty().diagonal().iter().map(|d| 2.0 * d.ln()).sum();
     let ll = -0.5 * (nu.dot(&chol.solve(nu)) + ln_det);
@@ -129,6 +151,8 @@ pub struct Bank<F: Member> {
     members: Vec<F>,
     /// `ln` of the weights, the largest 0; `-inf` for a dropped member.
     log_w: Vec<f64>,
+    /// `exp` of `log_w` where a sum over the members needs it twice (scratch)
+    exp_w: Vec<f64>,
     x: State,
     p: Mat6,
     /// one operation's undo (the estimator's contract: unchanged on error)
@@ -177,6 +201,7 @@ impl<F: Member> Bank<F> {
         Self {
             members: vec![member; n],
             log_w: vec![0.0; n],
+            exp_w: vec![0.0; n],
             x: x0,
             p: p0,
             undo: vec![saved.clone(); n],
@@ -308,18 +333,18 @@ impl<F: Member> Bank<F> {
     /// The mixture's mean and covariance from the members and weights; on error the bank
     /// is taken back to its undo point.
     fn combine(&mut self) -> Result<(), FilterError> {
-        let sum: f64 = self.log_w.iter().map(|l| l.exp()).sum();
+        let sum = self.exponentiate();
         let mut x = State::zeros();
-        for (m, l) in self.members.iter().zip(&self.log_w) {
+        for ((m, l), e) in self.members.iter().zip(&self.log_w).zip(&self.exp_w) {
             if l.is_finite() {
-                x += m.state() * (l.exp() / sum);
+                x += m.state() * (e / sum);
             }
         }
         let mut p = Mat6::zeros();
-        for (m, l) in self.members.iter().zip(&self.log_w) {
+        for ((m, l), e) in self.members.iter().zip(&self.log_w).zip(&self.exp_w) {
             if l.is_finite() {
                 let d = m.state() - x;
-                p += (m.covariance() + d * d.transpose()) * (l.exp() / sum);
+                p += (m.covariance() + d * d.transpose()) * (e / sum);
             }
         }
         let p = symmetrize(&p);
@@ -333,18 +358,27 @@ impl<F: Member> Bank<F> {
         Ok(())
     }
 
+    /// `exp_w` = `exp(log_w)`; returns their sum.
+    fn exponentiate(&mut self) -> f64 {
+        for (e, l) in self.exp_w.iter_mut().zip(&self.log_w) {
+            *e = l.exp();
+        }
+        self.exp_w.iter().sum()
+    }
+
     /// One measurement through every live member: `predictive` gives a member's
-    /// linearised innovation and its covariance at its prior, `update` updates it (its
-    /// own diagnostics: `dof` or the azimuth flag, folded by `fold`). Returns the
-    /// mixture's innovation and NIS (prior weights) and the folded diagnostics.
-    fn update_members<const D: usize, T: Copy>(
+    /// linearised innovation and its covariance at its prior, and the linearisation it
+    /// made, which `update` passes on to update the member (its own diagnostics: `dof` or
+    /// the azimuth flag, folded by `fold`). Returns the mixture's innovation and NIS (prior
+    /// weights) and the folded diagnostics.
+    fn update_members<const D: usize, C, T: Copy>(
         &mut self,
-        mut predictive: impl FnMut(&F) -> Option<(SVector<f64, D>, SMatrix<f64, D, D>, f64)>,
-        mut update: impl FnMut(&mut F) -> Result<T, FilterError>,
+        mut predictive: impl FnMut(&F) -> Option<(SVector<f64, D>, SMatrix<f64, D, D>, f64, C)>,
+        mut update: impl FnMut(&mut F, &C) -> Result<T, FilterError>,
         mut fold: impl FnMut(T, T) -> T,
     ) -> Result<(SVector<f64, D>, f64, T), FilterError> {
         self.save_undo();
-        let prior_sum: f64 = self.log_w.iter().map(|l| l.exp()).sum();
+        let prior_sum = self.exponentiate();
         let mut first_error = None;
         let mut folded: Option<T> = None;
         let mut nu = SVector::<f64, D>::zeros();
@@ -356,12 +390,12 @@ impl<F: Member> Bank<F> {
             if !self.log_w[k].is_finite() {
                 continue;
             }
-            let wk = self.log_w[k].exp() / prior_sum;
+            let wk = self.exp_w[k] / prior_sum;
             let step = predictive(m)
                 .ok_or(FilterError::NotPositiveDefinite(
                     "a bank member's innovation covariance",
                 ))
-                .and_then(|(n, s, ll)| update(m).map(|t| (n, s, ll, t)));
+                .and_then(|(n, s, ll, c)| update(m, &c).map(|t| (n, s, ll, t)));
             match step {
                 Ok((n, s, ll, t)) => {
                     self.log_w[k] += ll;
@@ -455,10 +489,11 @@ impl<F: Member> Estimator for Bank<F> {
                     h.row_mut(1).fill(0.0);
                     nu.y = 0.0;
                 }
-                let (ll, s) = log_density(&h, &nu, &r, m.covariance())?;
-                Some((nu, s, ll))
+                // the radio measures the position: H = [H_r 0]
+                let (ll, s) = log_density_block::<3, 0>(&h, &nu, &r, m.covariance())?;
+                Some((nu, s, ll, g))
             },
-            |m| m.update(sensor, z).map(|info| info.azimuth_used),
+            |m, g| m.update_at(sensor, z, g).map(|info| info.azimuth_used),
             |a, b| a && b,
         )?;
         Ok(UpdateInfo {
@@ -477,10 +512,15 @@ impl<F: Member> Estimator for Bank<F> {
         let (innovation, nis, dof) = self.update_members(
             |m| {
                 let (lin, nu) = sensor.innovation(m.state(), z).ok()?;
-                let (ll, s) = log_density(&lin.h, &nu, &r, m.covariance())?;
-                Some((nu, s, ll))
+                let p = m.covariance();
+                let (ll, s) = match sensor.support() {
+                    Support::Position => log_density_block::<D, 0>(&lin.h, &nu, &r, p),
+                    Support::Velocity => log_density_block::<D, 3>(&lin.h, &nu, &r, p),
+                    Support::Full => log_density(&lin.h, &nu, &r, p),
+                }?;
+                Some((nu, s, ll, (lin, nu)))
             },
-            |m| m.update_sensor(sensor, z).map(|info| info.dof),
+            |m, (lin, nu)| m.update_sensor_at(sensor, z, lin, nu).map(|info| info.dof),
             usize::min,
         )?;
         Ok(SensorUpdate {
@@ -577,6 +617,31 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// The block form's `S` and log-density are the full form's, bit for bit, for a
+    /// Jacobian with zeros outside its block (position and velocity; two and three rows).
+    #[test]
+    fn the_block_log_density_is_the_full_ones() {
+        fn check<const D: usize, const OFF: usize>() {
+            let a = Mat6::from_fn(|i, j| ((i * 7 + j * 3) % 11) as f64 * 0.37 - 1.3);
+            let p = a * a.transpose() + Mat6::identity() * 0.5;
+            let mut h = SMatrix::<f64, D, 6>::zeros();
+            for i in 0..D {
+                for j in 0..3 {
+                    h[(i, OFF + j)] = ((i * 5 + j * 2) % 7) as f64 * 0.11 - 0.29;
+                }
+            }
+            let nu = SVector::<f64, D>::from_fn(|i, _| 0.3 - 0.17 * i as f64);
+            let r = SMatrix::<f64, D, D>::identity() * 0.04;
+            let full = log_density(&h, &nu, &r, &p).unwrap();
+            let block = log_density_block::<D, OFF>(&h, &nu, &r, &p).unwrap();
+            assert_eq!(full.0.to_bits(), block.0.to_bits(), "D = {D}, OFF = {OFF}");
+            assert_eq!(full.1, block.1, "D = {D}, OFF = {OFF}");
+        }
+        check::<3, 0>();
+        check::<2, 0>();
+        check::<3, 3>();
     }
 
     #[test]

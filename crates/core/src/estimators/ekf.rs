@@ -26,7 +26,7 @@ use crate::numerics::cholesky::chol_small;
 use crate::numerics::state::{Persist, Reader, StateError, Writer};
 use crate::numerics::symmetrize;
 use crate::numerics::Owned;
-use crate::sensors::{MeasurementModel, Sensor, Support};
+use crate::sensors::{Geometry, Linearization, MeasurementModel, Sensor, Support};
 use crate::types::{Mat3, Mat6, State, Vec3};
 use nalgebra::{SMatrix, SVector};
 
@@ -43,6 +43,20 @@ pub(crate) fn linearised_update<const D: usize, S: Sensor<D> + ?Sized>(
     z: &SVector<f64, D>,
 ) -> Result<(State, Mat6, SensorUpdate<D>, SMatrix<f64, D, D>), FilterError> {
     let (lin, nu) = sensor.innovation(x, z)?;
+    linearised_update_given(x, p, sensor, &lin, &nu)
+}
+
+/// [`linearised_update`] given the linearisation and innovation at `x`
+/// ([`Sensor::innovation`]).
+#[inline(always)]
+pub(crate) fn linearised_update_given<const D: usize, S: Sensor<D> + ?Sized>(
+    x: &State,
+    p: &Mat6,
+    sensor: &S,
+    lin: &Linearization<D>,
+    nu: &SVector<f64, D>,
+) -> Result<(State, Mat6, SensorUpdate<D>, SMatrix<f64, D, D>), FilterError> {
+    let nu = *nu;
     let r = sensor.noise().cov();
     let (xn, pn, s, nis) = match sensor.support() {
         Support::Position => block_update::<D, 0>(x, p, &lin.h, &nu, &r)?,
@@ -237,6 +251,34 @@ impl Ekf {
         Ok(info)
     }
 
+    /// [`Estimator::update`] given `g`, the sensor's linearisation at the filter's position
+    /// (a bank's member: [`super::Member::update_at`]; the same bits as computing it here).
+    pub fn update_given<M: MeasurementModel>(
+        &mut self,
+        sensor: &M,
+        z: &Vec3,
+        g: &Geometry,
+    ) -> Result<UpdateInfo, FilterError> {
+        let (x, p, info, _) = self.updated_given(sensor, z, g)?;
+        self.x = x;
+        self.p = p;
+        Ok(info)
+    }
+
+    /// [`Estimator::update_sensor`] given the linearisation and innovation at the filter's
+    /// state ([`Sensor::innovation`]; [`super::Member::update_sensor_at`]).
+    pub fn update_sensor_given<const D: usize, S: Sensor<D> + ?Sized>(
+        &mut self,
+        sensor: &S,
+        lin: &Linearization<D>,
+        nu: &SVector<f64, D>,
+    ) -> Result<SensorUpdate<D>, FilterError> {
+        let (x, p, info, _) = linearised_update_given(&self.x, &self.p, sensor, lin, nu)?;
+        self.x = x;
+        self.p = p;
+        Ok(info)
+    }
+
     /// The measurement update, checked, not committed: the updated state and covariance,
     /// the update's diagnostics and `S`.
     #[inline(always)]
@@ -246,6 +288,17 @@ impl Ekf {
         z: &Vec3,
     ) -> Result<(State, Mat6, UpdateInfo, Mat3), FilterError> {
         let g = sensor.linearize(&self.x.fixed_rows::<3>(0).owned())?;
+        self.updated_given(sensor, z, &g)
+    }
+
+    /// [`Ekf::updated`] given the linearisation `g` at the filter's position.
+    #[inline(always)]
+    fn updated_given<M: MeasurementModel>(
+        &self,
+        sensor: &M,
+        z: &Vec3,
+        g: &Geometry,
+    ) -> Result<(State, Mat6, UpdateInfo, Mat3), FilterError> {
         let mut nu = sensor.diff(z, &g.z);
         if !g.azimuth_usable {
             nu.y = 0.0; // H row is zero too: the gain column vanishes (see sensors docs)

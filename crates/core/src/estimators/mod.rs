@@ -11,7 +11,7 @@
 //! estimate unchanged.
 
 use crate::dynamics::DiscreteModel;
-use crate::sensors::{GeometryError, MeasurementModel, Sensor};
+use crate::sensors::{Geometry, GeometryError, Linearization, MeasurementModel, Sensor};
 use crate::types::{Mat6, State, Vec3};
 use nalgebra::SVector;
 
@@ -50,12 +50,36 @@ pub trait Member: Estimator + Clone + core::fmt::Debug {
     fn restore(&mut self, s: &Self::Saved);
     /// Back to the start at `(x, p)`.
     fn reset(&mut self, x: State, p: Mat6);
+    /// [`Estimator::update`] given `g`, the sensor's linearisation at the member's position,
+    /// which the bank computed for the member's weight: a member that linearises there takes
+    /// it instead of computing it again (the same bits); the others update as they do.
+    fn update_at<M: MeasurementModel>(
+        &mut self,
+        sensor: &M,
+        z: &Vec3,
+        g: &Geometry,
+    ) -> Result<UpdateInfo, FilterError> {
+        let _ = g;
+        self.update(sensor, z)
+    }
+    /// [`Estimator::update_sensor`] given the sensor's linearisation and innovation at the
+    /// member's state ([`Sensor::innovation`]), as [`Member::update_at`].
+    fn update_sensor_at<const D: usize, S: Sensor<D> + ?Sized>(
+        &mut self,
+        sensor: &S,
+        z: &SVector<f64, D>,
+        lin: &Linearization<D>,
+        nu: &SVector<f64, D>,
+    ) -> Result<SensorUpdate<D>, FilterError> {
+        let _ = (lin, nu);
+        self.update_sensor(sensor, z)
+    }
 }
 
 /// [`Member`] for a filter whose estimate `(x, P)` is all a step changes: the snapshot is
 /// the estimate, a reset sets it ([`Estimator::set_estimate`]).
 macro_rules! estimate_member {
-    ($($t:ty),*) => {$(
+    ($($t:ty { $($own:tt)* }),*) => {$(
         impl Member for $t {
             type Saved = (State, Mat6);
 
@@ -70,10 +94,34 @@ macro_rules! estimate_member {
             fn reset(&mut self, x: State, p: Mat6) {
                 self.set_estimate(x, p);
             }
+
+            $($own)*
         }
     )*};
 }
-estimate_member!(Ekf, Ukf);
+estimate_member!(
+    Ekf {
+        fn update_at<M: MeasurementModel>(
+            &mut self,
+            sensor: &M,
+            z: &Vec3,
+            g: &Geometry,
+        ) -> Result<UpdateInfo, FilterError> {
+            self.update_given(sensor, z, g)
+        }
+
+        fn update_sensor_at<const D: usize, S: Sensor<D> + ?Sized>(
+            &mut self,
+            sensor: &S,
+            _z: &SVector<f64, D>,
+            lin: &Linearization<D>,
+            nu: &SVector<f64, D>,
+        ) -> Result<SensorUpdate<D>, FilterError> {
+            self.update_sensor_given(sensor, lin, nu)
+        }
+    },
+    Ukf {}
+);
 
 /// The largest number of members of a range-parameterised bank ([`bank`]).
 pub const MAX_BANK: usize = 9;

@@ -19,7 +19,7 @@ use crate::estimators::{
 };
 use crate::hinf::HinfEstimator;
 use crate::numerics::state::{Persist, Reader, StateError, Writer};
-use crate::sensors::{MeasurementModel, Sensor};
+use crate::sensors::{Geometry, Linearization, MeasurementModel, Sensor};
 use crate::types::{Mat6, State, Vec3};
 use nalgebra::SVector;
 
@@ -233,6 +233,31 @@ impl Member for AnyFilter {
             #[cfg(feature = "std")]
             AnyFilter::GaussianSum(f) => f.reset(x, p),
             other => other.set_estimate(x, p),
+        }
+    }
+
+    fn update_at<M: MeasurementModel>(
+        &mut self,
+        sensor: &M,
+        z: &Vec3,
+        g: &Geometry,
+    ) -> Result<UpdateInfo, FilterError> {
+        match self {
+            AnyFilter::Ekf(f) => f.update_given(sensor, z, g),
+            other => other.update(sensor, z),
+        }
+    }
+
+    fn update_sensor_at<const D: usize, S: Sensor<D> + ?Sized>(
+        &mut self,
+        sensor: &S,
+        z: &SVector<f64, D>,
+        lin: &Linearization<D>,
+        nu: &SVector<f64, D>,
+    ) -> Result<SensorUpdate<D>, FilterError> {
+        match self {
+            AnyFilter::Ekf(f) => f.update_sensor_given(sensor, lin, nu),
+            other => other.update_sensor(sensor, z),
         }
     }
 }
