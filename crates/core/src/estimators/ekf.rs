@@ -253,7 +253,7 @@ impl Ekf {
 
     /// [`Estimator::update`] given `g`, the sensor's linearisation at the filter's position
     /// (a bank's member: [`super::Member::update_at`]; the same bits as computing it here).
-    pub fn update_given<M: MeasurementModel>(
+    pub(crate) fn update_given<M: MeasurementModel>(
         &mut self,
         sensor: &M,
         z: &Vec3,
@@ -267,7 +267,7 @@ impl Ekf {
 
     /// [`Estimator::update_sensor`] given the linearisation and innovation at the filter's
     /// state ([`Sensor::innovation`]; [`super::Member::update_sensor_at`]).
-    pub fn update_sensor_given<const D: usize, S: Sensor<D> + ?Sized>(
+    pub(crate) fn update_sensor_given<const D: usize, S: Sensor<D> + ?Sized>(
         &mut self,
         sensor: &S,
         lin: &Linearization<D>,
