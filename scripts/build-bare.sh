@@ -103,7 +103,10 @@ for p in "${programs[@]}"; do
     "${a64cc[@]}" "$src" "$(lib "$A64")" -lm -Wl,--gc-sections -o "$OUT/a64/$name"
     # a fault or a hang ends in a failed check, not a stuck run
     check timeout 600 "$QEMU_SYSTEM_ARM" -M mps2-an386 -nographic -monitor none -serial none \
-        -semihosting -kernel "$OUT/m4/$name.elf" > "$OUT/m4/$name.out"
+        -semihosting -kernel "$OUT/m4/$name.elf" > "$OUT/m4/$name.raw"
+    # the reset code's last line, the deepest stack (cpp-harness/bare/cortex-m4.c), apart
+    grep '^#stack ' "$OUT/m4/$name.raw" | sed "s/^#stack /$name /" > "$OUT/m4/$name.stack" || true
+    grep -v '^#stack ' "$OUT/m4/$name.raw" > "$OUT/m4/$name.out" || true
     check timeout 600 qemu-aarch64 "$OUT/a64/$name" > "$OUT/a64/$name.out"
 done
 cc "${common[@]}" cpp-harness/examples/quickstart.c "$TARGET/flight/librelnav.a" -lm -o "$OUT/host/quickstart"
@@ -147,4 +150,5 @@ echo "core::panicking symbols in the programs: $panics"
 check test "$panics" -eq 0
 echo "Cortex-M4F programs (newlib's printf included):"
 arm-none-eabi-size "$OUT"/m4/*.elf
+echo "their deepest stack, main and all it calls, bytes: $(cat "$OUT"/m4/*.stack | tr '\n' ' ')"
 exit $fail
