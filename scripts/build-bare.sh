@@ -151,4 +151,9 @@ check test "$panics" -eq 0
 echo "Cortex-M4F programs (newlib's printf included):"
 arm-none-eabi-size "$OUT"/m4/*.elf
 echo "their deepest stack, main and all it calls, bytes: $(cat "$OUT"/m4/*.stack | tr '\n' ' ')"
+# the host's bound on a call's stack (build-flight.sh), here for a whole program
+while read -r name bytes; do
+    check test "$bytes" -le $((32 * 1024))
+done < <(cat "$OUT"/m4/*.stack)
+check test "$(cat "$OUT"/m4/*.stack | wc -l)" -eq "${#programs[@]}"
 exit $fail

@@ -150,7 +150,9 @@ pub struct AdaptiveUkf {
 
 impl AdaptiveUkf {
     /// From the initial estimate, the sigma-point parameters and the adaptive settings
-    /// (validated by the caller).
+    /// (validated by the caller). Inlined: as a function of its own (Thumb's code) it
+    /// builds its window in its frame and copies it out (`docs/c-abi.md`).
+    #[inline(always)]
     pub fn new(x0: State, p0: Mat6, ukf: UkfParams, aq: AqParams) -> Self {
         Self {
             ukf: Ukf::new(x0, p0, ukf),
