@@ -484,10 +484,10 @@ impl<F: Member> Estimator for Bank<F> {
             |m| {
                 let x = m.state();
                 let g = sensor.linearize(&Vec3::new(x[0], x[1], x[2])).ok()?;
-                let (mut h, mut nu) = (g.h, sensor.diff(z, &g.z));
+                let nu = sensor.linearised_residual(z, &g);
+                let mut h = g.h;
                 if !g.azimuth_usable {
                     h.row_mut(1).fill(0.0);
-                    nu.y = 0.0;
                 }
                 // the radio measures the position: H = [H_r 0]
                 let (ll, s) = log_density_block::<3, 0>(&h, &nu, &r, m.covariance())?;

@@ -299,10 +299,7 @@ impl Ekf {
         z: &Vec3,
         g: &Geometry,
     ) -> Result<(State, Mat6, UpdateInfo, Mat3), FilterError> {
-        let mut nu = sensor.diff(z, &g.z);
-        if !g.azimuth_usable {
-            nu.y = 0.0; // H row is zero too: the gain column vanishes (see sensors docs)
-        }
+        let nu = sensor.linearised_residual(z, g);
         let r = sensor.noise_cov();
         // H = [H_r 0]: the sensors measure the position (`Geometry::h`)
         debug_assert!(g.h.fixed_columns::<3>(3).iter().all(|v| *v == 0.0));

@@ -131,6 +131,16 @@ pub trait MeasurementModel: Sync {
     fn linearize(&self, r: &Vec3) -> Result<Geometry, GeometryError>;
     /// `z - z_hat`, angle components wrapped.
     fn diff(&self, z: &Vec3, z_hat: &Vec3) -> Vec3;
+    /// `z` less the prediction of `g` ([`MeasurementModel::diff`]), the azimuth's
+    /// component zero where `g` marks it unusable (its row of `g.h` is zero too, so its
+    /// gain column vanishes): the innovation every linearised update takes.
+    fn linearised_residual(&self, z: &Vec3, g: &Geometry) -> Vec3 {
+        let mut nu = self.diff(z, &g.z);
+        if !g.azimuth_usable {
+            nu.y = 0.0;
+        }
+        nu
+    }
     /// Weighted mean of predicted measurements `zs` (circular for angle components).
     fn weighted_mean(&self, w: &[f64], zs: &[Vec3]) -> Vec3;
     /// Measurement noise covariance the filters assume.

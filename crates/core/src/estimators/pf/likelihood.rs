@@ -154,11 +154,7 @@ impl<M: MeasurementModel> ParticleLikelihood<3> for Likelihood<'_, M> {
             .sensor
             .linearize(&m0.fixed_rows::<3>(0).into_owned())
             .ok()?;
-        let mut nu = self.sensor.diff(&self.z, &g.z);
-        if !g.azimuth_usable {
-            nu.y = 0.0; // H row is zero too (see the sensors docs)
-        }
-        Some((g.h, nu))
+        Some((g.h, self.sensor.linearised_residual(&self.z, &g)))
     }
     fn local_variance(&self, k: usize, nu: f64, pred_var: f64) -> f64 {
         self.noise.local_variance(nu, pred_var, self.scales[k])
