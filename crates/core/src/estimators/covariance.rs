@@ -72,8 +72,7 @@ fn structure(phi: &Mat6) -> Structure {
 
 /// The Kalman time update through the linear discrete model of `(x, p)` in place:
 /// `x- = Phi x + Gamma a`, `P- = Phi P Phi^T + Q` ([`propagate_covariance`]), written only
-/// when both are finite (the EKF's and the UKF's `predict` and their transactional
-/// `update_predict`).
+/// when both are finite (the EKF's and the UKF's `predict`).
 #[inline(always)]
 pub(crate) fn time_update(
     model: &DiscreteModel,
@@ -87,6 +86,27 @@ pub(crate) fn time_update(
     finite(&pn, "predicted covariance")?;
     *x = xn;
     *p = pn;
+    Ok(())
+}
+
+/// [`time_update`] of an uncommitted `(x, p)` into `out`, written only when both results
+/// are finite: a transactional step (`update_predict`: an update not yet committed, then
+/// this) commits both at once. Out-parameters rather than a returned pair: returning the
+/// pair costs a copy of it on every step.
+#[inline(always)]
+pub(crate) fn time_update_into(
+    model: &DiscreteModel,
+    x: &State,
+    p: &Mat6,
+    accel: &Vec3,
+    out: (&mut State, &mut Mat6),
+) -> Result<(), FilterError> {
+    let xn = model.apply(x, accel);
+    let pn = propagate_covariance(&model.phi, p, &model.q);
+    finite(&xn, "predicted state")?;
+    finite(&pn, "predicted covariance")?;
+    *out.0 = xn;
+    *out.1 = pn;
     Ok(())
 }
 

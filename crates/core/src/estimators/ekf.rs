@@ -18,7 +18,7 @@
 //! (`propagate_covariance`, `joseph_update` in the module `estimators::covariance`).
 
 use super::covariance::{
-    joseph_block, position_innovation, position_update, propagate_covariance, time_update,
+    joseph_block, position_innovation, position_update, time_update, time_update_into,
 };
 use super::{finite, Estimator, FilterError, SensorUpdate, UpdateInfo};
 use crate::dynamics::DiscreteModel;
@@ -218,15 +218,7 @@ impl Ekf {
         accel: &Vec3,
     ) -> Result<UpdateInfo, FilterError> {
         let (x, p, info, _) = self.updated(sensor, z)?;
-        // the time update of `Estimator::predict`, from the uncommitted update
-        // written out rather than through `time_update`: its in-place form costs an extra
-        // copy of the state and covariance here
-        let x = model.apply(&x, accel);
-        let p = propagate_covariance(&model.phi, &p, &model.q);
-        finite(&x, "predicted state")?;
-        finite(&p, "predicted covariance")?;
-        self.x = x;
-        self.p = p;
+        time_update_into(model, &x, &p, accel, (&mut self.x, &mut self.p))?;
         Ok(info)
     }
 
@@ -242,12 +234,7 @@ impl Ekf {
         accel: &Vec3,
     ) -> Result<SensorUpdate<D>, FilterError> {
         let (x, p, info, _) = linearised_update(&self.x, &self.p, sensor, z)?;
-        let x = model.apply(&x, accel);
-        let p = propagate_covariance(&model.phi, &p, &model.q);
-        finite(&x, "predicted state")?;
-        finite(&p, "predicted covariance")?;
-        self.x = x;
-        self.p = p;
+        time_update_into(model, &x, &p, accel, (&mut self.x, &mut self.p))?;
         Ok(info)
     }
 

@@ -29,7 +29,7 @@
 //! plus `Q` and stays positive definite; small `alpha` (1e-3, common in textbooks) gives
 //! `Wc_0 ~ -1e6` and loses about twelve digits of the covariance for this problem.
 
-use super::covariance::{moments_update, propagate_covariance, time_update};
+use super::covariance::{moments_update, time_update, time_update_into};
 use super::{finite, Estimator, FilterError, SensorUpdate, UpdateInfo};
 use crate::dynamics::DiscreteModel;
 #[cfg(not(feature = "std"))]
@@ -812,15 +812,7 @@ impl Ukf {
             .ok_or(FilterError::NotPositiveDefinite("state covariance P"))?;
         let (x, p, info) =
             self.measurement_update_factored(&self.x, &self.p, &l, sensor, &sensor.noise_cov(), z)?;
-        // the time update of `Estimator::predict`, from the uncommitted update
-        // written out rather than through `time_update`: its in-place form costs an extra
-        // copy of the state and covariance here
-        let x = model.apply(&x, accel);
-        let p = propagate_covariance(&model.phi, &p, &model.q);
-        finite(&x, "predicted state")?;
-        finite(&p, "predicted covariance")?;
-        self.x = x;
-        self.p = p;
+        time_update_into(model, &x, &p, accel, (&mut self.x, &mut self.p))?;
         Ok(info)
     }
 
@@ -835,12 +827,7 @@ impl Ukf {
         accel: &Vec3,
     ) -> Result<SensorUpdate<D>, FilterError> {
         let (x, p, info) = self.sensor_update(&self.x, &self.p, sensor, z)?;
-        let x = model.apply(&x, accel);
-        let p = propagate_covariance(&model.phi, &p, &model.q);
-        finite(&x, "predicted state")?;
-        finite(&p, "predicted covariance")?;
-        self.x = x;
-        self.p = p;
+        time_update_into(model, &x, &p, accel, (&mut self.x, &mut self.p))?;
         Ok(info)
     }
 }
