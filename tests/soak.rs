@@ -3,8 +3,10 @@
 //!
 //! Run with `bash scripts/soak.sh` (release-like test profile, one filter at a time;
 //! `#[ignore]`d so that `cargo test` does not run it). Per Kalman-type filter (EKF, UKF,
-//! AQUKF, H-infinity) 10^6 steps, per particle filter 10^5 (`RELNAV_SOAK_SCALE` divides
-//! both, e.g. 100 for a quick look).
+//! AQUKF, H-infinity) 10^6 steps, per particle filter 10^5, each particle filter twice:
+//! with point particles and their Gaussian-prior moves (`pf_prior = 1`) and with the
+//! default particle prior, a Gaussian per particle (`pf_prior = 2`) (`RELNAV_SOAK_SCALE`
+//! divides the steps, e.g. 100 for a quick look).
 //!
 //! **Truth** (written here, not relnav's model): the CW equations integrated by classical
 //! RK4 in sub-steps of at most 0.5 s, with a white acceleration of spectral density
@@ -137,6 +139,16 @@ fn ok(st: fmi2Status, what: &str) {
     assert_eq!(st, fmi2Status::fmi2OK, "{what}");
 }
 
+/// What a particle filter's particles are (ignored by the other filters).
+#[derive(Clone, Copy)]
+enum Particles {
+    /// `pf_prior = 1`: point particles, with the Gaussian-prior moves or without
+    /// (`pf_move`, the papers' filters as written)
+    Points { moves: bool },
+    /// `pf_prior = 2`, the default: a Gaussian per particle
+    Gaussians,
+}
+
 struct Fmu {
     c: fmi2Component,
     inputs: [u32; 3],
@@ -151,7 +163,7 @@ impl Fmu {
         particles: i32,
         x0: &[f64; 6],
         hinf: bool,
-        moves: bool,
+        kind: Particles,
     ) -> (Self, relnav_config) {
         let g = CString::new(guid()).unwrap();
         let cb = fmi2CallbackFunctions {
@@ -192,9 +204,13 @@ impl Fmu {
         if hinf {
             cfg.hinf_period = 1.0;
         }
+        // pf_move applies to point particles only (and `false` only with them)
+        let (prior, moves) = match kind {
+            Particles::Points { moves } => (1, moves),
+            Particles::Gaussians => (2, true),
+        };
         cfg.pf_move = i32::from(moves);
-        // the soak's particle filters are point particles (pf_move applies to them)
-        cfg.pf_prior = 1;
+        cfg.pf_prior = prior;
         let reals: Vec<(&str, f64)> = vec![
             ("mean_motion", cfg.mean_motion),
             ("chaser_mass", cfg.chaser_mass),
@@ -225,8 +241,8 @@ impl Fmu {
             }
             let r = vr("filter");
             ok(fmi2SetInteger(c, &r, 1, &filter), "filter");
-            let (r, points) = (vr("pf_prior"), 1);
-            ok(fmi2SetInteger(c, &r, 1, &points), "pf_prior");
+            let r = vr("pf_prior");
+            ok(fmi2SetInteger(c, &r, 1, &prior), "pf_prior");
             let (r, m) = (vr("pf_move"), i32::from(moves));
             ok(fmi2SetBoolean(c, &r, 1, &m), "pf_move");
             if particles > 0 {
@@ -360,18 +376,26 @@ struct Report {
     seconds: f64,
 }
 
+/// [`soak_with`] point particles with their moves.
 fn soak(name: &'static str, filter: i32, steps: usize, particles: i32, seed: u64) -> Report {
-    soak_with(name, filter, steps, particles, seed, true)
+    soak_with(
+        name,
+        filter,
+        steps,
+        particles,
+        seed,
+        Particles::Points { moves: true },
+    )
 }
 
-/// [`soak`] with the particle filters' moves on or off (`pf_move`).
+/// A soak of `steps` steps of `filter` (a particle filter's particles as `kind` says).
 fn soak_with(
     name: &'static str,
     filter: i32,
     steps: usize,
     particles: i32,
     seed: u64,
-    moves: bool,
+    kind: Particles,
 ) -> Report {
     let hinf = filter == 9;
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
@@ -383,7 +407,7 @@ fn soak_with(
         let s = if i < 3 { SIGMA_POS0 } else { SIGMA_VEL0 };
         guess[i] + s * rng.sample::<f64, _>(StandardNormal)
     });
-    let (fmu, cfg) = Fmu::new(filter, particles, &x0, hinf, moves);
+    let (fmu, cfg) = Fmu::new(filter, particles, &x0, hinf, kind);
     let twin = Twin::new(&cfg);
     let mut r = Report {
         name,
@@ -593,8 +617,18 @@ fn header() {
 }
 
 fn run(name: &'static str, filter: i32, steps: usize, particles: i32) {
+    run_with(
+        name,
+        filter,
+        steps,
+        particles,
+        Particles::Points { moves: true },
+    );
+}
+
+fn run_with(name: &'static str, filter: i32, steps: usize, particles: i32, kind: Particles) {
     header();
-    let r = soak(name, filter, steps / scale(), particles, 11);
+    let r = soak_with(name, filter, steps / scale(), particles, 11, kind);
     print(&r);
     assert_eq!(r.errors, 0, "{}", r.first_error);
     assert_eq!(r.nan, 0);
@@ -660,6 +694,39 @@ fn soak_cgapf() {
     run("cgapf", 8, 100_000, 200);
 }
 
+// The default particle prior (a Gaussian per particle, each with its own EKF or UKF step):
+// as many terms as the point filters have particles.
+
+#[test]
+#[ignore = "soak: minutes; run scripts/soak.sh"]
+fn soak_pf_gaussians() {
+    run_with("pf (Gaussians)", 4, 100_000, 500, Particles::Gaussians);
+}
+
+#[test]
+#[ignore = "soak: minutes; run scripts/soak.sh"]
+fn soak_rpf_gaussians() {
+    run_with("rpf (Gaussians)", 5, 100_000, 500, Particles::Gaussians);
+}
+
+#[test]
+#[ignore = "soak: minutes; run scripts/soak.sh"]
+fn soak_upf_gaussians() {
+    run_with("upf (Gaussians)", 6, 100_000, 200, Particles::Gaussians);
+}
+
+#[test]
+#[ignore = "soak: minutes; run scripts/soak.sh"]
+fn soak_gapf_gaussians() {
+    run_with("gapf (Gaussians)", 7, 100_000, 500, Particles::Gaussians);
+}
+
+#[test]
+#[ignore = "soak: minutes; run scripts/soak.sh"]
+fn soak_cgapf_gaussians() {
+    run_with("cgapf (Gaussians)", 8, 100_000, 200, Particles::Gaussians);
+}
+
 /// Regression of the soak's loss of track (docs/filters.md, "`pf_move`: Gaussian-prior
 /// moves"): the soak's first 1 200 steps (seed 11, 500 particles). Without its moves
 /// (`pf_move = false`) the SIR collapses: the likelihood (0.5 m, 2e-4 rad) is narrower
@@ -685,7 +752,14 @@ fn sir_keeps_track_where_the_literal_sir_loses_it() {
     header();
     let ekf = soak("ekf", 1, STEPS, 0, 11);
     print(&ekf);
-    let literal = soak_with("pf (literal)", 4, STEPS, 500, 11, false);
+    let literal = soak_with(
+        "pf (literal)",
+        4,
+        STEPS,
+        500,
+        11,
+        Particles::Points { moves: false },
+    );
     print(&literal);
     let moved = soak("pf", 4, STEPS, 500, 11);
     print(&moved);
