@@ -2,8 +2,9 @@
 # Soak of every filter through the FMU (tests/soak.rs): 10^6 steps per Kalman-type filter
 # (EKF, UKF, AQUKF, H-infinity), 10^5 per particle filter (point particles, and the default
 # Gaussian per particle), against an independent truth, with random dropouts, burns and
-# step sizes. Not part of scripts/test.sh (minutes on one core, the test build aside). Prints one table row per
-# filter (lines "SOAK | ...") and keeps the log in target/soak/soak.log.
+# step sizes. Not part of scripts/test.sh (minutes on one core, the test build aside).
+# Prints one table row per filter (lines "SOAK | ...") and keeps the log in
+# target/soak/soak.log.
 #
 #   bash scripts/soak.sh                  # everything
 #   bash scripts/soak.sh soak_ekf         # one filter (test name filter)

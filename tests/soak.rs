@@ -376,7 +376,7 @@ struct Report {
     seconds: f64,
 }
 
-/// [`soak_with`] point particles with their moves.
+/// [`soak_with`] with point particles and their moves.
 fn soak(name: &'static str, filter: i32, steps: usize, particles: i32, seed: u64) -> Report {
     soak_with(
         name,
