@@ -70,8 +70,10 @@ fn structure(phi: &Mat6) -> Structure {
     }
 }
 
-/// The Kalman time update of `(x, p)` in place ([`time_update_into`]; the EKF's and the
-/// UKF's `predict`).
+/// The Kalman time update through the linear discrete model of `(x, p)` in place:
+/// `x- = Phi x + Gamma a`, `P- = Phi P Phi^T + Q` ([`propagate_covariance`]), written only
+/// when both are finite (the EKF's and the UKF's `predict`). [`time_update_into`]'s body
+/// again rather than that function on a copy of `(x, p)`: the release build keeps the copy.
 #[inline(always)]
 pub(crate) fn time_update(
     model: &DiscreteModel,
@@ -79,15 +81,19 @@ pub(crate) fn time_update(
     p: &mut Mat6,
     accel: &Vec3,
 ) -> Result<(), FilterError> {
-    let (x0, p0) = (*x, *p);
-    time_update_into(model, &x0, &p0, accel, (x, p))
+    let xn = model.apply(x, accel);
+    let pn = propagate_covariance(&model.phi, p, &model.q);
+    finite(&xn, "predicted state")?;
+    finite(&pn, "predicted covariance")?;
+    *x = xn;
+    *p = pn;
+    Ok(())
 }
 
-/// The Kalman time update through the linear discrete model: `x- = Phi x + Gamma a`,
-/// `P- = Phi P Phi^T + Q` ([`propagate_covariance`]) into `out`, written only when both are
-/// finite; a transactional step (`update_predict`: an update not yet committed, then this)
-/// commits both at once. Out-parameters rather than a returned pair: returning the pair
-/// costs a copy of it on every step.
+/// [`time_update`] of an uncommitted `(x, p)` into `out`, written only when both results
+/// are finite: a transactional step (`update_predict`: an update not yet committed, then
+/// this) commits both at once. Out-parameters rather than a returned pair: returning the
+/// pair costs a copy of it on every step.
 #[inline(always)]
 pub(crate) fn time_update_into(
     model: &DiscreteModel,
